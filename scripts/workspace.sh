@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# Sets up, builds, runs and tests this catkin workspace on Debian 12. Every step is idempotent.
+#
+#   scripts/workspace.sh run     install what is missing, build, run the main job
+#   scripts/workspace.sh test    install what is missing, build, run the whole test suite
+#   scripts/workspace.sh install | build
+#
+# The repo root is the catkin source space. When it is cloned as <ws>/src, the workspace is <ws>;
+# otherwise it is built in place (build/, devel/ in the repo). BULLET_SIM_WS=<dir> overrides either.
+set -euo pipefail
+
+REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+if [ -n "${BULLET_SIM_WS:-}" ]; then
+  WS=$BULLET_SIM_WS
+elif [ "$(basename "$REPO")" = src ]; then
+  WS=$(dirname "$REPO")
+else
+  WS=$REPO
+fi
+# Debian's ROS tools run on /usr/bin/python3, not on a pyenv or venv interpreter earlier on PATH.
+export PATH=/usr/bin:/usr/local/bin:$PATH
+
+DEBIAN_PACKAGES=(
+  catkin ros-base-dev libroscpp-dev python3-rostest python3-roslaunch python3-rostopic rosbash
+  libtf2-ros-dev python3-tf2-ros tf-tools libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
+  libstd-srvs-dev ros-robot-state-publisher joint-state-publisher
+  liburdf-dev liburdfdom-dev liburdfdom-tools libtinyxml2-dev libsdformat-dev
+  libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev
+  python3-pip python3-numpy googletest libgtest-dev cmake g++ make
+)
+XACRO_VERSION=1.13.3
+ROBOTS=(
+  smartwheelchair_model/urdf/smartwheelchair_model.urdf.xacro
+  smartcar_description/urdf/smartcar.urdf.xacro
+  yahboomcar_description/urdf/yahboomcar.urdf.xacro
+)
+
+log() { printf '\n== %s\n' "$*"; }
+as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+
+install_dependencies() {
+  local missing=()
+  for package in "${DEBIAN_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    log "installing Debian packages: ${missing[*]}"
+    as_root apt-get update
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+  fi
+  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("xacro"))' 2>/dev/null)" != "$XACRO_VERSION" ]; then
+    log "installing xacro $XACRO_VERSION from PyPI into /usr/bin/python3"
+    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "xacro==$XACRO_VERSION"
+  fi
+}
+
+build() {
+  # catkin must not take the build, devel or install spaces of an in-place build for source packages.
+  for space in build devel install; do
+    mkdir -p "$WS/$space"
+    touch "$WS/$space/CATKIN_IGNORE"
+  done
+  log "building $WS"
+  catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+}
+
+source_workspace() {
+  set +u  # catkin's setup.bash reads unset variables
+  # shellcheck disable=SC1091
+  source "$WS/devel/setup.bash"
+  set -u
+}
+
+run_main_job() {
+  source_workspace
+  for robot in "${ROBOTS[@]}"; do
+    local urdf
+    urdf=$(mktemp --suffix=.urdf)
+    log "$robot"
+    xacro "$REPO/$robot" >"$urdf"
+    check_urdf "$urdf"
+    rm -f "$urdf"
+  done
+}
+
+run_tests() {
+  source_workspace
+  local results=$WS/build/test_results
+  rm -rf "$results"
+  log "running the test suite"
+  # run_tests exits 0 even when tests fail; catkin_test_results is the verdict.
+  catkin_make -C "$WS" --source "$REPO" run_tests
+  log "test results"
+  local status=0
+  catkin_test_results --verbose "$results" || status=$?
+  # Count test cases from the result files: catkin_test_results counts gtest suites twice.
+  local passed failed gtests
+  read -r passed failed gtests < <(/usr/bin/python3 - "$results" <<'PY'
+import glob, sys, xml.etree.ElementTree as ET
+passed = failed = gtests = 0
+for path in glob.glob(sys.argv[1] + "/*/*.xml"):
+    if "/rosunit-" in path:  # rostest repeats these in its own rostest-*.xml
+        continue
+    for case in ET.parse(path).iter("testcase"):
+        bad = case.find("failure") is not None or case.find("error") is not None
+        failed += bad
+        passed += not bad and case.find("skipped") is None
+        gtests += "/gtest-" in path
+print(passed, failed, gtests)
+PY
+  )
+  echo "$passed passed, $failed failed"
+  if [ "$((passed + failed))" -eq 0 ]; then
+    echo "FAILED: no test ran" >&2
+    exit 1
+  fi
+  if [ "$gtests" -eq 0 ]; then
+    echo "FAILED: no gtest ran (is googletest installed?)" >&2
+    exit 1
+  fi
+  return "$status"
+}
+
+case "${1:-}" in
+  install) install_dependencies ;;
+  build) install_dependencies; build ;;
+  run) install_dependencies; build; run_main_job ;;
+  test) install_dependencies; build; run_tests ;;
+  *) sed -n '2,10p' "$0" >&2; exit 2 ;;
+esac
