@@ -55,11 +55,13 @@ install_dependencies() {
 }
 
 build() {
-  # catkin must not take the build, devel or install spaces of an in-place build for source packages.
-  for space in build devel install; do
-    mkdir -p "$WS/$space"
-    touch "$WS/$space/CATKIN_IGNORE"
-  done
+  if [ "$WS" = "$REPO" ]; then
+    # In place, catkin must not take the build, devel or install space for source packages.
+    for space in build devel install; do
+      mkdir -p "$WS/$space"
+      touch "$WS/$space/CATKIN_IGNORE"
+    done
+  fi
   log "building $WS"
   catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo
 }

@@ -31,6 +31,7 @@ struct RobotCase {
   std::set<std::string> links;
   std::set<std::string> joints;  // the seed's; ours may add base_footprint_joint
   size_t wheels;
+  size_t ray_sensors;
 };
 
 struct CommandResult {
@@ -46,7 +47,8 @@ CommandResult run(const std::string& command) {
   CommandResult result{-1, "", ""};
   if (FILE* pipe = popen((command + " 2>" + error_file).c_str(), "r")) {
     std::array<char, 4096> buffer;
-    for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;) result.output.append(buffer.data(), n);
+    for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;)
+      result.output.append(buffer.data(), n);
     result.status = pclose(pipe);
   }
   std::ifstream errors(error_file);
@@ -57,7 +59,8 @@ CommandResult run(const std::string& command) {
 
 std::string packageFile(const std::string& package, const std::string& relative) {
   std::string error;
-  const auto path = PackageResolver::fromEnvironment().resolve("package://" + package + "/" + relative, &error);
+  const auto path =
+      PackageResolver::fromEnvironment().resolve("package://" + package + "/" + relative, &error);
   return path ? *path : "<" + error + ">";
 }
 
@@ -79,7 +82,8 @@ class Description : public ::testing::TestWithParam<RobotCase> {
   /// Texts of the children of the <plugin> whose filename is `filename`, or empty when there is none.
   std::map<std::string, std::string> pluginTags(const std::string& filename) {
     std::map<std::string, std::string> tags;
-    for (auto* g = gazebo_.RootElement()->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo")) {
+    for (auto* g = gazebo_.RootElement()->FirstChildElement("gazebo"); g;
+         g = g->NextSiblingElement("gazebo")) {
       for (auto* p = g->FirstChildElement("plugin"); p; p = p->NextSiblingElement("plugin")) {
         if (p->Attribute("filename", filename.c_str()) == nullptr) continue;
         for (auto* tag = p->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
@@ -113,7 +117,8 @@ TEST_P(Description, HasTheSeedsLinkAndJointNames) {
   std::set<std::string> links;
   for (const auto& [name, link] : model_->links_) links.insert(name);
   EXPECT_EQ(links, GetParam().links);
-  for (const auto& joint : GetParam().joints) EXPECT_TRUE(model_->getJoint(joint)) << "no joint [" << joint << "]";
+  for (const auto& joint : GetParam().joints)
+    EXPECT_TRUE(model_->getJoint(joint)) << "no joint [" << joint << "]";
   EXPECT_EQ(model_->getRoot()->name, "base_footprint");
 }
 
@@ -155,7 +160,8 @@ TEST_P(Description, WheelsTouchTheGroundAndNothingSinks) {
   for (const auto& [name, link] : model_->links_) {
     const bool rolls = link->parent_joint && link->parent_joint->type == urdf::Joint::CONTINUOUS;
     for (const auto& collision : link->collision_array) {
-      const auto lowest = lowestPoint(*collision->geometry, poses.at(name) * toIsometry(collision->origin), no_meshes);
+      const auto lowest =
+          lowestPoint(*collision->geometry, poses.at(name) * toIsometry(collision->origin), no_meshes);
       ASSERT_TRUE(lowest) << "link [" << name << "]: descriptions collide with primitives only";
       EXPECT_GT(*lowest, -kGroundTolerance) << "link [" << name << "] sinks into the ground";
       const bool round = collision->geometry->type == urdf::Geometry::CYLINDER ||
@@ -191,7 +197,8 @@ TEST_P(Description, DrivePluginAgreesWithJointGeometry) {
     ASSERT_TRUE(left && right) << "plugin names joints [" << left_name << "], [" << right_name << "]";
     const Eigen::Isometry3d left_pose = poses.at(left->child_link_name);
     const Eigen::Isometry3d right_pose = poses.at(right->child_link_name);
-    const Eigen::Vector3d left_axis = left_pose.linear() * Eigen::Vector3d(left->axis.x, left->axis.y, left->axis.z);
+    const Eigen::Vector3d left_axis =
+        left_pose.linear() * Eigen::Vector3d(left->axis.x, left->axis.y, left->axis.z);
     const Eigen::Vector3d right_axis =
         right_pose.linear() * Eigen::Vector3d(right->axis.x, right->axis.y, right->axis.z);
     if (first_axis.isZero()) first_axis = left_axis;
@@ -229,30 +236,72 @@ TEST_P(Description, GazeboReferencesAndFrameNamesExist) {
   }
 }
 
-const std::set<std::string> kSmartcarLinks = {"base_footprint",   "base_link",      "left_front_wheel", "right_front_wheel",
-                                              "left_back_wheel", "right_back_wheel", "head"};
+TEST_P(Description, RevoluteJointsHaveRealLimits) {
+  for (const auto& [name, joint] : model_->joints_) {
+    if (joint->type != urdf::Joint::REVOLUTE) continue;
+    ASSERT_TRUE(joint->limits) << "joint [" << name << "]";
+    EXPECT_GT(joint->limits->effort, 0) << "joint [" << name << "]";
+    EXPECT_GT(joint->limits->velocity, 0) << "joint [" << name << "]";
+    EXPECT_LE(std::abs(joint->limits->lower), 2 * M_PI) << "joint [" << name << "] limits look like degrees";
+    EXPECT_LE(std::abs(joint->limits->upper), 2 * M_PI) << "joint [" << name << "] limits look like degrees";
+  }
+}
+
+TEST_P(Description, LidarsCastNoBeamTwice) {
+  size_t sensors = 0;
+  for (auto* g = gazebo_.RootElement()->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo")) {
+    for (auto* sensor = g->FirstChildElement("sensor"); sensor;
+         sensor = sensor->NextSiblingElement("sensor")) {
+      if (sensor->Attribute("type", "ray") == nullptr) continue;
+      ++sensors;
+      const auto* horizontal =
+          sensor->FirstChildElement("ray")->FirstChildElement("scan")->FirstChildElement("horizontal");
+      const double samples = horizontal->FirstChildElement("samples")->DoubleText();
+      const double min_angle = horizontal->FirstChildElement("min_angle")->DoubleText();
+      const double max_angle = horizontal->FirstChildElement("max_angle")->DoubleText();
+      // Gazebo spaces N beams (max - min) / (N - 1) apart; the beam after the last must not wrap onto the
+      // first.
+      const double increment = (max_angle - min_angle) / (samples - 1);
+      EXPECT_LE(max_angle - min_angle + increment, 2 * M_PI + 1e-9)
+          << "sensor [" << sensor->Attribute("name") << "]";
+    }
+  }
+  EXPECT_EQ(sensors, GetParam().ray_sensors);
+}
+
+const std::set<std::string> kSmartcarLinks = {
+    "base_footprint",   "base_link", "left_front_wheel", "right_front_wheel", "left_back_wheel",
+    "right_back_wheel", "head"};
 const std::set<std::string> kSmartcarJoints = {"left_front_wheel_joint", "right_front_wheel_joint",
                                                "left_back_wheel_joint", "right_back_wheel_joint", "tobox"};
 
 INSTANTIATE_TEST_SUITE_P(
     Robots, Description,
     ::testing::Values(
-        RobotCase{"wheelchair", "smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro", "",
+        RobotCase{"wheelchair",
+                  "smartwheelchair_model",
+                  "urdf/smartwheelchair_model.urdf.xacro",
+                  "",
                   {"base_footprint", "base_link", "front_left_link", "front_right_link", "rear_left_link",
                    "wheel_rear_left_link", "rear_right_link", "wheel_rear_right_link", "laser_Link"},
                   {"front_left_joint", "front_right_joint", "rear_left_joint", "wheel_rear_left_joint",
                    "rear_right_joint", "wheel_rear_right_joint", "laser_joint"},
-                  4},
+                  4,
+                  1},
         RobotCase{"smartcar", "smartcar_description", "urdf/smartcar.urdf.xacro", "", kSmartcarLinks,
-                  kSmartcarJoints, 4},
+                  kSmartcarJoints, 4, 1},
         RobotCase{"smartcar_without_lidar", "smartcar_description", "urdf/smartcar.urdf.xacro",
-                  "with_lidar:=false", kSmartcarLinks, kSmartcarJoints, 4},
-        RobotCase{"yahboomcar", "yahboomcar_description", "urdf/yahboomcar.urdf.xacro", "",
+                  "with_lidar:=false", kSmartcarLinks, kSmartcarJoints, 4, 0},
+        RobotCase{"yahboomcar",
+                  "yahboomcar_description",
+                  "urdf/yahboomcar.urdf.xacro",
+                  "",
                   {"base_footprint", "base_link", "zq_Link", "yq_Link", "yh_Link", "zh_Link", "imu_Link",
                    "radar_Link", "jq1_Link", "jq2_Link"},
                   {"zq_Joint", "yq_Joint", "yh_Joint", "zh_Joint", "imu_Joint", "radar_Joint", "jq1_Joint",
                    "jq2_Joint"},
-                  4}),
+                  4,
+                  1}),
     [](const ::testing::TestParamInfo<RobotCase>& info) { return info.param.label; });
 
 }  // namespace

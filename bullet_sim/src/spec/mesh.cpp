@@ -1,14 +1,15 @@
 #include "bullet_sim/spec/mesh.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include <functional>
 
 namespace bullet_sim {
 
-std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vector3d& scale, std::string* error) {
+std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vector3d& scale,
+                                     std::string* error) {
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
@@ -19,7 +20,8 @@ std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vecto
 
   TriangleMesh mesh;
   // Node transforms place each sub-mesh (DAE and OBJ files nest them); STL has just the root.
-  std::function<void(const aiNode*, const aiMatrix4x4&)> visit = [&](const aiNode* node, const aiMatrix4x4& parent) {
+  std::function<void(const aiNode*, const aiMatrix4x4&)> visit = [&](const aiNode* node,
+                                                                     const aiMatrix4x4& parent) {
     const aiMatrix4x4 transform = parent * node->mTransformation;
     for (unsigned m = 0; m < node->mNumMeshes; ++m) {
       const aiMesh* sub = scene->mMeshes[node->mMeshes[m]];
@@ -31,7 +33,8 @@ std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vecto
       for (unsigned f = 0; f < sub->mNumFaces; ++f) {
         const aiFace& face = sub->mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines carry no surface
-        mesh.triangles.push_back({base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
+        mesh.triangles.push_back({base + static_cast<int>(face.mIndices[0]),
+                                  base + static_cast<int>(face.mIndices[1]),
                                   base + static_cast<int>(face.mIndices[2])});
       }
     }

@@ -18,14 +18,14 @@ Eigen::Isometry3d toIsometry(const urdf::Pose& pose) {
 
 std::map<std::string, Eigen::Isometry3d> linkPosesAtZero(const urdf::ModelInterface& model) {
   std::map<std::string, Eigen::Isometry3d> poses;
-  std::function<void(const urdf::Link&, const Eigen::Isometry3d&)> visit = [&](const urdf::Link& link,
-                                                                               const Eigen::Isometry3d& pose) {
-    poses[link.name] = pose;
-    for (const auto& joint : link.child_joints) {
-      const auto child = model.getLink(joint->child_link_name);
-      if (child) visit(*child, pose * toIsometry(joint->parent_to_joint_origin_transform));
-    }
-  };
+  std::function<void(const urdf::Link&, const Eigen::Isometry3d&)> visit =
+      [&](const urdf::Link& link, const Eigen::Isometry3d& pose) {
+        poses[link.name] = pose;
+        for (const auto& joint : link.child_joints) {
+          const auto child = model.getLink(joint->child_link_name);
+          if (child) visit(*child, pose * toIsometry(joint->parent_to_joint_origin_transform));
+        }
+      };
   if (const auto root = model.getRoot()) visit(*root, Eigen::Isometry3d::Identity());
   return poses;
 }
@@ -79,7 +79,8 @@ std::optional<std::string> inertiaProblem(const urdf::Inertial& inertial) {
   // Principal moments of a real body satisfy I1 + I2 >= I3; allow rounding in exported figures.
   const double tolerance = 1e-6 * moments.maxCoeff();
   if (moments(0) + moments(1) < moments(2) - tolerance) {
-    why << "principal moments " << moments.transpose() << " kg m^2 break the triangle inequality (I1 + I2 >= I3)";
+    why << "principal moments " << moments.transpose()
+        << " kg m^2 break the triangle inequality (I1 + I2 >= I3)";
     return why.str();
   }
   return std::nullopt;

@@ -16,12 +16,14 @@ constexpr int kMaxCrawlDepth = 4;
 std::optional<std::string> manifestName(const fs::path& dir) {
   tinyxml2::XMLDocument doc;
   if (doc.LoadFile((dir / "package.xml").c_str()) != tinyxml2::XML_SUCCESS) return std::nullopt;
-  const tinyxml2::XMLElement* name = doc.RootElement() ? doc.RootElement()->FirstChildElement("name") : nullptr;
+  const tinyxml2::XMLElement* name =
+      doc.RootElement() ? doc.RootElement()->FirstChildElement("name") : nullptr;
   if (!name || !name->GetText()) return std::nullopt;
   return std::string(name->GetText());
 }
 
-// Like rospack: a directory holding package.xml is a package and is not descended into; CATKIN_IGNORE hides one.
+// Like rospack: a directory holding package.xml is a package and is not descended into; CATKIN_IGNORE hides
+// one.
 std::optional<std::string> crawl(const fs::path& dir, const std::string& package, int depth) {
   std::error_code ec;
   if (fs::exists(dir / "CATKIN_IGNORE", ec)) return std::nullopt;
@@ -49,7 +51,8 @@ PackageResolver PackageResolver::fromEnvironment() {
   return PackageResolver(std::move(path));
 }
 
-PackageResolver::PackageResolver(std::vector<std::string> search_path) : search_path_(std::move(search_path)) {}
+PackageResolver::PackageResolver(std::vector<std::string> search_path)
+    : search_path_(std::move(search_path)) {}
 
 std::optional<std::string> PackageResolver::packageDirectory(const std::string& package) const {
   auto cached = found_.find(package);
@@ -84,8 +87,9 @@ std::optional<std::string> PackageResolver::resolve(const std::string& uri, std:
   if (error) {
     std::string searched;
     for (const auto& root : search_path_) searched += (searched.empty() ? "" : ":") + root;
-    *error = "cannot resolve [" + uri + "]: no package [" + package + "] in ROS_PACKAGE_PATH [" + searched +
-             "]; source your workspace's setup.bash, or add the package's parent directory to ROS_PACKAGE_PATH";
+    *error =
+        "cannot resolve [" + uri + "]: no package [" + package + "] in ROS_PACKAGE_PATH [" + searched +
+        "]; source your workspace's setup.bash, or add the package's parent directory to ROS_PACKAGE_PATH";
   }
   return std::nullopt;
 }

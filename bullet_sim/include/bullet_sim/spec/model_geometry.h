@@ -1,8 +1,8 @@
 // Geometry of a URDF model at its zero pose: link frames, collision extents, inertia sanity.
 #pragma once
 
-#include <Eigen/Geometry>
 #include <urdf_model/model.h>
+#include <Eigen/Geometry>
 
 #include <functional>
 #include <map>
