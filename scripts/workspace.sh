@@ -62,6 +62,7 @@ build() {
       touch "$WS/$space/CATKIN_IGNORE"
     done
   fi
+  mkdir -p "$WS"
   log "building $WS"
   catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo
 }

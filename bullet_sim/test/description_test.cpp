@@ -1,8 +1,7 @@
 // Checks every robot description the workspace ships: it expands, parses, loads its meshes, has valid
 // inertia, rests on its wheels at the zero pose, and its drive plugin agrees with its joint geometry.
 #include <gtest/gtest.h>
-#include <tinyxml2.h>
-#include <urdf_parser/urdf_parser.h>
+#include <urdf/model.h>
 
 #include <array>
 #include <cmath>
@@ -13,9 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/spec/mesh.h"
 #include "bullet_sim/spec/model_geometry.h"
-#include "bullet_sim/spec/package_resolver.h"
+#include "bullet_sim/spec/model_spec.h"
 
 namespace bullet_sim {
 namespace {
@@ -57,47 +55,42 @@ CommandResult run(const std::string& command) {
   return result;
 }
 
-std::string packageFile(const std::string& package, const std::string& relative) {
-  std::string error;
-  const auto path =
-      PackageResolver::fromEnvironment().resolve("package://" + package + "/" + relative, &error);
-  return path ? *path : "<" + error + ">";
+std::string tagText(const tinyxml2::XMLElement* parent, const char* tag) {
+  const auto* child = parent->FirstChildElement(tag);
+  return child && child->GetText() ? child->GetText() : "";
 }
 
 class Description : public ::testing::TestWithParam<RobotCase> {
  protected:
   void SetUp() override {
     const RobotCase& robot = GetParam();
-    xacro_file_ = packageFile(robot.package, robot.xacro);
+    const auto package = PackageResolver::fromEnvironment().packageDirectory(robot.package);
+    ASSERT_TRUE(package) << "package [" << robot.package << "] not in ROS_PACKAGE_PATH";
+    xacro_file_ = *package + "/" + robot.xacro;
     static std::map<std::string, CommandResult> expanded;  // xacro takes ~0.3 s; expand each case once
     const std::string command = "xacro '" + xacro_file_ + "' " + robot.xacro_args;
     if (!expanded.count(command)) expanded[command] = run(command);
     expansion_ = expanded[command];
     ASSERT_EQ(expansion_.status, 0) << command << " failed:\n" << expansion_.errors;
-    model_ = urdf::parseURDF(expansion_.output);
-    ASSERT_TRUE(model_) << "urdfdom cannot parse the expansion of " << xacro_file_;
-    ASSERT_EQ(gazebo_.Parse(expansion_.output.c_str()), tinyxml2::XML_SUCCESS);
+    try {
+      model_ = parseModel(expansion_.output, xacro_file_, PackageResolver::fromEnvironment(), &warnings_);
+    } catch (const std::exception& e) {
+      FAIL() << e.what();
+    }
   }
 
-  /// Texts of the children of the <plugin> whose filename is `filename`, or empty when there is none.
-  std::map<std::string, std::string> pluginTags(const std::string& filename) {
-    std::map<std::string, std::string> tags;
-    for (auto* g = gazebo_.RootElement()->FirstChildElement("gazebo"); g;
-         g = g->NextSiblingElement("gazebo")) {
-      for (auto* p = g->FirstChildElement("plugin"); p; p = p->NextSiblingElement("plugin")) {
-        if (p->Attribute("filename", filename.c_str()) == nullptr) continue;
-        for (auto* tag = p->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
-          tags[tag->Name()] = tag->GetText() ? tag->GetText() : "";
-        }
-      }
+  /// The model-level <plugin> whose filename is `filename`, or nullptr.
+  const tinyxml2::XMLElement* plugin(const std::string& filename) const {
+    for (const auto& p : model_.plugins) {
+      if (p.filename == filename) return p.element;
     }
-    return tags;
+    return nullptr;
   }
 
   std::string xacro_file_;
   CommandResult expansion_;
-  urdf::ModelInterfaceSharedPtr model_;
-  tinyxml2::XMLDocument gazebo_;
+  ModelSpec model_;
+  std::vector<std::string> warnings_;
 };
 
 TEST_P(Description, PassesCheckUrdf) {
@@ -113,61 +106,52 @@ TEST_P(Description, PassesCheckUrdf) {
   EXPECT_NE(check.output.find("Successfully Parsed XML"), std::string::npos) << check.output;
 }
 
-TEST_P(Description, HasTheSeedsLinkAndJointNames) {
-  std::set<std::string> links;
-  for (const auto& [name, link] : model_->links_) links.insert(name);
-  EXPECT_EQ(links, GetParam().links);
-  for (const auto& joint : GetParam().joints)
-    EXPECT_TRUE(model_->getJoint(joint)) << "no joint [" << joint << "]";
-  EXPECT_EQ(model_->getRoot()->name, "base_footprint");
+TEST_P(Description, ParsesWithUrdfModelAndLoadsWithoutWarnings) {
+  urdf::Model urdf_model;
+  EXPECT_TRUE(urdf_model.initString(expansion_.output));
+  EXPECT_EQ(warnings_, std::vector<std::string>{});
 }
 
-TEST_P(Description, EveryMeshResolvesAndLoadsWithTriangles) {
-  const auto resolver = PackageResolver::fromEnvironment();
-  int meshes = 0;
-  for (const auto& [name, link] : model_->links_) {
-    std::vector<urdf::GeometrySharedPtr> geometries;
-    for (const auto& visual : link->visual_array) geometries.push_back(visual->geometry);
-    for (const auto& collision : link->collision_array) geometries.push_back(collision->geometry);
-    for (const auto& geometry : geometries) {
-      if (geometry->type != urdf::Geometry::MESH) continue;
-      const auto& mesh = static_cast<const urdf::Mesh&>(*geometry);
-      std::string error;
-      const auto path = resolver.resolve(mesh.filename, &error);
-      ASSERT_TRUE(path) << "link [" << name << "]: " << error;
-      const auto loaded = loadMesh(*path, {mesh.scale.x, mesh.scale.y, mesh.scale.z}, &error);
-      ASSERT_TRUE(loaded) << "link [" << name << "]: " << error;
-      EXPECT_GT(loaded->triangles.size(), 0u);
-      ++meshes;
+TEST_P(Description, HasTheSeedsLinkAndJointNames) {
+  const auto names = model_.linkNames();
+  EXPECT_EQ(std::set<std::string>(names.begin(), names.end()), GetParam().links);
+  for (const auto& joint : GetParam().joints)
+    EXPECT_TRUE(model_.joint(joint)) << "no joint [" << joint << "]";
+  EXPECT_EQ(model_.root, "base_footprint");
+}
+
+TEST_P(Description, EveryVisualIsAMeshWithTriangles) {
+  for (const auto& link : model_.links) {
+    for (const auto& visual : link.visuals) {
+      ASSERT_EQ(visual.shape.type, Shape::Type::kMesh) << "link [" << link.name << "]";
+      ASSERT_TRUE(visual.shape.mesh) << visual.shape.mesh_path;
+      EXPECT_GT(visual.shape.mesh->triangles.size(), 0u) << visual.shape.mesh_path;
     }
   }
-  EXPECT_GT(meshes, 0) << "every robot has visual meshes";
 }
 
 TEST_P(Description, EveryLinkWithCollisionHasValidInertia) {
-  for (const auto& [name, link] : model_->links_) {
-    if (link->collision_array.empty() && !link->inertial) continue;
-    ASSERT_TRUE(link->inertial) << "link [" << name << "] collides but has no <inertial>";
-    const auto problem = inertiaProblem(*link->inertial);
-    EXPECT_FALSE(problem) << "link [" << name << "]: " << problem.value_or("");
+  for (const auto& link : model_.links) {
+    if (link.collisions.empty()) continue;
+    ASSERT_TRUE(link.inertial) << "link [" << link.name << "] collides but has no <inertial>";
+    const auto problem = inertiaProblem(link.inertial->mass, link.inertial->inertia);
+    EXPECT_FALSE(problem) << "link [" << link.name << "]: " << problem.value_or("");
   }
 }
 
 TEST_P(Description, WheelsTouchTheGroundAndNothingSinks) {
-  const auto poses = linkPosesAtZero(*model_);
-  const MeshSource no_meshes = [](const urdf::Mesh&) { return std::nullopt; };
+  const auto poses = linkPosesAtZero(model_);
   size_t wheels = 0;
-  for (const auto& [name, link] : model_->links_) {
-    const bool rolls = link->parent_joint && link->parent_joint->type == urdf::Joint::CONTINUOUS;
-    for (const auto& collision : link->collision_array) {
-      const auto lowest =
-          lowestPoint(*collision->geometry, poses.at(name) * toIsometry(collision->origin), no_meshes);
-      ASSERT_TRUE(lowest) << "link [" << name << "]: descriptions collide with primitives only";
-      EXPECT_GT(*lowest, -kGroundTolerance) << "link [" << name << "] sinks into the ground";
-      const bool round = collision->geometry->type == urdf::Geometry::CYLINDER ||
-                         collision->geometry->type == urdf::Geometry::SPHERE;
+  for (const auto& link : model_.links) {
+    const JointSpec* joint = model_.parentJoint(link.name);
+    const bool rolls = joint && joint->type == JointSpec::Type::kContinuous;
+    for (const auto& collision : link.collisions) {
+      const double lowest = lowestPoint(collision.shape, poses.at(link.name) * collision.origin);
+      EXPECT_GT(lowest, -kGroundTolerance) << "link [" << link.name << "] sinks into the ground";
+      const bool round =
+          collision.shape.type == Shape::Type::kCylinder || collision.shape.type == Shape::Type::kSphere;
       if (rolls && round) {
-        EXPECT_NEAR(*lowest, 0.0, kGroundTolerance) << "wheel [" << name << "] does not touch z = 0";
+        EXPECT_NEAR(lowest, 0.0, kGroundTolerance) << "wheel [" << link.name << "] does not touch z = 0";
         ++wheels;
       }
     }
@@ -177,96 +161,78 @@ TEST_P(Description, WheelsTouchTheGroundAndNothingSinks) {
 
 TEST_P(Description, DrivePluginAgreesWithJointGeometry) {
   std::vector<std::array<std::string, 2>> axles;  // left joint, right joint
-  auto tags = pluginTags("libgazebo_ros_diff_drive.so");
-  if (!tags.empty()) {
-    axles.push_back({tags["leftJoint"], tags["rightJoint"]});
+  const tinyxml2::XMLElement* drive = plugin("libgazebo_ros_diff_drive.so");
+  if (drive) {
+    axles.push_back({tagText(drive, "leftJoint"), tagText(drive, "rightJoint")});
   } else {
-    tags = pluginTags("libgazebo_ros_skid_steer_drive.so");
-    ASSERT_FALSE(tags.empty()) << "no diff-drive or skid-steer plugin";
-    axles.push_back({tags["leftFrontJoint"], tags["rightFrontJoint"]});
-    axles.push_back({tags["leftRearJoint"], tags["rightRearJoint"]});
+    drive = plugin("libgazebo_ros_skid_steer_drive.so");
+    ASSERT_TRUE(drive) << "no diff-drive or skid-steer plugin";
+    axles.push_back({tagText(drive, "leftFrontJoint"), tagText(drive, "rightFrontJoint")});
+    axles.push_back({tagText(drive, "leftRearJoint"), tagText(drive, "rightRearJoint")});
   }
-  const double separation = std::stod(tags.at("wheelSeparation"));
-  const double diameter = std::stod(tags.at("wheelDiameter"));
-  const auto poses = linkPosesAtZero(*model_);
+  const double separation = std::stod(tagText(drive, "wheelSeparation"));
+  const double diameter = std::stod(tagText(drive, "wheelDiameter"));
+  const auto poses = linkPosesAtZero(model_);
 
   Eigen::Vector3d first_axis = Eigen::Vector3d::Zero();
   for (const auto& [left_name, right_name] : axles) {
-    const auto left = model_->getJoint(left_name);
-    const auto right = model_->getJoint(right_name);
+    const JointSpec* left = model_.joint(left_name);
+    const JointSpec* right = model_.joint(right_name);
     ASSERT_TRUE(left && right) << "plugin names joints [" << left_name << "], [" << right_name << "]";
-    const Eigen::Isometry3d left_pose = poses.at(left->child_link_name);
-    const Eigen::Isometry3d right_pose = poses.at(right->child_link_name);
-    const Eigen::Vector3d left_axis =
-        left_pose.linear() * Eigen::Vector3d(left->axis.x, left->axis.y, left->axis.z);
-    const Eigen::Vector3d right_axis =
-        right_pose.linear() * Eigen::Vector3d(right->axis.x, right->axis.y, right->axis.z);
+    const Eigen::Isometry3d left_pose = poses.at(left->child);
+    const Eigen::Isometry3d right_pose = poses.at(right->child);
+    const Eigen::Vector3d left_axis = left_pose.linear() * left->axis;
+    const Eigen::Vector3d right_axis = right_pose.linear() * right->axis;
     if (first_axis.isZero()) first_axis = left_axis;
     EXPECT_GT(left_axis.dot(first_axis), 0.99) << "[" << left_name << "] turns the other way";
     EXPECT_GT(right_axis.dot(first_axis), 0.99) << "[" << right_name << "] turns the other way";
-    EXPECT_NEAR(std::abs((left_pose.translation() - right_pose.translation()).dot(left_axis.normalized())),
-                separation, kGeometryTolerance)
+    EXPECT_NEAR(std::abs((left_pose.translation() - right_pose.translation()).dot(left_axis)), separation,
+                kGeometryTolerance)
         << left_name << " / " << right_name;
-    for (const auto& joint : {left, right}) {
-      const auto wheel = model_->getLink(joint->child_link_name);
-      ASSERT_FALSE(wheel->collision_array.empty());
-      const auto& shape = *wheel->collision_array.front()->geometry;
-      ASSERT_EQ(shape.type, urdf::Geometry::CYLINDER) << "wheel [" << wheel->name << "]";
-      EXPECT_NEAR(2 * static_cast<const urdf::Cylinder&>(shape).radius, diameter, kGeometryTolerance);
+    for (const JointSpec* joint : {left, right}) {
+      const LinkSpec* wheel = model_.link(joint->child);
+      ASSERT_FALSE(wheel->collisions.empty());
+      const Shape& shape = wheel->collisions.front().shape;
+      ASSERT_EQ(shape.type, Shape::Type::kCylinder) << "wheel [" << wheel->name << "]";
+      EXPECT_NEAR(2 * shape.radius, diameter, kGeometryTolerance);
     }
   }
 }
 
-TEST_P(Description, GazeboReferencesAndFrameNamesExist) {
-  std::set<std::string> frames;
-  for (const auto& [name, link] : model_->links_) frames.insert(name);
-  std::set<std::string> references = frames;
-  for (const auto& [name, joint] : model_->joints_) references.insert(name);
-  for (auto* g = gazebo_.RootElement()->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo")) {
-    if (const char* reference = g->Attribute("reference")) {
-      EXPECT_TRUE(references.count(reference)) << "<gazebo reference=\"" << reference << "\">";
-    }
-    std::function<void(const tinyxml2::XMLElement*)> visit = [&](const tinyxml2::XMLElement* e) {
-      if (std::string(e->Name()) == "frameName") {
-        EXPECT_TRUE(frames.count(e->GetText() ? e->GetText() : "")) << "<frameName>" << e->GetText();
-      }
-      for (auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) visit(c);
-    };
-    visit(g);
+TEST_P(Description, SensorFrameNamesExist) {
+  for (const auto& sensor : model_.sensors) {
+    ASSERT_TRUE(sensor.plugin) << "sensor [" << sensor.name << "] has no plugin, so Gazebo publishes nothing";
+    const std::string frame = tagText(sensor.plugin->element, "frameName");
+    EXPECT_TRUE(model_.link(frame)) << "sensor [" << sensor.name << "] <frameName>" << frame;
   }
 }
 
 TEST_P(Description, RevoluteJointsHaveRealLimits) {
-  for (const auto& [name, joint] : model_->joints_) {
-    if (joint->type != urdf::Joint::REVOLUTE) continue;
-    ASSERT_TRUE(joint->limits) << "joint [" << name << "]";
-    EXPECT_GT(joint->limits->effort, 0) << "joint [" << name << "]";
-    EXPECT_GT(joint->limits->velocity, 0) << "joint [" << name << "]";
-    EXPECT_LE(std::abs(joint->limits->lower), 2 * M_PI) << "joint [" << name << "] limits look like degrees";
-    EXPECT_LE(std::abs(joint->limits->upper), 2 * M_PI) << "joint [" << name << "] limits look like degrees";
+  for (const auto& joint : model_.joints) {
+    if (joint.type != JointSpec::Type::kRevolute) continue;
+    EXPECT_GT(joint.effort, 0) << "joint [" << joint.name << "]";
+    EXPECT_GT(joint.velocity, 0) << "joint [" << joint.name << "]";
+    EXPECT_LE(std::abs(joint.lower), 2 * M_PI) << "joint [" << joint.name << "] limits look like degrees";
+    EXPECT_LE(std::abs(joint.upper), 2 * M_PI) << "joint [" << joint.name << "] limits look like degrees";
   }
 }
 
 TEST_P(Description, LidarsCastNoBeamTwice) {
-  size_t sensors = 0;
-  for (auto* g = gazebo_.RootElement()->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo")) {
-    for (auto* sensor = g->FirstChildElement("sensor"); sensor;
-         sensor = sensor->NextSiblingElement("sensor")) {
-      if (sensor->Attribute("type", "ray") == nullptr) continue;
-      ++sensors;
-      const auto* horizontal =
-          sensor->FirstChildElement("ray")->FirstChildElement("scan")->FirstChildElement("horizontal");
-      const double samples = horizontal->FirstChildElement("samples")->DoubleText();
-      const double min_angle = horizontal->FirstChildElement("min_angle")->DoubleText();
-      const double max_angle = horizontal->FirstChildElement("max_angle")->DoubleText();
-      // Gazebo spaces N beams (max - min) / (N - 1) apart; the beam after the last must not wrap onto the
-      // first.
-      const double increment = (max_angle - min_angle) / (samples - 1);
-      EXPECT_LE(max_angle - min_angle + increment, 2 * M_PI + 1e-9)
-          << "sensor [" << sensor->Attribute("name") << "]";
-    }
+  size_t lidars = 0;
+  for (const auto& sensor : model_.sensors) {
+    if (sensor.type != "ray") continue;
+    ++lidars;
+    const auto* horizontal =
+        sensor.element->FirstChildElement("ray")->FirstChildElement("scan")->FirstChildElement("horizontal");
+    const double samples = std::stod(tagText(horizontal, "samples"));
+    const double min_angle = std::stod(tagText(horizontal, "min_angle"));
+    const double max_angle = std::stod(tagText(horizontal, "max_angle"));
+    // Gazebo spaces N beams (max - min) / (N - 1) apart; the beam after the last must not wrap onto the
+    // first.
+    const double increment = (max_angle - min_angle) / (samples - 1);
+    EXPECT_LE(max_angle - min_angle + increment, 2 * M_PI + 1e-9) << "sensor [" << sensor.name << "]";
   }
-  EXPECT_EQ(sensors, GetParam().ray_sensors);
+  EXPECT_EQ(lidars, GetParam().ray_sensors);
 }
 
 const std::set<std::string> kSmartcarLinks = {

@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include "bullet_sim/spec/model_spec.h"
+
 namespace bullet_sim {
 
 Eigen::Isometry3d toIsometry(const urdf::Pose& pose) {
@@ -16,60 +18,49 @@ Eigen::Isometry3d toIsometry(const urdf::Pose& pose) {
   return result;
 }
 
-std::map<std::string, Eigen::Isometry3d> linkPosesAtZero(const urdf::ModelInterface& model) {
+std::map<std::string, Eigen::Isometry3d> linkPosesAtZero(const ModelSpec& model) {
   std::map<std::string, Eigen::Isometry3d> poses;
-  std::function<void(const urdf::Link&, const Eigen::Isometry3d&)> visit =
-      [&](const urdf::Link& link, const Eigen::Isometry3d& pose) {
-        poses[link.name] = pose;
-        for (const auto& joint : link.child_joints) {
-          const auto child = model.getLink(joint->child_link_name);
-          if (child) visit(*child, pose * toIsometry(joint->parent_to_joint_origin_transform));
-        }
-      };
-  if (const auto root = model.getRoot()) visit(*root, Eigen::Isometry3d::Identity());
+  poses[model.root] = Eigen::Isometry3d::Identity();
+  for (const auto& joint : model.joints)
+    poses[joint.child] = poses.at(joint.parent) * joint.origin;  // parents first
   return poses;
 }
 
-std::optional<double> lowestPoint(const urdf::Geometry& geometry, const Eigen::Isometry3d& pose,
-                                  const MeshSource& meshes) {
+double lowestPoint(const Shape& shape, const Eigen::Isometry3d& pose) {
   const Eigen::Vector3d centre = pose.translation();
   const Eigen::Matrix3d rotation = pose.linear();
-  switch (geometry.type) {
-    case urdf::Geometry::SPHERE:
-      return centre.z() - static_cast<const urdf::Sphere&>(geometry).radius;
-    case urdf::Geometry::BOX: {
-      const auto& dim = static_cast<const urdf::Box&>(geometry).dim;
-      const Eigen::Vector3d half(dim.x / 2, dim.y / 2, dim.z / 2);
-      // Support of a box along -z: sum of |z component of each half axis|.
-      return centre.z() - rotation.row(2).cwiseAbs().dot(half);
-    }
-    case urdf::Geometry::CYLINDER: {
-      const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+  switch (shape.type) {
+    case Shape::Type::kSphere:
+      return centre.z() - shape.radius;
+    case Shape::Type::kBox:
+      // Support of a box along -z: the sum of the z extents of its half axes.
+      return centre.z() - rotation.row(2).cwiseAbs().dot(shape.box_size / 2);
+    case Shape::Type::kCylinder: {
       const double axis_z = std::abs(rotation(2, 2));
-      const double disc_drop = cylinder.radius * std::sqrt(std::max(0.0, 1.0 - axis_z * axis_z));
-      return centre.z() - disc_drop - cylinder.length / 2 * axis_z;
+      const double disc_drop = shape.radius * std::sqrt(std::max(0.0, 1.0 - axis_z * axis_z));
+      return centre.z() - disc_drop - shape.length / 2 * axis_z;
     }
-    case urdf::Geometry::MESH: {
-      const auto mesh = meshes(static_cast<const urdf::Mesh&>(geometry));
-      if (!mesh) return std::nullopt;
+    case Shape::Type::kMesh: {
       double lowest = std::numeric_limits<double>::infinity();
-      for (const auto& v : mesh->vertices) lowest = std::min(lowest, (pose * v).z());
+      if (shape.mesh) {
+        for (const auto& v : shape.mesh->vertices) lowest = std::min(lowest, (pose * v).z());
+      }
       return lowest;
     }
+    case Shape::Type::kPlane: {
+      const Eigen::Vector3d normal = rotation * shape.plane_normal;
+      return normal.head<2>().norm() < 1e-12 ? centre.z() : -std::numeric_limits<double>::infinity();
+    }
   }
-  return std::nullopt;
+  return std::numeric_limits<double>::infinity();
 }
 
-std::optional<std::string> inertiaProblem(const urdf::Inertial& inertial) {
+std::optional<std::string> inertiaProblem(double mass, const Eigen::Matrix3d& inertia) {
   std::ostringstream why;
-  if (!std::isfinite(inertial.mass) || inertial.mass <= 0) {
-    why << "mass " << inertial.mass << " kg is not positive";
+  if (!std::isfinite(mass) || mass <= 0) {
+    why << "mass " << mass << " kg is not positive";
     return why.str();
   }
-  Eigen::Matrix3d inertia;
-  inertia << inertial.ixx, inertial.ixy, inertial.ixz,  //
-      inertial.ixy, inertial.iyy, inertial.iyz,         //
-      inertial.ixz, inertial.iyz, inertial.izz;
   if (!inertia.allFinite()) return std::string("inertia has a non-finite entry");
   const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia).eigenvalues();
   if (moments.minCoeff() <= 0) {

@@ -1,0 +1,104 @@
+// A robot model: URDF links and joints plus Gazebo's <gazebo> extensions, validated and immutable.
+#pragma once
+
+#include <tinyxml2.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bullet_sim/spec/geometry.h"
+#include "bullet_sim/spec/package_resolver.h"
+
+namespace bullet_sim {
+
+struct InertialSpec {
+  double mass = 0;                                    ///< [kg]
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();      ///< centre of mass in the link frame [m]
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  ///< about the com, in link-frame axes [kg m^2]
+};
+
+/// Contact properties from <gazebo reference="link">; defaults are Gazebo's.
+struct SurfaceSpec {
+  double mu1 = 1.0;          ///< friction coefficient along the first friction direction
+  double mu2 = 1.0;          ///< and the second
+  std::optional<double> kp;  ///< contact stiffness [N/m]
+  std::optional<double> kd;  ///< contact damping [N s/m]
+};
+
+struct LinkSpec {
+  std::string name;
+  std::optional<InertialSpec> inertial;
+  std::vector<Collision> collisions;
+  std::vector<Visual> visuals;
+  SurfaceSpec surface;
+  bool self_collide = false;
+  bool gravity = true;
+};
+
+struct JointSpec {
+  enum class Type { kFixed, kRevolute, kContinuous, kPrismatic };
+  std::string name;
+  Type type = Type::kFixed;
+  std::string parent;
+  std::string child;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< child frame in the parent frame at q = 0
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();           ///< unit, in the child frame
+  double lower = -std::numeric_limits<double>::infinity();   ///< [rad] or [m]
+  double upper = std::numeric_limits<double>::infinity();
+  double effort = 0;    ///< [N m] or [N]; 0 = no limit given
+  double velocity = 0;  ///< [rad/s] or [m/s]; 0 = no limit given
+  double damping = 0;   ///< [N m s/rad]
+  double friction = 0;  ///< [N m]
+
+  bool moves() const { return type != Type::kFixed; }
+};
+
+/// A <plugin> element; its tags are read by the plugin's own config parser.
+struct PluginSpec {
+  std::string name;
+  std::string filename;
+  const tinyxml2::XMLElement* element = nullptr;  ///< owned by the ModelSpec's document
+};
+
+/// A <sensor> inside <gazebo reference="link">.
+struct SensorSpec {
+  std::string name;
+  std::string type;                                        ///< "ray", "gpu_ray", "imu", ...
+  std::string link;                                        ///< the reference link
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< in the link frame
+  double update_rate = 0;                                  ///< [Hz]; 0 = every step
+  std::optional<PluginSpec> plugin;
+  const tinyxml2::XMLElement* element = nullptr;
+};
+
+struct ModelSpec {
+  std::string name;
+  std::string source;               ///< where the URDF came from, for messages
+  std::string root;                 ///< root link
+  std::vector<LinkSpec> links;      ///< the root first, then parents before children
+  std::vector<JointSpec> joints;    ///< in the order of `links` (joint i + 1 leads to links[i + 1])
+  std::vector<PluginSpec> plugins;  ///< model-level <gazebo><plugin>
+  std::vector<SensorSpec> sensors;
+  std::shared_ptr<const tinyxml2::XMLDocument> document;  ///< keeps plugin and sensor elements alive
+
+  const LinkSpec* link(const std::string& name) const;
+  const JointSpec* joint(const std::string& name) const;
+  /// The joint whose child is `link`, or nullptr for the root.
+  const JointSpec* parentJoint(const std::string& link) const;
+  std::vector<std::string> linkNames() const;
+  std::vector<std::string> jointNames() const;
+};
+
+/// Parses a URDF string with its <gazebo> tags. Throws SpecError naming `source` and listing every problem
+/// (malformed XML with line number, urdfdom's complaint, missing meshes, references to missing links).
+/// Warnings (ignored tags, ...) are appended to `warnings` when given.
+ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
+                     std::vector<std::string>* warnings = nullptr);
+
+}  // namespace bullet_sim

@@ -1,0 +1,520 @@
+#include "bullet_sim/spec/model_spec.h"
+
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "bullet_sim/spec/diagnostics.h"
+#include "bullet_sim/spec/gazebo_materials.h"
+#include "bullet_sim/spec/model_geometry.h"
+
+namespace bullet_sim {
+
+namespace {
+
+// urdfdom reports why it rejects a file only through console_bridge; this captures it for the error message.
+class CapturedConsole : public console_bridge::OutputHandler {
+ public:
+  CapturedConsole() { console_bridge::useOutputHandler(this); }
+  ~CapturedConsole() override { console_bridge::restorePreviousOutputHandler(); }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) messages_.push_back(text);
+  }
+  std::string text() const {
+    std::string joined;
+    for (const auto& m : messages_) joined += (joined.empty() ? "" : "; ") + m;
+    return joined;
+  }
+
+ private:
+  std::vector<std::string> messages_;
+};
+
+// Gazebo tags we read per link; the others that Gazebo knows are read and ignored with a warning.
+const std::set<std::string> kIgnoredLinkTags = {
+    "maxVel",        "minDepth",  "fdir1",  "dampingFactor", "maxContacts", "laserRetro",
+    "velocityDecay", "collision", "visual", "kinematic",     "static",      "enableWireframe"};
+const std::set<std::string> kIgnoredJointTags = {"provideFeedback",
+                                                 "implicitSpringDamper",
+                                                 "cfmDamping",
+                                                 "stopCfm",
+                                                 "stopErp",
+                                                 "springStiffness",
+                                                 "springReference",
+                                                 "fudgeFactor",
+                                                 "disableFixedJointLumping",
+                                                 "preserveFixedJoint"};
+
+/// Line and column of the first U+00A0 (a non-breaking space copied from a web page), if any.
+std::optional<std::pair<int, int>> findNonBreakingSpace(const std::string& text) {
+  int line = 1, column = 1;
+  for (size_t i = 0; i + 1 < text.size(); ++i) {
+    if (static_cast<unsigned char>(text[i]) == 0xC2 && static_cast<unsigned char>(text[i + 1]) == 0xA0) {
+      return std::make_pair(line, column);
+    }
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) {
+      ++column;
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<double> parseDouble(const char* text) {
+  if (!text) return std::nullopt;
+  std::istringstream in(text);
+  double value;
+  if (in >> value) return value;
+  return std::nullopt;
+}
+
+std::optional<bool> parseBool(const char* text) {
+  if (!text) return std::nullopt;
+  const std::string value(text);
+  if (value == "true" || value == "1") return true;
+  if (value == "false" || value == "0") return false;
+  return std::nullopt;
+}
+
+Eigen::Isometry3d parsePose(const char* text, bool* ok) {
+  std::istringstream in(text ? text : "");
+  double x, y, z, roll, pitch, yaw;
+  *ok = static_cast<bool>(in >> x >> y >> z >> roll >> pitch >> yaw);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  if (!*ok) return pose;
+  pose.translate(Eigen::Vector3d(x, y, z));
+  pose.rotate(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+              Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+              Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+  return pose;
+}
+
+class ModelParser {
+ public:
+  ModelParser(const std::string& source, const PackageResolver& resolver)
+      : diagnostics_(source), resolver_(resolver) {}
+
+  ModelSpec parse(const std::string& xml) {
+    auto document = std::make_shared<tinyxml2::XMLDocument>();
+    if (document->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+      std::string message = "line " + std::to_string(document->ErrorLineNum()) + ": " + document->ErrorStr();
+      if (document->ErrorID() == tinyxml2::XML_ERROR_MISMATCHED_ELEMENT) {
+        message +=
+            " (the element opened on that line is closed by a different tag: look for a typo or a missing "
+            "closing tag below it)";
+      }
+      if (const auto nbsp = findNonBreakingSpace(xml)) {
+        message += "; line " + std::to_string(nbsp->first) + " column " + std::to_string(nbsp->second) +
+                   " holds a non-breaking space (U+00A0, often copied from a web page): replace it with a "
+                   "plain space";
+      }
+      diagnostics_.error(message);
+      diagnostics_.throwIfErrors();
+    }
+    const tinyxml2::XMLElement* robot = document->RootElement();
+    if (!robot || std::string(robot->Name()) != "robot") {
+      diagnostics_.error("the root element is <" + std::string(robot ? robot->Name() : "") +
+                         ">, not <robot>: is this a URDF?");
+      diagnostics_.throwIfErrors();
+    }
+    reportXacroLeftovers(robot);
+    diagnostics_.throwIfErrors();
+
+    urdf::ModelInterfaceSharedPtr urdf_model;
+    {
+      CapturedConsole console;
+      urdf_model = urdf::parseURDF(xml);
+      if (!urdf_model) diagnostics_.error("urdfdom rejected the model: " + console.text());
+    }
+    diagnostics_.throwIfErrors();
+
+    ModelSpec spec;
+    spec.name = urdf_model->getName();
+    spec.source = diagnostics_.source();
+    spec.root = urdf_model->getRoot()->name;
+    addTree(*urdf_model, *urdf_model->getRoot(), spec);
+    readGazeboExtensions(robot, spec);
+    checkMovingLinksHaveMass(spec);
+    diagnostics_.throwIfErrors();
+    spec.document = std::move(document);
+    return spec;
+  }
+
+  std::vector<std::string> warnings() const { return diagnostics_.warnings(); }
+
+ private:
+  void reportXacroLeftovers(const tinyxml2::XMLElement* robot) {
+    static const std::set<std::string> kUrdfElements = {"link", "joint", "material", "gazebo",
+                                                        "transmission"};
+    for (auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string name = e->Name();
+      if (name.rfind("xacro:", 0) == 0) {
+        diagnostics_.error("line " + std::to_string(e->GetLineNum()) + ": <" + name +
+                           "> is a xacro element: expand the file with xacro first");
+      } else if (!kUrdfElements.count(name)) {
+        diagnostics_.error("line " + std::to_string(e->GetLineNum()) + ": <" + name +
+                           "/> is not a URDF element; if it is a xacro macro call, write <xacro:" + name +
+                           "/>");
+      }
+    }
+  }
+
+  void addTree(const urdf::ModelInterface& model, const urdf::Link& link, ModelSpec& spec) {
+    spec.links.push_back(makeLink(link));
+    for (const auto& joint : link.child_joints) {
+      spec.joints.push_back(makeJoint(*joint));
+      if (const auto child = model.getLink(joint->child_link_name)) addTree(model, *child, spec);
+    }
+  }
+
+  LinkSpec makeLink(const urdf::Link& link) {
+    LinkSpec spec;
+    spec.name = link.name;
+    if (link.inertial) {
+      const urdf::Inertial& in = *link.inertial;
+      InertialSpec inertial;
+      inertial.mass = in.mass;
+      const Eigen::Isometry3d frame = toIsometry(in.origin);
+      inertial.com = frame.translation();
+      Eigen::Matrix3d tensor;
+      tensor << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+      inertial.inertia = frame.linear() * tensor * frame.linear().transpose();
+      if (const auto problem = inertiaProblem(inertial.mass, inertial.inertia)) {
+        diagnostics_.error("link [" + link.name + "] <inertial>: " + *problem);
+      }
+      spec.inertial = inertial;
+    }
+    for (const auto& collision : link.collision_array) {
+      if (auto shape = makeShape(*collision->geometry, "link [" + link.name + "] <collision>")) {
+        spec.collisions.push_back({toIsometry(collision->origin), *shape});
+      }
+    }
+    for (const auto& visual : link.visual_array) {
+      if (auto shape = makeShape(*visual->geometry, "link [" + link.name + "] <visual>")) {
+        Visual v;
+        v.origin = toIsometry(visual->origin);
+        v.shape = *shape;
+        if (visual->material) {
+          const auto& c = visual->material->color;
+          v.rgba = Eigen::Vector4d(c.r, c.g, c.b, c.a);
+        }
+        spec.visuals.push_back(v);
+      }
+    }
+    return spec;
+  }
+
+  JointSpec makeJoint(const urdf::Joint& joint) {
+    JointSpec spec;
+    spec.name = joint.name;
+    spec.parent = joint.parent_link_name;
+    spec.child = joint.child_link_name;
+    spec.origin = toIsometry(joint.parent_to_joint_origin_transform);
+    spec.axis = Eigen::Vector3d(joint.axis.x, joint.axis.y, joint.axis.z);
+    switch (joint.type) {
+      case urdf::Joint::FIXED:
+        spec.type = JointSpec::Type::kFixed;
+        break;
+      case urdf::Joint::REVOLUTE:
+        spec.type = JointSpec::Type::kRevolute;
+        break;
+      case urdf::Joint::CONTINUOUS:
+        spec.type = JointSpec::Type::kContinuous;
+        break;
+      case urdf::Joint::PRISMATIC:
+        spec.type = JointSpec::Type::kPrismatic;
+        break;
+      default:
+        diagnostics_.error(
+            "joint [" + joint.name +
+            "]: floating and planar joints are not supported; use fixed, revolute, continuous or "
+            "prismatic");
+    }
+    if (spec.moves()) {
+      if (spec.axis.norm() < 1e-9) {
+        diagnostics_.error("joint [" + joint.name + "] <axis> is zero: give it a direction such as 0 1 0");
+      } else {
+        spec.axis.normalize();
+      }
+    }
+    if (joint.limits) {
+      if (spec.type != JointSpec::Type::kContinuous) {
+        spec.lower = joint.limits->lower;
+        spec.upper = joint.limits->upper;
+      }
+      spec.effort = joint.limits->effort;
+      spec.velocity = joint.limits->velocity;
+    }
+    if (joint.dynamics) {
+      spec.damping = joint.dynamics->damping;
+      spec.friction = joint.dynamics->friction;
+    }
+    return spec;
+  }
+
+  std::optional<Shape> makeShape(const urdf::Geometry& geometry, const std::string& where) {
+    Shape shape;
+    switch (geometry.type) {
+      case urdf::Geometry::BOX: {
+        const auto& dim = static_cast<const urdf::Box&>(geometry).dim;
+        shape.type = Shape::Type::kBox;
+        shape.box_size = Eigen::Vector3d(dim.x, dim.y, dim.z);
+        return shape;
+      }
+      case urdf::Geometry::CYLINDER: {
+        const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+        shape.type = Shape::Type::kCylinder;
+        shape.radius = cylinder.radius;
+        shape.length = cylinder.length;
+        return shape;
+      }
+      case urdf::Geometry::SPHERE:
+        shape.type = Shape::Type::kSphere;
+        shape.radius = static_cast<const urdf::Sphere&>(geometry).radius;
+        return shape;
+      case urdf::Geometry::MESH: {
+        const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
+        shape.type = Shape::Type::kMesh;
+        shape.mesh_scale = Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+        std::string error;
+        const auto path = resolver_.resolve(mesh.filename, &error);
+        if (!path) {
+          diagnostics_.error(where + ": " + error);
+          return std::nullopt;
+        }
+        shape.mesh_path = *path;
+        shape.mesh = loadCachedMesh(*path, shape.mesh_scale, &error);
+        if (!shape.mesh) {
+          diagnostics_.error(where + ": " + error);
+          return std::nullopt;
+        }
+        return shape;
+      }
+    }
+    diagnostics_.error(where + ": unsupported geometry");
+    return std::nullopt;
+  }
+
+  std::shared_ptr<const TriangleMesh> loadCachedMesh(const std::string& path, const Eigen::Vector3d& scale,
+                                                     std::string* error) {
+    std::ostringstream key;
+    key << path << '|' << scale.transpose();
+    auto& cached = meshes_[key.str()];
+    if (!cached) {
+      if (auto mesh = loadMesh(path, scale, error))
+        cached = std::make_shared<const TriangleMesh>(std::move(*mesh));
+    }
+    return cached;
+  }
+
+  void readGazeboExtensions(const tinyxml2::XMLElement* robot, ModelSpec& spec) {
+    const auto links = spec.linkNames();
+    const auto joints = spec.jointNames();
+    std::vector<std::string> frames = links;
+    frames.insert(frames.end(), joints.begin(), joints.end());
+
+    for (auto* gazebo = robot->FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo")) {
+      const std::string line = "line " + std::to_string(gazebo->GetLineNum()) + ": ";
+      const char* reference = gazebo->Attribute("reference");
+      if (!reference) {
+        readModelBlock(gazebo, line, spec);
+      } else if (auto link = std::find_if(spec.links.begin(), spec.links.end(),
+                                          [&](const LinkSpec& l) { return l.name == reference; });
+                 link != spec.links.end()) {
+        readLinkBlock(gazebo, line, *link, spec);
+      } else if (spec.joint(reference)) {
+        for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
+          warnIgnored(line + "<gazebo reference=\"" + reference + "\"> <" + tag->Name() + ">",
+                      kIgnoredJointTags.count(tag->Name()) > 0);
+        }
+      } else {
+        diagnostics_.error(line + "<gazebo reference=\"" + reference + "\"> names no link or joint" +
+                           didYouMean(reference, frames) + "; Gazebo would silently ignore this block");
+      }
+    }
+  }
+
+  void readModelBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, ModelSpec& spec) {
+    for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
+      if (std::string(tag->Name()) == "plugin") {
+        spec.plugins.push_back(makePlugin(tag, line));
+      } else {
+        warnIgnored(line + "<gazebo> <" + std::string(tag->Name()) + ">", false);
+      }
+    }
+  }
+
+  void readLinkBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, LinkSpec& link,
+                     ModelSpec& spec) {
+    const std::string where = line + "<gazebo reference=\"" + link.name + "\"> ";
+    for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
+      const std::string name = tag->Name();
+      const auto number = [&](double* out) {
+        if (auto value = parseDouble(tag->GetText())) {
+          *out = *value;
+        } else {
+          diagnostics_.error(where + "<" + name + "> must be a number, not [" +
+                             (tag->GetText() ? tag->GetText() : "") + "]");
+        }
+      };
+      const auto flag = [&](bool* out) {
+        if (auto value = parseBool(tag->GetText())) {
+          *out = *value;
+        } else {
+          diagnostics_.error(where + "<" + name + "> must be true or false");
+        }
+      };
+      if (name == "material") {
+        applyMaterial(tag->GetText() ? tag->GetText() : "", where, link);
+      } else if (name == "mu1") {
+        number(&link.surface.mu1);
+      } else if (name == "mu2") {
+        number(&link.surface.mu2);
+      } else if (name == "kp") {
+        double kp = 0;
+        number(&kp);
+        link.surface.kp = kp;
+      } else if (name == "kd") {
+        double kd = 0;
+        number(&kd);
+        link.surface.kd = kd;
+      } else if (name == "selfCollide") {
+        flag(&link.self_collide);
+      } else if (name == "turnGravityOff") {
+        bool off = false;
+        flag(&off);
+        link.gravity = !off;
+      } else if (name == "gravity") {
+        flag(&link.gravity);
+      } else if (name == "sensor") {
+        spec.sensors.push_back(makeSensor(tag, link.name, where));
+      } else {
+        warnIgnored(where + "<" + name + ">", kIgnoredLinkTags.count(name) > 0);
+      }
+    }
+  }
+
+  void applyMaterial(const std::string& material, const std::string& where, LinkSpec& link) {
+    const auto colour = gazeboMaterialColour(material);
+    if (!colour) {
+      diagnostics_.warning(where + "<material>" + material + "</material> is not a Gazebo material we know" +
+                           didYouMean(material, gazeboMaterialNames()) + "; the URDF colour is kept");
+      return;
+    }
+    for (auto& visual : link.visuals) {
+      visual.rgba = *colour;
+      visual.material = material;
+    }
+  }
+
+  PluginSpec makePlugin(const tinyxml2::XMLElement* element, const std::string& line) {
+    PluginSpec plugin;
+    plugin.element = element;
+    plugin.name = element->Attribute("name") ? element->Attribute("name") : "";
+    plugin.filename = element->Attribute("filename") ? element->Attribute("filename") : "";
+    if (plugin.filename.empty())
+      diagnostics_.error(line + "<plugin name=\"" + plugin.name + "\"> has no filename");
+    return plugin;
+  }
+
+  SensorSpec makeSensor(const tinyxml2::XMLElement* element, const std::string& link,
+                        const std::string& where) {
+    SensorSpec sensor;
+    sensor.element = element;
+    sensor.link = link;
+    sensor.name = element->Attribute("name") ? element->Attribute("name") : "";
+    sensor.type = element->Attribute("type") ? element->Attribute("type") : "";
+    const std::string here = where + "<sensor name=\"" + sensor.name + "\"> ";
+    if (sensor.type.empty()) diagnostics_.error(here + "has no type attribute (e.g. type=\"ray\")");
+    if (auto* pose = element->FirstChildElement("pose")) {
+      bool ok = false;
+      sensor.pose = parsePose(pose->GetText(), &ok);
+      if (!ok) diagnostics_.error(here + "<pose> must be six numbers: x y z roll pitch yaw");
+    }
+    if (auto* rate = element->FirstChildElement("update_rate")) {
+      const auto value = parseDouble(rate->GetText());
+      if (!value || *value < 0) {
+        diagnostics_.error(here + "<update_rate> must be a number >= 0 [Hz]");
+      } else {
+        sensor.update_rate = *value;
+      }
+    }
+    if (auto* plugin = element->FirstChildElement("plugin")) sensor.plugin = makePlugin(plugin, where);
+    return sensor;
+  }
+
+  void checkMovingLinksHaveMass(const ModelSpec& spec) {
+    for (const auto& joint : spec.joints) {
+      if (!joint.moves()) continue;
+      const LinkSpec* child = spec.link(joint.child);
+      if (child && (!child->inertial || child->inertial->mass <= 0)) {
+        diagnostics_.error("link [" + child->name + "] moves on joint [" + joint.name +
+                           "] but has no mass: give it an <inertial>, or make the joint fixed");
+      }
+    }
+  }
+
+  void warnIgnored(const std::string& what, bool known) {
+    diagnostics_.warning(what + (known ? " is a Gazebo tag bullet_sim does not model: ignored"
+                                       : " is not a Gazebo tag bullet_sim knows: ignored"));
+  }
+
+  Diagnostics diagnostics_;
+  const PackageResolver& resolver_;
+  std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;
+};
+
+}  // namespace
+
+const LinkSpec* ModelSpec::link(const std::string& name) const {
+  for (const auto& l : links) {
+    if (l.name == name) return &l;
+  }
+  return nullptr;
+}
+
+const JointSpec* ModelSpec::joint(const std::string& name) const {
+  for (const auto& j : joints) {
+    if (j.name == name) return &j;
+  }
+  return nullptr;
+}
+
+const JointSpec* ModelSpec::parentJoint(const std::string& link) const {
+  for (const auto& j : joints) {
+    if (j.child == link) return &j;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> ModelSpec::linkNames() const {
+  std::vector<std::string> names;
+  for (const auto& l : links) names.push_back(l.name);
+  return names;
+}
+
+std::vector<std::string> ModelSpec::jointNames() const {
+  std::vector<std::string> names;
+  for (const auto& j : joints) names.push_back(j.name);
+  return names;
+}
+
+ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
+                     std::vector<std::string>* warnings) {
+  ModelParser parser(source, resolver);
+  ModelSpec spec = parser.parse(urdf_xml);
+  if (warnings) {
+    const auto found = parser.warnings();
+    warnings->insert(warnings->end(), found.begin(), found.end());
+  }
+  return spec;
+}
+
+}  // namespace bullet_sim

@@ -1,0 +1,540 @@
+#include "bullet_sim/spec/world_spec.h"
+
+#include <stdlib.h>  // mkdtemp
+#include <tinyxml2.h>
+#include <sdf/sdf.hh>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "bullet_sim/spec/gazebo_materials.h"
+#include "bullet_sim/spec/mesh.h"
+
+namespace bullet_sim {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPlaneVisualThickness = 0.001;  // [m] of the box that stands in for a plane visual
+
+struct BuiltinModel {
+  const char* uri;
+  const char* sdf;
+};
+
+// Gazebo classic's ground_plane and sun, as its model database ships them. The sun is a light, not a model.
+constexpr BuiltinModel kBuiltinModels[] = {
+    {"model://ground_plane", R"(<?xml version="1.0"?>
+<sdf version="1.6">
+  <model name="ground_plane">
+    <static>true</static>
+    <link name="link">
+      <collision name="collision">
+        <geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>
+      </collision>
+      <visual name="visual">
+        <cast_shadows>false</cast_shadows>
+        <geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>
+        <material>
+          <script><uri>file://media/materials/scripts/gazebo.material</uri><name>Gazebo/Grey</name></script>
+        </material>
+      </visual>
+    </link>
+  </model>
+</sdf>
+)"},
+    {"model://sun", R"(<?xml version="1.0"?>
+<sdf version="1.6">
+  <light type="directional" name="sun">
+    <cast_shadows>true</cast_shadows>
+    <pose>0 0 10 0 0 0</pose>
+    <diffuse>0.8 0.8 0.8 1</diffuse>
+    <specular>0.2 0.2 0.2 1</specular>
+    <attenuation><range>1000</range><constant>0.9</constant><linear>0.01</linear><quadratic>0.001</quadratic></attenuation>
+    <direction>-0.5 0.1 -0.9</direction>
+  </light>
+</sdf>
+)"},
+};
+
+/// A number as SDF would write it: "0.1", not "0.100000".
+std::string toText(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+std::string toText(const Eigen::Vector3d& v) {
+  return toText(v.x()) + " " + toText(v.y()) + " " + toText(v.z());
+}
+
+std::vector<std::string> builtinModelNames() {
+  std::vector<std::string> names;
+  for (const auto& model : kBuiltinModels) names.push_back(fs::path(model.uri).filename().string());
+  return names;
+}
+
+/// sdformat resolves an <include> only to a file on disk, so a built-in model is written, when first
+/// included, to a private temporary directory that lives as long as one parse.
+class BuiltinModelFiles {
+ public:
+  BuiltinModelFiles() = default;
+  BuiltinModelFiles(const BuiltinModelFiles&) = delete;
+  BuiltinModelFiles& operator=(const BuiltinModelFiles&) = delete;
+  ~BuiltinModelFiles() {
+    std::error_code ignored;
+    if (!directory_.empty()) fs::remove_all(directory_, ignored);
+  }
+
+  static bool isBuiltin(const std::string& uri) { return builtinSdf(uri) != nullptr; }
+
+  /// Path of the file holding the built-in model `uri`; nullopt with `error` set when it cannot be written.
+  std::optional<std::string> path(const std::string& uri, std::string* error) {
+    if (directory_.empty()) {
+      std::string pattern = (fs::temp_directory_path() / "bullet_sim_models_XXXXXX").string();
+      if (!mkdtemp(pattern.data())) {
+        *error = "cannot create a temporary directory from [" + pattern + "] for the built-in models; set " +
+                 "TMPDIR to a writable directory";
+        return std::nullopt;
+      }
+      directory_ = pattern;
+    }
+    const fs::path file = directory_ / (fs::path(uri).filename().string() + ".sdf");
+    if (!fs::exists(file)) {
+      std::ofstream out(file);
+      out << builtinSdf(uri);
+      if (!out) {
+        *error = "cannot write the built-in model [" + uri + "] to [" + file.string() +
+                 "]; set TMPDIR to a " + "writable directory";
+        return std::nullopt;
+      }
+    }
+    return file.string();
+  }
+
+ private:
+  static const char* builtinSdf(const std::string& uri) {
+    for (const auto& model : kBuiltinModels) {
+      if (uri == model.uri) return model.sdf;
+    }
+    return nullptr;
+  }
+
+  fs::path directory_;
+};
+
+bool hasScheme(const std::string& uri, const std::string& scheme) {
+  return uri.rfind(scheme + "://", 0) == 0;
+}
+
+/// A path from a package://, file:// or relative URI, relative ones taken from `base_directory`.
+/// On failure returns nullopt and sets `error` to the reason and the fix.
+std::optional<fs::path> resolveFile(const std::string& uri, const PackageResolver& resolver,
+                                    const fs::path& base_directory, std::string* error) {
+  if (hasScheme(uri, "model")) {
+    const std::string name = uri.substr(std::string("model://").size());
+    std::string builtins;
+    for (const auto& builtin : builtinModelNames())
+      builtins += (builtins.empty() ? "[" : ", [") + builtin + "]";
+    *error = "unknown model [" + name + "]" + didYouMean(name, builtinModelNames()) +
+             ": bullet_sim has only the built-in models " + builtins +
+             "; copy the model into the world file, or refer to it by a package:// URI";
+    return std::nullopt;
+  }
+  if (uri.find("://") != std::string::npos && !hasScheme(uri, "package") && !hasScheme(uri, "file")) {
+    *error =
+        "unsupported URI scheme in [" + uri + "]; use package://, file:// or a path relative to the SDF file";
+    return std::nullopt;
+  }
+  const std::optional<std::string> resolved = resolver.resolve(uri, error);
+  if (!resolved) return std::nullopt;
+  const fs::path path = fs::path(*resolved).is_relative() ? base_directory / *resolved : fs::path(*resolved);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    *error = "no such file [" + path.string() + "]; check the path";
+    return std::nullopt;
+  }
+  return path;
+}
+
+Eigen::Vector3d toEigen(const ignition::math::Vector3d& v) { return {v.X(), v.Y(), v.Z()}; }
+
+Eigen::Isometry3d toIsometry(const ignition::math::Pose3d& pose) {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.translation() = toEigen(pose.Pos());
+  result.linear() = Eigen::Quaterniond(pose.Rot().W(), pose.Rot().X(), pose.Rot().Y(), pose.Rot().Z())
+                        .normalized()
+                        .toRotationMatrix();
+  return result;
+}
+
+Eigen::Vector4d toRgba(const ignition::math::Color& colour) {
+  return {colour.R(), colour.G(), colour.B(), colour.A()};
+}
+
+/// "[file:line] " for messages. SDF text has no file, so sdformat's placeholder name becomes `source`.
+std::string location(const std::string& file, const std::optional<int>& line, const std::string& source) {
+  const std::string name = file.empty() || file == sdf::kSdfStringSource ? source : file;
+  return "[" + name + (line ? ":" + std::to_string(*line) : "") + "] ";
+}
+
+std::string location(const sdf::ElementPtr& element, const std::string& source) {
+  return element ? location(element->FilePath(), element->LineNumber(), source) : location("", {}, source);
+}
+
+std::string describe(const sdf::Error& error, const std::string& source) {
+  return location(error.FilePath().value_or(""), error.LineNumber(), source) + error.Message();
+}
+
+/// Every child element called `name`.
+std::vector<sdf::ElementPtr> children(const sdf::ElementPtr& parent, const std::string& name) {
+  std::vector<sdf::ElementPtr> found;
+  for (sdf::ElementPtr child = parent ? parent->FindElement(name) : nullptr; child;
+       child = child->GetNextElement(name)) {
+    found.push_back(child);
+  }
+  return found;
+}
+
+/// Turns sdformat's DOM of one world into a WorldSpec, collecting every problem in `diagnostics`.
+class WorldConverter {
+ public:
+  WorldConverter(const PackageResolver& resolver, fs::path base_directory, Diagnostics& diagnostics)
+      : resolver_(resolver), base_directory_(std::move(base_directory)), diagnostics_(diagnostics) {}
+
+  void convert(const sdf::World& world, WorldSpec& spec) {
+    spec.name = world.Name();
+    spec.gravity = toEigen(world.Gravity());
+    if (const sdf::Physics* physics = world.PhysicsDefault()) {
+      spec.max_step_size = physics->MaxStepSize();
+      spec.real_time_factor = physics->RealTimeFactor();
+      if (!(spec.max_step_size > 0)) {
+        diagnostics_.error(locate(physics->Element()) + "physics [" + physics->Name() + "]: max_step_size [" +
+                           toText(spec.max_step_size) + "] must be positive; Gazebo's default is 0.001");
+      }
+    }
+    for (const auto& plugin : children(world.Element(), "plugin")) {
+      diagnostics_.warning(locate(plugin) + "world plugin [" + plugin->Get<std::string>("name") + "] (" +
+                           plugin->Get<std::string>("filename") +
+                           ") ignored: bullet_sim runs no world plugins");
+    }
+    for (uint64_t i = 0; i < world.ActorCount(); ++i) {
+      diagnostics_.warning("actor [" + world.ActorByIndex(i)->Name() + "] ignored: bullet_sim has no actors");
+    }
+    // Lights (the sun) matter to no simulated sensor, so they are dropped silently.
+    for (uint64_t i = 0; i < world.ModelCount(); ++i) {
+      spec.models.push_back(toModelSpec(*world.ModelByIndex(i)));
+    }
+  }
+
+ private:
+  /// "[file:line] " of an element, for messages.
+  std::string locate(const sdf::ElementPtr& element) const {
+    return location(element, diagnostics_.source());
+  }
+
+  WorldModelSpec toModelSpec(const sdf::Model& model) {
+    WorldModelSpec spec;
+    spec.name = model.Name();
+    spec.pose = resolvePose(model.SemanticPose(), "", "model [" + model.Name() + "]", model.Element());
+    spec.is_static = model.Static();
+    if (!spec.is_static) {
+      diagnostics_.warning(locate(model.Element()) + "model [" + model.Name() +
+                           "] is not static: bullet_sim simulates world models as static obstacles; add "
+                           "<static>true</static> to it");
+    }
+    addContents(model, Eigen::Isometry3d::Identity(), model.Name(), spec);
+    return spec;
+  }
+
+  /// Adds the collisions and visuals of `model` (the top-level model or one nested in it, placed at
+  /// `in_top_model`) to `spec`. `scope` is its name for messages, e.g. "house::door".
+  void addContents(const sdf::Model& model, const Eigen::Isometry3d& in_top_model, const std::string& scope,
+                   WorldModelSpec& spec) {
+    if (model.JointCount() > 0) {
+      std::string joints;
+      for (uint64_t i = 0; i < model.JointCount(); ++i) {
+        joints += (i ? ", [" : "[") + model.JointByIndex(i)->Name() + "]";
+      }
+      diagnostics_.warning(locate(model.Element()) + "model [" + scope + "]: joints " + joints +
+                           " ignored: world models are rigid, static obstacles");
+    }
+    for (const auto& plugin : children(model.Element(), "plugin")) {
+      diagnostics_.warning(locate(plugin) + "model [" + scope + "]: plugin [" +
+                           plugin->Get<std::string>("name") + "] ignored: world models run no plugins");
+    }
+    for (uint64_t l = 0; l < model.LinkCount(); ++l) {
+      const sdf::Link& link = *model.LinkByIndex(l);
+      const std::string owner = "model [" + scope + "] link [" + link.Name() + "]";
+      for (uint64_t s = 0; s < link.SensorCount(); ++s) {
+        diagnostics_.warning(locate(link.Element()) + owner + ": sensor [" + link.SensorByIndex(s)->Name() +
+                             "] ignored: world models have no sensors");
+      }
+      for (uint64_t c = 0; c < link.CollisionCount(); ++c) {
+        const sdf::Collision& collision = *link.CollisionByIndex(c);
+        const std::string where = owner + " collision [" + collision.Name() + "]";
+        std::optional<Shape> shape = toShape(*collision.Geom(), where);
+        if (!shape) continue;
+        Collision result;
+        result.origin =
+            in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
+        result.shape = std::move(*shape);
+        spec.collisions.push_back(std::move(result));
+      }
+      for (uint64_t v = 0; v < link.VisualCount(); ++v) {
+        const sdf::Visual& visual = *link.VisualByIndex(v);
+        const std::string where = owner + " visual [" + visual.Name() + "]";
+        std::optional<Shape> shape = toShape(*visual.Geom(), where);
+        if (!shape) continue;
+        Visual result;
+        result.origin =
+            in_top_model * resolvePose(visual.SemanticPose(), "__model__", where, visual.Element());
+        result.shape = std::move(*shape);
+        if (result.shape.type == Shape::Type::kPlane) {
+          standInForPlane(*visual.Geom()->PlaneShape(), result);
+        }
+        applyMaterial(visual, where, result);
+        spec.visuals.push_back(std::move(result));
+      }
+    }
+    for (uint64_t m = 0; m < model.ModelCount(); ++m) {
+      const sdf::Model& nested = *model.ModelByIndex(m);
+      const std::string nested_scope = scope + "::" + nested.Name();
+      const Eigen::Isometry3d nested_pose =
+          in_top_model *
+          resolvePose(nested.SemanticPose(), "", "model [" + nested_scope + "]", nested.Element());
+      addContents(nested, nested_pose, nested_scope, spec);
+    }
+  }
+
+  /// The pose of an element relative to frame `relative_to` ("" for its default frame).
+  Eigen::Isometry3d resolvePose(const sdf::SemanticPose& semantic_pose, const std::string& relative_to,
+                                const std::string& owner, const sdf::ElementPtr& element) {
+    ignition::math::Pose3d pose;
+    for (const sdf::Error& error : semantic_pose.Resolve(pose, relative_to)) {
+      diagnostics_.error(locate(element) + owner + ": cannot resolve its pose: " + error.Message());
+    }
+    return toIsometry(pose);
+  }
+
+  /// A plane visual becomes a thin box of the plane's size, top face on the plane: a renderer needs an
+  /// extent.
+  static void standInForPlane(const sdf::Plane& plane, Visual& visual) {
+    const Eigen::Vector3d normal = visual.shape.plane_normal;
+    visual.origin.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal));
+    visual.origin.translate(Eigen::Vector3d(0, 0, -kPlaneVisualThickness / 2));
+    visual.shape.type = Shape::Type::kBox;
+    visual.shape.box_size = Eigen::Vector3d(plane.Size().X(), plane.Size().Y(), kPlaneVisualThickness);
+  }
+
+  /// Colour precedence as in Gazebo classic: an explicit <diffuse> (else <ambient>) overrides the script's.
+  void applyMaterial(const sdf::Visual& visual, const std::string& where, Visual& result) {
+    if (const sdf::Material* material = visual.Material()) {
+      const bool has_diffuse = material->Element()->HasElement("diffuse");
+      const bool has_ambient = material->Element()->HasElement("ambient");
+      const std::string script = material->ScriptName();
+      if (!script.empty()) {
+        result.material = script;
+        if (const std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script)) {
+          result.rgba = *colour;
+        } else if (!has_diffuse && !has_ambient) {
+          diagnostics_.warning(locate(material->Element()) + where + ": unknown Gazebo material [" + script +
+                               "]" + didYouMean(script, gazeboMaterialNames()) +
+                               ", shown grey; give it a <diffuse> colour");
+        }
+      }
+      if (has_diffuse) {
+        result.rgba = toRgba(material->Diffuse());
+      } else if (has_ambient) {
+        result.rgba = toRgba(material->Ambient());
+      }
+    }
+    result.rgba[3] *= 1.0 - visual.Transparency();
+  }
+
+  std::optional<Shape> toShape(const sdf::Geometry& geometry, const std::string& where) {
+    const std::string at = locate(geometry.Element()) + where;
+    Shape shape;
+    switch (geometry.Type()) {
+      case sdf::GeometryType::BOX:
+        shape.type = Shape::Type::kBox;
+        shape.box_size = toEigen(geometry.BoxShape()->Size());
+        if (!(shape.box_size.minCoeff() > 0)) {
+          return invalidSize(at + ": box size [" + toText(shape.box_size) + "]");
+        }
+        return shape;
+      case sdf::GeometryType::CYLINDER:
+        shape.type = Shape::Type::kCylinder;
+        shape.radius = geometry.CylinderShape()->Radius();
+        shape.length = geometry.CylinderShape()->Length();
+        if (!(shape.radius > 0 && shape.length > 0)) {
+          return invalidSize(at + ": cylinder radius [" + toText(shape.radius) + "] and length [" +
+                             toText(shape.length) + "]");
+        }
+        return shape;
+      case sdf::GeometryType::SPHERE:
+        shape.type = Shape::Type::kSphere;
+        shape.radius = geometry.SphereShape()->Radius();
+        if (!(shape.radius > 0)) return invalidSize(at + ": sphere radius [" + toText(shape.radius) + "]");
+        return shape;
+      case sdf::GeometryType::PLANE:
+        shape.type = Shape::Type::kPlane;
+        shape.plane_normal = toEigen(geometry.PlaneShape()->Normal());
+        if (!(shape.plane_normal.norm() > 0)) return invalidSize(at + ": plane normal [0 0 0]");
+        shape.plane_normal.normalize();
+        return shape;
+      case sdf::GeometryType::MESH:
+        return toMeshShape(*geometry.MeshShape(), geometry.Element(), at);
+      case sdf::GeometryType::EMPTY:
+      case sdf::GeometryType::HEIGHTMAP:
+      case sdf::GeometryType::CAPSULE:
+      case sdf::GeometryType::ELLIPSOID:
+        break;
+    }
+    // sdformat 12 reports <polyline> as EMPTY too, so the element's name tells what it really is.
+    const sdf::ElementPtr kind = geometry.Element() ? geometry.Element()->GetFirstElement() : nullptr;
+    if (!kind || kind->GetName() == "empty") return std::nullopt;
+    diagnostics_.error(
+        at + ": unsupported geometry [" + kind->GetName() +
+        "]; bullet_sim supports box, cylinder, sphere, plane and mesh: replace it with one of them");
+    return std::nullopt;
+  }
+
+  std::optional<Shape> toMeshShape(const sdf::Mesh& mesh, const sdf::ElementPtr& geometry_element,
+                                   const std::string& at) {
+    // Relative mesh paths start at the SDF file that holds the mesh (an included model's own file).
+    std::error_code ec;
+    const fs::path defined_in = geometry_element ? fs::path(geometry_element->FilePath()) : fs::path();
+    const fs::path base_directory =
+        fs::is_regular_file(defined_in, ec) ? fs::absolute(defined_in).parent_path() : base_directory_;
+
+    std::string error;
+    const std::optional<fs::path> path = resolveFile(mesh.Uri(), resolver_, base_directory, &error);
+    if (!path) {
+      diagnostics_.error(at + ": mesh [" + mesh.Uri() + "]: " + error);
+      return std::nullopt;
+    }
+    if (!mesh.Submesh().empty()) {
+      diagnostics_.warning(at + ": submesh [" + mesh.Submesh() + "] ignored: the whole mesh is loaded");
+    }
+    Shape shape;
+    shape.type = Shape::Type::kMesh;
+    shape.mesh_path = fs::absolute(*path).lexically_normal().string();
+    shape.mesh_scale = toEigen(mesh.Scale());
+    std::optional<TriangleMesh> triangles = loadMesh(shape.mesh_path, shape.mesh_scale, &error);
+    if (!triangles) {
+      diagnostics_.error(at + ": " + error + "; check that the file is an STL, DAE or OBJ mesh");
+      return std::nullopt;
+    }
+    shape.mesh = std::make_shared<const TriangleMesh>(std::move(*triangles));
+    return shape;
+  }
+
+  std::nullopt_t invalidSize(const std::string& what) {
+    diagnostics_.error(what + " must be positive; fix the size in the SDF");
+    return std::nullopt;
+  }
+
+  const PackageResolver& resolver_;
+  const fs::path base_directory_;  // for relative paths in SDF text that has no file
+  Diagnostics& diagnostics_;
+};
+
+/// Runs `load` (from a file or from text) with the built-in models and `resolver` behind <include>, then
+/// converts the world. `base_directory` is where relative include and mesh paths start.
+WorldSpec parseWith(const std::string& text,
+                    const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
+                    const std::string& source, const fs::path& base_directory,
+                    const PackageResolver& resolver, std::vector<std::string>* warnings) {
+  Diagnostics diagnostics(source);
+  // sdformat 12 reports malformed XML only as "Unable to read file" (the detail goes to stderr), so tinyxml2
+  // checks it first and names the line and the element.
+  tinyxml2::XMLDocument xml;
+  if (xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    diagnostics.error("[" + source + ":" + std::to_string(xml.ErrorLineNum()) +
+                      "] malformed XML: " + xml.ErrorStr() + "; fix the XML there");
+    diagnostics.throwIfErrors();
+  }
+  BuiltinModelFiles builtins;
+  std::map<std::string, std::string> unresolved;  // include URI -> why it could not be found
+  sdf::ParserConfig config;
+  config.SetFindCallback([&](const std::string& uri) -> std::string {
+    std::string error;
+    if (BuiltinModelFiles::isBuiltin(uri)) {
+      if (const std::optional<std::string> file = builtins.path(uri, &error)) return *file;
+    } else if (const std::optional<fs::path> file = resolveFile(uri, resolver, base_directory, &error)) {
+      return file->string();
+    }
+    unresolved[uri] = error;
+    return "";  // sdformat then reports the include as unresolved
+  });
+
+  sdf::Root root;
+  const sdf::Errors errors = load(root, config);
+  // sdformat names the unresolved URI and the line of the include; the reason and the fix are ours.
+  for (const sdf::Error& error : errors) {
+    std::string message = describe(error, source);
+    for (auto it = unresolved.begin(); it != unresolved.end();) {
+      if (error.Message().find("[" + it->first + "]") == std::string::npos) {
+        ++it;
+        continue;
+      }
+      message += ": " + it->second;
+      it = unresolved.erase(it);
+    }
+    diagnostics.error(message);
+  }
+  for (const auto& [uri, reason] : unresolved) diagnostics.error("include [" + uri + "]: " + reason);
+
+  WorldSpec spec;
+  spec.source = source;
+  if (root.WorldCount() == 0) {
+    if (errors.empty()) {
+      diagnostics.error("no <world> element; a world file holds <sdf version=\"1.6\"><world name=\"...\">");
+    }
+  } else {
+    if (root.WorldCount() > 1) {
+      diagnostics.warning("only the first of " + std::to_string(root.WorldCount()) + " worlds, [" +
+                          root.WorldByIndex(0)->Name() + "], is loaded");
+    }
+    WorldConverter(resolver, base_directory, diagnostics).convert(*root.WorldByIndex(0), spec);
+  }
+
+  if (warnings)
+    warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
+  diagnostics.throwIfErrors();
+  return spec;
+}
+
+}  // namespace
+
+WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
+                    std::vector<std::string>* warnings) {
+  std::error_code ec;
+  std::ifstream file(path);
+  if (!fs::is_regular_file(path, ec) || !file) {
+    throw SpecError(path, {"no such file [" + path + "]; check the path (a relative one starts at [" +
+                           fs::current_path(ec).string() + "])"});
+  }
+  const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  return parseWith(
+      text, [&](sdf::Root& root, const sdf::ParserConfig& config) { return root.Load(path, config); }, path,
+      fs::absolute(path, ec).parent_path(), resolver, warnings);
+}
+
+WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, const PackageResolver& resolver,
+                     std::vector<std::string>* warnings) {
+  std::error_code ec;
+  return parseWith(
+      sdf_text,
+      [&](sdf::Root& root, const sdf::ParserConfig& config) { return root.LoadSdfString(sdf_text, config); },
+      source, fs::absolute(source, ec).parent_path(), resolver, warnings);
+}
+
+}  // namespace bullet_sim

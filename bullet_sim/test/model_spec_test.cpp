@@ -1,0 +1,113 @@
+// Loading robot models: one fixture per failure mode, each with the message it must give.
+#include <gtest/gtest.h>
+
+#include "bullet_sim/simulation.h"
+#include "bullet_sim/spec/diagnostics.h"
+#include "test_support.h"
+
+namespace bullet_sim {
+namespace {
+
+using test::fixture;
+using test::readFile;
+
+/// The message of the SpecError that loading `file` throws, or "" when it loads.
+std::string loadError(const std::string& file) {
+  try {
+    parseModel(readFile(fixture("robots/" + file)), file, PackageResolver::fromEnvironment());
+  } catch (const SpecError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ModelSpec, LoadsTheMinimalRobot) {
+  const ModelSpec model = parseModel(readFile(fixture("robots/minimal.urdf")), "minimal.urdf",
+                                     PackageResolver::fromEnvironment());
+  EXPECT_EQ(model.name, "minimal");
+  ASSERT_EQ(model.links.size(), 1u);
+  EXPECT_DOUBLE_EQ(model.links[0].inertial->mass, 1.0);
+  EXPECT_EQ(model.links[0].collisions[0].shape.type, Shape::Type::kBox);
+}
+
+TEST(ModelSpec, MalformedXmlNamesTheLine) {
+  const std::string error = loadError("fail_malformed.urdf");
+  EXPECT_NE(error.find("fail_malformed.urdf"), std::string::npos) << error;
+  EXPECT_NE(error.find("line 2:"), std::string::npos) << error;  // where <robot> opens
+  EXPECT_NE(error.find("closed by a different tag"), std::string::npos) << error;
+}
+
+TEST(ModelSpec, NonBreakingSpaceIsNamedWithLineAndColumn) {
+  const std::string error = loadError("fail_non_breaking_space.urdf");
+  EXPECT_NE(error.find("line 3 column 8 holds a non-breaking space (U+00A0"), std::string::npos) << error;
+}
+
+TEST(ModelSpec, MissingMeshNamesLinkAndUri) {
+  const std::string error = loadError("fail_missing_mesh.urdf");
+  EXPECT_NE(error.find("link [base_link] <visual>: cannot load mesh"), std::string::npos) << error;
+  EXPECT_NE(error.find("no_such_mesh.stl"), std::string::npos) << error;
+}
+
+TEST(ModelSpec, UnexpandedMacroCallSuggestsTheXacroPrefix) {
+  const std::string error = loadError("fail_unexpanded_macro.urdf");
+  EXPECT_NE(error.find("<mbot_base/> is not a URDF element"), std::string::npos) << error;
+  EXPECT_NE(error.find("write <xacro:mbot_base/>"), std::string::npos) << error;
+}
+
+TEST(ModelSpec, GazeboReferenceToMissingLinkSuggestsTheNearMiss) {
+  const std::string error = loadError("fail_sensor_missing_link.urdf");
+  EXPECT_NE(
+      error.find("<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"),
+      std::string::npos)
+      << error;
+}
+
+TEST(ModelSpec, ReportsEveryProblemOfAFileAtOnce) {
+  const std::string error = loadError("fail_two_problems.urdf");
+  EXPECT_NE(error.find("2 problems"), std::string::npos) << error;
+  EXPECT_NE(error.find("mass -1 kg is not positive"), std::string::npos) << error;
+  EXPECT_NE(error.find("no_such_mesh.stl"), std::string::npos) << error;
+}
+
+TEST(ModelSpec, UnknownJointInAPluginFailsTheSpawnWithASuggestion) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  ModelSpec model = parseModel(readFile(fixture("robots/fail_unknown_plugin_joint.urdf")),
+                               "fail_unknown_plugin_joint.urdf", PackageResolver::fromEnvironment());
+  try {
+    simulation.spawn("robot", std::move(model), {});
+    FAIL() << "spawn accepted a drive naming a missing joint";
+  } catch (const SpecError& e) {
+    EXPECT_NE(std::string(e.what()).find("plugin [drive] names joint [right_whel_joint], which does not "
+                                         "exist (did you mean [right_wheel_joint]?)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(simulation.robotNames().empty()) << "a refused robot leaves nothing behind";
+  simulation.step();
+}
+
+TEST(ModelSpec, SpawnRefusesADuplicateName) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  const auto model = [] {
+    return parseModel(readFile(fixture("robots/minimal.urdf")), "minimal.urdf",
+                      PackageResolver::fromEnvironment());
+  };
+  simulation.spawn("robot", model(), {});
+  try {
+    simulation.spawn("robot", model(), {.x = 2});
+    FAIL() << "two robots share a name";
+  } catch (const SpecError& e) {
+    EXPECT_NE(std::string(e.what()).find("a robot named [robot] already exists"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(simulation.robotNames().size(), 1u);
+}
+
+TEST(Diagnostics, SuggestsNearMissesOnly) {
+  EXPECT_EQ(closestName("laser_link", {"base_link", "laser_Link"}), "laser_Link");
+  EXPECT_EQ(closestName("front_left_jiont", {"front_left_joint", "front_right_joint"}), "front_left_joint");
+  EXPECT_EQ(closestName("camera", {"base_link", "laser_Link"}), "");
+}
+
+}  // namespace
+}  // namespace bullet_sim

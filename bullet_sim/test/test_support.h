@@ -1,0 +1,99 @@
+// Helpers shared by the core's tests: expanding the shipped robots and finding shipped files.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "bullet_sim/spec/model_spec.h"
+#include "bullet_sim/spec/package_resolver.h"
+#include "bullet_sim/spec/world_spec.h"
+
+namespace bullet_sim::test {
+
+struct CommandResult {
+  int status = -1;
+  std::string output;  ///< stdout
+  std::string errors;  ///< stderr
+};
+
+inline CommandResult run(const std::string& command) {
+  char error_file[] = "/tmp/bullet_sim_test_XXXXXX";
+  const int fd = mkstemp(error_file);
+  close(fd);
+  CommandResult result;
+  if (FILE* pipe = popen((command + " 2>" + error_file).c_str(), "r")) {
+    std::array<char, 4096> buffer;
+    for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;)
+      result.output.append(buffer.data(), n);
+    result.status = pclose(pipe);
+  }
+  std::ifstream errors(error_file);
+  result.errors.assign(std::istreambuf_iterator<char>(errors), {});
+  std::remove(error_file);
+  return result;
+}
+
+/// A file shipped in `package`, found through ROS_PACKAGE_PATH.
+inline std::string packageFile(const std::string& package, const std::string& relative) {
+  const auto dir = PackageResolver::fromEnvironment().packageDirectory(package);
+  if (!dir) throw std::runtime_error("package [" + package + "] is not in ROS_PACKAGE_PATH");
+  return *dir + "/" + relative;
+}
+
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read [" + path + "]");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// The URDF of a shipped xacro; each expansion (about 0.3 s) runs once per test binary.
+inline std::string expandXacro(const std::string& package, const std::string& xacro,
+                               const std::string& args = "") {
+  static std::map<std::string, std::string> expanded;
+  const std::string command = "xacro '" + packageFile(package, xacro) + "' " + args;
+  auto found = expanded.find(command);
+  if (found != expanded.end()) return found->second;
+  const CommandResult result = run(command);
+  if (result.status != 0) throw std::runtime_error(command + " failed:\n" + result.errors);
+  return expanded[command] = result.output;
+}
+
+inline ModelSpec loadShippedRobot(const std::string& package, const std::string& xacro,
+                                  const std::string& args = "") {
+  return parseModel(expandXacro(package, xacro, args), package + "/" + xacro,
+                    PackageResolver::fromEnvironment());
+}
+
+inline ModelSpec wheelchair() {
+  return loadShippedRobot("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
+}
+inline ModelSpec smartcar() { return loadShippedRobot("smartcar_description", "urdf/smartcar.urdf.xacro"); }
+inline ModelSpec yahboomcar() {
+  return loadShippedRobot("yahboomcar_description", "urdf/yahboomcar.urdf.xacro");
+}
+
+inline WorldSpec shippedWorld(const std::string& name) {
+  return loadWorld(packageFile("bullet_sim", "worlds/" + name), PackageResolver::fromEnvironment(), nullptr);
+}
+
+inline std::string fixture(const std::string& relative) {
+  return packageFile("bullet_sim", "test/fixtures/" + relative);
+}
+
+/// Replaces the first `from` after `anchor` in `text`; fails the test when either is missing.
+inline std::string replaceAfter(std::string text, const std::string& anchor, const std::string& from,
+                                const std::string& to) {
+  const auto at = text.find(anchor);
+  EXPECT_NE(at, std::string::npos) << anchor;
+  const auto found = text.find(from, at);
+  EXPECT_NE(found, std::string::npos) << from;
+  if (at != std::string::npos && found != std::string::npos) text.replace(found, from.size(), to);
+  return text;
+}
+
+}  // namespace bullet_sim::test
