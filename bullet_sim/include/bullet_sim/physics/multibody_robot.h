@@ -1,0 +1,91 @@
+// The `contact` wheel model: the robot as one Bullet multibody (Featherstone), whose wheels touch the ground
+// through their collision shapes and are driven by velocity motors limited by the plugin's torque.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "bullet_sim/physics/robot_body.h"
+
+class btMultiBody;
+class btMultiBodyDynamicsWorld;
+class btMultiBodyJointMotor;
+class btMultiBodyLinkCollider;
+class btMultiBodyConstraint;
+class btCollisionShape;
+
+namespace bullet_sim {
+
+class BulletShapes;
+
+/// Bullet collision filter groups: the robots' parts test only static geometry and other robots.
+enum CollisionGroup : int { kStaticGroup = 1, kRobotGroup = 2 };
+
+class MultiBodyRobot : public PhysicsRobot {
+ public:
+  /// Builds the robot with its root link at `root_pose` and adds it to `world`. Throws SpecError when the
+  /// model cannot be simulated (a part without mass); `world` is untouched then.
+  MultiBodyRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, const Eigen::Isometry3d& root_pose);
+  ~MultiBodyRobot() override;
+  MultiBodyRobot(const MultiBodyRobot&) = delete;
+  MultiBodyRobot& operator=(const MultiBodyRobot&) = delete;
+
+  void beforeStep() override;
+  void afterStep() override;
+  void reset(const Eigen::Isometry3d& root_pose) override;
+
+  const ModelSpec& spec() const override { return spec_; }
+  int jointIndex(const std::string& joint) const override;
+  double jointPosition(int joint) const override;
+  double jointVelocity(int joint) const override;
+  double jointEffort(int joint) const override;
+  void setJointVelocity(int joint, double velocity, double max_effort) override;
+  void setJointPosition(int joint, double position, double max_effort) override;
+  Eigen::Isometry3d linkPose(const std::string& link) const override;
+  Eigen::Vector3d linkLinearVelocity(const std::string& link) const override;
+  Eigen::Vector3d linkAngularVelocity(const std::string& link) const override;
+  const std::vector<RobotPart>& parts() const override { return parts_; }
+  int partOf(const std::string& link) const override;
+  Eigen::Isometry3d partPose(int part) const override;
+
+ private:
+  struct PartFrames {
+    Eigen::Isometry3d part_to_bullet =
+        Eigen::Isometry3d::Identity();  ///< Bullet's frame: com, principal axes
+    std::unordered_map<std::string, Eigen::Isometry3d> link_in_part;
+    double mass = 0;                                              ///< [kg] of every link in the part
+    Eigen::Vector3d principal_inertia = Eigen::Vector3d::Zero();  ///< [kg m^2] about Bullet's frame axes
+  };
+  struct Scratch;  ///< Bullet's work arrays, kept to avoid allocating per step
+  struct Joint {
+    const JointSpec* spec;
+    int bullet_link;                         ///< index of the child part's Bullet link
+    btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
+  };
+
+  void buildParts();
+  void buildMultiBody(const Eigen::Isometry3d& root_pose);
+  btMultiBodyJointMotor* motorFor(Joint& joint);
+
+  ModelSpec spec_;
+  btMultiBodyDynamicsWorld& world_;
+  double dt_ = 0.001;
+  std::vector<RobotPart> parts_;
+  std::vector<PartFrames> frames_;
+  std::vector<int> parent_part_;
+  std::vector<const JointSpec*> part_joint_;  ///< the moving joint leading to each part (nullptr for part 0)
+  std::unordered_map<std::string, int> part_of_link_;
+  std::vector<Joint> joints_;
+  std::unordered_map<std::string, int> joint_index_;
+
+  std::unique_ptr<Scratch> scratch_;
+  std::unique_ptr<BulletShapes> shapes_;
+  std::unique_ptr<btMultiBody> body_;
+  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> constraints_;
+  std::vector<Eigen::Isometry3d> part_poses_;  ///< world pose of each part's frame, after the last step
+};
+
+}  // namespace bullet_sim

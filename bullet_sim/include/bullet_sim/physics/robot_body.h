@@ -1,0 +1,62 @@
+// What plugins see of a spawned robot: joints to read and drive, link frames to read.
+// One implementation per wheel model (`contact`: a Bullet multibody; `raycast`: one body with ray wheels).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+#include "bullet_sim/spec/geometry.h"
+#include "bullet_sim/spec/model_spec.h"
+
+namespace bullet_sim {
+
+/// A rigid part of the robot: links merged by fixed joints. Sensors see parts through their collisions.
+struct RobotPart {
+  std::string root_link;              ///< the link whose frame is the part's frame
+  std::vector<std::string> links;     ///< every link merged into it
+  std::vector<Collision> collisions;  ///< origins in the part's frame
+};
+
+class RobotBody {
+ public:
+  virtual ~RobotBody() = default;
+
+  virtual const ModelSpec& spec() const = 0;
+
+  /// Index of a joint that moves (not fixed), or -1.
+  virtual int jointIndex(const std::string& joint) const = 0;
+  virtual double jointPosition(int joint) const = 0;  ///< [rad] or [m]
+  virtual double jointVelocity(int joint) const = 0;  ///< [rad/s] or [m/s]
+  virtual double jointEffort(int joint) const = 0;    ///< applied by the motor in the last step [N m] or [N]
+
+  /// Drives a joint towards `velocity` with at most `max_effort` (Gazebo's joint "vel" + "fmax").
+  virtual void setJointVelocity(int joint, double velocity, double max_effort) = 0;
+  /// Holds a joint at `position` with at most `max_effort`.
+  virtual void setJointPosition(int joint, double position, double max_effort) = 0;
+
+  /// World pose of any link, including links merged into a part by fixed joints.
+  virtual Eigen::Isometry3d linkPose(const std::string& link) const = 0;
+  /// World-frame velocity of a link's origin [m/s] and its angular velocity [rad/s].
+  virtual Eigen::Vector3d linkLinearVelocity(const std::string& link) const = 0;
+  virtual Eigen::Vector3d linkAngularVelocity(const std::string& link) const = 0;
+
+  virtual const std::vector<RobotPart>& parts() const = 0;
+  /// Index into parts() of the part holding `link`, or -1.
+  virtual int partOf(const std::string& link) const = 0;
+  virtual Eigen::Isometry3d partPose(int part) const = 0;
+};
+
+/// The physics side of a robot: what the simulation calls around each step, on top of what plugins see.
+class PhysicsRobot : public RobotBody {
+ public:
+  /// Applies what must be re-applied every step (joint damping); call before the world steps.
+  virtual void beforeStep() = 0;
+  /// Refreshes the cached link frames; call after the world steps.
+  virtual void afterStep() = 0;
+  /// Puts the robot back at `root_pose` with every joint at 0 and at rest.
+  virtual void reset(const Eigen::Isometry3d& root_pose) = 0;
+};
+
+}  // namespace bullet_sim

@@ -1,0 +1,59 @@
+// What plugins produce, in ROS message terms but without ROS: the node's adapters copy these into messages.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace bullet_sim {
+
+/// nav_msgs/Odometry.
+struct Odometry {
+  double stamp = 0;  ///< sim time [s]
+  std::string frame_id;
+  std::string child_frame_id;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();      ///< child frame in frame_id
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();   ///< [m/s] in the child frame
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< [rad/s] in the child frame
+  std::array<double, 36> pose_covariance{};
+  std::array<double, 36> twist_covariance{};
+};
+
+/// sensor_msgs/JointState.
+struct JointStateSample {
+  double stamp = 0;
+  std::vector<std::string> names;
+  std::vector<double> positions;   ///< [rad] or [m]
+  std::vector<double> velocities;  ///< [rad/s] or [m/s]
+  std::vector<double> efforts;     ///< [N m] or [N]
+};
+
+/// sensor_msgs/LaserScan, plus where the sensor was (for drawing the hits).
+struct LaserScan {
+  double stamp = 0;
+  std::string frame_id;
+  double angle_min = 0;  ///< [rad]
+  double angle_max = 0;
+  double angle_increment = 0;
+  double scan_time = 0;  ///< [s] between scans
+  double range_min = 0;  ///< [m]
+  double range_max = 0;
+  std::vector<float> ranges;  ///< [m]; +inf: no return within range_max; -inf: closer than range_min
+  Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();  ///< in the world, when the scan was taken
+};
+
+/// sensor_msgs/Imu.
+struct ImuSample {
+  double stamp = 0;
+  std::string frame_id;
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< of the frame in the world
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();       ///< [rad/s] in the frame
+  Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();  ///< [m/s^2] in the frame, gravity included
+  double orientation_variance = 0;
+  double angular_velocity_variance = 0;
+  double linear_acceleration_variance = 0;
+};
+
+}  // namespace bullet_sim

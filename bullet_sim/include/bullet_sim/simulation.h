@@ -1,0 +1,102 @@
+// The simulator core's entry point: a world, the robots spawned into it, and the fixed step that runs
+// every robot's plugins around the physics. ROS-free; time is a count of steps, never a clock.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bullet_sim/physics/physics_world.h"
+#include "bullet_sim/physics/robot_body.h"
+#include "bullet_sim/plugins/plugin.h"
+#include "bullet_sim/sensing/ray_caster.h"
+#include "bullet_sim/spec/model_spec.h"
+#include "bullet_sim/spec/world_spec.h"
+
+namespace bullet_sim {
+
+/// Where a robot's root link goes: x, y, yaw, and optionally z, roll and pitch. Without z, the robot's lowest
+/// collision point rests on the ground (z = 0): no falling from the sky, no sinking.
+struct SpawnPose {
+  double x = 0, y = 0, yaw = 0;  ///< [m], [m], [rad]
+  std::optional<double> z;       ///< [m]
+  double roll = 0, pitch = 0;    ///< [rad]
+};
+
+struct SimulationOptions {
+  PhysicsOptions physics;
+  uint64_t seed = 0;  ///< seeds every sensor's noise; the same inputs and seed give a bit-identical run
+};
+
+/// A spawned robot: its physics and its plugins.
+class Robot {
+ public:
+  Robot(std::string name, std::unique_ptr<PhysicsRobot> body, const Eigen::Isometry3d& spawn_pose);
+  ~Robot();
+
+  const std::string& name() const { return name_; }
+  PhysicsRobot& body() { return *body_; }
+  const PhysicsRobot& body() const { return *body_; }
+  const Eigen::Isometry3d& spawnPose() const { return spawn_pose_; }
+  const std::vector<std::unique_ptr<Plugin>>& plugins() const { return plugins_; }
+
+  /// The plugins of type T (e.g. WheeledDrive, RayLidar).
+  template <class T>
+  std::vector<T*> pluginsOf() const {
+    std::vector<T*> found;
+    for (const auto& plugin : plugins_) {
+      if (auto* typed = dynamic_cast<T*>(plugin.get())) found.push_back(typed);
+    }
+    return found;
+  }
+
+ private:
+  friend class Simulation;
+  std::string name_;
+  std::unique_ptr<PhysicsRobot> body_;
+  Eigen::Isometry3d spawn_pose_;
+  std::vector<std::unique_ptr<Plugin>> plugins_;
+  std::vector<BodyId> ray_bodies_;  ///< per part; kNoBody for a part without collisions
+};
+
+class Simulation {
+ public:
+  explicit Simulation(WorldSpec world, SimulationOptions options = {});
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  /// Adds a robot named `name`. Throws SpecError listing every problem (a name in use, a plugin naming a
+  /// missing joint, ...), and then leaves the simulation as it was. Load messages go to `warnings`.
+  Robot& spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
+               std::vector<std::string>* warnings = nullptr);
+  /// False when there is no robot of that name.
+  bool remove(const std::string& name);
+  Robot* robot(const std::string& name);
+  std::vector<std::string> robotNames() const;
+
+  /// One step: plugins apply commands, physics advances by the step size, then plugins sense.
+  void step();
+  /// Robots back at their spawn poses and plugins as at spawn; time goes on.
+  void resetWorld();
+  /// resetWorld, and time restarts: the next step ends at t = step size.
+  void resetSimulation();
+
+  double time() const { return static_cast<double>(steps_) * options_.physics.step_size; }  ///< [s]
+  uint64_t steps() const { return steps_; }
+  double stepSize() const { return options_.physics.step_size; }
+  const WorldSpec& world() const { return world_; }
+
+ private:
+  void refreshRays();
+
+  WorldSpec world_;
+  SimulationOptions options_;
+  std::unique_ptr<PhysicsWorld> physics_;
+  RayCaster rays_;
+  std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
+  uint64_t steps_ = 0;
+};
+
+}  // namespace bullet_sim

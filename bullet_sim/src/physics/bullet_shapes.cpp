@@ -1,0 +1,60 @@
+#include "bullet_shapes.h"
+
+#include <BulletCollision/CollisionShapes/btShapeHull.h>
+
+namespace bullet_sim {
+
+namespace {
+constexpr double kHullMargin = 0.001;  // [m] Bullet inflates hulls by their margin; keep it small
+}
+
+btCollisionShape* BulletShapes::make(const Shape& shape, bool moving) {
+  std::unique_ptr<btCollisionShape> made;
+  switch (shape.type) {
+    case Shape::Type::kBox:
+      made = std::make_unique<btBoxShape>(toBullet(shape.box_size / 2));
+      break;
+    case Shape::Type::kCylinder:
+      made = std::make_unique<btCylinderShapeZ>(btVector3(shape.radius, shape.radius, shape.length / 2));
+      break;
+    case Shape::Type::kSphere:
+      made = std::make_unique<btSphereShape>(shape.radius);
+      break;
+    case Shape::Type::kPlane:
+      if (moving) return nullptr;
+      made = std::make_unique<btStaticPlaneShape>(toBullet(shape.plane_normal), 0);
+      break;
+    case Shape::Type::kMesh: {
+      if (!shape.mesh) return nullptr;
+      if (moving) {
+        btConvexHullShape full;
+        for (const auto& v : shape.mesh->vertices) full.addPoint(toBullet(v), false);
+        full.recalcLocalAabb();
+        btShapeHull simplified(&full);
+        simplified.buildHull(kHullMargin);
+        auto hull = std::make_unique<btConvexHullShape>(&simplified.getVertexPointer()->getX(),
+                                                        simplified.numVertices(), sizeof(btVector3));
+        hull->setMargin(kHullMargin);
+        made = std::move(hull);
+      } else {
+        auto triangles = std::make_unique<btTriangleMesh>();
+        for (const auto& t : shape.mesh->triangles) {
+          triangles->addTriangle(toBullet(shape.mesh->vertices[t[0]]), toBullet(shape.mesh->vertices[t[1]]),
+                                 toBullet(shape.mesh->vertices[t[2]]));
+        }
+        made = std::make_unique<btBvhTriangleMeshShape>(triangles.get(), true);
+        triangle_meshes_.push_back(std::move(triangles));
+      }
+      break;
+    }
+  }
+  shapes_.push_back(std::move(made));
+  return shapes_.back().get();
+}
+
+btCompoundShape* BulletShapes::makeCompound() {
+  shapes_.push_back(std::make_unique<btCompoundShape>());
+  return static_cast<btCompoundShape*>(shapes_.back().get());
+}
+
+}  // namespace bullet_sim

@@ -1,0 +1,44 @@
+// Bullet collision shapes for spec shapes, and Eigen <-> Bullet conversions (private to the physics layer).
+#pragma once
+
+#include <btBulletDynamicsCommon.h>
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <vector>
+
+#include "bullet_sim/spec/geometry.h"
+
+namespace bullet_sim {
+
+inline btVector3 toBullet(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+inline Eigen::Vector3d fromBullet(const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
+
+inline btTransform toBullet(const Eigen::Isometry3d& pose) {
+  const Eigen::Quaterniond q(pose.linear());
+  return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), toBullet(pose.translation()));
+}
+
+inline Eigen::Isometry3d fromBullet(const btTransform& pose) {
+  const btQuaternion q = pose.getRotation();
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.translate(fromBullet(pose.getOrigin()));
+  result.rotate(Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()));
+  return result;
+}
+
+/// Makes and owns Bullet shapes. Primitives stay analytic (URDF cylinders are btCylinderShapeZ); meshes
+/// become simplified convex hulls on moving bodies and BVH triangle meshes on static ones.
+class BulletShapes {
+ public:
+  /// nullptr for a plane on a moving body, which cannot exist.
+  btCollisionShape* make(const Shape& shape, bool moving);
+  btCompoundShape* makeCompound();
+
+ private:
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btTriangleMesh>> triangle_meshes_;
+};
+
+}  // namespace bullet_sim

@@ -1,0 +1,334 @@
+#include "bullet_sim/physics/multibody_robot.h"
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bullet_shapes.h"
+#include "bullet_sim/spec/diagnostics.h"
+
+namespace bullet_sim {
+
+namespace {
+
+// A motor's velocity gain, and the position and velocity gains of a joint held at a position. Bullet's motor
+// corrects kp * (position error) / dt + kd * (velocity error) per step, within the impulse limit.
+constexpr double kVelocityGain = 1.0;
+constexpr double kHoldPositionGain = 0.2;
+constexpr double kHoldVelocityGain = 1.0;
+
+}  // namespace
+
+struct MultiBodyRobot::Scratch {
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  std::vector<btVector3> omega;  ///< per part, in its Bullet frame: [0] base, [k] link k - 1
+  std::vector<btVector3> velocity;
+};
+
+MultiBodyRobot::MultiBodyRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world,
+                               const Eigen::Isometry3d& root_pose)
+    : spec_(std::move(spec)),
+      world_(world),
+      scratch_(std::make_unique<Scratch>()),
+      shapes_(std::make_unique<BulletShapes>()) {
+  dt_ = world_.getSolverInfo().m_timeStep;
+  buildParts();
+  scratch_->omega.resize(parts_.size());
+  scratch_->velocity.resize(parts_.size());
+  buildMultiBody(root_pose);
+}
+
+MultiBodyRobot::~MultiBodyRobot() {
+  for (auto& constraint : constraints_) world_.removeMultiBodyConstraint(constraint.get());
+  for (auto& collider : colliders_) world_.removeCollisionObject(collider.get());
+  world_.removeMultiBody(body_.get());
+}
+
+void MultiBodyRobot::buildParts() {
+  Diagnostics diagnostics(spec_.source);
+  parts_.push_back({spec_.root, {spec_.root}, {}});
+  frames_.push_back({});
+  frames_[0].link_in_part[spec_.root] = Eigen::Isometry3d::Identity();
+  parent_part_.push_back(-1);
+  part_joint_.push_back(nullptr);
+  part_of_link_[spec_.root] = 0;
+  for (const auto& joint : spec_.joints) {  // parents come before children
+    const int parent = part_of_link_.at(joint.parent);
+    int part = parent;
+    if (joint.moves()) {
+      part = static_cast<int>(parts_.size());
+      parts_.push_back({joint.child, {joint.child}, {}});
+      frames_.push_back({});
+      frames_[part].link_in_part[joint.child] = Eigen::Isometry3d::Identity();
+      parent_part_.push_back(parent);
+      part_joint_.push_back(&joint);
+    } else {
+      parts_[part].links.push_back(joint.child);
+      frames_[part].link_in_part[joint.child] = frames_[part].link_in_part.at(joint.parent) * joint.origin;
+    }
+    part_of_link_[joint.child] = part;
+  }
+
+  // Merge the inertia of every part's links, then put Bullet's frame at the centre of mass on the principal
+  // axes.
+  for (size_t k = 0; k < parts_.size(); ++k) {
+    PartFrames& frames = frames_[k];
+    double mass = 0;
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+    for (const auto& name : parts_[k].links) {
+      const LinkSpec& link = *spec_.link(name);
+      const Eigen::Isometry3d& in_part = frames.link_in_part.at(name);
+      for (const auto& collision : link.collisions)
+        parts_[k].collisions.push_back({in_part * collision.origin, collision.shape});
+      if (!link.inertial) continue;
+      mass += link.inertial->mass;
+      moment += link.inertial->mass * (in_part * link.inertial->com);
+    }
+    if (mass <= 0) {
+      diagnostics.error("links [" + parts_[k].root_link +
+                        "] and those fixed to it have no mass: give one an <inertial>");
+      continue;
+    }
+    const Eigen::Vector3d com = moment / mass;
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+    for (const auto& name : parts_[k].links) {
+      const LinkSpec& link = *spec_.link(name);
+      if (!link.inertial) continue;
+      const Eigen::Isometry3d& in_part = frames.link_in_part.at(name);
+      const Eigen::Vector3d d = in_part * link.inertial->com - com;
+      inertia += in_part.linear() * link.inertial->inertia * in_part.linear().transpose() +
+                 link.inertial->mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal(inertia);
+    Eigen::Matrix3d axes = principal.eigenvectors();
+    if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+    frames.mass = mass;
+    frames.principal_inertia = principal.eigenvalues();
+    frames.part_to_bullet = Eigen::Isometry3d::Identity();
+    frames.part_to_bullet.translate(com);
+    frames.part_to_bullet.rotate(axes);
+  }
+  for (const auto& part : parts_) {
+    for (const auto& collision : part.collisions) {
+      if (collision.shape.type == Shape::Type::kPlane) {
+        diagnostics.error("link [" + part.root_link +
+                          "] collides with a plane, which only static worlds may have");
+      }
+    }
+  }
+  diagnostics.throwIfErrors();
+}
+
+void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
+  const int links = static_cast<int>(parts_.size()) - 1;
+  body_ = std::make_unique<btMultiBody>(links, frames_[0].mass, toBullet(frames_[0].principal_inertia),
+                                        /*fixedBase=*/false, /*canSleep=*/false);
+  body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
+  bool self_collide = false;
+  for (const auto& link : spec_.links) self_collide |= link.self_collide;
+
+  for (int k = 1; k <= links; ++k) {
+    const JointSpec& joint = *part_joint_[k];
+    const int parent = parent_part_[k];
+    // The child part's frame at q = 0 in the parent's Bullet frame, and the child's Bullet frame in its part
+    // frame.
+    const Eigen::Isometry3d joint_in_parent = frames_[parent].part_to_bullet.inverse() *
+                                              frames_[parent].link_in_part.at(joint.parent) * joint.origin;
+    const Eigen::Isometry3d& child = frames_[k].part_to_bullet;
+    const Eigen::Matrix3d child_in_parent = joint_in_parent.linear() * child.linear();
+    const Eigen::Quaterniond parent_to_child(child_in_parent.transpose());
+    const btQuaternion rotation(parent_to_child.x(), parent_to_child.y(), parent_to_child.z(),
+                                parent_to_child.w());
+    const btVector3 axis = toBullet(child.linear().transpose() * joint.axis);
+    const btVector3 parent_com_to_pivot = toBullet(joint_in_parent.translation());
+    const btVector3 pivot_to_com = toBullet(child.linear().transpose() * child.translation());
+    if (joint.type == JointSpec::Type::kPrismatic) {
+      body_->setupPrismatic(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1,
+                            rotation, axis, parent_com_to_pivot, pivot_to_com,
+                            /*disableParentCollision=*/true);
+    } else {
+      body_->setupRevolute(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1,
+                           rotation, axis, parent_com_to_pivot, pivot_to_com,
+                           /*disableParentCollision=*/true);
+    }
+    joint_index_[joint.name] = static_cast<int>(joints_.size());
+    joints_.push_back({&joint, k - 1});
+  }
+  body_->finalizeMultiDof();
+  body_->setLinearDamping(0);
+  body_->setAngularDamping(0);
+  body_->setUseGyroTerm(true);
+  body_->setHasSelfCollision(self_collide);
+  world_.addMultiBody(body_.get());
+
+  for (int k = 0; k <= links; ++k) {
+    auto collider = std::make_unique<btMultiBodyLinkCollider>(body_.get(), k - 1);
+    if (parts_[k].collisions.empty()) {
+      // Bullet solves a link's motors in its collider's simulation island, so a part without collisions still
+      // gets a collider: a point that collides with nothing.
+      Shape point;
+      point.type = Shape::Type::kSphere;
+      point.radius = 1e-3;
+      collider->setCollisionShape(shapes_->make(point, true));
+      world_.addCollisionObject(collider.get(), 0, 0);
+    } else {
+      btCompoundShape* compound = shapes_->makeCompound();
+      const Eigen::Isometry3d bullet_to_part = frames_[k].part_to_bullet.inverse();
+      for (const auto& collision : parts_[k].collisions) {
+        compound->addChildShape(toBullet(bullet_to_part * collision.origin),
+                                shapes_->make(collision.shape, true));
+      }
+      collider->setCollisionShape(compound);
+      collider->setFriction(spec_.link(parts_[k].root_link)->surface.mu1);
+      collider->setRestitution(0);
+      world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
+    }
+    if (k == 0) {
+      body_->setBaseCollider(collider.get());
+    } else {
+      body_->getLink(k - 1).m_collider = collider.get();
+    }
+    colliders_.push_back(std::move(collider));
+  }
+
+  for (auto& joint : joints_) {
+    const JointSpec& spec = *joint.spec;
+    if (spec.type != JointSpec::Type::kContinuous && std::isfinite(spec.lower) && std::isfinite(spec.upper)) {
+      constraints_.push_back(std::make_unique<btMultiBodyJointLimitConstraint>(body_.get(), joint.bullet_link,
+                                                                               spec.lower, spec.upper));
+      world_.addMultiBodyConstraint(constraints_.back().get());
+    }
+    if (spec.friction > 0) motorFor(joint);  // dry joint friction: a motor holding zero velocity
+  }
+  reset(root_pose);
+}
+
+btMultiBodyJointMotor* MultiBodyRobot::motorFor(Joint& joint) {
+  if (!joint.motor) {
+    auto motor = std::make_unique<btMultiBodyJointMotor>(body_.get(), joint.bullet_link, 0.0,
+                                                         joint.spec->friction * dt_);
+    motor->finalizeMultiDof();  // Bullet sizes its impulse buffer lazily; reading the effort needs it now
+    joint.motor = motor.get();
+    world_.addMultiBodyConstraint(motor.get());
+    constraints_.push_back(std::move(motor));
+  }
+  return joint.motor;
+}
+
+void MultiBodyRobot::beforeStep() {
+  for (const auto& joint : joints_) {
+    if (joint.spec->damping > 0) {
+      body_->addJointTorque(joint.bullet_link, -joint.spec->damping * body_->getJointVel(joint.bullet_link));
+    }
+  }
+}
+
+void MultiBodyRobot::afterStep() {
+  body_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
+  for (size_t k = 0; k < parts_.size(); ++k) {
+    const btTransform pose =
+        k == 0 ? body_->getBaseWorldTransform() : body_->getLink(k - 1).m_cachedWorldTransform;
+    part_poses_[k] = fromBullet(pose) * frames_[k].part_to_bullet.inverse();
+  }
+}
+
+void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose) {
+  body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
+  body_->setBaseVel(btVector3(0, 0, 0));
+  body_->setBaseOmega(btVector3(0, 0, 0));
+  for (auto& joint : joints_) {
+    body_->setJointPos(joint.bullet_link, 0);
+    body_->setJointVel(joint.bullet_link, 0);
+    if (joint.motor) {
+      joint.motor->setVelocityTarget(0, kVelocityGain);
+      joint.motor->setPositionTarget(0, 0);
+      joint.motor->setMaxAppliedImpulse(joint.spec->friction * dt_);
+    }
+  }
+  body_->clearForcesAndTorques();
+  body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
+  part_poses_.resize(parts_.size());
+  afterStep();
+}
+
+int MultiBodyRobot::jointIndex(const std::string& joint) const {
+  const auto found = joint_index_.find(joint);
+  return found == joint_index_.end() ? -1 : found->second;
+}
+
+double MultiBodyRobot::jointPosition(int joint) const {
+  return body_->getJointPos(joints_.at(joint).bullet_link);
+}
+
+double MultiBodyRobot::jointVelocity(int joint) const {
+  return body_->getJointVel(joints_.at(joint).bullet_link);
+}
+
+double MultiBodyRobot::jointEffort(int joint) const {
+  auto* motor = joints_.at(joint).motor;  // Bullet's getter is not const
+  return motor ? motor->getAppliedImpulse(0) / dt_ : 0.0;
+}
+
+void MultiBodyRobot::setJointVelocity(int joint, double velocity, double max_effort) {
+  btMultiBodyJointMotor* motor = motorFor(joints_.at(joint));
+  motor->setPositionTarget(0, 0);
+  motor->setVelocityTarget(velocity, kVelocityGain);
+  motor->setMaxAppliedImpulse(max_effort * dt_);
+}
+
+void MultiBodyRobot::setJointPosition(int joint, double position, double max_effort) {
+  btMultiBodyJointMotor* motor = motorFor(joints_.at(joint));
+  motor->setPositionTarget(position, kHoldPositionGain);
+  motor->setVelocityTarget(0, kHoldVelocityGain);
+  motor->setMaxAppliedImpulse(max_effort * dt_);
+}
+
+Eigen::Isometry3d MultiBodyRobot::linkPose(const std::string& link) const {
+  const int part = partOf(link);
+  if (part < 0) throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
+  return part_poses_[part] * frames_[part].link_in_part.at(link);
+}
+
+Eigen::Vector3d MultiBodyRobot::linkAngularVelocity(const std::string& link) const {
+  const int part = partOf(link);
+  if (part < 0) throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
+  if (part == 0) return fromBullet(body_->getBaseOmega());
+  body_->compTreeLinkVelocities(scratch_->omega.data(), scratch_->velocity.data());
+  return part_poses_[part].linear() * frames_[part].part_to_bullet.linear() *
+         fromBullet(scratch_->omega[part]);
+}
+
+Eigen::Vector3d MultiBodyRobot::linkLinearVelocity(const std::string& link) const {
+  const int part = partOf(link);
+  if (part < 0) throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
+  Eigen::Vector3d com_velocity, omega;
+  if (part == 0) {
+    com_velocity = fromBullet(body_->getBaseVel());
+    omega = fromBullet(body_->getBaseOmega());
+  } else {
+    body_->compTreeLinkVelocities(scratch_->omega.data(), scratch_->velocity.data());
+    const Eigen::Matrix3d bullet_rotation =
+        part_poses_[part].linear() * frames_[part].part_to_bullet.linear();
+    com_velocity = bullet_rotation * fromBullet(scratch_->velocity[part]);
+    omega = bullet_rotation * fromBullet(scratch_->omega[part]);
+  }
+  const Eigen::Vector3d com = part_poses_[part] * frames_[part].part_to_bullet.translation();
+  return com_velocity + omega.cross(linkPose(link).translation() - com);
+}
+
+int MultiBodyRobot::partOf(const std::string& link) const {
+  const auto found = part_of_link_.find(link);
+  return found == part_of_link_.end() ? -1 : found->second;
+}
+
+Eigen::Isometry3d MultiBodyRobot::partPose(int part) const { return part_poses_.at(part); }
+
+}  // namespace bullet_sim

@@ -1,0 +1,49 @@
+#include "bullet_sim/physics/physics_world.h"
+
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+
+#include "bullet_shapes.h"
+#include "bullet_sim/physics/multibody_robot.h"
+
+namespace bullet_sim {
+
+struct PhysicsWorld::Engine {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btMultiBodyConstraintSolver solver;
+};
+
+PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options)
+    : options_(options), engine_(std::make_unique<Engine>()), shapes_(std::make_unique<BulletShapes>()) {
+  world_ = std::make_unique<btMultiBodyDynamicsWorld>(&engine_->dispatcher, &engine_->broadphase,
+                                                      &engine_->solver, &engine_->configuration);
+  world_->setGravity(toBullet(world.gravity));
+  btContactSolverInfo& solver = world_->getSolverInfo();
+  solver.m_numIterations = options_.solver_iterations;
+  solver.m_timeStep = options_.step_size;  // robots size their motor impulses from it before the first step
+
+  for (const auto& model : world.models) {
+    if (model.collisions.empty()) continue;
+    btCompoundShape* compound = shapes_->makeCompound();
+    for (const auto& collision : model.collisions) {
+      compound->addChildShape(toBullet(collision.origin), shapes_->make(collision.shape, /*moving=*/false));
+    }
+    auto object = std::make_unique<btCollisionObject>();
+    object->setCollisionShape(compound);
+    object->setWorldTransform(toBullet(model.pose));
+    object->setFriction(1.0);  // Gazebo's default mu
+    object->setRestitution(0);
+    world_->addCollisionObject(object.get(), kStaticGroup, kRobotGroup);
+    statics_.push_back(std::move(object));
+  }
+}
+
+PhysicsWorld::~PhysicsWorld() {
+  for (auto& object : statics_) world_->removeCollisionObject(object.get());
+}
+
+void PhysicsWorld::step() { world_->stepSimulation(options_.step_size, 0, options_.step_size); }
+
+}  // namespace bullet_sim

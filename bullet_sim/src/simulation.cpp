@@ -1,0 +1,164 @@
+#include "bullet_sim/simulation.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "bullet_sim/physics/multibody_robot.h"
+#include "bullet_sim/plugins/factory.h"
+#include "bullet_sim/spec/model_geometry.h"
+
+namespace bullet_sim {
+
+namespace {
+
+Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
+  Eigen::Isometry3d root = Eigen::Isometry3d::Identity();
+  root.translate(Eigen::Vector3d(pose.x, pose.y, 0));
+  root.rotate(Eigen::AngleAxisd(pose.yaw, Eigen::Vector3d::UnitZ()) *
+              Eigen::AngleAxisd(pose.pitch, Eigen::Vector3d::UnitY()) *
+              Eigen::AngleAxisd(pose.roll, Eigen::Vector3d::UnitX()));
+  if (pose.z) {
+    root.translation().z() = *pose.z;
+    return root;
+  }
+  double lowest = std::numeric_limits<double>::infinity();
+  const auto links = linkPosesAtZero(model);
+  for (const auto& link : model.links) {
+    for (const auto& collision : link.collisions) {
+      lowest = std::min(lowest, lowestPoint(collision.shape, root * links.at(link.name) * collision.origin));
+    }
+  }
+  if (std::isfinite(lowest)) root.translation().z() = -lowest;
+  return root;
+}
+
+}  // namespace
+
+Robot::Robot(std::string name, std::unique_ptr<PhysicsRobot> body, const Eigen::Isometry3d& spawn_pose)
+    : name_(std::move(name)), body_(std::move(body)), spawn_pose_(spawn_pose) {}
+
+Robot::~Robot() = default;
+
+Simulation::Simulation(WorldSpec world, SimulationOptions options)
+    : world_(std::move(world)), options_(options) {
+  physics_ = std::make_unique<PhysicsWorld>(world_, options_.physics);
+  for (const auto& model : world_.models) {
+    if (!model.collisions.empty()) rays_.addBody(model.collisions, model.pose, /*is_static=*/true);
+  }
+  rays_.commit();
+}
+
+Simulation::~Simulation() = default;
+
+Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
+                         std::vector<std::string>* warnings) {
+  Diagnostics diagnostics(model.source);
+  if (name.empty()) diagnostics.error("a robot needs a name");
+  if (robot(name))
+    diagnostics.error("a robot named [" + name + "] already exists: delete it first, or choose another name");
+  for (const auto& world_model : world_.models) {
+    if (world_model.name == name) {
+      diagnostics.error("the world already holds a model named [" + name +
+                        "]: was the world saved with the robot in it? Remove it from the .world file");
+    }
+  }
+  diagnostics.throwIfErrors();
+
+  const Eigen::Isometry3d root = rootPose(model, pose);
+  auto robot = std::make_unique<Robot>(
+      name, std::make_unique<MultiBodyRobot>(std::move(model), physics_->bullet(), root), root);
+  const auto& parts = robot->body().parts();
+  for (size_t k = 0; k < parts.size(); ++k) {
+    robot->ray_bodies_.push_back(parts[k].collisions.empty()
+                                     ? kNoBody
+                                     : rays_.addBody(parts[k].collisions, robot->body().partPose(k), false));
+  }
+  PluginContext context;
+  context.robot_name = name;
+  context.seed = options_.seed;
+  context.gravity = world_.gravity;
+  context.ray_body = [&](int part) { return part >= 0 ? robot->ray_bodies_[part] : kNoBody; };
+  robot->plugins_ = createPlugins(robot->body().spec(), robot->body(), context, diagnostics);
+
+  if (!diagnostics.errors().empty()) {
+    for (BodyId body : robot->ray_bodies_) {
+      if (body != kNoBody) rays_.removeBody(body);
+    }
+    rays_.commit();
+    diagnostics.throwIfErrors();
+  }
+  rays_.commit();
+  if (warnings)
+    warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
+  robots_.push_back(std::move(robot));
+  return *robots_.back();
+}
+
+bool Simulation::remove(const std::string& name) {
+  const auto found =
+      std::find_if(robots_.begin(), robots_.end(), [&](const auto& r) { return r->name() == name; });
+  if (found == robots_.end()) return false;
+  for (BodyId body : (*found)->ray_bodies_) {
+    if (body != kNoBody) rays_.removeBody(body);
+  }
+  rays_.commit();
+  robots_.erase(found);
+  return true;
+}
+
+Robot* Simulation::robot(const std::string& name) {
+  for (auto& robot : robots_) {
+    if (robot->name() == name) return robot.get();
+  }
+  return nullptr;
+}
+
+std::vector<std::string> Simulation::robotNames() const {
+  std::vector<std::string> names;
+  for (const auto& robot : robots_) names.push_back(robot->name());
+  return names;
+}
+
+void Simulation::step() {
+  const StepTime time{static_cast<double>(steps_ + 1) * options_.physics.step_size,
+                      options_.physics.step_size};
+  bool rays_due = false;
+  for (auto& robot : robots_) {
+    for (auto& plugin : robot->plugins_) {
+      plugin->applyCommands(time, *robot->body_);
+      rays_due |= plugin->castsRays(time);
+    }
+    robot->body_->beforeStep();
+  }
+  physics_->step();
+  for (auto& robot : robots_) robot->body_->afterStep();
+  if (rays_due) refreshRays();
+  for (auto& robot : robots_) {
+    for (auto& plugin : robot->plugins_) plugin->sense(time, *robot->body_, rays_);
+  }
+  ++steps_;
+}
+
+void Simulation::refreshRays() {
+  for (auto& robot : robots_) {
+    for (size_t k = 0; k < robot->ray_bodies_.size(); ++k) {
+      if (robot->ray_bodies_[k] != kNoBody) rays_.setPose(robot->ray_bodies_[k], robot->body_->partPose(k));
+    }
+  }
+  rays_.commit();
+}
+
+void Simulation::resetWorld() {
+  for (auto& robot : robots_) {
+    robot->body_->reset(robot->spawn_pose_);
+    for (auto& plugin : robot->plugins_) plugin->reset();
+  }
+  refreshRays();
+}
+
+void Simulation::resetSimulation() {
+  resetWorld();
+  steps_ = 0;
+}
+
+}  // namespace bullet_sim

@@ -1,0 +1,347 @@
+// The simulator core against closed forms: robots at rest, driving straight, turning, on arcs; the lidar
+// against analytic distances; bit-identical reruns. Stepped in-process, no roscore.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bullet_sim/plugins/joint_position.h"
+#include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
+#include "bullet_sim/simulation.h"
+#include "test_support.h"
+
+namespace bullet_sim {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+struct Planar {
+  double x, y, yaw;
+};
+
+Planar planar(const Eigen::Isometry3d& pose) {
+  return {pose.translation().x(), pose.translation().y(),
+          std::atan2(pose.linear()(1, 0), pose.linear()(0, 0))};
+}
+
+double angleDifference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
+
+/// The unicycle driven by the rim speeds a WheeledDrive commands: each wheel's speed steps towards its target
+/// by at most acceleration * period at every update (every `period` s, the first one period after the start).
+Planar rampedUnicycle(double v, double w, double seconds, double separation, double acceleration,
+                      double period) {
+  Planar pose{0, 0, 0};
+  double left = 0, right = 0;
+  const double dt = 1e-4;
+  double next_update = period;
+  for (double t = 0; t < seconds - dt / 2; t += dt) {
+    if (t + dt / 2 >= next_update) {
+      const auto ramp = [&](double& speed, double target) {
+        const double step = acceleration > 0 ? acceleration * period : INFINITY;
+        speed += std::clamp(target - speed, -step, step);
+      };
+      ramp(left, v - w * separation / 2);
+      ramp(right, v + w * separation / 2);
+      next_update += period;
+    }
+    const double speed = (left + right) / 2;
+    const double turn = (right - left) / separation;
+    pose.x += speed * std::cos(pose.yaw + turn * dt / 2) * dt;
+    pose.y += speed * std::sin(pose.yaw + turn * dt / 2) * dt;
+    pose.yaw += turn * dt;
+  }
+  return pose;
+}
+
+/// Runs `seconds` of sim time, re-sending (v, w) every 0.1 s as `rostopic pub -r 10` does.
+void drive(Simulation& simulation, WheeledDrive& drive, double v, double w, double seconds) {
+  const auto steps = std::lround(seconds / simulation.stepSize());
+  const auto resend = std::lround(0.1 / simulation.stepSize());
+  for (long i = 0; i < steps; ++i) {
+    if (i % resend == 0) ASSERT_TRUE(drive.setCommand(v, w, simulation.time()));
+    simulation.step();
+  }
+}
+
+/// Pose of `link` relative to where it was at spawn, in the spawn frame.
+Planar travelled(const Robot& robot, const Eigen::Isometry3d& start,
+                 const std::string& link = "base_footprint") {
+  return planar(start.inverse() * robot.body().linkPose(link));
+}
+
+/// The frame a unicycle model describes: base_footprint moved to the midpoint of the drive wheels (the chair
+/// turns about its drive axle, 0.125 m ahead of base_footprint).
+Eigen::Isometry3d axleFrame(const Robot& robot, const WheeledDrive& drive) {
+  const ModelSpec& model = robot.body().spec();
+  const Eigen::Isometry3d base = robot.body().linkPose(drive.config().robot_base_frame);
+  Eigen::Vector3d midpoint = Eigen::Vector3d::Zero();
+  for (const auto& joint : {drive.config().left_joints.at(0), drive.config().right_joints.at(0)}) {
+    midpoint += 0.5 * (base.inverse() * robot.body().linkPose(model.joint(joint)->child)).translation();
+  }
+  midpoint.z() = 0;
+  return base * Eigen::Translation3d(midpoint);
+}
+
+TEST(Simulation, EveryRobotRestsOnTheGroundWhereItSpawns) {
+  for (auto model : {test::wheelchair(), test::smartcar(), test::yahboomcar()}) {
+    SCOPED_TRACE(model.name);
+    Simulation simulation(test::shippedWorld("empty.world"));
+    Robot& robot = simulation.spawn("robot", std::move(model), {.x = 1, .y = -2, .yaw = 0.7});
+    const Eigen::Isometry3d start = robot.body().linkPose("base_link");
+    for (int i = 0; i < 2000; ++i) simulation.step();  // 2 s
+    const Eigen::Isometry3d end = robot.body().linkPose("base_link");
+    // Contacts settle within Bullet's penetration allowance, well under a millimetre.
+    EXPECT_NEAR(end.translation().z(), start.translation().z(), 0.001);
+    const Eigen::Vector3d up = end.linear().col(2);
+    EXPECT_LT(std::acos(std::min(1.0, up.z())), 0.5 * kDeg) << "roll or pitch";
+    EXPECT_NEAR(end.translation().x(), 1, 0.005);
+    EXPECT_NEAR(end.translation().y(), -2, 0.005);
+  }
+}
+
+class WheelchairDrive : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    robot_ = &simulation_.spawn("wheelchair", test::wheelchair(), {});
+    drive_ = robot_->pluginsOf<WheeledDrive>().at(0);
+    start_ = axleFrame(*robot_, *drive_);
+  }
+  /// Where the drive axle has gone since spawn, in the spawn frame.
+  Planar travelled() const { return planar(start_.inverse() * axleFrame(*robot_, *drive_)); }
+  Planar oracle(double v, double w, double seconds) const {
+    const DriveConfig& config = drive_->config();
+    return rampedUnicycle(v, w, seconds, config.wheel_separation, config.acceleration,
+                          1.0 / config.update_rate);
+  }
+
+  Simulation simulation_{test::shippedWorld("empty.world")};
+  Robot* robot_ = nullptr;
+  WheeledDrive* drive_ = nullptr;
+  Eigen::Isometry3d start_;
+};
+
+TEST_F(WheelchairDrive, StraightLineFollowsTheRampedCommand) {
+  drive(simulation_, *drive_, 0.5, 0, 4.0);
+  const Planar expected = oracle(0.5, 0, 4.0);
+  const Planar actual = travelled();
+  // The 1.8 m/s^2 ramp leaves the chair v^2 / 2a = 0.069 m behind an instant start after 4 s, and updating at
+  // 100 Hz another v * 5 ms.
+  EXPECT_NEAR(2.0 - expected.x, 0.0694 + 0.0025, 0.0005);
+  EXPECT_NEAR(actual.x, expected.x, 0.02);
+  EXPECT_LT(std::abs(actual.y), 0.02);
+  EXPECT_LT(std::abs(actual.yaw), 1 * kDeg);
+}
+
+TEST_F(WheelchairDrive, TurnsInPlaceCounterClockwiseForPositiveAngular) {
+  drive(simulation_, *drive_, 0, 0.5, M_PI);
+  const Planar expected = oracle(0, 0.5, M_PI);
+  const Planar actual = travelled();
+  EXPECT_NEAR(expected.yaw, M_PI / 2, 2 * kDeg);  // the ramp costs only a little of the quarter turn
+  EXPECT_NEAR(angleDifference(actual.yaw, expected.yaw), 0, 2 * kDeg);
+  EXPECT_LT(std::hypot(actual.x, actual.y), 0.05);
+}
+
+TEST_F(WheelchairDrive, ArcMatchesTheUnicycle) {
+  const double seconds = 10;
+  drive(simulation_, *drive_, 0.5, 0.3, seconds);
+  const Planar expected = oracle(0.5, 0.3, seconds);
+  const Planar actual = travelled();
+  const double path = 0.5 * seconds;
+  EXPECT_LT(std::hypot(actual.x - expected.x, actual.y - expected.y), 0.03 * path);
+  EXPECT_NEAR(angleDifference(actual.yaw, expected.yaw), 0, 0.03 * 0.3 * seconds);
+}
+
+TEST_F(WheelchairDrive, OdometryFromTheWorldSourceIsTheBasePose) {
+  drive(simulation_, *drive_, 0.5, 0.3, 1.0);
+  const Odometry& odometry = drive_->odometry();
+  EXPECT_EQ(drive_->odometryCount(), 100u);  // 100 Hz for 1 s
+  EXPECT_DOUBLE_EQ(odometry.stamp, simulation_.time());
+  EXPECT_TRUE(odometry.pose.isApprox(robot_->body().linkPose("base_footprint"), 1e-12));
+  EXPECT_NEAR(odometry.linear_velocity.x(), 0.5, 0.02);
+  EXPECT_NEAR(odometry.angular_velocity.z(), 0.3, 0.02);
+}
+
+TEST_F(WheelchairDrive, StopsWhenCommandsStopForLongerThanTheTimeout) {
+  ASSERT_DOUBLE_EQ(drive_->config().command_timeout, 0.5);
+  ASSERT_TRUE(drive_->setCommand(0.5, 0, simulation_.time()));
+  for (int i = 0; i < 3000; ++i) simulation_.step();  // 3 s with one command
+  const double x = travelled().x;
+  EXPECT_GT(x, 0.1);
+  EXPECT_LT(x, 0.5 * 0.5 + 0.05) << "moves for about the 0.5 s timeout, then stops";
+  EXPECT_LT(std::abs(drive_->odometry().linear_velocity.x()), 0.01);
+}
+
+TEST_F(WheelchairDrive, IgnoresNonFiniteCommands) {
+  EXPECT_FALSE(drive_->setCommand(NAN, 0, 0));
+  EXPECT_FALSE(drive_->setCommand(0, INFINITY, 0));
+  for (int i = 0; i < 500; ++i) simulation_.step();
+  EXPECT_LT(std::hypot(travelled().x, travelled().y), 0.005);
+}
+
+TEST(Simulation, SeedStyleReversedWheelAxisIsCompensated) {
+  const std::string urdf = test::replaceAfter(
+      test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro"),
+      "<joint name=\"front_right_joint\"", "<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 -1 0\"/>");
+  Simulation simulation(test::shippedWorld("empty.world"));
+  std::vector<std::string> warnings;
+  Robot& robot = simulation.spawn(
+      "chair", parseModel(urdf, "seed-style chair", PackageResolver::fromEnvironment()), {}, &warnings);
+  std::string said;
+  for (const auto& w : warnings) said += w + "\n";
+  EXPECT_NE(said.find("joint [front_right_joint] turns about 0 -1 0"), std::string::npos) << said;
+  EXPECT_NE(said.find("driven with the opposite sign"), std::string::npos) << said;
+
+  const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
+  drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0, 2.0);
+  const Planar actual = travelled(robot, start);
+  EXPECT_GT(actual.x, 0.8);
+  EXPECT_LT(std::abs(actual.y), 0.02);
+  EXPECT_LT(std::abs(actual.yaw), 1 * kDeg);
+}
+
+void checkSkidSteer(ModelSpec model, double v, double w) {
+  SCOPED_TRACE(model.name);
+  for (const double turn : {0.0, w}) {
+    Simulation simulation(test::shippedWorld("empty.world"));
+    Robot& robot = simulation.spawn("car", model, {});
+    const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
+    const double seconds = 3;
+    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), turn == 0 ? v : 0, turn, seconds);
+    const Planar actual = travelled(robot, start);
+    if (turn == 0) {
+      // Straight within 2 %: of the distance commanded, and sideways relative to the distance covered.
+      EXPECT_NEAR(actual.x, v * seconds, 0.02 * v * seconds);
+      EXPECT_LT(std::abs(actual.y), 0.02 * actual.x);
+    } else {
+      // Skid steering scrubs its wheels sideways; Bullet's contact friction lets these cars turn well below
+      // the commanded rate (README, known limitations), so this checks the direction, with a clear margin.
+      EXPECT_GT(actual.yaw, 0.05) << "+angular.z turns counter-clockwise";
+    }
+  }
+}
+
+TEST(Simulation, SmartcarGoesStraightAndTurnsTheRightWay) { checkSkidSteer(test::smartcar(), 0.5, 0.5); }
+
+TEST(Simulation, YahboomcarGoesStraightAndTurnsTheRightWay) { checkSkidSteer(test::yahboomcar(), 0.3, 1.0); }
+
+TEST(Simulation, PanTiltHoldsItsPositionAgainstGravity) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  Robot& robot = simulation.spawn("car", test::yahboomcar(), {});
+  auto* pan_tilt = robot.pluginsOf<JointPosition>().at(0);
+  for (int i = 0; i < 1000; ++i) simulation.step();
+  EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq2_Joint")), 0, 0.01);
+  ASSERT_TRUE(pan_tilt->setTarget("jq1_Joint", 0.5));
+  for (int i = 0; i < 2000; ++i) simulation.step();
+  EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq1_Joint")), 0.5, 0.01);
+}
+
+/// The distance from `origin` along `direction` to the inner walls of test_room.world (x = +-3, y = +-2).
+double roomDistance(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
+  double t = INFINITY;
+  if (direction.x() > 0) t = std::min(t, (3 - origin.x()) / direction.x());
+  if (direction.x() < 0) t = std::min(t, (-3 - origin.x()) / direction.x());
+  if (direction.y() > 0) t = std::min(t, (2 - origin.y()) / direction.y());
+  if (direction.y() < 0) t = std::min(t, (-2 - origin.y()) / direction.y());
+  return t;
+}
+
+/// The first scan of the robot's lidar.
+LaserScan firstScan(Simulation& simulation, Robot& robot) {
+  RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
+  while (lidar->scanCount() == 0) simulation.step();
+  return lidar->scan();
+}
+
+/// Checks every beam against the room's analytic distance, with REP 117's -inf and +inf.
+void expectRoomScan(const LaserScan& scan, int* below_min = nullptr, int* beyond_max = nullptr) {
+  const Eigen::Vector3d origin = scan.sensor_pose.translation();
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double angle = scan.angle_min + i * scan.angle_increment;
+    const Eigen::Vector3d direction =
+        scan.sensor_pose.linear() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0);
+    const double truth = roomDistance(origin, direction);
+    if (truth < scan.range_min) {
+      EXPECT_EQ(scan.ranges[i], -INFINITY) << "beam " << i << " truth " << truth;
+      if (below_min) ++*below_min;
+    } else if (truth > scan.range_max) {
+      EXPECT_EQ(scan.ranges[i], INFINITY) << "beam " << i << " truth " << truth;
+      if (beyond_max) ++*beyond_max;
+    } else {
+      EXPECT_NEAR(scan.ranges[i], truth, 0.001) << "beam " << i;
+    }
+  }
+}
+
+TEST(Lidar, WheelchairScanMatchesTheRoomAndNeverSeesTheChair) {
+  const std::string urdf =
+      test::replaceAfter(test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro"),
+                         "<sensor", "<stddev>0.01</stddev>", "<stddev>0</stddev>");
+  Simulation simulation(test::shippedWorld("test_room.world"));
+  Robot& robot = simulation.spawn("chair", parseModel(urdf, "chair", PackageResolver::fromEnvironment()),
+                                  {.x = 0.5, .y = -0.3, .yaw = 0.3});
+  const LaserScan scan = firstScan(simulation, robot);
+  ASSERT_EQ(scan.ranges.size(), 360u);
+  EXPECT_EQ(scan.frame_id, "laser_Link");
+  EXPECT_DOUBLE_EQ(scan.angle_increment, 6.0 / 359);
+  EXPECT_DOUBLE_EQ(scan.scan_time, 1 / 5.5);
+  expectRoomScan(scan);  // every beam reaches a wall: the chair's own body is not in the scan
+}
+
+TEST(Lidar, RangesBeyondMaxAreInfAndBelowMinAreMinusInf) {
+  for (const double x : {0.0, 2.8}) {
+    Simulation simulation(test::shippedWorld("test_room.world"));
+    Robot& robot = simulation.spawn("mast",
+                                    parseModel(test::readFile(test::fixture("robots/lidar_mast.urdf")),
+                                               "lidar_mast.urdf", PackageResolver::fromEnvironment()),
+                                    {.x = x});
+    const LaserScan scan = firstScan(simulation, robot);
+    ASSERT_EQ(scan.ranges.size(), 181u);
+    EXPECT_DOUBLE_EQ(scan.angle_increment, M_PI / 180);
+    int below_min = 0, beyond_max = 0;
+    expectRoomScan(scan, &below_min, &beyond_max);
+    if (x == 0.0) EXPECT_GT(beyond_max, 0) << "the wall ahead is 3 m away, beyond the 2.5 m maximum";
+    if (x == 2.8) EXPECT_GT(below_min, 0) << "the wall ahead is 0.2 m away, inside the 0.3 m minimum";
+  }
+}
+
+struct RunResult {
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<float> ranges;
+};
+
+RunResult runWheelchair(uint64_t seed) {
+  Simulation simulation(test::shippedWorld("test_room.world"), {.seed = seed});
+  Robot& robot = simulation.spawn("chair", test::wheelchair(), {});
+  drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.4, 0.3, 1.0);
+  RunResult result;
+  for (const auto& link : robot.body().spec().links) result.poses.push_back(robot.body().linkPose(link.name));
+  result.ranges = robot.pluginsOf<RayLidar>().at(0)->scan().ranges;
+  return result;
+}
+
+TEST(Simulation, TheSameInputsAndSeedGiveABitIdenticalRun) {
+  const RunResult first = runWheelchair(7);
+  const RunResult second = runWheelchair(7);
+  ASSERT_EQ(first.poses.size(), second.poses.size());
+  for (size_t i = 0; i < first.poses.size(); ++i) {
+    EXPECT_EQ(first.poses[i].matrix(), second.poses[i].matrix());
+  }
+  EXPECT_EQ(first.ranges, second.ranges);
+  EXPECT_NE(runWheelchair(8).ranges, first.ranges) << "the seed drives the lidar noise";
+}
+
+TEST(Simulation, ResetSimulationRestoresPosesAndTime) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  Robot& robot = simulation.spawn("chair", test::wheelchair(), {.x = 1, .yaw = 0.5});
+  const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
+  drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0.5, 1.0);
+  ASSERT_GT((robot.body().linkPose("base_footprint").translation() - start.translation()).norm(), 0.2);
+  simulation.resetSimulation();
+  EXPECT_EQ(simulation.time(), 0.0);
+  EXPECT_TRUE(robot.body().linkPose("base_footprint").isApprox(start, 1e-9));
+  simulation.step();
+  EXPECT_DOUBLE_EQ(simulation.time(), simulation.stepSize());
+}
+
+}  // namespace
+}  // namespace bullet_sim
