@@ -2,6 +2,7 @@
 // against analytic distances; bit-identical reruns. Stepped in-process, no roscore.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bullet_sim/plugins/joint_position.h"
@@ -341,6 +342,70 @@ TEST(Simulation, ResetSimulationRestoresPosesAndTime) {
   EXPECT_TRUE(robot.body().linkPose("base_footprint").isApprox(start, 1e-9));
   simulation.step();
   EXPECT_DOUBLE_EQ(simulation.time(), simulation.stepSize());
+}
+
+ModelSpec fixtureRobot(const std::string& file) {
+  return parseModel(test::readFile(test::fixture("robots/" + file)), file,
+                    PackageResolver::fromEnvironment());
+}
+
+TEST(Simulation, EachIgnoredOrSuspectTagIsSaidOnceAtLoad) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  std::vector<std::string> warnings;
+  simulation.spawn("robot", fixtureRobot("load_messages.urdf"), {}, &warnings);
+  const auto said = [&](const std::string& text) {
+    return std::count_if(warnings.begin(), warnings.end(),
+                         [&](const std::string& w) { return w.find(text) != std::string::npos; });
+  };
+  EXPECT_EQ(said("<legacyMode> is a Kinetic tag"), 1);
+  EXPECT_EQ(said("plugin [drive] <wheelSeperation> is not a tag this plugin knows"), 1);
+  EXPECT_EQ(said("filename [libgazebo_ros_bumper.so] is not a plugin bullet_sim simulates"), 1);
+  EXPECT_EQ(said("sensor [bumper] on link [balloon] has no <plugin>"), 1);
+  EXPECT_EQ(warnings.size(), 4u);
+}
+
+TEST(Simulation, TurnGravityOffHoldsALinkUpAndGravityPullsTheRest) {
+  for (const bool weightless : {false, true}) {
+    std::string urdf = test::readFile(test::fixture("robots/minimal.urdf"));
+    if (weightless) {
+      urdf = test::replaceAfter(
+          urdf, "</link>", "</robot>",
+          "<gazebo reference=\"base_link\"><turnGravityOff>true</turnGravityOff></gazebo></robot>");
+    }
+    Simulation simulation(test::shippedWorld("empty.world"));
+    Robot& robot =
+        simulation.spawn("box", parseModel(urdf, "box", PackageResolver::fromEnvironment()), {.z = 1.0});
+    for (int i = 0; i < 300; ++i) simulation.step();  // 0.3 s
+    const double fallen = 1.0 - robot.body().linkPose("base_link").translation().z();
+    if (weightless) {
+      EXPECT_NEAR(fallen, 0, 1e-9);
+    } else {
+      // Free fall under Bullet's symplectic Euler: after n steps of dt, g dt^2 n (n + 1) / 2.
+      const double n = 300, dt = simulation.stepSize();
+      EXPECT_NEAR(fallen, 9.81 * dt * dt * n * (n + 1) / 2, 1e-9);
+    }
+  }
+}
+
+TEST(Simulation, RobotsShareTheWorldAndSeeEachOther) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  Robot& mast = simulation.spawn("mast", fixtureRobot("lidar_mast.urdf"), {});
+  Robot& chair = simulation.spawn("chair", test::wheelchair(), {.x = 1.5, .yaw = M_PI / 2});
+  Robot& car = simulation.spawn("car", test::smartcar(), {.x = -2});
+  const Eigen::Isometry3d car_start = car.body().linkPose("base_footprint");
+  auto* drive = car.pluginsOf<WheeledDrive>().at(0);
+  for (int i = 0; i < 1000; ++i) {
+    if (i % 100 == 0) drive->setCommand(-0.2, 0, simulation.time());
+    simulation.step();
+  }
+  EXPECT_LT(travelled(car, car_start).x, -0.15) << "each robot follows its own commands";
+  const LaserScan& scan = mast.pluginsOf<RayLidar>().at(0)->scan();
+  const float ahead = scan.ranges[90];  // beam 90 of 181 points along +x, at the chair's body
+  EXPECT_TRUE(std::isfinite(ahead));
+  EXPECT_LT(ahead, 1.5);
+  EXPECT_GT(ahead, 1.0);
+  EXPECT_EQ(chair.name(), "chair");
+  EXPECT_EQ(simulation.robotNames(), (std::vector<std::string>{"mast", "chair", "car"}));
 }
 
 }  // namespace

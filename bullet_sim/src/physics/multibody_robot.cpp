@@ -115,6 +115,10 @@ void MultiBodyRobot::buildParts() {
     frames.part_to_bullet = Eigen::Isometry3d::Identity();
     frames.part_to_bullet.translate(com);
     frames.part_to_bullet.rotate(axes);
+    for (const auto& name : parts_[k].links) {
+      const LinkSpec& link = *spec_.link(name);
+      if (!link.gravity && link.inertial) weightless_.emplace_back(static_cast<int>(k), &link);
+    }
   }
   for (const auto& part : parts_) {
     for (const auto& collision : part.collisions) {
@@ -187,8 +191,13 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
                                 shapes_->make(collision.shape, true));
       }
       collider->setCollisionShape(compound);
-      collider->setFriction(spec_.link(parts_[k].root_link)->surface.mu1);
+      const SurfaceSpec& surface = spec_.link(parts_[k].root_link)->surface;
+      collider->setFriction(surface.mu1);
       collider->setRestitution(0);
+      if (surface.kp || surface.kd) {
+        // Gazebo's defaults: a rigid contact (kp 1e12 N/m) with kd 1 N s/m.
+        collider->setContactStiffnessAndDamping(surface.kp.value_or(1e12), surface.kd.value_or(1.0));
+      }
       world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
     }
     if (k == 0) {
@@ -227,6 +236,21 @@ void MultiBodyRobot::beforeStep() {
   for (const auto& joint : joints_) {
     if (joint.spec->damping > 0) {
       body_->addJointTorque(joint.bullet_link, -joint.spec->damping * body_->getJointVel(joint.bullet_link));
+    }
+  }
+  // <turnGravityOff>: Bullet pulls every link, so such links get their weight back as an upward force.
+  const Eigen::Vector3d gravity = fromBullet(world_.getGravity());
+  for (const auto& [part, link] : weightless_) {
+    const Eigen::Vector3d force = -link->inertial->mass * gravity;
+    const Eigen::Isometry3d& pose = part_poses_[part];
+    const Eigen::Vector3d lever = pose * (frames_[part].link_in_part.at(link->name) * link->inertial->com) -
+                                  pose * frames_[part].part_to_bullet.translation();
+    if (part == 0) {
+      body_->addBaseForce(toBullet(force));
+      body_->addBaseTorque(toBullet(lever.cross(force)));
+    } else {
+      body_->addLinkForce(part - 1, toBullet(force));
+      body_->addLinkTorque(part - 1, toBullet(lever.cross(force)));
     }
   }
 }

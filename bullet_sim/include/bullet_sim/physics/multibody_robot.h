@@ -79,6 +79,7 @@ class MultiBodyRobot : public PhysicsRobot {
   std::unordered_map<std::string, int> part_of_link_;
   std::vector<Joint> joints_;
   std::unordered_map<std::string, int> joint_index_;
+  std::vector<std::pair<int, const LinkSpec*>> weightless_;  ///< links with <turnGravityOff>, and their part
 
   std::unique_ptr<Scratch> scratch_;
   std::unique_ptr<BulletShapes> shapes_;
