@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up, builds, runs and tests this catkin workspace on Debian 12. Every step is idempotent.
 #
-#   scripts/workspace.sh run     install what is missing, build, run the main job
+#   scripts/workspace.sh run     install what is missing, build, bring up the wheelchair simulation
 #   scripts/workspace.sh test    install what is missing, build, run the whole test suite
 #   scripts/workspace.sh install | build
 #
@@ -26,14 +26,11 @@ DEBIAN_PACKAGES=(
   libstd-srvs-dev ros-robot-state-publisher joint-state-publisher
   liburdf-dev liburdfdom-dev liburdfdom-tools libtinyxml2-dev libsdformat-dev
   libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev
+  python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
+  ros-message-generation libtrajectory-msgs-dev
   python3-pip python3-numpy googletest libgtest-dev cmake g++ make
 )
 XACRO_VERSION=1.13.3
-ROBOTS=(
-  smartwheelchair_model/urdf/smartwheelchair_model.urdf.xacro
-  smartcar_description/urdf/smartcar.urdf.xacro
-  yahboomcar_description/urdf/yahboomcar.urdf.xacro
-)
 
 log() { printf '\n== %s\n' "$*"; }
 as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
@@ -76,14 +73,8 @@ source_workspace() {
 
 run_main_job() {
   source_workspace
-  for robot in "${ROBOTS[@]}"; do
-    local urdf
-    urdf=$(mktemp --suffix=.urdf)
-    log "$robot"
-    xacro "$REPO/$robot" >"$urdf"
-    check_urdf "$urdf"
-    rm -f "$urdf"
-  done
+  log "bringing up the wheelchair in home.world (Ctrl-C stops it)"
+  exec roslaunch bullet_sim_bringup wheelchair.launch
 }
 
 run_tests() {

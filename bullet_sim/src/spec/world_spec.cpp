@@ -537,4 +537,30 @@ WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, con
       source, fs::absolute(source, ec).parent_path(), resolver, warnings);
 }
 
+std::optional<std::string> findWorldFile(const std::string& name, const PackageResolver& resolver,
+                                         std::string* error) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> candidates;
+  if (fs::path(name).is_absolute()) {
+    candidates.push_back(name);
+  } else {
+    for (const char* package : {"bullet_sim", "bullet_sim_bringup"}) {
+      if (const auto dir = resolver.packageDirectory(package)) {
+        candidates.push_back(fs::path(*dir) / "worlds" / name);
+        candidates.push_back(fs::path(*dir) / name);
+      }
+    }
+    candidates.push_back(fs::absolute(name));
+  }
+  std::error_code ec;
+  for (const auto& candidate : candidates) {
+    if (fs::is_regular_file(candidate, ec)) return candidate.lexically_normal().string();
+  }
+  if (error) {
+    *error = "no world file [" + name + "]; looked at:";
+    for (const auto& candidate : candidates) *error += " " + candidate.string();
+  }
+  return std::nullopt;
+}
+
 }  // namespace bullet_sim

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,5 +49,11 @@ WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
 /// against the directory of `source`.
 WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, const PackageResolver& resolver,
                      std::vector<std::string>* warnings);
+
+/// The .world file a user means by `name`: an absolute path as it is; otherwise the name is looked up in
+/// bullet_sim/worlds, then bullet_sim_bringup/worlds (Gazebo-style "worlds/x.world" works too), then relative
+/// to the current directory. nullopt, with `error` saying where it looked, when none exists.
+std::optional<std::string> findWorldFile(const std::string& name, const PackageResolver& resolver,
+                                         std::string* error);
 
 }  // namespace bullet_sim

@@ -1,0 +1,171 @@
+#include "simulator_node.h"
+
+#include <ros/callback_queue.h>
+#include <rosgraph_msgs/Clock.h>
+
+#include <cmath>
+
+#include "bullet_sim/spec/diagnostics.h"
+
+namespace bullet_sim {
+
+namespace {
+
+WorldSpec loadWorldParam(const ros::NodeHandle& private_node) {
+  const std::string name = private_node.param<std::string>("world", "empty.world");
+  const PackageResolver resolver = PackageResolver::fromEnvironment();
+  std::string error;
+  const auto path = findWorldFile(name, resolver, &error);
+  if (!path) throw std::runtime_error("~world: " + error);
+  std::vector<std::string> warnings;
+  WorldSpec world = loadWorld(*path, resolver, &warnings);
+  for (const auto& warning : warnings) ROS_WARN("%s", warning.c_str());
+  ROS_INFO("world %s", path->c_str());
+  return world;
+}
+
+SpawnPose toSpawnPose(const geometry_msgs::Pose& pose, bool place_on_ground) {
+  const Eigen::Quaterniond q(pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z);
+  const Eigen::Matrix3d rotation =
+      q.norm() > 0 ? q.normalized().toRotationMatrix() : Eigen::Matrix3d::Identity();
+  SpawnPose spawn;
+  spawn.x = pose.position.x;
+  spawn.y = pose.position.y;
+  spawn.yaw = std::atan2(rotation(1, 0), rotation(0, 0));
+  spawn.pitch = std::asin(-std::clamp(rotation(2, 0), -1.0, 1.0));
+  spawn.roll = std::atan2(rotation(2, 1), rotation(2, 2));
+  if (!place_on_ground) spawn.z = pose.position.z;
+  return spawn;
+}
+
+}  // namespace
+
+SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
+    : node_(node), private_(private_node) {
+  SimulationOptions options;
+  options.physics.step_size = private_.param("step_size", options.physics.step_size);
+  options.seed = static_cast<uint64_t>(private_.param("seed", 0));
+  real_time_factor_ = private_.param("real_time_factor", 1.0);
+  paused_ = private_.param("paused", false);
+  clock_period_ = ros::WallDuration(1.0 / std::max(1.0, private_.param("pub_clock_frequency", 1000.0)));
+  if (options.physics.step_size <= 0 || !std::isfinite(options.physics.step_size)) {
+    throw std::runtime_error("~step_size must be a positive number of seconds");
+  }
+  if (real_time_factor_ < 0 || !std::isfinite(real_time_factor_)) {
+    throw std::runtime_error("~real_time_factor must be >= 0 (0 runs as fast as possible)");
+  }
+  if (private_.param("gui", false)) {
+    ROS_INFO(
+        "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
+  }
+  simulation_ = std::make_unique<Simulation>(loadWorldParam(private_), options);
+
+  clock_ = node_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  services_.push_back(private_.advertiseService("spawn_urdf", &SimulatorNode::spawn, this));
+  services_.push_back(private_.advertiseService("delete_model", &SimulatorNode::remove, this));
+  services_.push_back(private_.advertiseService("reset_simulation", &SimulatorNode::resetSimulation, this));
+  services_.push_back(private_.advertiseService("reset_world", &SimulatorNode::resetWorld, this));
+  services_.push_back(private_.advertiseService("pause_physics", &SimulatorNode::pause, this));
+  services_.push_back(private_.advertiseService("unpause_physics", &SimulatorNode::unpause, this));
+}
+
+void SimulatorNode::run() {
+  // /clock is never 0: the first step happens even when starting paused.
+  step();
+  anchorPacing();
+  ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
+  while (ros::ok()) {
+    queue.callAvailable();  // commands and service calls land between steps
+    if (paused_) {
+      publishClock();
+      queue.callAvailable(clock_period_);
+      continue;
+    }
+    if (real_time_factor_ > 0) {
+      const ros::WallTime due =
+          wall_anchor_ + ros::WallDuration((simulation_->time() - sim_anchor_) / real_time_factor_);
+      const ros::WallTime now = ros::WallTime::now();
+      if (now < due) {
+        queue.callAvailable(due - now);  // wait for the wall clock, still answering callbacks
+        continue;
+      }
+      if ((now - due).toSec() > 0.1) anchorPacing();  // far behind real time: do not try to catch up
+    }
+    step();
+  }
+}
+
+void SimulatorNode::step() {
+  simulation_->step();
+  for (auto& [name, adapter] : adapters_) adapter->publish();
+  if (ros::WallTime::now() - last_clock_ >= clock_period_) publishClock();
+}
+
+void SimulatorNode::publishClock() {
+  rosgraph_msgs::Clock clock;
+  clock.clock = ros::Time(simulation_->time());
+  clock_.publish(clock);
+  last_clock_ = ros::WallTime::now();
+}
+
+void SimulatorNode::anchorPacing() {
+  wall_anchor_ = ros::WallTime::now();
+  sim_anchor_ = simulation_->time();
+}
+
+bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
+  const std::string source = "model [" + request.model_name + "]";
+  try {
+    std::vector<std::string> warnings;
+    ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings);
+    Robot& robot = simulation_->spawn(request.model_name, std::move(model),
+                                      toSpawnPose(request.initial_pose, request.place_on_ground), &warnings);
+    auto adapter = std::make_unique<RobotAdapter>(robot, request.robot_namespace, tf_,
+                                                  [this] { return simulation_->time(); });
+    for (const auto& warning : warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
+    for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
+    adapters_[request.model_name] = std::move(adapter);
+    response.success = true;
+    response.message = "spawned " + source;
+    for (const auto& warning : warnings) response.message += "\n" + warning;
+  } catch (const std::exception& e) {
+    response.success = false;
+    response.message = e.what();
+    ROS_ERROR("spawn refused: %s", e.what());
+  }
+  return true;
+}
+
+bool SimulatorNode::remove(DeleteModel::Request& request, DeleteModel::Response& response) {
+  adapters_.erase(request.model_name);
+  response.success = simulation_->remove(request.model_name);
+  response.message = response.success ? "deleted model [" + request.model_name + "]"
+                                      : "no model [" + request.model_name + "]" +
+                                            didYouMean(request.model_name, simulation_->robotNames());
+  return true;
+}
+
+bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  simulation_->resetSimulation();
+  step();  // time restarts at the first step, and /clock is never 0
+  anchorPacing();
+  return true;
+}
+
+bool SimulatorNode::resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  simulation_->resetWorld();
+  return true;
+}
+
+bool SimulatorNode::pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = true;
+  return true;
+}
+
+bool SimulatorNode::unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = false;
+  anchorPacing();
+  return true;
+}
+
+}  // namespace bullet_sim

@@ -1,0 +1,61 @@
+// The ROS node `simulator` (named `gazebo` by our launch files): steps the core in sim time, publishes
+// /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
+//
+// Params: ~world [empty.world], ~step_size [1 ms], ~real_time_factor [1; 0 = as fast as possible], ~paused
+// [false],
+//   ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless).
+// Services: ~spawn_urdf, ~delete_model, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics.
+#pragma once
+
+#include <ros/ros.h>
+#include <std_srvs/Empty.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <map>
+#include <memory>
+
+#include "bullet_sim/DeleteModel.h"
+#include "bullet_sim/SpawnModel.h"
+#include "bullet_sim/simulation.h"
+#include "robot_adapter.h"
+
+namespace bullet_sim {
+
+class SimulatorNode {
+ public:
+  /// Loads the world named by ~world. Throws std::runtime_error saying what is wrong with it.
+  SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node);
+
+  /// Steps until shutdown. Commands and service calls are handled between steps.
+  void run();
+
+ private:
+  bool spawn(SpawnModel::Request& request, SpawnModel::Response& response);
+  bool remove(DeleteModel::Request& request, DeleteModel::Response& response);
+  bool resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+
+  void step();
+  void publishClock();
+  /// Sim time and wall time are matched from now on (after a pause, a reset or a late step).
+  void anchorPacing();
+
+  ros::NodeHandle node_;
+  ros::NodeHandle private_;
+  std::unique_ptr<Simulation> simulation_;
+  std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
+  tf2_ros::TransformBroadcaster tf_;
+  ros::Publisher clock_;
+  std::vector<ros::ServiceServer> services_;
+
+  double real_time_factor_ = 1.0;
+  bool paused_ = false;
+  ros::WallDuration clock_period_;
+  ros::WallTime last_clock_;
+  ros::WallTime wall_anchor_;
+  double sim_anchor_ = 0;
+};
+
+}  // namespace bullet_sim

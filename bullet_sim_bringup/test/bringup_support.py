@@ -1,0 +1,46 @@
+"""Helpers for the bringup's rostest nodes: bounded waits, the robot description's sensor tags."""
+import math
+import threading
+import time
+import xml.etree.ElementTree as ET
+
+import rospy
+
+
+class Collector:
+    """Keeps every message of a topic; wait_for() blocks until a condition holds or a wall deadline passes."""
+
+    def __init__(self, topic, message_type):
+        self.messages = []
+        self._changed = threading.Condition()
+        self._subscriber = rospy.Subscriber(topic, message_type, self._add, queue_size=100)
+
+    def _add(self, message):
+        with self._changed:
+            self.messages.append(message)
+            self._changed.notify_all()
+
+    def wait_for(self, condition, timeout, what):
+        deadline = time.monotonic() + timeout
+        with self._changed:
+            while not condition(self.messages):
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    raise AssertionError("timed out after %.0f s waiting for %s" % (timeout, what))
+                self._changed.wait(remaining)
+            return list(self.messages)
+
+
+def yaw(orientation):
+    q = orientation
+    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+
+
+def ray_sensor(robot_description):
+    """The first <sensor type="ray"> of the URDF's <gazebo> blocks, with its plugin."""
+    urdf = ET.fromstring(robot_description)
+    for gazebo in urdf.findall("gazebo"):
+        sensor = gazebo.find("sensor[@type='ray']")
+        if sensor is not None:
+            return sensor
+    raise AssertionError("the robot description declares no ray sensor")
