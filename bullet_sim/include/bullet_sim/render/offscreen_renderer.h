@@ -1,0 +1,32 @@
+// Renders a Scene into an RGBA image without a display: OSMesa (Mesa's llvmpipe on the CPU) with OpenGL's
+// fixed-function pipeline, one directional light plus ambient, and a depth test.
+#pragma once
+
+#include <memory>
+
+#include "bullet_sim/render/image.h"
+#include "bullet_sim/render/scene.h"
+
+namespace bullet_sim {
+
+class OffscreenRenderer {
+ public:
+  /// Creates the OSMesa context. Throws std::runtime_error when OSMesa cannot.
+  OffscreenRenderer();
+  ~OffscreenRenderer();
+  OffscreenRenderer(OffscreenRenderer&&) noexcept;
+  OffscreenRenderer& operator=(OffscreenRenderer&&) noexcept;
+  OffscreenRenderer(const OffscreenRenderer&) = delete;
+  OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
+
+  /// Draws `scene` into a width x height image, top row first. The context and its frame buffer are kept for
+  /// the next render of the same size, and meshes stay on the GPU while their TriangleMesh lives, so only the
+  /// first render of a scene pays for uploads. Throws std::invalid_argument for a size OSMesa cannot render.
+  Image render(const Scene& scene, int width, int height);
+
+ private:
+  class Context;
+  std::unique_ptr<Context> context_;
+};
+
+}  // namespace bullet_sim

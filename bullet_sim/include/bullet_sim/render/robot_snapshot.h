@@ -1,0 +1,27 @@
+// A picture of a robot in a world as the simulator sees it, after its lidars have scanned: what render_model
+// draws. Links the simulator core (Bullet) and the renderer's scene; ROS-free.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "bullet_sim/render/camera.h"
+#include "bullet_sim/render/scene.h"
+#include "bullet_sim/simulation.h"
+
+namespace bullet_sim {
+
+struct RobotSnapshot {
+  Scene scene;                        ///< the camera is set for the view
+  std::vector<std::string> warnings;  ///< from spawning, and about lidars that did not scan in time
+};
+
+/// Spawns `model` into a simulation of `world` at `pose` (resting on the ground unless pose.z is given),
+/// steps until each of its lidars has produced a scan, for at most kSnapshotMaxSimTime of sim time, and
+/// builds the scene: the world, the ground grid, the robot at its link poses in its colours, and each lidar's
+/// hits as red 4 px dots. Throws SpecError when the robot cannot be spawned.
+RobotSnapshot snapshotRobot(WorldSpec world, ModelSpec model, const SpawnPose& pose, View view);
+
+constexpr double kSnapshotMaxSimTime = 1.0;  ///< [s]
+
+}  // namespace bullet_sim

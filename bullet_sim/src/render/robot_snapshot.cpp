@@ -1,0 +1,64 @@
+#include "bullet_sim/render/robot_snapshot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/render/scene_builder.h"
+
+namespace bullet_sim {
+
+namespace {
+
+constexpr double kLidarHitSize = 4;  // [px]
+
+std::string noScanWarning(const RayLidar& lidar) {
+  std::ostringstream warning;
+  warning << "lidar [" << lidar.name() << "] on link [" << lidar.config().link << "] produced no scan within "
+          << kSnapshotMaxSimTime << " s of sim time (its update_rate is " << lidar.config().update_rate
+          << " Hz), so its hits are not drawn";
+  return warning.str();
+}
+
+}  // namespace
+
+RobotSnapshot snapshotRobot(WorldSpec world, ModelSpec model, const SpawnPose& pose, View view) {
+  RobotSnapshot snapshot;
+  Simulation simulation(std::move(world));
+  const std::string name = model.name;
+  Robot& robot = simulation.spawn(name, std::move(model), pose, &snapshot.warnings);
+
+  const std::vector<RayLidar*> lidars = robot.pluginsOf<RayLidar>();
+  const auto max_steps = std::lround(kSnapshotMaxSimTime / simulation.stepSize());
+  const auto all_scanned = [&] {
+    return std::all_of(lidars.begin(), lidars.end(),
+                       [](const RayLidar* lidar) { return lidar->scanCount() > 0; });
+  };
+  for (long step = 0; step < max_steps && !all_scanned(); ++step) simulation.step();
+
+  Scene& scene = snapshot.scene;
+  addWorld(scene, simulation.world());
+  const ModelSpec& spec = robot.body().spec();
+  std::map<std::string, Eigen::Isometry3d> link_poses;
+  for (const LinkSpec& link : spec.links) link_poses[link.name] = robot.body().linkPose(link.name);
+  const Eigen::AlignedBox3d robot_bounds = addModel(scene, spec, link_poses);
+
+  for (const RayLidar* lidar : lidars) {
+    if (lidar->scanCount() == 0) {
+      snapshot.warnings.push_back(noScanWarning(*lidar));
+      continue;
+    }
+    // Red: no shipped robot or world uses it.
+    PointSet hits = lidarHits(lidar->scan(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize);
+    // A plan looks down on table tops and wall tops, which would hide the hits beneath them.
+    hits.overlay = view == View::kTop;
+    scene.point_sets.push_back(std::move(hits));
+  }
+  scene.camera =
+      viewCamera(view, robot.body().linkPose(spec.root), robot_bounds, worldBounds(simulation.world()));
+  return snapshot;
+}
+
+}  // namespace bullet_sim
