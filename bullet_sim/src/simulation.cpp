@@ -113,6 +113,13 @@ Robot* Simulation::robot(const std::string& name) {
   return nullptr;
 }
 
+const Robot* Simulation::robot(const std::string& name) const {
+  for (const auto& robot : robots_) {
+    if (robot->name() == name) return robot.get();
+  }
+  return nullptr;
+}
+
 std::vector<std::string> Simulation::robotNames() const {
   std::vector<std::string> names;
   for (const auto& robot : robots_) names.push_back(robot->name());

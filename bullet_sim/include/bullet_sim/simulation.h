@@ -74,6 +74,7 @@ class Simulation {
   /// False when there is no robot of that name.
   bool remove(const std::string& name);
   Robot* robot(const std::string& name);
+  const Robot* robot(const std::string& name) const;
   std::vector<std::string> robotNames() const;
 
   /// One step: plugins apply commands, physics advances by the step size, then plugins sense.

@@ -38,27 +38,42 @@ RobotSnapshot snapshotRobot(WorldSpec world, ModelSpec model, const SpawnPose& p
   };
   for (long step = 0; step < max_steps && !all_scanned(); ++step) simulation.step();
 
-  Scene& scene = snapshot.scene;
-  addWorld(scene, simulation.world());
-  const ModelSpec& spec = robot.body().spec();
-  std::map<std::string, Eigen::Isometry3d> link_poses;
-  for (const LinkSpec& link : spec.links) link_poses[link.name] = robot.body().linkPose(link.name);
-  const Eigen::AlignedBox3d robot_bounds = addModel(scene, spec, link_poses);
-
   for (const RayLidar* lidar : lidars) {
-    if (lidar->scanCount() == 0) {
-      snapshot.warnings.push_back(noScanWarning(*lidar));
-      continue;
-    }
-    // Red: no shipped robot or world uses it.
-    PointSet hits = lidarHits(lidar->scan(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize);
-    // A plan looks down on table tops and wall tops, which would hide the hits beneath them.
-    hits.overlay = view == View::kTop;
-    scene.point_sets.push_back(std::move(hits));
+    if (lidar->scanCount() == 0) snapshot.warnings.push_back(noScanWarning(*lidar));
   }
-  scene.camera =
-      viewCamera(view, robot.body().linkPose(spec.root), robot_bounds, worldBounds(simulation.world()));
+  snapshot.scene = simulationScene(simulation, view, name);
   return snapshot;
+}
+
+Scene simulationScene(const Simulation& simulation, View view, const std::string& focus,
+                      const std::vector<Polyline>& trails) {
+  Scene scene;
+  addWorld(scene, simulation.world());
+  const std::vector<std::string> names = simulation.robotNames();
+  Eigen::Isometry3d focus_pose = Eigen::Isometry3d::Identity();
+  Eigen::AlignedBox3d focus_bounds;
+  for (const auto& name : names) {
+    const Robot& robot = *simulation.robot(name);
+    const ModelSpec& spec = robot.body().spec();
+    std::map<std::string, Eigen::Isometry3d> link_poses;
+    for (const LinkSpec& link : spec.links) link_poses[link.name] = robot.body().linkPose(link.name);
+    const Eigen::AlignedBox3d bounds = addModel(scene, spec, link_poses);
+    if (name == focus || (name == names.front() && focus_bounds.isEmpty())) {
+      focus_pose = robot.body().linkPose(spec.root);
+      focus_bounds = bounds;
+    }
+    for (const RayLidar* lidar : robot.pluginsOf<RayLidar>()) {
+      if (lidar->scanCount() == 0) continue;
+      // Red: no shipped robot or world uses it.
+      PointSet hits = lidarHits(lidar->scan(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize);
+      // A plan looks down on table tops and wall tops, which would hide the hits beneath them.
+      hits.overlay = view == View::kTop;
+      scene.point_sets.push_back(std::move(hits));
+    }
+  }
+  scene.polylines = trails;
+  scene.camera = viewCamera(view, focus_pose, focus_bounds, worldBounds(simulation.world()));
+  return scene;
 }
 
 }  // namespace bullet_sim

@@ -5,11 +5,25 @@
 
 #include <cmath>
 
+#include "bullet_sim/render/image.h"
+#include "bullet_sim/render/robot_snapshot.h"
 #include "bullet_sim/spec/diagnostics.h"
 
 namespace bullet_sim {
 
 namespace {
+
+constexpr int kMaxSnapshotSide = 4096;     // [px]
+constexpr double kTrailSpacing = 0.1;      // [s] of sim time between trail points
+constexpr size_t kMaxTrailPoints = 10000;  // 1000 s of trail
+
+std::filesystem::path defaultSnapshotDir() {
+  const char* ros_home = std::getenv("ROS_HOME");
+  const char* home = std::getenv("HOME");
+  const std::filesystem::path base =
+      ros_home ? ros_home : std::filesystem::path(home ? home : "/tmp") / ".ros";
+  return base / "snapshots";
+}
 
 WorldSpec loadWorldParam(const ros::NodeHandle& private_node) {
   const std::string name = private_node.param<std::string>("world", "empty.world");
@@ -59,6 +73,9 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
   simulation_ = std::make_unique<Simulation>(loadWorldParam(private_), options);
+  snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
+  snapshot_period_ = std::max(0.0, private_.param("snapshot_period", 0.0));
+  next_frame_ = snapshot_period_;
 
   clock_ = node_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   services_.push_back(private_.advertiseService("spawn_urdf", &SimulatorNode::spawn, this));
@@ -67,6 +84,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   services_.push_back(private_.advertiseService("reset_world", &SimulatorNode::resetWorld, this));
   services_.push_back(private_.advertiseService("pause_physics", &SimulatorNode::pause, this));
   services_.push_back(private_.advertiseService("unpause_physics", &SimulatorNode::unpause, this));
+  services_.push_back(private_.advertiseService("snapshot", &SimulatorNode::snapshot, this));
 }
 
 void SimulatorNode::run() {
@@ -99,6 +117,30 @@ void SimulatorNode::step() {
   simulation_->step();
   for (auto& [name, adapter] : adapters_) adapter->publish();
   if (ros::WallTime::now() - last_clock_ >= clock_period_) publishClock();
+  afterStep();
+}
+
+void SimulatorNode::afterStep() {
+  const double now = simulation_->time();
+  if (now + 1e-9 >= next_trail_point_) {
+    next_trail_point_ = now + kTrailSpacing;
+    for (const auto& name : simulation_->robotNames()) {
+      const Robot& robot = *simulation_->robot(name);
+      auto& points = trails_[name].points;
+      if (points.size() < kMaxTrailPoints) {
+        points.push_back(robot.body().linkPose(robot.body().spec().root).translation());
+      }
+    }
+  }
+  if (snapshot_period_ > 0 && now + 1e-9 >= next_frame_) {
+    next_frame_ = now + snapshot_period_;
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%06d.png", ++frame_);
+    std::string error;
+    if (!writeSnapshot(snapshot_dir_ / name, View::kChase, 640, 480, &error)) {
+      ROS_WARN_THROTTLE(10, "~snapshot_period: %s", error.c_str());
+    }
+  }
 }
 
 void SimulatorNode::publishClock() {
@@ -138,6 +180,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
 
 bool SimulatorNode::remove(DeleteModel::Request& request, DeleteModel::Response& response) {
   adapters_.erase(request.model_name);
+  trails_.erase(request.model_name);
   response.success = simulation_->remove(request.model_name);
   response.message = response.success ? "deleted model [" + request.model_name + "]"
                                       : "no model [" + request.model_name + "]" +
@@ -147,6 +190,9 @@ bool SimulatorNode::remove(DeleteModel::Request& request, DeleteModel::Response&
 
 bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   simulation_->resetSimulation();
+  trails_.clear();
+  next_trail_point_ = 0;
+  next_frame_ = snapshot_period_;
   step();  // time restarts at the first step, and /clock is never 0
   anchorPacing();
   return true;
@@ -154,6 +200,7 @@ bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::
 
 bool SimulatorNode::resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   simulation_->resetWorld();
+  trails_.clear();
   return true;
 }
 
@@ -166,6 +213,51 @@ bool SimulatorNode::unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response
   paused_ = false;
   anchorPacing();
   return true;
+}
+
+bool SimulatorNode::snapshot(Snapshot::Request& request, Snapshot::Response& response) {
+  const auto refuse = [&](const std::string& why) {
+    response.success = false;
+    response.message = why;
+    ROS_WARN("~snapshot refused: %s", why.c_str());
+    return true;
+  };
+  const auto view = parseView(request.view.empty() ? "chase" : request.view);
+  if (!view) return refuse("unknown view [" + request.view + "]: use chase, top or front");
+  const int width = request.width == 0 ? 640 : static_cast<int>(std::min<uint32_t>(request.width, 1u << 30));
+  const int height =
+      request.height == 0 ? 480 : static_cast<int>(std::min<uint32_t>(request.height, 1u << 30));
+  if (width > kMaxSnapshotSide || height > kMaxSnapshotSide) {
+    return refuse("size " + std::to_string(width) + " x " + std::to_string(height) + " is above " +
+                  std::to_string(kMaxSnapshotSide) + " x " + std::to_string(kMaxSnapshotSide));
+  }
+  const std::filesystem::path file = std::filesystem::path(request.file).lexically_normal();
+  if (request.file.empty() || file.is_absolute() || file.empty() || *file.begin() == "..") {
+    return refuse("file [" + request.file + "] must be a relative path inside ~snapshot_dir [" +
+                  snapshot_dir_.string() + "]");
+  }
+  std::string error;
+  const std::filesystem::path path = snapshot_dir_ / file;
+  if (!writeSnapshot(path, *view, width, height, &error)) return refuse(error);
+  response.success = true;
+  response.path = path.string();
+  response.message = "wrote " + response.path;
+  return true;
+}
+
+bool SimulatorNode::writeSnapshot(const std::filesystem::path& path, View view, int width, int height,
+                                  std::string* error) {
+  try {
+    std::filesystem::create_directories(path.parent_path());
+    if (!renderer_) renderer_ = std::make_unique<OffscreenRenderer>();
+    std::vector<Polyline> trails;
+    for (const auto& [name, trail] : trails_) trails.push_back(trail);
+    const Image image = renderer_->render(simulationScene(*simulation_, view, "", trails), width, height);
+    return writePng(path.string(), image, error);
+  } catch (const std::exception& e) {
+    *error = e.what();
+    return false;
+  }
 }
 
 }  // namespace bullet_sim

@@ -3,19 +3,26 @@
 //
 // Params: ~world [empty.world], ~step_size [1 ms], ~real_time_factor [1; 0 = as fast as possible], ~paused
 // [false],
-//   ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless).
-// Services: ~spawn_urdf, ~delete_model, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics.
+//   ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless),
+//   ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames).
+// Services: ~spawn_urdf, ~delete_model, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics,
+//   ~snapshot (a PNG under ~snapshot_dir; rendered between steps, never inside one).
 #pragma once
 
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <filesystem>
 #include <map>
 #include <memory>
 
 #include "bullet_sim/DeleteModel.h"
+#include "bullet_sim/Snapshot.h"
 #include "bullet_sim/SpawnModel.h"
+#include "bullet_sim/render/camera.h"
+#include "bullet_sim/render/offscreen_renderer.h"
+#include "bullet_sim/render/scene.h"
 #include "bullet_sim/simulation.h"
 #include "robot_adapter.h"
 
@@ -36,6 +43,12 @@ class SimulatorNode {
   bool resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool snapshot(Snapshot::Request& request, Snapshot::Response& response);
+
+  /// Renders the simulation from `view` into a PNG at `path`; false with `error` when it cannot.
+  bool writeSnapshot(const std::filesystem::path& path, View view, int width, int height, std::string* error);
+  /// Extends each robot's trail and writes the periodic frame when one is due.
+  void afterStep();
 
   void step();
   void publishClock();
@@ -56,6 +69,14 @@ class SimulatorNode {
   ros::WallTime last_clock_;
   ros::WallTime wall_anchor_;
   double sim_anchor_ = 0;
+
+  std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot
+  std::filesystem::path snapshot_dir_;
+  double snapshot_period_ = 0;  ///< [s] of sim time; 0 = no periodic frames
+  double next_frame_ = 0;
+  int frame_ = 0;
+  std::map<std::string, Polyline> trails_;  ///< each robot's root link path, for the pictures
+  double next_trail_point_ = 0;
 };
 
 }  // namespace bullet_sim

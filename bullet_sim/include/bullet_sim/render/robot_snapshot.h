@@ -24,4 +24,10 @@ RobotSnapshot snapshotRobot(WorldSpec world, ModelSpec model, const SpawnPose& p
 
 constexpr double kSnapshotMaxSimTime = 1.0;  ///< [s]
 
+/// The scene of a running simulation: the world, every robot at its link poses in its colours, every lidar's
+/// latest hits as red dots, and `trails` (e.g. odometry); the camera is set for `view` around the robot named
+/// `focus` (the first robot when it names none). Lidars that have not scanned yet add no hits.
+Scene simulationScene(const Simulation& simulation, View view, const std::string& focus = "",
+                      const std::vector<Polyline>& trails = {});
+
 }  // namespace bullet_sim

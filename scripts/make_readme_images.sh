@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Renders the README's pictures into docs/images with render_model. Run after building:
+#   source devel/setup.bash && scripts/make_readme_images.sh
+set -euo pipefail
+REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+OUT=$REPO/docs/images
+mkdir -p "$OUT"
+render() { rosrun bullet_sim render_model "$@"; }
+
+render --xacro "$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro" --world home.world \
+  --view chase --size 640x480 --out "$OUT/wheelchair.png"
+render --xacro "$(rospack find smartcar_description)/urdf/smartcar.urdf.xacro" --world empty.world \
+  --view chase --size 640x480 --out "$OUT/smartcar.png"
+render --xacro "$(rospack find yahboomcar_description)/urdf/yahboomcar.urdf.xacro" --world empty.world \
+  --view chase --size 640x480 --out "$OUT/yahboomcar.png"
+render --xacro "$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro" --world home.world \
+  --view top --size 800x640 --out "$OUT/wheelchair_home_top.png"
+echo "wrote $(ls "$OUT" | tr '\n' ' ')"
