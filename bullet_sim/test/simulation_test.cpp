@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/ray_lidar.h"
@@ -62,6 +63,11 @@ void drive(Simulation& simulation, WheeledDrive& drive, double v, double w, doub
     if (i % resend == 0) ASSERT_TRUE(drive.setCommand(v, w, simulation.time()));
     simulation.step();
   }
+}
+
+ModelSpec fixtureRobot(const std::string& file) {
+  return parseModel(test::readFile(test::fixture("robots/" + file)), file,
+                    PackageResolver::fromEnvironment());
 }
 
 /// Pose of `link` relative to where it was at spawn, in the spawn frame.
@@ -305,6 +311,46 @@ TEST(Lidar, RangesBeyondMaxAreInfAndBelowMinAreMinusInf) {
   }
 }
 
+TEST(Lidar, MultiChannelReturnsLieOnTheRoomsWallsAndFloor) {
+  Simulation simulation(test::shippedWorld("test_room.world"));
+  Robot& robot =
+      simulation.spawn("mast", fixtureRobot("velodyne_mast.urdf"), {.x = 0.4, .y = -0.2, .yaw = 0.3});
+  RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
+  ASSERT_EQ(lidar->config().output, RayLidarConfig::Output::kPointCloud2);
+  ASSERT_EQ(lidar->config().channels, 16);
+  while (lidar->scanCount() == 0) simulation.step();
+  const PointCloud& cloud = lidar->cloud();
+  // The upper channels clear the 1 m walls in places and return nothing; every other ray hits a wall or the
+  // floor.
+  EXPECT_GT(cloud.points.size(), 360u * 8);
+  EXPECT_LT(cloud.points.size(), 360u * 16);
+  std::set<int> rings;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    const Eigen::Vector3d p = cloud.sensor_pose * cloud.points[i].cast<double>();
+    const double to_surface =
+        std::min({std::abs(std::abs(p.x()) - 3), std::abs(std::abs(p.y()) - 2), std::abs(p.z())});
+    ASSERT_LT(to_surface, 0.001) << "point " << i << " at " << p.transpose();
+    rings.insert(cloud.rings[i]);
+  }
+  EXPECT_EQ(*rings.begin(), 0);
+  EXPECT_EQ(*rings.rbegin(), 15);
+}
+
+TEST(Lidar, ThePluginFilenameChoosesTheMessage) {
+  const std::string velodyne = test::readFile(test::fixture("robots/velodyne_mast.urdf"));
+  for (const auto& [filename, output] : std::vector<std::pair<std::string, RayLidarConfig::Output>>{
+           {"libgazebo_ros_velodyne_gpu_laser.so", RayLidarConfig::Output::kPointCloud2},
+           {"libgazebo_ros_block_laser.so", RayLidarConfig::Output::kPointCloud},
+           {"libgazebo_ros_laser.so", RayLidarConfig::Output::kLaserScan}}) {
+    const std::string urdf =
+        test::replaceAfter(velodyne, "<plugin", "libgazebo_ros_velodyne_laser.so", filename);
+    Simulation simulation(test::shippedWorld("empty.world"));
+    Robot& robot =
+        simulation.spawn("mast", parseModel(urdf, filename, PackageResolver::fromEnvironment()), {});
+    EXPECT_EQ(robot.pluginsOf<RayLidar>().at(0)->config().output, output) << filename;
+  }
+}
+
 struct RunResult {
   std::vector<Eigen::Isometry3d> poses;
   std::vector<float> ranges;
@@ -342,11 +388,6 @@ TEST(Simulation, ResetSimulationRestoresPosesAndTime) {
   EXPECT_TRUE(robot.body().linkPose("base_footprint").isApprox(start, 1e-9));
   simulation.step();
   EXPECT_DOUBLE_EQ(simulation.time(), simulation.stepSize());
-}
-
-ModelSpec fixtureRobot(const std::string& file) {
-  return parseModel(test::readFile(test::fixture("robots/" + file)), file,
-                    PackageResolver::fromEnvironment());
 }
 
 TEST(Simulation, EachIgnoredOrSuspectTagIsSaidOnceAtLoad) {

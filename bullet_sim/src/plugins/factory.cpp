@@ -11,9 +11,9 @@ namespace bullet_sim {
 
 namespace {
 
-const std::set<std::string> kLaserPlugins = {"libgazebo_ros_laser.so", "libgazebo_ros_gpu_laser.so"};
-const std::set<std::string> kMultiChannelLaserPlugins = {
-    "libgazebo_ros_velodyne_laser.so", "libgazebo_ros_velodyne_gpu_laser.so", "libgazebo_ros_block_laser.so"};
+const std::set<std::string> kLaserPlugins = {
+    "libgazebo_ros_laser.so", "libgazebo_ros_gpu_laser.so", "libgazebo_ros_velodyne_laser.so",
+    "libgazebo_ros_velodyne_gpu_laser.so", "libgazebo_ros_block_laser.so"};
 
 }  // namespace
 
@@ -60,10 +60,6 @@ std::vector<std::unique_ptr<Plugin>> createPlugins(const ModelSpec& model, const
       RayLidarConfig config = parseRayLidarConfig(sensor, model, diagnostics);
       const BodyId own = context.ray_body(body.partOf(sensor.link));
       plugins.push_back(std::make_unique<RayLidar>(sensor.name, std::move(config), own, seed(sensor.name)));
-    } else if ((sensor.type == "ray" || sensor.type == "gpu_ray") &&
-               kMultiChannelLaserPlugins.count(filename)) {
-      diagnostics.warning(where + " plugin [" + filename +
-                          "]: multi-channel lidars are not simulated yet: ignored");
     } else if (sensor.type == "imu" && filename == "libgazebo_ros_imu_sensor.so") {
       plugins.push_back(std::make_unique<Imu>(sensor.name, parseImuSensorConfig(sensor, model, diagnostics),
                                               context.gravity, seed(sensor.name)));

@@ -65,7 +65,9 @@ Scene simulationScene(const Simulation& simulation, View view, const std::string
     for (const RayLidar* lidar : robot.pluginsOf<RayLidar>()) {
       if (lidar->scanCount() == 0) continue;
       // Red: no shipped robot or world uses it.
-      PointSet hits = lidarHits(lidar->scan(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize);
+      PointSet hits = lidar->config().output == RayLidarConfig::Output::kLaserScan
+                          ? lidarHits(lidar->scan(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize)
+                          : cloudHits(lidar->cloud(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize);
       // A plan looks down on table tops and wall tops, which would hide the hits beneath them.
       hits.overlay = view == View::kTop;
       scene.point_sets.push_back(std::move(hits));

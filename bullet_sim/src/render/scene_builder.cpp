@@ -147,6 +147,15 @@ PointSet lidarHits(const LaserScan& scan, const Eigen::Vector4d& rgba, double si
   return hits;
 }
 
+PointSet cloudHits(const PointCloud& cloud, const Eigen::Vector4d& rgba, double size) {
+  PointSet hits;
+  hits.rgba = rgba;
+  hits.size = size;
+  hits.points.reserve(cloud.points.size());
+  for (const auto& point : cloud.points) hits.points.push_back(cloud.sensor_pose * point.cast<double>());
+  return hits;
+}
+
 Eigen::AlignedBox3d worldBounds(const WorldSpec& world) {
   Eigen::AlignedBox3d bounds;
   for (const WorldModelSpec& model : world.models) {

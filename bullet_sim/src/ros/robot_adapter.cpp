@@ -6,6 +6,9 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
 #include "bullet_sim/plugins/ground_truth.h"
@@ -125,25 +128,83 @@ RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
   }
 
   for (RayLidar* lidar : robot.pluginsOf<RayLidar>()) {
-    ros::Publisher scans =
-        advertise<sensor_msgs::LaserScan>(handleFor(lidar->config().robot_namespace), lidar->config().topic);
-    const std::string frame_id = frame(lidar->config().frame);
-    outputs_.push_back({[lidar] { return lidar->scanCount(); },
-                        [lidar, scans, frame_id] {
-                          const LaserScan& scan = lidar->scan();
-                          sensor_msgs::LaserScan message;
-                          message.header.stamp = ros::Time(scan.stamp);
-                          message.header.frame_id = frame_id;
-                          message.angle_min = scan.angle_min;
-                          message.angle_max = scan.angle_max;
-                          message.angle_increment = scan.angle_increment;
-                          message.time_increment = 0;
-                          message.scan_time = scan.scan_time;
-                          message.range_min = scan.range_min;
-                          message.range_max = scan.range_max;
-                          message.ranges = scan.ranges;
-                          scans.publish(message);
-                        }});
+    const RayLidarConfig& config = lidar->config();
+    const ros::NodeHandle handle = handleFor(config.robot_namespace);
+    const std::string frame_id = frame(config.frame);
+    switch (config.output) {
+      case RayLidarConfig::Output::kLaserScan: {
+        ros::Publisher scans = advertise<sensor_msgs::LaserScan>(handle, config.topic);
+        outputs_.push_back({[lidar] { return lidar->scanCount(); },
+                            [lidar, scans, frame_id] {
+                              const LaserScan& scan = lidar->scan();
+                              sensor_msgs::LaserScan message;
+                              message.header.stamp = ros::Time(scan.stamp);
+                              message.header.frame_id = frame_id;
+                              message.angle_min = scan.angle_min;
+                              message.angle_max = scan.angle_max;
+                              message.angle_increment = scan.angle_increment;
+                              message.time_increment = 0;
+                              message.scan_time = scan.scan_time;
+                              message.range_min = scan.range_min;
+                              message.range_max = scan.range_max;
+                              message.ranges = scan.ranges;
+                              scans.publish(message);
+                            }});
+        break;
+      }
+      case RayLidarConfig::Output::kPointCloud2: {
+        ros::Publisher clouds = advertise<sensor_msgs::PointCloud2>(handle, config.topic);
+        outputs_.push_back({[lidar] { return lidar->scanCount(); },
+                            [lidar, clouds, frame_id] {
+                              const PointCloud& cloud = lidar->cloud();
+                              sensor_msgs::PointCloud2 message;
+                              message.header.stamp = ros::Time(cloud.stamp);
+                              message.header.frame_id = frame_id;
+                              sensor_msgs::PointCloud2Modifier fields(message);
+                              // The velodyne driver's layout: x y z intensity (float32) and ring (uint16).
+                              fields.setPointCloud2Fields(5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
+                                                          sensor_msgs::PointField::FLOAT32, "z", 1,
+                                                          sensor_msgs::PointField::FLOAT32, "intensity", 1,
+                                                          sensor_msgs::PointField::FLOAT32, "ring", 1,
+                                                          sensor_msgs::PointField::UINT16);
+                              fields.resize(cloud.points.size());
+                              sensor_msgs::PointCloud2Iterator<float> x(message, "x"),
+                                  intensity(message, "intensity");
+                              sensor_msgs::PointCloud2Iterator<uint16_t> ring(message, "ring");
+                              for (size_t i = 0; i < cloud.points.size(); ++i, ++x, ++intensity, ++ring) {
+                                x[0] = cloud.points[i].x();
+                                x[1] = cloud.points[i].y();
+                                x[2] = cloud.points[i].z();
+                                *intensity = cloud.intensities[i];
+                                *ring = cloud.rings[i];
+                              }
+                              message.is_dense = true;
+                              clouds.publish(message);
+                            }});
+        break;
+      }
+      case RayLidarConfig::Output::kPointCloud: {
+        ros::Publisher clouds = advertise<sensor_msgs::PointCloud>(handle, config.topic);
+        outputs_.push_back({[lidar] { return lidar->scanCount(); },
+                            [lidar, clouds, frame_id] {
+                              const PointCloud& cloud = lidar->cloud();
+                              sensor_msgs::PointCloud message;
+                              message.header.stamp = ros::Time(cloud.stamp);
+                              message.header.frame_id = frame_id;
+                              message.channels.resize(1);
+                              message.channels[0].name = "intensity";
+                              message.channels[0].values = cloud.intensities;
+                              message.points.resize(cloud.points.size());
+                              for (size_t i = 0; i < cloud.points.size(); ++i) {
+                                message.points[i].x = cloud.points[i].x();
+                                message.points[i].y = cloud.points[i].y();
+                                message.points[i].z = cloud.points[i].z();
+                              }
+                              clouds.publish(message);
+                            }});
+        break;
+      }
+    }
   }
 
   for (Imu* imu : robot.pluginsOf<Imu>()) {

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,16 @@ struct LaserScan {
   double range_min = 0;  ///< [m]
   double range_max = 0;
   std::vector<float> ranges;  ///< [m]; +inf: no return within range_max; -inf: closer than range_min
+  Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();  ///< in the world, when the scan was taken
+};
+
+/// sensor_msgs/PointCloud2 (or PointCloud): the in-range returns of a lidar, in its frame.
+struct PointCloud {
+  double stamp = 0;
+  std::string frame_id;
+  std::vector<Eigen::Vector3f> points;  ///< [m] in the sensor frame
+  std::vector<float> intensities;  ///< per point; 1 for every return (surfaces have no reflectivity here)
+  std::vector<uint16_t> rings;     ///< the channel of each point, 0 = bottom
   Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();  ///< in the world, when the scan was taken
 };
 

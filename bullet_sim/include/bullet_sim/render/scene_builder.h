@@ -34,6 +34,9 @@ void addWorld(Scene& scene, const WorldSpec& world);
 /// closer than range_min), placed with the scan's sensor_pose.
 PointSet lidarHits(const LaserScan& scan, const Eigen::Vector4d& rgba, double size);
 
+/// The points of a lidar's point cloud, in the world.
+PointSet cloudHits(const PointCloud& cloud, const Eigen::Vector4d& rgba, double size);
+
 /// The world bounds of a world's obstacles: every collision but infinite planes, so that the ground does not
 /// make every plan 100 m wide. Empty for a world with nothing but the ground.
 Eigen::AlignedBox3d worldBounds(const WorldSpec& world);
