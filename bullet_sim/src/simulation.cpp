@@ -1,9 +1,11 @@
 #include "bullet_sim/simulation.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <limits>
 
 #include "bullet_sim/physics/multibody_robot.h"
+#include "bullet_sim/physics/raycast_robot.h"
 #include "bullet_sim/plugins/factory.h"
 #include "bullet_sim/spec/model_geometry.h"
 
@@ -32,6 +34,22 @@ Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
   return root;
 }
 
+/// The wheel-ground model of a robot: what its drive plugin's <wheelModel> asks for (the plugin's config
+/// checks the value), the default for a drive without the tag, and contact for a robot with no drive plugin
+/// at all.
+std::string wheelModelOf(const ModelSpec& model) {
+  for (const auto& plugin : model.plugins) {
+    if (plugin.filename.find("_drive.so") == std::string::npos || !plugin.element) continue;
+    const auto* tag = plugin.element->FirstChildElement("wheelModel");
+    if (!tag || !tag->GetText()) return kDefaultWheelModel;
+    std::string value = tag->GetText();
+    value.erase(0, value.find_first_not_of(" \t\r\n"));
+    value.erase(value.find_last_not_of(" \t\r\n") + 1);
+    return value;
+  }
+  return "contact";
+}
+
 }  // namespace
 
 Robot::Robot(std::string name, std::unique_ptr<PhysicsRobot> body, const Eigen::Isometry3d& spawn_pose)
@@ -56,6 +74,7 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (name.empty()) diagnostics.error("a robot needs a name");
   if (robot(name))
     diagnostics.error("a robot named [" + name + "] already exists: delete it first, or choose another name");
+  const Eigen::Isometry3d root = rootPose(model, pose);
   for (const auto& world_model : world_.models) {
     if (world_model.name == name) {
       diagnostics.error("the world already holds a model named [" + name +
@@ -63,10 +82,13 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     }
   }
   diagnostics.throwIfErrors();
-
-  const Eigen::Isometry3d root = rootPose(model, pose);
-  auto robot = std::make_unique<Robot>(
-      name, std::make_unique<MultiBodyRobot>(std::move(model), physics_->bullet(), root), root);
+  std::unique_ptr<PhysicsRobot> body;
+  if (wheelModelOf(model) == "raycast") {
+    body = std::make_unique<RaycastRobot>(std::move(model), physics_->bullet(), rays_, root);
+  } else {
+    body = std::make_unique<MultiBodyRobot>(std::move(model), physics_->bullet(), root);
+  }
+  auto robot = std::make_unique<Robot>(name, std::move(body), root);
   const auto& parts = robot->body().parts();
   for (size_t k = 0; k < parts.size(); ++k) {
     robot->ray_bodies_.push_back(parts[k].collisions.empty()

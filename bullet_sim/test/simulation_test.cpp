@@ -10,6 +10,7 @@
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/simulation.h"
+#include "bullet_sim/spec/model_geometry.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -90,26 +91,29 @@ Eigen::Isometry3d axleFrame(const Robot& robot, const WheeledDrive& drive) {
 }
 
 TEST(Simulation, EveryRobotRestsOnTheGroundWhereItSpawns) {
-  for (auto model : {test::wheelchair(), test::smartcar(), test::yahboomcar()}) {
-    SCOPED_TRACE(model.name);
-    Simulation simulation(test::shippedWorld("empty.world"));
-    Robot& robot = simulation.spawn("robot", std::move(model), {.x = 1, .y = -2, .yaw = 0.7});
-    const Eigen::Isometry3d start = robot.body().linkPose("base_link");
-    for (int i = 0; i < 2000; ++i) simulation.step();  // 2 s
-    const Eigen::Isometry3d end = robot.body().linkPose("base_link");
-    // Contacts settle within Bullet's penetration allowance, well under a millimetre.
-    EXPECT_NEAR(end.translation().z(), start.translation().z(), 0.001);
-    const Eigen::Vector3d up = end.linear().col(2);
-    EXPECT_LT(std::acos(std::min(1.0, up.z())), 0.5 * kDeg) << "roll or pitch";
-    EXPECT_NEAR(end.translation().x(), 1, 0.005);
-    EXPECT_NEAR(end.translation().y(), -2, 0.005);
+  for (const auto& wheel_model : test::kWheelModels) {
+    for (auto model :
+         {test::wheelchair(wheel_model), test::smartcar(wheel_model), test::yahboomcar(wheel_model)}) {
+      SCOPED_TRACE(model.name + " on " + wheel_model + " wheels");
+      Simulation simulation(test::shippedWorld("empty.world"));
+      Robot& robot = simulation.spawn("robot", std::move(model), {.x = 1, .y = -2, .yaw = 0.7});
+      const Eigen::Isometry3d start = robot.body().linkPose("base_link");
+      for (int i = 0; i < 2000; ++i) simulation.step();  // 2 s
+      const Eigen::Isometry3d end = robot.body().linkPose("base_link");
+      // Contacts settle within Bullet's penetration allowance, well under a millimetre.
+      EXPECT_NEAR(end.translation().z(), start.translation().z(), 0.001);
+      const Eigen::Vector3d up = end.linear().col(2);
+      EXPECT_LT(std::acos(std::min(1.0, up.z())), 0.5 * kDeg) << "roll or pitch";
+      EXPECT_NEAR(end.translation().x(), 1, 0.005);
+      EXPECT_NEAR(end.translation().y(), -2, 0.005);
+    }
   }
 }
 
-class WheelchairDrive : public ::testing::Test {
+class WheelchairDrive : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    robot_ = &simulation_.spawn("wheelchair", test::wheelchair(), {});
+    robot_ = &simulation_.spawn("wheelchair", test::wheelchair(GetParam()), {});
     drive_ = robot_->pluginsOf<WheeledDrive>().at(0);
     start_ = axleFrame(*robot_, *drive_);
   }
@@ -127,7 +131,7 @@ class WheelchairDrive : public ::testing::Test {
   Eigen::Isometry3d start_;
 };
 
-TEST_F(WheelchairDrive, StraightLineFollowsTheRampedCommand) {
+TEST_P(WheelchairDrive, StraightLineFollowsTheRampedCommand) {
   drive(simulation_, *drive_, 0.5, 0, 4.0);
   const Planar expected = oracle(0.5, 0, 4.0);
   const Planar actual = travelled();
@@ -139,7 +143,7 @@ TEST_F(WheelchairDrive, StraightLineFollowsTheRampedCommand) {
   EXPECT_LT(std::abs(actual.yaw), 1 * kDeg);
 }
 
-TEST_F(WheelchairDrive, TurnsInPlaceCounterClockwiseForPositiveAngular) {
+TEST_P(WheelchairDrive, TurnsInPlaceCounterClockwiseForPositiveAngular) {
   drive(simulation_, *drive_, 0, 0.5, M_PI);
   const Planar expected = oracle(0, 0.5, M_PI);
   const Planar actual = travelled();
@@ -148,7 +152,7 @@ TEST_F(WheelchairDrive, TurnsInPlaceCounterClockwiseForPositiveAngular) {
   EXPECT_LT(std::hypot(actual.x, actual.y), 0.05);
 }
 
-TEST_F(WheelchairDrive, ArcMatchesTheUnicycle) {
+TEST_P(WheelchairDrive, ArcMatchesTheUnicycle) {
   const double seconds = 10;
   drive(simulation_, *drive_, 0.5, 0.3, seconds);
   const Planar expected = oracle(0.5, 0.3, seconds);
@@ -158,7 +162,7 @@ TEST_F(WheelchairDrive, ArcMatchesTheUnicycle) {
   EXPECT_NEAR(angleDifference(actual.yaw, expected.yaw), 0, 0.03 * 0.3 * seconds);
 }
 
-TEST_F(WheelchairDrive, OdometryFromTheWorldSourceIsTheBasePose) {
+TEST_P(WheelchairDrive, OdometryFromTheWorldSourceIsTheBasePose) {
   drive(simulation_, *drive_, 0.5, 0.3, 1.0);
   const Odometry& odometry = drive_->odometry();
   EXPECT_EQ(drive_->odometryCount(), 100u);  // 100 Hz for 1 s
@@ -168,7 +172,7 @@ TEST_F(WheelchairDrive, OdometryFromTheWorldSourceIsTheBasePose) {
   EXPECT_NEAR(odometry.angular_velocity.z(), 0.3, 0.02);
 }
 
-TEST_F(WheelchairDrive, StopsWhenCommandsStopForLongerThanTheTimeout) {
+TEST_P(WheelchairDrive, StopsWhenCommandsStopForLongerThanTheTimeout) {
   ASSERT_DOUBLE_EQ(drive_->config().command_timeout, 0.5);
   ASSERT_TRUE(drive_->setCommand(0.5, 0, simulation_.time()));
   for (int i = 0; i < 3000; ++i) simulation_.step();  // 3 s with one command
@@ -178,68 +182,95 @@ TEST_F(WheelchairDrive, StopsWhenCommandsStopForLongerThanTheTimeout) {
   EXPECT_LT(std::abs(drive_->odometry().linear_velocity.x()), 0.01);
 }
 
-TEST_F(WheelchairDrive, IgnoresNonFiniteCommands) {
+TEST_P(WheelchairDrive, IgnoresNonFiniteCommands) {
   EXPECT_FALSE(drive_->setCommand(NAN, 0, 0));
   EXPECT_FALSE(drive_->setCommand(0, INFINITY, 0));
   for (int i = 0; i < 500; ++i) simulation_.step();
   EXPECT_LT(std::hypot(travelled().x, travelled().y), 0.005);
 }
 
-TEST(Simulation, SeedStyleReversedWheelAxisIsCompensated) {
-  const std::string urdf = test::replaceAfter(
-      test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro"),
-      "<joint name=\"front_right_joint\"", "<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 -1 0\"/>");
-  Simulation simulation(test::shippedWorld("empty.world"));
-  std::vector<std::string> warnings;
-  Robot& robot = simulation.spawn(
-      "chair", parseModel(urdf, "seed-style chair", PackageResolver::fromEnvironment()), {}, &warnings);
-  std::string said;
-  for (const auto& w : warnings) said += w + "\n";
-  EXPECT_NE(said.find("joint [front_right_joint] turns about 0 -1 0"), std::string::npos) << said;
-  EXPECT_NE(said.find("driven with the opposite sign"), std::string::npos) << said;
+INSTANTIATE_TEST_SUITE_P(WheelModels, WheelchairDrive, ::testing::ValuesIn(test::kWheelModels),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
-  const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
-  drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0, 2.0);
-  const Planar actual = travelled(robot, start);
-  EXPECT_GT(actual.x, 0.8);
-  EXPECT_LT(std::abs(actual.y), 0.02);
-  EXPECT_LT(std::abs(actual.yaw), 1 * kDeg);
+TEST(Simulation, SeedStyleReversedWheelAxisIsCompensated) {
+  for (const auto& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    const std::string urdf = test::withWheelModel(
+        test::replaceAfter(
+            test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro"),
+            "<joint name=\"front_right_joint\"", "<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 -1 0\"/>"),
+        wheel_model);
+    Simulation simulation(test::shippedWorld("empty.world"));
+    std::vector<std::string> warnings;
+    Robot& robot = simulation.spawn(
+        "chair", parseModel(urdf, "seed-style chair", PackageResolver::fromEnvironment()), {}, &warnings);
+    std::string said;
+    for (const auto& w : warnings) said += w + "\n";
+    EXPECT_NE(said.find("joint [front_right_joint] turns about 0 -1 0"), std::string::npos) << said;
+    EXPECT_NE(said.find("driven with the opposite sign"), std::string::npos) << said;
+
+    const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
+    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0, 2.0);
+    const Planar actual = travelled(robot, start);
+    EXPECT_GT(actual.x, 0.8);
+    EXPECT_LT(std::abs(actual.y), 0.02);
+    EXPECT_LT(std::abs(actual.yaw), 1 * kDeg);
+  }
 }
 
-void checkSkidSteer(ModelSpec model, double v, double w) {
-  SCOPED_TRACE(model.name);
-  for (const double turn : {0.0, w}) {
-    Simulation simulation(test::shippedWorld("empty.world"));
-    Robot& robot = simulation.spawn("car", model, {});
-    const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
-    const double seconds = 3;
-    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), turn == 0 ? v : 0, turn, seconds);
-    const Planar actual = travelled(robot, start);
-    if (turn == 0) {
-      // Straight within 2 %: of the distance commanded, and sideways relative to the distance covered.
-      EXPECT_NEAR(actual.x, v * seconds, 0.02 * v * seconds);
-      EXPECT_LT(std::abs(actual.y), 0.02 * actual.x);
-    } else {
-      // Skid steering scrubs its wheels sideways; Bullet's contact friction lets these cars turn well below
-      // the commanded rate (README, known limitations), so this checks the direction, with a clear margin.
+/// Drives straight at v and turns in place at w, on each wheel model.
+void checkSkidSteer(ModelSpec (*load)(const std::string&), double v, double w) {
+  for (const auto& wheel_model : test::kWheelModels) {
+    const ModelSpec model = load(wheel_model);
+    SCOPED_TRACE(model.name + " on " + wheel_model + " wheels");
+    for (const double turn : {0.0, w}) {
+      Simulation simulation(test::shippedWorld("empty.world"));
+      Robot& robot = simulation.spawn("car", model, {});
+      WheeledDrive& drive_plugin = *robot.pluginsOf<WheeledDrive>().at(0);
+      const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
+      const double seconds = 3;
+      drive(simulation, drive_plugin, turn == 0 ? v : 0, turn, seconds);
+      const Planar actual = travelled(robot, start);
+      if (turn == 0) {
+        // Straight within 2 %: of the distance commanded, and sideways relative to the distance covered.
+        EXPECT_NEAR(actual.x, v * seconds, 0.02 * v * seconds);
+        EXPECT_LT(std::abs(actual.y), 0.02 * actual.x);
+        continue;
+      }
       EXPECT_GT(actual.yaw, 0.05) << "+angular.z turns counter-clockwise";
+      if (wheel_model != "raycast") continue;  // Bullet's contact friction is no friction circle (README)
+      // Turning in place, four wheels at (+-a, +-b) slide sideways: Coulomb friction balances the yaw moments
+      // at w * b^2 / (a^2 + b^2). Within 15 %: the wheels need a moment to spin up.
+      const auto poses = linkPosesAtZero(model);
+      double a = 0, b = 0;
+      const auto& joints = drive_plugin.config().left_joints;
+      for (const auto& name : joints) {
+        const Eigen::Vector3d at = poses.at(model.joint(name)->child).translation();
+        a += std::abs(at.x()) / joints.size();
+        b += std::abs(at.y()) / joints.size();
+      }
+      const double coulomb = w * b * b / (a * a + b * b);
+      EXPECT_NEAR(actual.yaw / seconds, coulomb, 0.15 * coulomb);
     }
   }
 }
 
-TEST(Simulation, SmartcarGoesStraightAndTurnsTheRightWay) { checkSkidSteer(test::smartcar(), 0.5, 0.5); }
+TEST(Simulation, SmartcarGoesStraightAndTurnsTheRightWay) { checkSkidSteer(&test::smartcar, 0.5, 0.5); }
 
-TEST(Simulation, YahboomcarGoesStraightAndTurnsTheRightWay) { checkSkidSteer(test::yahboomcar(), 0.3, 1.0); }
+TEST(Simulation, YahboomcarGoesStraightAndTurnsTheRightWay) { checkSkidSteer(&test::yahboomcar, 0.3, 1.0); }
 
 TEST(Simulation, PanTiltHoldsItsPositionAgainstGravity) {
-  Simulation simulation(test::shippedWorld("empty.world"));
-  Robot& robot = simulation.spawn("car", test::yahboomcar(), {});
-  auto* pan_tilt = robot.pluginsOf<JointPosition>().at(0);
-  for (int i = 0; i < 1000; ++i) simulation.step();
-  EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq2_Joint")), 0, 0.01);
-  ASSERT_TRUE(pan_tilt->setTarget("jq1_Joint", 0.5));
-  for (int i = 0; i < 2000; ++i) simulation.step();
-  EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq1_Joint")), 0.5, 0.01);
+  for (const auto& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    Simulation simulation(test::shippedWorld("empty.world"));
+    Robot& robot = simulation.spawn("car", test::yahboomcar(wheel_model), {});
+    auto* pan_tilt = robot.pluginsOf<JointPosition>().at(0);
+    for (int i = 0; i < 1000; ++i) simulation.step();
+    EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq2_Joint")), 0, 0.01);
+    ASSERT_TRUE(pan_tilt->setTarget("jq1_Joint", 0.5));
+    for (int i = 0; i < 2000; ++i) simulation.step();
+    EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq1_Joint")), 0.5, 0.01);
+  }
 }
 
 /// The distance from `origin` along `direction` to the inner walls of test_room.world (x = +-3, y = +-2).
@@ -356,9 +387,9 @@ struct RunResult {
   std::vector<float> ranges;
 };
 
-RunResult runWheelchair(uint64_t seed) {
+RunResult runWheelchair(uint64_t seed, const std::string& wheel_model) {
   Simulation simulation(test::shippedWorld("test_room.world"), {.seed = seed});
-  Robot& robot = simulation.spawn("chair", test::wheelchair(), {});
+  Robot& robot = simulation.spawn("chair", test::wheelchair(wheel_model), {});
   drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.4, 0.3, 1.0);
   RunResult result;
   for (const auto& link : robot.body().spec().links) result.poses.push_back(robot.body().linkPose(link.name));
@@ -367,27 +398,33 @@ RunResult runWheelchair(uint64_t seed) {
 }
 
 TEST(Simulation, TheSameInputsAndSeedGiveABitIdenticalRun) {
-  const RunResult first = runWheelchair(7);
-  const RunResult second = runWheelchair(7);
-  ASSERT_EQ(first.poses.size(), second.poses.size());
-  for (size_t i = 0; i < first.poses.size(); ++i) {
-    EXPECT_EQ(first.poses[i].matrix(), second.poses[i].matrix());
+  for (const auto& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    const RunResult first = runWheelchair(7, wheel_model);
+    const RunResult second = runWheelchair(7, wheel_model);
+    ASSERT_EQ(first.poses.size(), second.poses.size());
+    for (size_t i = 0; i < first.poses.size(); ++i) {
+      EXPECT_EQ(first.poses[i].matrix(), second.poses[i].matrix());
+    }
+    EXPECT_EQ(first.ranges, second.ranges);
+    EXPECT_NE(runWheelchair(8, wheel_model).ranges, first.ranges) << "the seed drives the lidar noise";
   }
-  EXPECT_EQ(first.ranges, second.ranges);
-  EXPECT_NE(runWheelchair(8).ranges, first.ranges) << "the seed drives the lidar noise";
 }
 
 TEST(Simulation, ResetSimulationRestoresPosesAndTime) {
-  Simulation simulation(test::shippedWorld("empty.world"));
-  Robot& robot = simulation.spawn("chair", test::wheelchair(), {.x = 1, .yaw = 0.5});
-  const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
-  drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0.5, 1.0);
-  ASSERT_GT((robot.body().linkPose("base_footprint").translation() - start.translation()).norm(), 0.2);
-  simulation.resetSimulation();
-  EXPECT_EQ(simulation.time(), 0.0);
-  EXPECT_TRUE(robot.body().linkPose("base_footprint").isApprox(start, 1e-9));
-  simulation.step();
-  EXPECT_DOUBLE_EQ(simulation.time(), simulation.stepSize());
+  for (const auto& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    Simulation simulation(test::shippedWorld("empty.world"));
+    Robot& robot = simulation.spawn("chair", test::wheelchair(wheel_model), {.x = 1, .yaw = 0.5});
+    const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
+    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0.5, 1.0);
+    ASSERT_GT((robot.body().linkPose("base_footprint").translation() - start.translation()).norm(), 0.2);
+    simulation.resetSimulation();
+    EXPECT_EQ(simulation.time(), 0.0);
+    EXPECT_TRUE(robot.body().linkPose("base_footprint").isApprox(start, 1e-9));
+    simulation.step();
+    EXPECT_DOUBLE_EQ(simulation.time(), simulation.stepSize());
+  }
 }
 
 TEST(Simulation, EachIgnoredOrSuspectTagIsSaidOnceAtLoad) {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/spec/model_spec.h"
 #include "bullet_sim/spec/package_resolver.h"
@@ -63,19 +64,33 @@ inline std::string expandXacro(const std::string& package, const std::string& xa
   return expanded[command] = result.output;
 }
 
+/// `urdf` with its drive plugin asking for `wheel_model` ("contact" or "raycast"; "" leaves it as it is).
+inline std::string withWheelModel(std::string urdf, const std::string& wheel_model) {
+  if (wheel_model.empty()) return urdf;
+  const auto at = urdf.find("<commandTopic>");  // every shipped drive plugin has one
+  if (at == std::string::npos)
+    throw std::runtime_error("no drive plugin with a <commandTopic> to set the wheel model");
+  return urdf.insert(at, "<wheelModel>" + wheel_model + "</wheelModel>");
+}
+
 inline ModelSpec loadShippedRobot(const std::string& package, const std::string& xacro,
-                                  const std::string& args = "") {
-  return parseModel(expandXacro(package, xacro, args), package + "/" + xacro,
+                                  const std::string& wheel_model = "") {
+  return parseModel(withWheelModel(expandXacro(package, xacro), wheel_model), package + "/" + xacro,
                     PackageResolver::fromEnvironment());
 }
 
-inline ModelSpec wheelchair() {
-  return loadShippedRobot("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
+inline ModelSpec wheelchair(const std::string& wheel_model = "") {
+  return loadShippedRobot("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro", wheel_model);
 }
-inline ModelSpec smartcar() { return loadShippedRobot("smartcar_description", "urdf/smartcar.urdf.xacro"); }
-inline ModelSpec yahboomcar() {
-  return loadShippedRobot("yahboomcar_description", "urdf/yahboomcar.urdf.xacro");
+inline ModelSpec smartcar(const std::string& wheel_model = "") {
+  return loadShippedRobot("smartcar_description", "urdf/smartcar.urdf.xacro", wheel_model);
 }
+inline ModelSpec yahboomcar(const std::string& wheel_model = "") {
+  return loadShippedRobot("yahboomcar_description", "urdf/yahboomcar.urdf.xacro", wheel_model);
+}
+
+/// Every wheel model; the behaviour tests run against each.
+inline const std::vector<std::string> kWheelModels = {"contact", "raycast"};
 
 inline WorldSpec shippedWorld(const std::string& name) {
   return loadWorld(packageFile("bullet_sim", "worlds/" + name), PackageResolver::fromEnvironment(), nullptr);

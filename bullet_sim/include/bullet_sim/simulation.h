@@ -69,6 +69,9 @@ class Simulation {
 
   /// Adds a robot named `name`. Throws SpecError listing every problem (a name in use, a plugin naming a
   /// missing joint, ...), and then leaves the simulation as it was. Load messages go to `warnings`.
+  /// A world saved with the robot in it is refused: a world model of the robot's name, or one with exactly the
+  /// robot's collision shapes (matched one to one by type and size) whose bounding box overlaps the robot's
+  /// at the spawn pose.
   Robot& spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
                std::vector<std::string>* warnings = nullptr);
   /// False when there is no robot of that name.

@@ -6,12 +6,11 @@
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 
 #include "bullet_shapes.h"
+#include "bullet_sim/physics/robot_parts.h"
 #include "bullet_sim/spec/diagnostics.h"
 
 namespace bullet_sim {
@@ -54,76 +53,33 @@ MultiBodyRobot::~MultiBodyRobot() {
 
 void MultiBodyRobot::buildParts() {
   Diagnostics diagnostics(spec_.source);
-  parts_.push_back({spec_.root, {spec_.root}, {}});
-  frames_.push_back({});
-  frames_[0].link_in_part[spec_.root] = Eigen::Isometry3d::Identity();
-  parent_part_.push_back(-1);
-  part_joint_.push_back(nullptr);
-  part_of_link_[spec_.root] = 0;
-  for (const auto& joint : spec_.joints) {  // parents come before children
-    const int parent = part_of_link_.at(joint.parent);
-    int part = parent;
-    if (joint.moves()) {
-      part = static_cast<int>(parts_.size());
-      parts_.push_back({joint.child, {joint.child}, {}});
-      frames_.push_back({});
-      frames_[part].link_in_part[joint.child] = Eigen::Isometry3d::Identity();
-      parent_part_.push_back(parent);
-      part_joint_.push_back(&joint);
-    } else {
-      parts_[part].links.push_back(joint.child);
-      frames_[part].link_in_part[joint.child] = frames_[part].link_in_part.at(joint.parent) * joint.origin;
-    }
-    part_of_link_[joint.child] = part;
-  }
-
-  // Merge the inertia of every part's links, then put Bullet's frame at the centre of mass on the principal
-  // axes.
+  PartLayout layout = partitionAtMovingJoints(spec_);
+  parts_ = std::move(layout.parts);
+  parent_part_ = std::move(layout.parent);
+  part_joint_ = std::move(layout.joint);
+  part_of_link_ = std::move(layout.part_of_link);
+  frames_.resize(parts_.size());
   for (size_t k = 0; k < parts_.size(); ++k) {
     PartFrames& frames = frames_[k];
-    double mass = 0;
-    Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-    for (const auto& name : parts_[k].links) {
-      const LinkSpec& link = *spec_.link(name);
-      const Eigen::Isometry3d& in_part = frames.link_in_part.at(name);
-      for (const auto& collision : link.collisions)
-        parts_[k].collisions.push_back({in_part * collision.origin, collision.shape});
-      if (!link.inertial) continue;
-      mass += link.inertial->mass;
-      moment += link.inertial->mass * (in_part * link.inertial->com);
-    }
-    if (mass <= 0) {
+    frames.link_in_part = std::move(layout.link_in_part[k]);
+    std::vector<std::pair<std::string, Eigen::Isometry3d>> placed;
+    for (const auto& name : parts_[k].links) placed.emplace_back(name, frames.link_in_part.at(name));
+    const MassProperties mass = combineInertia(spec_, placed);
+    if (mass.mass <= 0) {
       diagnostics.error("links [" + parts_[k].root_link +
                         "] and those fixed to it have no mass: give one an <inertial>");
       continue;
     }
-    const Eigen::Vector3d com = moment / mass;
-    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
-    for (const auto& name : parts_[k].links) {
-      const LinkSpec& link = *spec_.link(name);
-      if (!link.inertial) continue;
-      const Eigen::Isometry3d& in_part = frames.link_in_part.at(name);
-      const Eigen::Vector3d d = in_part * link.inertial->com - com;
-      inertia += in_part.linear() * link.inertial->inertia * in_part.linear().transpose() +
-                 link.inertial->mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal(inertia);
-    Eigen::Matrix3d axes = principal.eigenvectors();
-    if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
-    frames.mass = mass;
-    frames.principal_inertia = principal.eigenvalues();
-    frames.part_to_bullet = Eigen::Isometry3d::Identity();
-    frames.part_to_bullet.translate(com);
-    frames.part_to_bullet.rotate(axes);
+    // Bullet's frame of a part: at its centre of mass, along its principal axes.
+    frames.mass = mass.mass;
+    frames.part_to_bullet = mass.principalFrame(&frames.principal_inertia);
     for (const auto& name : parts_[k].links) {
       const LinkSpec& link = *spec_.link(name);
       if (!link.gravity && link.inertial) weightless_.emplace_back(static_cast<int>(k), &link);
     }
-  }
-  for (const auto& part : parts_) {
-    for (const auto& collision : part.collisions) {
+    for (const auto& collision : parts_[k].collisions) {
       if (collision.shape.type == Shape::Type::kPlane) {
-        diagnostics.error("link [" + part.root_link +
+        diagnostics.error("link [" + parts_[k].root_link +
                           "] collides with a plane, which only static worlds may have");
       }
     }

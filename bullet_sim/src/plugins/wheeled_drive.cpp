@@ -33,12 +33,8 @@ void readCommon(PluginTags& tags, DriveConfig& config) {
   config.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
   config.wheel_model = tags.text("wheelModel", config.wheel_model);
   if (config.wheel_model != "contact" && config.wheel_model != "raycast") {
-    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" +
-                             config.wheel_model + "]");
-  } else if (config.wheel_model == "raycast") {
-    tags.diagnostics().warning(
-        tags.where() + " <wheelModel>raycast</wheelModel> is not available yet: the contact model is used");
-    config.wheel_model = "contact";
+    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" + config.wheel_model +
+                             "]");
   }
   tags.accept({"rosDebugLevel", "alwaysOn"});
 }

@@ -539,4 +539,32 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
   }
 }
 
+void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
+                           const std::vector<Eigen::Vector3d>& directions, double max_range,
+                           std::vector<double>& ranges) const {
+  const Impl& impl = *impl_;
+  if (impl.statics_changed)
+    throw std::logic_error("RayCaster::castStatic: static bodies changed since the last commit()");
+  CastContext context;
+  rtcInitIntersectContext(&context.embree);
+  ranges.resize(origins.size());
+  for (size_t i = 0; i < origins.size(); ++i) {
+    RTCRayHit ray{};
+    ray.ray.org_x = static_cast<float>(origins[i].x());
+    ray.ray.org_y = static_cast<float>(origins[i].y());
+    ray.ray.org_z = static_cast<float>(origins[i].z());
+    ray.ray.dir_x = static_cast<float>(directions[i].x());
+    ray.ray.dir_y = static_cast<float>(directions[i].y());
+    ray.ray.dir_z = static_cast<float>(directions[i].z());
+    ray.ray.tnear = 0;
+    ray.ray.tfar = static_cast<float>(max_range);
+    ray.ray.mask = ~0u;
+    ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl.statics.get(), &context.embree, &ray);
+    ranges[i] = ray.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<double>::infinity()
+                                                          : static_cast<double>(ray.ray.tfar);
+  }
+}
+
 }  // namespace bullet_sim

@@ -12,6 +12,10 @@
 
 namespace bullet_sim {
 
+/// The wheel-ground model of a robot whose drive plugin has no <wheelModel> tag: "raycast" or "contact".
+/// A robot without a drive plugin always uses "contact".
+constexpr const char* kDefaultWheelModel = "raycast";
+
 /// A rigid part of the robot: links merged by fixed joints. Sensors see parts through their collisions.
 struct RobotPart {
   std::string root_link;              ///< the link whose frame is the part's frame

@@ -47,7 +47,7 @@ struct DriveConfig {
   bool publish_wheel_joint_state = false;
   bool publish_wheel_tf = false;
   double command_timeout = 0;  ///< [s]; 0 = off
-  std::string wheel_model = "contact";
+  std::string wheel_model = kDefaultWheelModel;
   std::array<double, 36> pose_covariance{};
   std::array<double, 36> twist_covariance{};
 };

@@ -62,6 +62,12 @@ class RayCaster {
   void cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vector3f>& directions, double max_range,
             BodyId ignore, std::vector<double>& ranges) const;
 
+  /// Casts one ray per origin [m] along its unit direction against the static bodies only (e.g. the ground
+  /// under each wheel). ranges[i] is the distance to the first static surface within max_range, or +infinity.
+  /// For a handful of rays per physics step: it casts them one by one.
+  void castStatic(const std::vector<Eigen::Vector3d>& origins, const std::vector<Eigen::Vector3d>& directions,
+                  double max_range, std::vector<double>& ranges) const;
+
  private:
   struct Impl;
   // Behind a pointer: keeps Embree out of this header and gives Embree's callbacks stable addresses.

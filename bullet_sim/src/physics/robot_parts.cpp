@@ -1,0 +1,74 @@
+#include "bullet_sim/physics/robot_parts.h"
+
+#include <Eigen/Eigenvalues>
+
+namespace bullet_sim {
+
+PartLayout partitionAtMovingJoints(const ModelSpec& model) {
+  PartLayout layout;
+  layout.parts.push_back({model.root, {model.root}, {}});
+  layout.link_in_part.push_back({{model.root, Eigen::Isometry3d::Identity()}});
+  layout.parent.push_back(-1);
+  layout.joint.push_back(nullptr);
+  layout.part_of_link[model.root] = 0;
+  for (const auto& joint : model.joints) {  // parents come before children
+    int part = layout.part_of_link.at(joint.parent);
+    if (joint.moves()) {
+      layout.parent.push_back(part);
+      part = static_cast<int>(layout.parts.size());
+      layout.parts.push_back({joint.child, {joint.child}, {}});
+      layout.link_in_part.push_back({{joint.child, Eigen::Isometry3d::Identity()}});
+      layout.joint.push_back(&joint);
+    } else {
+      layout.parts[part].links.push_back(joint.child);
+      layout.link_in_part[part][joint.child] = layout.link_in_part[part].at(joint.parent) * joint.origin;
+    }
+    layout.part_of_link[joint.child] = part;
+  }
+  for (size_t k = 0; k < layout.parts.size(); ++k) {
+    for (const auto& name : layout.parts[k].links) {
+      const Eigen::Isometry3d& in_part = layout.link_in_part[k].at(name);
+      for (const auto& collision : model.link(name)->collisions) {
+        layout.parts[k].collisions.push_back({in_part * collision.origin, collision.shape});
+      }
+    }
+  }
+  return layout;
+}
+
+Eigen::Isometry3d MassProperties::principalFrame(Eigen::Vector3d* moments) const {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal(inertia);
+  Eigen::Matrix3d axes = principal.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+  *moments = principal.eigenvalues();
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  frame.translate(com);
+  frame.rotate(axes);
+  return frame;
+}
+
+MassProperties combineInertia(const ModelSpec& model,
+                              const std::vector<std::pair<std::string, Eigen::Isometry3d>>& placed_links) {
+  MassProperties total;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (const auto& [name, frame] : placed_links) {
+    const LinkSpec& link = *model.link(name);
+    if (!link.inertial) continue;
+    total.mass += link.inertial->mass;
+    moment += link.inertial->mass * (frame * link.inertial->com);
+  }
+  if (total.mass <= 0) return total;
+  total.com = moment / total.mass;
+  for (const auto& [name, frame] : placed_links) {
+    const LinkSpec& link = *model.link(name);
+    if (!link.inertial) continue;
+    // Parallel axis theorem about the common centre of mass.
+    const Eigen::Vector3d d = frame * link.inertial->com - total.com;
+    total.inertia +=
+        frame.linear() * link.inertial->inertia * frame.linear().transpose() +
+        link.inertial->mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  return total;
+}
+
+}  // namespace bullet_sim
