@@ -14,6 +14,7 @@
 
 #include "bullet_sim/spec/model_geometry.h"
 #include "bullet_sim/spec/model_spec.h"
+#include "test_support.h"
 
 namespace bullet_sim {
 namespace {
@@ -32,28 +33,8 @@ struct RobotCase {
   size_t ray_sensors;
 };
 
-struct CommandResult {
-  int status;
-  std::string output;  // stdout
-  std::string errors;  // stderr
-};
-
-CommandResult run(const std::string& command) {
-  char error_file[] = "/tmp/description_test_XXXXXX";
-  const int fd = mkstemp(error_file);
-  close(fd);
-  CommandResult result{-1, "", ""};
-  if (FILE* pipe = popen((command + " 2>" + error_file).c_str(), "r")) {
-    std::array<char, 4096> buffer;
-    for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;)
-      result.output.append(buffer.data(), n);
-    result.status = pclose(pipe);
-  }
-  std::ifstream errors(error_file);
-  result.errors.assign(std::istreambuf_iterator<char>(errors), {});
-  std::remove(error_file);
-  return result;
-}
+using test::CommandResult;
+using test::run;
 
 std::string tagText(const tinyxml2::XMLElement* parent, const char* tag) {
   const auto* child = parent->FirstChildElement(tag);
