@@ -70,6 +70,17 @@ def box(center, size, rotation=np.eye(3)):
     return tris
 
 
+def frustum(xs, bottom, top):
+    """A block from x = xs[0] to xs[1] whose cross-section narrows from (width, z) `bottom` to `top`."""
+    (w0, z0), (w1, z1) = bottom, top
+    v = np.array([[x, s * w / 2, z] for x in xs for s in (-1, 1) for w, z in ((w0, z0), (w1, z1))])
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    tris = []
+    for a, b, c, d in faces:
+        tris += [(v[a], v[b], v[c]), (v[a], v[c], v[d])]
+    return tris
+
+
 def revolve(profile, center=(0, 0, 0), axis=(0, 0, 1), segments=SEGMENTS):
     """Surface of revolution of a closed (r, z) profile, listed counter-clockwise in the r-z plane."""
     rot = frame_for_axis(axis)
@@ -241,7 +252,49 @@ def yahboomcar():
     Mesh().add(camera).write(out(pkg, "jq2_Link.stl"))
 
 
+def tianracer():
+    pkg = "tianracer_description"
+    urdf = expand(pkg, "tianracer")
+
+    # The body, in the chassis visual's frame (the middle of the collision box, halfway between the axles):
+    # a floor pan between the wheels, a cabin that narrows upwards, a low nose, a tail and a rear wing.
+    size = floats(urdf.find("./link[@name='chassis']/collision/geometry/box").get("size"))
+    centre = floats(urdf.find("./link[@name='chassis']/visual/origin").get("xyz"))
+    front = floats(urdf.find("./joint[@name='left_steering_hinge_joint']/origin").get("xyz"))
+    rear = floats(urdf.find("./joint[@name='left_rear_wheel_joint']/origin").get("xyz"))
+    r, w = collision_cylinder(urdf, "left_rear_wheel")
+    length, width, height = size
+    axle = (front[0] - rear[0]) / 2  # the axles are at x = -axle and +axle
+    inner = rear[1] - w / 2 - 0.004  # the wheels' inner faces, less a gap
+    bottom, top = -height / 2, height / 2
+    body = box((0, 0, bottom + 0.003), (length, 2 * inner, 0.006))  # floor pan
+    cabin = axle - r - 0.006
+    body += frustum((-cabin, cabin), (width, bottom + 0.006), (0.6 * width, top))
+    body += frustum((cabin, length / 2 - 0.012), (1.2 * inner, bottom + 0.006), (0.6 * inner, bottom + 0.5 * height))
+    body += frustum((-length / 2 + 0.01, -cabin), (1.4 * inner, bottom + 0.006), (inner, top - 0.01))
+    body += box((length / 2 - 0.006, 0, bottom + 0.012), (0.012, width * 0.8, 0.012))  # front bumper
+    for y in (-0.35 * inner, 0.35 * inner):
+        body += box((-length / 2 + 0.03, y, top + 0.01), (0.01, 0.004, 0.02))  # wing posts
+    body += box((-length / 2 + 0.03, 0, top + 0.02), (0.045, width, 0.003))  # rear wing
+    Mesh().add(body).write(out(pkg, "chassis.stl"))
+
+    Mesh().add(wheel(r, w, spokes=6, hub_ratio=0.3)).write(out(pkg, "wheel.stl"))
+
+    # Steering knuckle around its kingpin (the hinge's z axis).
+    knuckle = floats(urdf.find("./link[@name='left_steering_hinge']/collision/geometry/box").get("size"))
+    mesh = box((0, 0, 0), knuckle)
+    mesh += rod((0, 0, -knuckle[2] / 2 - 0.004), (0, 0, knuckle[2] / 2 + 0.004), 0.003)
+    Mesh().add(mesh).write(out(pkg, "steering_hinge.stl"))
+
+    # Lidar puck in its frame (the scan plane is z = 0): a base and a turning head.
+    lidar_r, lidar_h = collision_cylinder(urdf, "laser")
+    lidar = cylinder((0, 0, -lidar_h / 4), (0, 0, 1), lidar_r, lidar_h / 2)
+    lidar += cylinder((0, 0, lidar_h / 4), (0, 0, 1), 0.8 * lidar_r, lidar_h / 2)
+    Mesh().add(lidar).write(out(pkg, "laser.stl"))
+
+
 if __name__ == "__main__":
     wheelchair()
     smartcar()
     yahboomcar()
+    tianracer()

@@ -13,6 +13,8 @@ render --xacro "$(rospack find smartcar_description)/urdf/smartcar.urdf.xacro" -
   --view chase --size 640x480 --out "$OUT/smartcar.png"
 render --xacro "$(rospack find yahboomcar_description)/urdf/yahboomcar.urdf.xacro" --world empty.world \
   --view chase --size 640x480 --out "$OUT/yahboomcar.png"
+render --xacro "$(rospack find tianracer_description)/urdf/tianracer.urdf.xacro" --world empty.world \
+  --view chase --size 640x480 --out "$OUT/tianracer.png"
 render --xacro "$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro" --world home.world \
   --view top --size 800x640 --out "$OUT/wheelchair_home_top.png"
 echo "wrote $(ls "$OUT" | tr '\n' ' ')"

@@ -142,17 +142,27 @@ TEST_P(Description, WheelsTouchTheGroundAndNothingSinks) {
 
 TEST_P(Description, DrivePluginAgreesWithJointGeometry) {
   std::vector<std::array<std::string, 2>> axles;  // left joint, right joint
+  double separation = 0, diameter = 0;            // [m] as the plugin states them
   const tinyxml2::XMLElement* drive = plugin("libgazebo_ros_diff_drive.so");
   if (drive) {
     axles.push_back({tagText(drive, "leftJoint"), tagText(drive, "rightJoint")});
+  } else if ((drive = plugin("libgazebo_ros_ackermann_drive.so"))) {
+    // Our Ackermann extension drives the rear axle; its figures are optional (the plugin reads the URDF).
+    axles.push_back({tagText(drive, "rear_left_joint"), tagText(drive, "rear_right_joint")});
+    if (tagText(drive, "track_width").empty() || tagText(drive, "wheel_radius").empty())
+      GTEST_SKIP() << "the Ackermann plugin gives no <track_width> and <wheel_radius> to check";
+    separation = std::stod(tagText(drive, "track_width"));
+    diameter = 2 * std::stod(tagText(drive, "wheel_radius"));
   } else {
     drive = plugin("libgazebo_ros_skid_steer_drive.so");
-    ASSERT_TRUE(drive) << "no diff-drive or skid-steer plugin";
+    ASSERT_TRUE(drive) << "no diff-drive, skid-steer or Ackermann plugin";
     axles.push_back({tagText(drive, "leftFrontJoint"), tagText(drive, "rightFrontJoint")});
     axles.push_back({tagText(drive, "leftRearJoint"), tagText(drive, "rightRearJoint")});
   }
-  const double separation = std::stod(tagText(drive, "wheelSeparation"));
-  const double diameter = std::stod(tagText(drive, "wheelDiameter"));
+  if (separation == 0) {  // Gazebo classic's drives
+    separation = std::stod(tagText(drive, "wheelSeparation"));
+    diameter = std::stod(tagText(drive, "wheelDiameter"));
+  }
   const auto poses = linkPosesAtZero(model_);
 
   Eigen::Vector3d first_axis = Eigen::Vector3d::Zero();
@@ -247,6 +257,17 @@ INSTANTIATE_TEST_SUITE_P(
                    "radar_Link", "jq1_Link", "jq2_Link"},
                   {"zq_Joint", "yq_Joint", "yh_Joint", "zh_Joint", "imu_Joint", "radar_Joint", "jq1_Joint",
                    "jq2_Joint"},
+                  4,
+                  1},
+        RobotCase{"tianracer",
+                  "tianracer_description",
+                  "urdf/tianracer.urdf.xacro",
+                  "",
+                  {"base_footprint", "base_link", "chassis", "left_steering_hinge", "right_steering_hinge",
+                   "left_front_wheel", "right_front_wheel", "left_rear_wheel", "right_rear_wheel", "laser"},
+                  {"base_link_joint", "left_steering_hinge_joint", "right_steering_hinge_joint",
+                   "left_front_wheel_joint", "right_front_wheel_joint", "left_rear_wheel_joint",
+                   "right_rear_wheel_joint", "laser_joint"},
                   4,
                   1}),
     [](const ::testing::TestParamInfo<RobotCase>& info) { return info.param.label; });

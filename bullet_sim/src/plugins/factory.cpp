@@ -1,5 +1,6 @@
 #include "bullet_sim/plugins/factory.h"
 
+#include "bullet_sim/plugins/ackermann_drive.h"
 #include "bullet_sim/plugins/ground_truth.h"
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/joint_position.h"
@@ -34,6 +35,12 @@ std::vector<std::unique_ptr<Plugin>> createPlugins(const ModelSpec& model, const
       tags.finish();
       plugins.push_back(
           std::make_unique<WheeledDrive>(spec.name, std::move(config), model, body, diagnostics));
+    } else if (spec.filename == "libgazebo_ros_ackermann_drive.so") {  // ROS 2's tags: our extension
+      PluginTags tags(spec.element, where, diagnostics);
+      AckermannConfig config = parseAckermannConfig(tags);
+      tags.finish();
+      plugins.push_back(
+          std::make_unique<AckermannDrive>(spec.name, std::move(config), model, body, diagnostics));
     } else if (spec.filename == "libgazebo_ros_joint_state_publisher.so") {
       plugins.push_back(std::make_unique<JointStates>(spec, model, body, diagnostics));
     } else if (spec.filename == "libgazebo_ros_joint_pose_trajectory.so") {

@@ -11,6 +11,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
+#include "bullet_sim/plugins/ackermann_drive.h"
 #include "bullet_sim/plugins/ground_truth.h"
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/joint_position.h"
@@ -72,6 +73,44 @@ std::string withoutSlashes(std::string text) {
 
 }  // namespace
 
+template <class Drive>
+ros::NodeHandle RobotAdapter::connectDrive(Drive* drive, const DriveTopics& topics) {
+  ros::NodeHandle handle = handleFor(topics.robot_namespace);
+  if (frame_prefix_.empty()) frame_prefix_ = withoutSlashes(topics.robot_namespace);
+  subscribers_.push_back(handle.subscribe<geometry_msgs::Twist>(
+      topics.command_topic, 10,
+      [this, drive, name = robot_.name()](const geometry_msgs::Twist::ConstPtr& twist) {
+        if (!drive->setCommand(twist->linear.x, twist->angular.z, sim_time_())) {
+          ROS_WARN_THROTTLE(5, "[%s] ignored a cmd_vel that is not finite (linear.x %f, angular.z %f)",
+                            name.c_str(), twist->linear.x, twist->angular.z);
+        }
+      }));
+  topics_.push_back(subscribers_.back().getTopic() + " (in)");
+  const std::string odom_frame = frame(topics.odometry_frame);
+  const std::string base_frame = frame(topics.robot_base_frame);
+  ros::Publisher odom = topics.publish_odometry ? advertise<nav_msgs::Odometry>(handle, topics.odometry_topic)
+                                                : ros::Publisher();
+  outputs_.push_back({[drive] { return drive->odometryCount(); },
+                      [this, drive, odom, odom_frame, base_frame, publish_tf = topics.publish_odom_tf] {
+                        const Odometry& odometry = drive->odometry();
+                        if (odom) odom.publish(toMessage(odometry, odom_frame, base_frame));
+                        if (publish_tf) {
+                          geometry_msgs::TransformStamped transform;
+                          transform.header.stamp = ros::Time(odometry.stamp);
+                          transform.header.frame_id = odom_frame;
+                          transform.child_frame_id = base_frame;
+                          geometry_msgs::Pose pose;
+                          fill(odometry.pose, pose);
+                          transform.transform.translation.x = pose.position.x;
+                          transform.transform.translation.y = pose.position.y;
+                          transform.transform.translation.z = pose.position.z;
+                          transform.transform.rotation = pose.orientation;
+                          tf_.sendTransform(transform);
+                        }
+                      }});
+  return handle;
+}
+
 RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
                            tf2_ros::TransformBroadcaster& tf, std::function<double()> sim_time)
     : robot_(robot), namespace_(withoutSlashes(robot_namespace)), tf_(tf), sim_time_(std::move(sim_time)) {
@@ -79,45 +118,21 @@ RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
 
   for (WheeledDrive* drive : robot.pluginsOf<WheeledDrive>()) {
     const DriveConfig& config = drive->config();
-    ros::NodeHandle handle = handleFor(config.robot_namespace);
-    if (frame_prefix_.empty()) frame_prefix_ = withoutSlashes(config.robot_namespace);
-    subscribers_.push_back(handle.subscribe<geometry_msgs::Twist>(
-        config.command_topic, 10,
-        [this, drive, name = robot.name()](const geometry_msgs::Twist::ConstPtr& twist) {
-          if (!drive->setCommand(twist->linear.x, twist->angular.z, sim_time_())) {
-            ROS_WARN_THROTTLE(5, "[%s] ignored a cmd_vel that is not finite (linear.x %f, angular.z %f)",
-                              name.c_str(), twist->linear.x, twist->angular.z);
-          }
-        }));
-    topics_.push_back(subscribers_.back().getTopic() + " (in)");
-    const std::string odom_frame = frame(config.odometry_frame);
-    const std::string base_frame = frame(config.robot_base_frame);
-    ros::Publisher odom = config.publish_odometry
-                              ? advertise<nav_msgs::Odometry>(handle, config.odometry_topic)
-                              : ros::Publisher();
-    outputs_.push_back({[drive] { return drive->odometryCount(); },
-                        [this, drive, odom, odom_frame, base_frame] {
-                          const Odometry& odometry = drive->odometry();
-                          if (odom) odom.publish(toMessage(odometry, odom_frame, base_frame));
-                          if (drive->config().publish_odom_tf) {
-                            geometry_msgs::TransformStamped transform;
-                            transform.header.stamp = ros::Time(odometry.stamp);
-                            transform.header.frame_id = odom_frame;
-                            transform.child_frame_id = base_frame;
-                            geometry_msgs::Pose pose;
-                            fill(odometry.pose, pose);
-                            transform.transform.translation.x = pose.position.x;
-                            transform.transform.translation.y = pose.position.y;
-                            transform.transform.translation.z = pose.position.z;
-                            transform.transform.rotation = pose.orientation;
-                            tf_.sendTransform(transform);
-                          }
-                        }});
+    ros::NodeHandle handle = connectDrive(
+        drive, {config.robot_namespace, config.command_topic, config.odometry_topic, config.odometry_frame,
+                config.robot_base_frame, config.publish_odometry, config.publish_odom_tf});
     if (config.publish_wheel_joint_state) {
       ros::Publisher states = advertise<sensor_msgs::JointState>(handle, "joint_states");
       outputs_.push_back({[drive] { return drive->wheelJointStatesCount(); },
                           [drive, states] { states.publish(toMessage(drive->wheelJointStates())); }});
     }
+  }
+
+  for (AckermannDrive* drive : robot.pluginsOf<AckermannDrive>()) {
+    const AckermannConfig& config = drive->config();
+    connectDrive(drive,
+                 {config.robot_namespace, config.command_topic, config.odometry_topic, config.odometry_frame,
+                  config.robot_base_frame, config.publish_odometry, config.publish_odom_tf});
   }
 
   for (JointStates* plugin : robot.pluginsOf<JointStates>()) {

@@ -33,7 +33,21 @@ class RobotAdapter {
     std::function<void()> publish;
     uint64_t seen = 0;
   };
+  /// What a drive plugin's cmd_vel, odometry and odom tf need from its config.
+  struct DriveTopics {
+    std::string robot_namespace;
+    std::string command_topic;
+    std::string odometry_topic;
+    std::string odometry_frame;
+    std::string robot_base_frame;
+    bool publish_odometry;
+    bool publish_odom_tf;
+  };
 
+  /// Subscribes a drive (WheeledDrive, AckermannDrive) to its cmd_vel and publishes its odometry and odom
+  /// tf. Returns the node handle of its namespace.
+  template <class Drive>
+  ros::NodeHandle connectDrive(Drive* drive, const DriveTopics& topics);
   ros::NodeHandle handleFor(const std::string& plugin_namespace) const;
   std::string frame(const std::string& name) const;
   template <class Message>

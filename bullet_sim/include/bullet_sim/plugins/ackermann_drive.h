@@ -1,0 +1,151 @@
+// Ackermann steering for car-like robots, declared as libgazebo_ros_ackermann_drive.so with the tag names of
+// ROS 2's gazebo_plugins. Gazebo classic on ROS 1 has no such plugin: this is bullet_sim's extension, the one
+// plugin block that does not work unchanged in Gazebo classic (it reports the library missing and the car
+// stays where it is).
+//
+// cmd_vel (v, w) becomes a turn of radius R = v / w for the midpoint of the rear axle, the bicycle model's
+// steering angle atan(L w / v) for wheelbase L. Each front wheel gets its own angle, tan = L / (R -/+ T / 2)
+// on the inside / outside of the turn, with T the distance between the steering axes: every axle line then
+// passes through the turn centre. The steering joints are held at those angles by position motors as strong
+// as the joints' URDF effort limits. The rear wheels turn at the speeds an open differential settles at,
+// v (R -/+ T_rear / 2) / R, by velocity motors as strong as their joints' effort limits; the front wheels
+// roll freely. A turn at v = 0 cannot be driven with this steering: the wheels steer fully towards the side
+// of w and the car stays put. A wheel whose axis points the other way is driven with the sign that rolls it
+// forward, and that is said at load.
+//
+// L, T, T_rear and the wheel radius come from the URDF at the zero pose (the rear wheels' collision
+// cylinders give the radius); figures in the tags that disagree are reported.
+//
+// Unlike ROS 2's plugin, which takes angular.z as the steering angle itself, angular.z is a turn rate
+// [rad/s] as for every cmd_vel here (REP 103: +w turns counter-clockwise), and max_steer bounds the angle of
+// every tyre, as its documentation says, not that of a virtual wheel between them.
+//
+// Tags (ROS 2's names and defaults):
+//   front_left_joint front_right_joint rear_left_joint rear_right_joint left_steering_joint
+//   right_steering_joint max_steer [0.6 rad] max_speed [20 m/s] update_rate [100 Hz; 0 = every step]
+//   odometry_frame [odom] robot_base_frame [base_footprint] publish_odom [false] publish_odom_tf [false]
+//   covariance_x [1e-5] covariance_y [1e-5] covariance_yaw [1e-3]
+//   wheel_base track_width (of the rear axle) wheel_radius [m]: optional, checked against the URDF
+//   left_steering_pid_gain right_steering_pid_gain linear_velocity_pid_gain and their *_i_range: read and
+//     ignored with one warning (our joints are driven by motors, whose strength is the URDF effort limit)
+//   steering_wheel_joint publish_wheel_tf publish_distance: read; a warning says we do not simulate them
+// Ours (Gazebo ignores them): command_topic [cmd_vel] odometry_topic [odom] (ROS 2 remaps these with <ros>),
+//   robotNamespace, commandTimeout [0 s = off], wheelModel [contact | raycast; the simulator's default]
+//   chooses the wheel-ground model as for the other drives. The ROS 1 spellings commandTopic odometryTopic
+//   odometryFrame robotBaseFrame updateRate are read too.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "bullet_sim/plugins/outputs.h"
+#include "bullet_sim/plugins/plugin.h"
+
+namespace bullet_sim {
+
+struct AckermannConfig {
+  std::string robot_namespace;
+  std::string command_topic = "cmd_vel";
+  std::string odometry_topic = "odom";
+  std::string odometry_frame = "odom";
+  std::string robot_base_frame = "base_footprint";
+  std::string front_left_joint = "front_left_joint";
+  std::string front_right_joint = "front_right_joint";
+  std::string rear_left_joint = "rear_left_joint";
+  std::string rear_right_joint = "rear_right_joint";
+  std::string left_steering_joint = "left_steering_joint";
+  std::string right_steering_joint = "right_steering_joint";
+  double max_steer = 0.6;    ///< [rad] no tyre steers further (nor beyond its joint limits)
+  double max_speed = 20;     ///< [m/s] |v| is clamped to this
+  double update_rate = 100;  ///< [Hz]; 0 = every step
+  bool publish_odometry = false;
+  bool publish_odom_tf = false;
+  double command_timeout = 0;          ///< [s]; 0 = off
+  std::optional<double> wheel_base;    ///< [m] only checked against the URDF
+  std::optional<double> track_width;   ///< [m] of the rear wheels; only checked
+  std::optional<double> wheel_radius;  ///< [m] of the rear wheels; only checked
+  std::array<double, 36> pose_covariance{};
+  std::array<double, 36> twist_covariance{};
+};
+
+AckermannConfig parseAckermannConfig(PluginTags& tags);
+
+/// Steering angles of the two front wheels [rad], positive to the left.
+struct SteeringAngles {
+  double left = 0;
+  double right = 0;
+};
+
+/// The Ackermann angles for a turn of `curvature` [1/m] (1 / radius of the rear axle's midpoint, positive to
+/// the left; 0 = straight): tan = L k / (1 -/+ k T / 2) for the left / right wheel, with `wheelbase` L [m]
+/// and `steering_track` T [m], the distance between the steering axes.
+SteeringAngles ackermannAngles(double wheelbase, double steering_track, double curvature);
+
+/// The car's geometry as the URDF gives it at the zero pose [m].
+struct AckermannGeometry {
+  double wheelbase = 0;       ///< from the rear axle to the line through the steering axes
+  double steering_track = 0;  ///< between the steering axes
+  double rear_track = 0;      ///< between the rear wheels
+  double wheel_radius = 0;    ///< of the rear wheels
+};
+
+class AckermannDrive : public Plugin {
+ public:
+  /// Checks the config against the model: the joints exist and move, the steering joints turn about the
+  /// vertical and have effort limits, the base frame exists, the tag figures agree with the URDF. Problems
+  /// go to `diagnostics`.
+  AckermannDrive(std::string name, AckermannConfig config, const ModelSpec& model, const RobotBody& body,
+                 Diagnostics& diagnostics);
+
+  /// The latest cmd_vel: forward speed [m/s] and turn rate [rad/s]. Returns false, and changes nothing, when
+  /// a value is not finite.
+  bool setCommand(double linear, double angular, double sim_time);
+
+  void applyCommands(const StepTime& time, RobotBody& body) override;
+  void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
+  void reset() override;
+
+  const AckermannConfig& config() const { return config_; }
+  const AckermannGeometry& geometry() const { return geometry_; }
+  /// The curvature [1/m] the last update steered for, after the steering limits.
+  double curvature() const { return curvature_; }
+  /// The steering angles the last update commanded [rad].
+  const SteeringAngles& steeringTargets() const { return steering_targets_; }
+  /// The latest odometry (the base frame's pose in the world), and how many have been produced.
+  const Odometry& odometry() const { return odometry_; }
+  uint64_t odometryCount() const { return odometry_count_; }
+
+ private:
+  struct Steering {
+    int joint = -1;
+    double sign = 1;  ///< +1 when a positive joint angle steers left
+    double effort = 0;
+  };
+  struct Wheel {
+    int joint = -1;
+    double sign = 1;  ///< +1 when a positive joint velocity rolls the car forward
+    double effort = 0;
+  };
+
+  /// The curvature [1/m] at which the first tyre on the left (`side` = 1) or right (-1) reaches its limit.
+  double curvatureLimit(double side) const;
+
+  AckermannConfig config_;
+  AckermannGeometry geometry_;
+  Steering left_steering_, right_steering_;
+  Wheel rear_left_, rear_right_;
+  /// Steering limits per wheel [rad], max_steer and the joint limits combined: {right turn, left turn}.
+  std::array<double, 2> left_limits_{}, right_limits_{};
+  UpdateTimer timer_;
+  bool updated_this_step_ = false;
+  double linear_ = 0;
+  double angular_ = 0;
+  double command_time_ = 0;
+  double curvature_ = 0;
+  SteeringAngles steering_targets_;
+  Odometry odometry_;
+  uint64_t odometry_count_ = 0;
+};
+
+}  // namespace bullet_sim

@@ -1,0 +1,320 @@
+#include "bullet_sim/plugins/ackermann_drive.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "bullet_sim/spec/model_geometry.h"
+
+namespace bullet_sim {
+
+namespace {
+
+constexpr double kGeometryTolerance = 0.005;  // [m] tag figures vs URDF geometry before we say so
+constexpr double kMinVerticalAxis = 0.9;      // |z| of a steering axis, as a unit vector in the base frame
+
+/// ROS 2's pose and twist covariance: x, y and yaw as given, unknown (1e12) in z, roll and pitch.
+std::array<double, 36> planarCovariance(double x, double y, double yaw) {
+  std::array<double, 36> covariance{};
+  covariance[0] = x;
+  covariance[7] = y;
+  covariance[14] = covariance[21] = covariance[28] = 1e12;
+  covariance[35] = yaw;
+  return covariance;
+}
+
+/// A tag under ROS 2's name, or else under the ROS 1 name our other drives use.
+std::string eitherText(PluginTags& tags, const std::string& ros2, const std::string& ros1,
+                       const std::string& fallback) {
+  return tags.text(ros2, tags.text(ros1, fallback));
+}
+
+std::optional<double> optionalPositive(PluginTags& tags, const std::string& tag) {
+  if (!tags.has(tag)) return std::nullopt;
+  return tags.positive(tag, 0.0);
+}
+
+std::string vectorText(const Eigen::Vector3d& v) {
+  std::ostringstream text;
+  text << v.x() << ' ' << v.y() << ' ' << v.z();
+  return text.str();
+}
+
+}  // namespace
+
+AckermannConfig parseAckermannConfig(PluginTags& tags) {
+  AckermannConfig config;
+  config.robot_namespace = tags.text("robotNamespace", "");
+  config.command_topic = eitherText(tags, "command_topic", "commandTopic", config.command_topic);
+  config.odometry_topic = eitherText(tags, "odometry_topic", "odometryTopic", config.odometry_topic);
+  config.odometry_frame = eitherText(tags, "odometry_frame", "odometryFrame", config.odometry_frame);
+  config.robot_base_frame = eitherText(tags, "robot_base_frame", "robotBaseFrame", config.robot_base_frame);
+  config.update_rate =
+      tags.positive("update_rate", tags.positive("updateRate", config.update_rate, /*allow_zero=*/true),
+                    /*allow_zero=*/true);
+  config.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
+  // Read by the simulation when it builds the robot; checked here, as the other drives do.
+  if (const std::string model = tags.text("wheelModel", "contact");
+      model != "contact" && model != "raycast") {
+    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" + model + "]");
+  }
+
+  config.front_left_joint = tags.text("front_left_joint", config.front_left_joint);
+  config.front_right_joint = tags.text("front_right_joint", config.front_right_joint);
+  config.rear_left_joint = tags.text("rear_left_joint", config.rear_left_joint);
+  config.rear_right_joint = tags.text("rear_right_joint", config.rear_right_joint);
+  config.left_steering_joint = tags.text("left_steering_joint", config.left_steering_joint);
+  config.right_steering_joint = tags.text("right_steering_joint", config.right_steering_joint);
+
+  config.max_steer = tags.positive("max_steer", config.max_steer);
+  if (config.max_steer >= M_PI / 2) {
+    std::ostringstream message;
+    message << tags.where() << " <max_steer> must be below pi/2 rad (a wheel across the car), not "
+            << config.max_steer;
+    tags.diagnostics().error(message.str());
+    config.max_steer = AckermannConfig{}.max_steer;
+  }
+  config.max_speed = tags.positive("max_speed", config.max_speed);
+  config.publish_odometry = tags.flag("publish_odom", config.publish_odometry);
+  config.publish_odom_tf = tags.flag("publish_odom_tf", config.publish_odom_tf);
+  config.wheel_base = optionalPositive(tags, "wheel_base");
+  config.track_width = optionalPositive(tags, "track_width");
+  config.wheel_radius = optionalPositive(tags, "wheel_radius");
+  const double x = tags.positive("covariance_x", 1e-5, /*allow_zero=*/true);
+  const double y = tags.positive("covariance_y", 1e-5, /*allow_zero=*/true);
+  const double yaw = tags.positive("covariance_yaw", 1e-3, /*allow_zero=*/true);
+  config.pose_covariance = config.twist_covariance = planarCovariance(x, y, yaw);
+
+  // ROS 2's plugin pushes its joints with PID-controlled forces; ours are motors (see the header).
+  std::string gains;
+  for (const char* tag : {"left_steering_pid_gain", "left_steering_i_range", "right_steering_pid_gain",
+                          "right_steering_i_range", "linear_velocity_pid_gain", "linear_velocity_i_range"}) {
+    if (!tags.has(tag)) continue;
+    tags.list(tag);
+    gains += std::string(gains.empty() ? "" : ", ") + "<" + tag + ">";
+  }
+  if (!gains.empty()) {
+    tags.diagnostics().warning(
+        tags.where() + " " + gains +
+        ": read and ignored: bullet_sim holds the steering joints with position motors "
+        "and turns the rear wheels with velocity motors, each as strong as its joint's "
+        "URDF effort limit");
+  }
+  if (tags.has("steering_wheel_joint")) {
+    tags.diagnostics().warning(tags.where() + " <steering_wheel_joint> [" +
+                               tags.text("steering_wheel_joint", "") +
+                               "] is not turned by bullet_sim: ignored");
+  }
+  for (const char* tag : {"publish_wheel_tf", "publish_distance"}) {
+    if (tags.flag(tag, false)) {
+      tags.diagnostics().warning(tags.where() + " <" + tag + "> is not published by bullet_sim: ignored");
+    }
+  }
+  // max_steering_angle only scales the steering wheel; the others are every Gazebo plugin's.
+  tags.accept({"max_steering_angle", "rosDebugLevel", "alwaysOn"});
+  return config;
+}
+
+SteeringAngles ackermannAngles(double wheelbase, double steering_track, double curvature) {
+  // The axle line of a wheel at lateral offset y must pass through the turn centre (0, 1 / k) on the rear
+  // axle line: tan = L / (1 / k - y) = L k / (1 - k y). atan2 keeps the sign for k < 0.
+  const double half = steering_track / 2;
+  return {std::atan2(wheelbase * curvature, 1 - curvature * half),
+          std::atan2(wheelbase * curvature, 1 + curvature * half)};
+}
+
+AckermannDrive::AckermannDrive(std::string name, AckermannConfig config, const ModelSpec& model,
+                               const RobotBody& body, Diagnostics& diagnostics)
+    : Plugin(std::move(name)), config_(std::move(config)), timer_(config_.update_rate) {
+  const std::string where = "plugin [" + this->name() + "]";
+  if (!model.link(config_.robot_base_frame)) {
+    diagnostics.error(where + " <robot_base_frame> [" + config_.robot_base_frame + "] is not a link" +
+                      didYouMean(config_.robot_base_frame, model.linkNames()));
+    return;
+  }
+  const auto poses = linkPosesAtZero(model);
+  const Eigen::Isometry3d base_inverse = poses.at(config_.robot_base_frame).inverse();
+
+  /// The joint a tag names, or nullptr once its problem is reported.
+  const auto movingJoint = [&](const std::string& tag, const std::string& joint_name) -> const JointSpec* {
+    const JointSpec* joint = model.joint(joint_name);
+    if (!joint) {
+      diagnostics.error(where + " <" + tag + "> [" + joint_name + "] is not a joint" +
+                        didYouMean(joint_name, model.jointNames()));
+    } else if (!joint->moves()) {
+      diagnostics.error(where + " <" + tag + "> [" + joint_name + "] is a fixed joint: it must move");
+      return nullptr;
+    }
+    return joint;
+  };
+  /// Where a joint is in the base frame: its child link's frame, through which the joint axis passes.
+  const auto inBase = [&](const JointSpec& joint) { return base_inverse * poses.at(joint.child); };
+
+  const auto steering = [&](const std::string& tag, const std::string& joint_name, Steering& out,
+                            std::array<double, 2>& limits) -> const JointSpec* {
+    const JointSpec* joint = movingJoint(tag, joint_name);
+    if (!joint) return nullptr;
+    const Eigen::Vector3d axis = inBase(*joint).linear() * joint->axis;
+    if (std::abs(axis.z()) < kMinVerticalAxis) {
+      diagnostics.error(where + " <" + tag + "> [" + joint_name + "] turns about " + vectorText(axis) +
+                        " in [" + config_.robot_base_frame + "]: a steering joint turns about the vertical");
+    }
+    if (joint->effort <= 0) {
+      diagnostics.error(where + " <" + tag + "> [" + joint_name +
+                        "] has no effort limit, so nothing can steer it: set <limit effort=...> in the URDF");
+    }
+    out = {body.jointIndex(joint_name), axis.z() >= 0 ? 1.0 : -1.0, joint->effort};
+    // The joint's limits as steering angles (positive = left), within max_steer.
+    const double lower = out.sign > 0 ? joint->lower : -joint->upper;
+    const double upper = out.sign > 0 ? joint->upper : -joint->lower;
+    limits = {std::max(-config_.max_steer, lower), std::min(config_.max_steer, upper)};
+    return joint;
+  };
+  const auto wheel = [&](const std::string& tag, const std::string& joint_name,
+                         Wheel& out) -> const JointSpec* {
+    const JointSpec* joint = movingJoint(tag, joint_name);
+    if (!joint) return nullptr;
+    const Eigen::Vector3d axis = inBase(*joint).linear() * joint->axis;
+    // Spinning about +y (the base's left) rolls a wheel forward.
+    out = {body.jointIndex(joint_name), axis.y() >= 0 ? 1.0 : -1.0, joint->effort};
+    if (out.sign < 0) {
+      diagnostics.warning(where + " joint [" + joint_name + "] turns about " + vectorText(joint->axis) +
+                          ", against the other wheels: it is driven with the opposite sign so the car rolls "
+                          "forward");
+    }
+    if (joint->effort <= 0) {
+      diagnostics.error(where + " <" + tag + "> [" + joint_name +
+                        "] has no effort limit, so nothing can drive it: set <limit effort=...> in the URDF");
+    }
+    return joint;
+  };
+
+  const JointSpec* left_hinge =
+      steering("left_steering_joint", config_.left_steering_joint, left_steering_, left_limits_);
+  const JointSpec* right_hinge =
+      steering("right_steering_joint", config_.right_steering_joint, right_steering_, right_limits_);
+  const JointSpec* rear_left = wheel("rear_left_joint", config_.rear_left_joint, rear_left_);
+  const JointSpec* rear_right = wheel("rear_right_joint", config_.rear_right_joint, rear_right_);
+  // The front wheels roll freely: they only have to exist and turn.
+  movingJoint("front_left_joint", config_.front_left_joint);
+  movingJoint("front_right_joint", config_.front_right_joint);
+  if (!left_hinge || !right_hinge || !rear_left || !rear_right) return;
+
+  const Eigen::Vector3d left_kingpin = inBase(*left_hinge).translation();
+  const Eigen::Vector3d right_kingpin = inBase(*right_hinge).translation();
+  const Eigen::Vector3d left_rear = inBase(*rear_left).translation();
+  const Eigen::Vector3d right_rear = inBase(*rear_right).translation();
+  geometry_.steering_track = left_kingpin.y() - right_kingpin.y();
+  geometry_.rear_track = left_rear.y() - right_rear.y();
+  geometry_.wheelbase = (left_kingpin.x() + right_kingpin.x()) / 2 - (left_rear.x() + right_rear.x()) / 2;
+  if (geometry_.steering_track <= 0 || geometry_.rear_track <= 0) {
+    diagnostics.error(where + " the left joints must be to the left of the right ones in [" +
+                      config_.robot_base_frame + "]: are <left_steering_joint>/<right_steering_joint> or " +
+                      "<rear_left_joint>/<rear_right_joint> swapped?");
+  }
+  if (geometry_.wheelbase <= 0) {
+    diagnostics.error(where + " the steering joints must be ahead of the rear wheels in [" +
+                      config_.robot_base_frame + "]");
+  }
+
+  for (const JointSpec* joint : {rear_left, rear_right}) {
+    const LinkSpec* link = model.link(joint->child);
+    const Shape* shape = link->collisions.empty() ? nullptr : &link->collisions.front().shape;
+    if (!shape || (shape->type != Shape::Type::kCylinder && shape->type != Shape::Type::kSphere)) {
+      diagnostics.error(where + " rear wheel [" + link->name +
+                        "] needs a cylinder or sphere collision: its radius is the wheel radius");
+      continue;
+    }
+    geometry_.wheel_radius = std::max(geometry_.wheel_radius, shape->radius);
+  }
+
+  const auto check = [&](const std::optional<double>& figure, const char* tag, double urdf,
+                         const std::string& what) {
+    if (!figure || std::abs(*figure - urdf) <= kGeometryTolerance) return;
+    std::ostringstream message;
+    message << where << " <" << tag << "> " << *figure << " m disagrees with the URDF, where " << what
+            << " is " << urdf << " m: the URDF's figure is used";
+    diagnostics.warning(message.str());
+  };
+  check(config_.wheel_base, "wheel_base", geometry_.wheelbase, "the rear axle to the steering joints' line");
+  check(config_.track_width, "track_width", geometry_.rear_track,
+        "[" + config_.rear_left_joint + "] to [" + config_.rear_right_joint + "]");
+  check(config_.wheel_radius, "wheel_radius", geometry_.wheel_radius, "the rear wheels' collision radius");
+
+  odometry_.frame_id = config_.odometry_frame;
+  odometry_.child_frame_id = config_.robot_base_frame;
+  odometry_.pose_covariance = config_.pose_covariance;
+  odometry_.twist_covariance = config_.twist_covariance;
+}
+
+bool AckermannDrive::setCommand(double linear, double angular, double sim_time) {
+  if (!std::isfinite(linear) || !std::isfinite(angular)) return false;
+  linear_ = linear;
+  angular_ = angular;
+  command_time_ = sim_time;
+  return true;
+}
+
+double AckermannDrive::curvatureLimit(double side) const {
+  // A wheel at lateral offset y reaches angle a at curvature k = tan(a) / (L + y tan(a)). The wheel on the
+  // inside of the turn always reaches its limit at a finite curvature (max_steer < pi/2); the outside one
+  // may never.
+  double limit = INFINITY;
+  const double half = geometry_.steering_track / 2;
+  for (const auto& [y, limits] : {std::pair{half, left_limits_}, std::pair{-half, right_limits_}}) {
+    const double tangent = std::tan(side > 0 ? limits[1] : limits[0]);
+    const double denominator = geometry_.wheelbase + y * tangent;
+    if (denominator > 0) limit = std::min(limit, std::abs(tangent / denominator));
+  }
+  return side * limit;
+}
+
+void AckermannDrive::applyCommands(const StepTime& time, RobotBody& body) {
+  updated_this_step_ = timer_.due(time);
+  if (!updated_this_step_) return;
+  const bool timed_out =
+      config_.command_timeout > 0 && time.sim_time - command_time_ > config_.command_timeout;
+  const double linear = timed_out ? 0.0 : std::clamp(linear_, -config_.max_speed, config_.max_speed);
+  const double angular = timed_out ? 0.0 : angular_;
+
+  // At v = 0 a turn cannot be driven: the wheels steer as far as they go towards the side of w.
+  const double wanted = linear != 0 ? angular / linear : angular > 0 ? INFINITY : angular < 0 ? -INFINITY : 0;
+  curvature_ = std::clamp(wanted, curvatureLimit(-1), curvatureLimit(1));
+  steering_targets_ = ackermannAngles(geometry_.wheelbase, geometry_.steering_track, curvature_);
+  body.setJointPosition(left_steering_.joint, left_steering_.sign * steering_targets_.left,
+                        left_steering_.effort);
+  body.setJointPosition(right_steering_.joint, right_steering_.sign * steering_targets_.right,
+                        right_steering_.effort);
+
+  // Each rear wheel rolls at the speed of its own turn radius, 1 / k - y, as an open differential lets it.
+  const auto drive = [&](const Wheel& wheel, double lateral) {
+    const double rim_speed = linear * (1 - curvature_ * lateral);
+    body.setJointVelocity(wheel.joint, wheel.sign * rim_speed / geometry_.wheel_radius, wheel.effort);
+  };
+  drive(rear_left_, geometry_.rear_track / 2);
+  drive(rear_right_, -geometry_.rear_track / 2);
+}
+
+void AckermannDrive::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
+  if (!updated_this_step_) return;
+  // The base's pose in the world, i.e. ground truth, as ROS 2's plugin reports it.
+  const Eigen::Isometry3d base = body.linkPose(config_.robot_base_frame);
+  const Eigen::Matrix3d to_base = base.linear().transpose();
+  odometry_.stamp = time.sim_time;
+  odometry_.pose = base;
+  odometry_.linear_velocity = to_base * body.linkLinearVelocity(config_.robot_base_frame);
+  odometry_.angular_velocity = to_base * body.linkAngularVelocity(config_.robot_base_frame);
+  ++odometry_count_;
+}
+
+void AckermannDrive::reset() {
+  timer_.reset();
+  linear_ = angular_ = 0;
+  command_time_ = 0;
+  curvature_ = 0;
+  steering_targets_ = {};
+  odometry_.stamp = 0;
+}
+
+}  // namespace bullet_sim
