@@ -1,0 +1,758 @@
+// bench: how fast and how exact bullet_sim is for one robot in one world, printed as one JSON object.
+// ROS-free: it needs ROS_PACKAGE_PATH for package:// URIs and the xacro executable for .xacro robots only.
+// Speed is measured here, never in tests; figures other than timings are deterministic.
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
+#include "bullet_sim/render/offscreen_renderer.h"
+#include "bullet_sim/render/robot_snapshot.h"
+#include "bullet_sim/render/scene_builder.h"
+#include "bullet_sim/simulation.h"
+#include "tools/command_line.h"
+
+namespace bullet_sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+constexpr char kUsage[] =
+    "usage: bench --robot FILE.urdf|FILE.xacro [--world FILE] [--pose x,y,yaw]\n"
+    "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
+    "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
+    "             [--obstacles N] [--repeat K]\n"
+    "\n"
+    "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
+    "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
+    "lidars and K times with them; casts its lidar rays on their own; renders it; and prints one\n"
+    "JSON object on stdout:\n"
+    "  rtf_physics, rtf_lidar  sim seconds per wall second while driving, without and with lidars\n"
+    "  rays_per_s              the lidars' rays cast from the settled pose on one thread, alone\n"
+    "  render_ms, png_ms       a chase view of the settled robot at WxH; writing it as a PNG file\n"
+    "  startup_s               from the process start to the end of the first step, xacro and\n"
+    "                          loading included; startup_cpu_s: the CPU time this process used\n"
+    "  peak_rss_mb             peak resident memory\n"
+    "  pose_error_m            where the drive axle ends, against the unicycle that follows the\n"
+    "                          command exactly from the settled axle; pose_error_steady_m: that\n"
+    "                          unicycle started after the first second of driving\n"
+    "with the inputs, every run's figures (medians are reported) and the load warnings.\n"
+    "\n"
+    "--wheel-model sets <wheelModel> in the robot's drive plugin. --lidar replaces the scan of the\n"
+    "robot's ray sensors: SAMPLES beams over their horizontal field (the full circle when they have\n"
+    "none) and, with CHANNELS > 1, that many channels from -15 to +15 degrees, published as a\n"
+    "velodyne plugin would. --lidar-rate sets their update rate [Hz]. --obstacles adds N static\n"
+    "0.1 x 0.1 x 1 m posts at random (seeded) places at least 1.5 m from the commanded path.\n"
+    "A relative --world is looked up in bullet_sim/worlds, then bullet_sim_bringup/worlds, then\n"
+    "the working directory.\n"
+    "Defaults: --world empty.world --pose 0,0,0 --step 0.001 --duration 10 --cmd 0.5,0.3\n"
+    "          --render 640x480 --repeat 3; the robot's own wheel model and lidars;\n"
+    "          --lidar-rate 10 with --lidar\n";
+
+constexpr double kSettleTime = 0.5;       ///< [s] at rest after the spawn, before driving
+constexpr double kCommandPeriod = 0.1;    ///< [s] the command is re-sent as `rostopic pub -r 10` does
+constexpr double kSpinUpTime = 1.0;       ///< [s] of driving that pose_error_steady_m leaves out
+constexpr double kRayTimingSlice = 0.25;  ///< [s] of wall time per ray-casting measurement
+constexpr int kMinRenders = 5;            ///< timed renders and PNG writes, at least
+constexpr double kDefaultLidarRate = 10;  ///< [Hz] for --lidar
+constexpr double kChannelSpread = 15 * M_PI / 180;  ///< [rad] of a --lidar with channels, each side of level
+constexpr double kPostSide = 0.1;                   ///< [m] of an --obstacles post's square base
+constexpr double kPostHeight = 1.0;                 ///< [m]: lidars up to this height see the posts
+constexpr double kPostClearance = 1.5;              ///< [m] kept free around the commanded path
+constexpr uint64_t kPostSeed = 1;
+
+struct Options {
+  std::string robot;
+  std::string world;
+  SpawnPose pose;
+  std::optional<std::string> wheel_model;  ///< nullopt: the robot's own
+  double step = 0.001;                     ///< [s]
+  double duration = 10;                    ///< [s]
+  double v = 0.5;                          ///< [m/s]
+  double w = 0.3;                          ///< [rad/s]
+  int lidar_samples = 0;                   ///< 0: the robot's own lidars
+  int lidar_channels = 1;
+  std::optional<double> lidar_rate;  ///< [Hz]
+  int render_width = 640, render_height = 480;
+  int obstacles = 0;
+  int repeat = 3;
+  bool help = false;
+};
+
+/// A whole number in [low, high] that is the whole of `text`.
+int parseCount(const std::string& text, const std::string& option, int low, int high) {
+  const double value = parseNumber(text, option);
+  if (value != std::floor(value) || value < low || value > high) {
+    throw UsageError(option + " [" + text + "]: give a whole number from " + std::to_string(low) + " to " +
+                     std::to_string(high));
+  }
+  return static_cast<int>(value);
+}
+
+/// Two numbers written "a<separator>b".
+std::pair<std::string, std::string> pairOf(const std::string& text, char separator, const std::string& option,
+                                           const std::string& form) {
+  const auto parts = split(text, separator);
+  if (parts.size() != 2) throw UsageError(option + " [" + text + "]: write " + form);
+  return {parts[0], parts[1]};
+}
+
+Options parseArguments(int argc, char** argv) {
+  Options options;
+  for (int i = 1; i < argc; ++i) {
+    const std::string option = argv[i];
+    if (option == "--help" || option == "-h") {
+      options.help = true;
+      return options;
+    }
+    if (i + 1 >= argc) throw UsageError(option + " needs a value");
+    const std::string value = argv[++i];
+    const auto positive = [&](double low, double high, const std::string& unit) {
+      const double number = parseNumber(value, option);
+      if (number <= low || number > high) {
+        std::ostringstream message;
+        message << option << " [" << value << "]: give more than " << low << " and at most " << high << " "
+                << unit;
+        throw UsageError(message.str());
+      }
+      return number;
+    };
+    if (option == "--robot") {
+      options.robot = value;
+    } else if (option == "--world") {
+      options.world = value;
+    } else if (option == "--pose") {
+      const auto parts = split(value, ',');
+      if (parts.size() != 3) throw UsageError("--pose [" + value + "]: write x,y,yaw in m, m, rad");
+      options.pose.x = parseNumber(parts[0], option);
+      options.pose.y = parseNumber(parts[1], option);
+      options.pose.yaw = parseNumber(parts[2], option);
+    } else if (option == "--wheel-model") {
+      if (value != "contact" && value != "raycast")
+        throw UsageError("--wheel-model [" + value + "]: choose contact or raycast");
+      options.wheel_model = value;
+    } else if (option == "--step") {
+      options.step = positive(0, 0.1, "s");
+    } else if (option == "--duration") {
+      options.duration = positive(0, 3600, "s");
+    } else if (option == "--cmd") {
+      const auto [v, w] = pairOf(value, ',', option, "v,w in m/s, rad/s, e.g. 0.5,0.3");
+      options.v = parseNumber(v, option);
+      options.w = parseNumber(w, option);
+    } else if (option == "--lidar") {
+      const bool channels = value.find('x') != std::string::npos;
+      const auto [samples, count] =
+          channels ? pairOf(value, 'x', option, "SAMPLES or SAMPLESxCHANNELS, e.g. 360 or 1800x16")
+                   : std::pair<std::string, std::string>{value, "1"};
+      options.lidar_samples = parseCount(samples, option, 1, 100000);
+      options.lidar_channels = parseCount(count, option, 1, 1024);
+    } else if (option == "--lidar-rate") {
+      options.lidar_rate = positive(0, 10000, "Hz");
+    } else if (option == "--render") {
+      const auto [width, height] = pairOf(value, 'x', option, "WxH, e.g. 640x480");
+      options.render_width = parseCount(width, option, 1, 4096);
+      options.render_height = parseCount(height, option, 1, 4096);
+    } else if (option == "--obstacles") {
+      options.obstacles = parseCount(value, option, 0, 100000);
+    } else if (option == "--repeat") {
+      options.repeat = parseCount(value, option, 1, 1000);
+    } else {
+      throw UsageError("unknown option [" + option + "]");
+    }
+  }
+  if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
+  return options;
+}
+
+bool endsWith(const std::string& text, const std::string& end) {
+  return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
+}
+
+bool isRaySensor(const std::string& type) { return type == "ray" || type == "gpu_ray"; }
+
+/// The first child of `parent` named `name`, created when there is none.
+tinyxml2::XMLElement* child(tinyxml2::XMLElement* parent, const char* name) {
+  tinyxml2::XMLElement* found = parent->FirstChildElement(name);
+  return found ? found : parent->InsertNewChildElement(name);
+}
+
+void setChildText(tinyxml2::XMLElement* parent, const char* name, double value) {
+  std::ostringstream text;
+  text.precision(17);
+  text << value;
+  child(parent, name)->SetText(text.str().c_str());
+}
+
+/// Replaces a ray sensor's <scan> with `samples` beams over its horizontal field (the full circle, no beam
+/// twice, when it has none) and, for several channels, that many from -15 to +15 degrees. Several channels
+/// are a 3D lidar, so a 2D laser plugin becomes the velodyne one, which publishes every channel.
+void overrideScan(tinyxml2::XMLElement* sensor, int samples, int channels) {
+  tinyxml2::XMLElement* ray = child(sensor, "ray");
+  double min_angle = -M_PI, max_angle = M_PI - 2 * M_PI / samples;
+  if (auto* old_scan = ray->FirstChildElement("scan")) {
+    const auto* horizontal = old_scan->FirstChildElement("horizontal");
+    const auto* min = horizontal ? horizontal->FirstChildElement("min_angle") : nullptr;
+    const auto* max = horizontal ? horizontal->FirstChildElement("max_angle") : nullptr;
+    if (min && max && min->DoubleText() < max->DoubleText()) {
+      min_angle = min->DoubleText();
+      max_angle = max->DoubleText();
+    }
+    ray->DeleteChild(old_scan);
+  }
+  tinyxml2::XMLElement* scan = ray->InsertNewChildElement("scan");
+  tinyxml2::XMLElement* horizontal = scan->InsertNewChildElement("horizontal");
+  setChildText(horizontal, "samples", samples);
+  setChildText(horizontal, "resolution", 1);
+  setChildText(horizontal, "min_angle", min_angle);
+  setChildText(horizontal, "max_angle", max_angle);
+  if (channels == 1) return;
+  tinyxml2::XMLElement* vertical = scan->InsertNewChildElement("vertical");
+  setChildText(vertical, "samples", channels);
+  setChildText(vertical, "resolution", 1);
+  setChildText(vertical, "min_angle", -kChannelSpread);
+  setChildText(vertical, "max_angle", kChannelSpread);
+  if (auto* plugin = sensor->FirstChildElement("plugin")) {
+    const std::string filename = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
+    if (filename == "libgazebo_ros_laser.so")
+      plugin->SetAttribute("filename", "libgazebo_ros_velodyne_laser.so");
+    if (filename == "libgazebo_ros_gpu_laser.so")
+      plugin->SetAttribute("filename", "libgazebo_ros_velodyne_gpu_laser.so");
+  }
+}
+
+/// The URDF with the wheel model and lidar options applied to its <gazebo> blocks. Text that is not XML is
+/// returned as it is, for parseModel to report.
+std::string applyRobotOptions(const std::string& urdf, const Options& options) {
+  const bool lidar = options.lidar_samples > 0 || options.lidar_rate;
+  if (!options.wheel_model && !lidar) return urdf;
+  tinyxml2::XMLDocument document;
+  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement())
+    return urdf;
+
+  int drives = 0, sensors = 0;
+  for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
+       gazebo = gazebo->NextSiblingElement("gazebo")) {
+    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin;
+         plugin = plugin->NextSiblingElement("plugin")) {
+      const char* filename = plugin->Attribute("filename");
+      const std::string name = filename ? filename : "";
+      if (!options.wheel_model ||
+          (name != "libgazebo_ros_diff_drive.so" && name != "libgazebo_ros_skid_steer_drive.so")) {
+        continue;
+      }
+      child(plugin, "wheelModel")->SetText(options.wheel_model->c_str());
+      ++drives;
+    }
+    for (auto* sensor = gazebo->FirstChildElement("sensor"); sensor;
+         sensor = sensor->NextSiblingElement("sensor")) {
+      const char* type = sensor->Attribute("type");
+      if (!lidar || !type || !isRaySensor(type)) continue;
+      if (options.lidar_samples > 0) overrideScan(sensor, options.lidar_samples, options.lidar_channels);
+      setChildText(sensor, "update_rate", options.lidar_rate.value_or(kDefaultLidarRate));
+      ++sensors;
+    }
+  }
+  if (options.wheel_model && drives == 0) {
+    throw Failure("--wheel-model: " + options.robot +
+                  " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin to set "
+                  "<wheelModel> in; bench drives robots through one");
+  }
+  if (lidar && sensors == 0) {
+    throw Failure(
+        "--lidar / --lidar-rate: " + options.robot +
+        " declares no <sensor type=\"ray\"> in a <gazebo> block; add one, or leave these options out");
+  }
+  tinyxml2::XMLPrinter printer;
+  document.Print(&printer);
+  return printer.CStr();
+}
+
+/// Static posts scattered over the world's floor, at least kPostClearance from the path the command would
+/// take the robot's base frame along, so that they are seen but never hit.
+void addObstacles(WorldSpec& world, const Options& options) {
+  if (options.obstacles == 0) return;
+  Eigen::AlignedBox3d bounds = worldBounds(world);
+  if (bounds.isEmpty()) bounds = Eigen::AlignedBox3d(Eigen::Vector3d(-5, -5, 0), Eigen::Vector3d(5, 5, 0));
+  std::vector<Eigen::Vector2d> path;
+  double x = options.pose.x, y = options.pose.y, yaw = options.pose.yaw;
+  const double dt = 0.05;  // [s] samples the path every 2.5 cm at 0.5 m/s
+  for (double t = 0; t <= options.duration; t += dt) {
+    path.emplace_back(x, y);
+    x += options.v * std::cos(yaw) * dt;
+    y += options.v * std::sin(yaw) * dt;
+    yaw += options.w * dt;
+  }
+  std::mt19937_64 generator(kPostSeed);
+  const auto uniform = [&](double low, double high) {  // portable, unlike std::uniform_real_distribution
+    return low + (high - low) * static_cast<double>(generator() >> 11) * 0x1.0p-53;
+  };
+  Shape post;
+  post.type = Shape::Type::kBox;
+  post.box_size = Eigen::Vector3d(kPostSide, kPostSide, kPostHeight);
+  const long max_tries = 1000L * options.obstacles;
+  int placed = 0;
+  for (long tries = 0; placed < options.obstacles && tries < max_tries; ++tries) {
+    const Eigen::Vector2d at(uniform(bounds.min().x(), bounds.max().x()),
+                             uniform(bounds.min().y(), bounds.max().y()));
+    if (std::any_of(path.begin(), path.end(),
+                    [&](const Eigen::Vector2d& p) { return (p - at).norm() < kPostClearance; })) {
+      continue;
+    }
+    WorldModelSpec model;
+    model.name = "bench_post_" + std::to_string(placed++);
+    model.pose = Eigen::Translation3d(at.x(), at.y(), kPostHeight / 2) * Eigen::Isometry3d::Identity();
+    model.collisions.push_back({Eigen::Isometry3d::Identity(), post});
+    model.visuals.push_back({Eigen::Isometry3d::Identity(), post, Eigen::Vector4d(0.5, 0.5, 0.5, 1), ""});
+    world.models.push_back(std::move(model));
+  }
+  if (placed < options.obstacles) {
+    throw Failure(
+        "--obstacles " + std::to_string(options.obstacles) + ": only " + std::to_string(placed) +
+        " fit in the world at least 1.5 m from the robot's path; ask for fewer, or a shorter --duration");
+  }
+}
+
+/// The model without its lidars, for timing the physics alone.
+ModelSpec withoutLidars(ModelSpec model) {
+  auto& sensors = model.sensors;
+  sensors.erase(std::remove_if(sensors.begin(), sensors.end(),
+                               [](const SensorSpec& sensor) { return isRaySensor(sensor.type); }),
+                sensors.end());
+  return model;
+}
+
+struct Planar {
+  double x = 0, y = 0, yaw = 0;  ///< [m], [m], [rad]
+};
+
+/// Where the drive axle is, as a unicycle sees it: the midpoint of the drive plugin's wheels on the ground,
+/// heading along the base frame's x axis. A diff-drive robot turns about this point, not about its base
+/// frame.
+Planar axlePose(const Robot& robot, const WheeledDrive& drive) {
+  const RobotBody& body = robot.body();
+  const Eigen::Isometry3d base = body.linkPose(drive.config().robot_base_frame);
+  std::vector<std::string> joints = drive.config().left_joints;
+  joints.insert(joints.end(), drive.config().right_joints.begin(), drive.config().right_joints.end());
+  Eigen::Vector3d midpoint = Eigen::Vector3d::Zero();
+  for (const auto& joint : joints) {
+    midpoint +=
+        (base.inverse() * body.linkPose(body.spec().joint(joint)->child)).translation() / joints.size();
+  }
+  midpoint.z() = 0;
+  const Eigen::Isometry3d axle = base * Eigen::Translation3d(midpoint);
+  return {axle.translation().x(), axle.translation().y(),
+          std::atan2(axle.linear()(1, 0), axle.linear()(0, 0))};
+}
+
+/// The unicycle driven at exactly v [m/s] and w [rad/s] for `seconds` from `start`.
+Planar unicycle(const Planar& start, double v, double w, double seconds) {
+  const double yaw = start.yaw + w * seconds;
+  if (std::abs(w) < 1e-12) {
+    return {start.x + v * seconds * std::cos(start.yaw), start.y + v * seconds * std::sin(start.yaw), yaw};
+  }
+  return {start.x + v / w * (std::sin(yaw) - std::sin(start.yaw)),
+          start.y - v / w * (std::cos(yaw) - std::cos(start.yaw)), yaw};
+}
+
+/// Seconds since this process was started (exec), from /proc/self/stat: its start time has the kernel's
+/// clock-tick resolution (10 ms). Nullopt when /proc cannot tell.
+std::optional<double> processAge() {
+  std::ifstream stat("/proc/self/stat");
+  std::string text;
+  std::getline(stat, text);
+  // Field 2, the command name, may hold spaces: count fields after its closing parenthesis.
+  const size_t name_end = text.rfind(')');
+  if (name_end == std::string::npos) return std::nullopt;
+  std::istringstream fields(text.substr(name_end + 1));
+  std::string field;
+  for (int index = 3; index <= 22 && fields >> field; ++index) {
+  }
+  timespec now{};
+  const long ticks_per_second = sysconf(_SC_CLK_TCK);
+  if (!fields || ticks_per_second <= 0 || clock_gettime(CLOCK_BOOTTIME, &now) != 0) return std::nullopt;
+  const double started = std::stod(field) / ticks_per_second;  // field 22: start time since boot
+  return now.tv_sec + now.tv_nsec * 1e-9 - started;
+}
+
+/// CPU seconds this process has used so far, user and system, from its start. On a busy machine this is what
+/// start-up costs, without the waiting for a core that wall time adds.
+double cpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& time) { return time.tv_sec + time.tv_usec * 1e-6; };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+/// The most resident memory this process has had so far [MB].
+double peakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // reported in KiB
+}
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return NAN;
+  std::sort(values.begin(), values.end());
+  const size_t middle = values.size() / 2;
+  return values.size() % 2 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
+}
+
+WheeledDrive& driveOf(const Robot& robot, const std::string& source) {
+  const auto drives = robot.pluginsOf<WheeledDrive>();
+  if (drives.empty()) {
+    throw Failure(source +
+                  " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin: bench "
+                  "drives the robot through one");
+  }
+  return *drives.front();
+}
+
+/// One spawn, settle and drive.
+struct DriveRun {
+  double startup_s = NAN;      ///< process age at the end of the first step
+  double startup_cpu_s = NAN;  ///< CPU time used by then
+  double wall_s = 0;           ///< of the driving, the settling left out
+  std::string wheel_model;
+  Planar settled, after_spin_up, end;  ///< of the drive axle
+};
+
+DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options& options,
+                   std::vector<std::string>& warnings) {
+  DriveRun run;
+  SimulationOptions simulation_options;
+  simulation_options.physics.step_size = options.step;
+  Simulation simulation(world, simulation_options);
+  Robot& robot = simulation.spawn(model.name, model, options.pose, &warnings);
+  WheeledDrive& drive = driveOf(robot, model.source);
+  run.wheel_model = drive.config().wheel_model;
+
+  simulation.step();
+  run.startup_s = processAge().value_or(NAN);
+  run.startup_cpu_s = cpuSeconds();
+  for (long i = 1; i < std::lround(kSettleTime / options.step); ++i) simulation.step();
+  run.settled = axlePose(robot, drive);
+
+  const long steps = std::lround(options.duration / options.step);
+  const long resend = std::max(1L, std::lround(kCommandPeriod / options.step));
+  const long spin_up = std::lround(kSpinUpTime / options.step);
+  const Clock::time_point start = Clock::now();
+  for (long i = 0; i < steps; ++i) {
+    if (i % resend == 0) drive.setCommand(options.v, options.w, simulation.time());
+    simulation.step();
+    if (i + 1 == spin_up) run.after_spin_up = axlePose(robot, drive);
+  }
+  run.wall_s = secondsSince(start);
+  run.end = axlePose(robot, drive);
+  return run;
+}
+
+/// A lidar's rays as the simulation casts them: the sensor frame in the world and the unit directions.
+struct LidarRays {
+  std::string link;
+  Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+  std::vector<Eigen::Vector3f> directions;  ///< in the world frame
+  double range_max = 0;                     ///< [m]
+  double update_rate = 0;                   ///< [Hz]
+};
+
+/// The rays RayLidar casts per scan: every channel for point clouds, the plane at 0 elevation for a
+/// LaserScan.
+LidarRays lidarRays(const RayLidarConfig& config, const RobotBody& body) {
+  LidarRays lidar;
+  lidar.link = config.link;
+  lidar.sensor = body.linkPose(config.link) * config.pose;
+  lidar.range_max = config.range_max;
+  lidar.update_rate = config.update_rate;
+  const int beams = config.beams();
+  const int channels = config.output == RayLidarConfig::Output::kLaserScan ? 1 : config.channels;
+  const double increment = beams > 1 ? (config.max_angle - config.min_angle) / (beams - 1) : 0.0;
+  const double elevation_step =
+      channels > 1 ? (config.max_elevation - config.min_elevation) / (channels - 1) : 0;
+  const Eigen::Matrix3d rotation = lidar.sensor.linear();
+  for (int channel = 0; channel < channels; ++channel) {
+    const double elevation = channels > 1 ? config.min_elevation + channel * elevation_step : 0.0;
+    for (int i = 0; i < beams; ++i) {
+      const double angle = config.min_angle + i * increment;
+      const Eigen::Vector3d direction(std::cos(elevation) * std::cos(angle),
+                                      std::cos(elevation) * std::sin(angle), std::sin(elevation));
+      lidar.directions.push_back((rotation * direction).cast<float>());
+    }
+  }
+  return lidar;
+}
+
+/// Rays per wall second of a RayCaster holding the world and the robot's parts where they are, casting every
+/// lidar's rays in turn on this thread, each lidar skipping the part it sits on: `repeat` measurements.
+std::vector<double> measureRays(const WorldSpec& world, const Robot& robot,
+                                const std::vector<LidarRays>& lidars, int repeat) {
+  RayCaster caster;
+  for (const auto& model : world.models) {
+    if (!model.collisions.empty()) caster.addBody(model.collisions, model.pose, /*is_static=*/true);
+  }
+  const RobotBody& body = robot.body();
+  std::vector<BodyId> part_bodies;
+  for (size_t k = 0; k < body.parts().size(); ++k) {
+    const auto& collisions = body.parts()[k].collisions;
+    part_bodies.push_back(collisions.empty() ? kNoBody : caster.addBody(collisions, body.partPose(k), false));
+  }
+  caster.commit();
+
+  std::vector<double> rays_per_s;
+  std::vector<double> ranges;
+  for (int run = 0; run < repeat; ++run) {
+    double rays = 0;
+    const Clock::time_point start = Clock::now();
+    do {
+      for (const LidarRays& lidar : lidars) {
+        const BodyId own = part_bodies[body.partOf(lidar.link)];
+        caster.cast(lidar.sensor.translation(), lidar.directions, lidar.range_max, own, ranges);
+        rays += static_cast<double>(lidar.directions.size());
+      }
+    } while (secondsSince(start) < kRayTimingSlice);
+    rays_per_s.push_back(rays / secondsSince(start));
+  }
+  return rays_per_s;
+}
+
+/// Render and PNG timings of the chase view [ms].
+struct RenderTimes {
+  double scene_ms = NAN;         ///< building the scene from the simulation
+  double first_render_ms = NAN;  ///< the first render, which uploads the meshes
+  std::vector<double> render_ms, png_ms;
+  size_t png_bytes = 0;
+};
+
+RenderTimes measureRender(const Simulation& simulation, const std::string& robot, const Options& options) {
+  RenderTimes times;
+  Clock::time_point start = Clock::now();
+  const Scene scene = simulationScene(simulation, View::kChase, robot);
+  times.scene_ms = 1e3 * secondsSince(start);
+  OffscreenRenderer renderer;
+  start = Clock::now();
+  Image image = renderer.render(scene, options.render_width, options.render_height);
+  times.first_render_ms = 1e3 * secondsSince(start);
+  const int count = std::max(kMinRenders, options.repeat);
+  for (int i = 0; i < count; ++i) {
+    start = Clock::now();
+    image = renderer.render(scene, options.render_width, options.render_height);
+    times.render_ms.push_back(1e3 * secondsSince(start));
+  }
+
+  const char* tmpdir = std::getenv("TMPDIR");
+  std::string path = std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/bullet_sim_bench_XXXXXX.png";
+  const int fd = mkstemps(path.data(), 4);
+  if (fd < 0)
+    throw Failure("cannot create a temporary PNG file [" + path + "]: set TMPDIR to a writable directory");
+  close(fd);
+  for (int i = 0; i < count; ++i) {
+    std::string error;
+    start = Clock::now();
+    const bool written = writePng(path, image, &error);
+    times.png_ms.push_back(1e3 * secondsSince(start));
+    if (!written) {
+      std::remove(path.c_str());
+      throw Failure(error);
+    }
+  }
+  std::ifstream png(path, std::ios::binary | std::ios::ate);
+  times.png_bytes = static_cast<size_t>(png.tellg());
+  std::remove(path.c_str());
+  return times;
+}
+
+/// One JSON object, its fields in the order they are added. Numbers that are not finite become null.
+class JsonObject {
+ public:
+  void number(const std::string& key, double value) { field(key, format(value)); }
+  void text(const std::string& key, const std::optional<std::string>& value) {
+    field(key, value ? quote(*value) : "null");
+  }
+  void numbers(const std::string& key, const std::vector<double>& values) {
+    std::string list;
+    for (double value : values) list += (list.empty() ? "" : ", ") + format(value);
+    field(key, "[" + list + "]");
+  }
+  void texts(const std::string& key, const std::vector<std::string>& values) {
+    std::string list;
+    for (const auto& value : values) list += (list.empty() ? "\n    " : ",\n    ") + quote(value);
+    field(key, "[" + list + (list.empty() ? "]" : "\n  ]"));
+  }
+  std::string str() const {
+    std::string out = "{";
+    for (size_t i = 0; i < fields_.size(); ++i) out += (i ? ",\n  " : "\n  ") + fields_[i];
+    return out + "\n}\n";
+  }
+
+ private:
+  void field(const std::string& key, const std::string& value) {
+    fields_.push_back(quote(key) + ": " + value);
+  }
+  static std::string format(double value) {
+    if (!std::isfinite(value)) return "null";
+    std::ostringstream out;
+    out.precision(6);
+    out << value;
+    return out.str();
+  }
+  static std::string quote(const std::string& text) {
+    std::string out = "\"";
+    for (const char c : text) {
+      if (c == '"' || c == '\\') {
+        out += '\\';
+        out += c;
+      } else if (static_cast<unsigned char>(c) < 0x20) {
+        char escaped[8];
+        std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+        out += escaped;
+      } else {
+        out += c;
+      }
+    }
+    return out + "\"";
+  }
+  std::vector<std::string> fields_;
+};
+
+double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+int run(const Options& options) {
+  const PackageResolver resolver = PackageResolver::fromEnvironment();
+  std::vector<std::string> warnings;
+  const std::string urdf =
+      endsWith(options.robot, ".xacro") ? runXacro(options.robot, {}) : readUrdfFile(options.robot);
+  const ModelSpec model = parseModel(applyRobotOptions(urdf, options), options.robot, resolver, &warnings);
+  const std::string world_file = findWorld(options.world, resolver);
+  WorldSpec world = loadWorld(world_file, resolver, &warnings);
+  addObstacles(world, options);
+  const ModelSpec model_without_lidars = withoutLidars(model);
+  const bool has_lidars = model_without_lidars.sensors.size() != model.sensors.size();
+
+  // Runs with and without lidars take turns, so that a slow spell of a shared machine hits both alike. The
+  // first spawn is of the whole robot: startup_s is to its first step.
+  std::vector<DriveRun> lidar_runs, physics_runs;
+  for (int i = 0; i < options.repeat; ++i) {
+    if (has_lidars) lidar_runs.push_back(driveOnce(world, model, options, warnings));
+    physics_runs.push_back(driveOnce(world, model_without_lidars, options, warnings));
+  }
+  const DriveRun& first = has_lidars ? lidar_runs.front() : physics_runs.front();
+  const DriveRun& drive = physics_runs.front();  // every run follows the same path: physics is deterministic
+  const auto rtf = [&](const std::vector<DriveRun>& runs) {
+    std::vector<double> factors;
+    for (const DriveRun& run : runs) factors.push_back(options.duration / run.wall_s);
+    return factors;
+  };
+
+  // Rays and pictures of the robot settled at its spawn pose, its lidars having scanned.
+  SimulationOptions simulation_options;
+  simulation_options.physics.step_size = options.step;
+  Simulation settled(world, simulation_options);
+  const Robot& robot = settled.spawn(model.name, model, options.pose);
+  for (long i = 0; i < std::lround(kSettleTime / options.step); ++i) settled.step();
+  std::vector<LidarRays> lidars;
+  for (const RayLidar* lidar : robot.pluginsOf<RayLidar>())
+    lidars.push_back(lidarRays(lidar->config(), robot.body()));
+  size_t rays_per_scan = 0;
+  for (const auto& lidar : lidars) rays_per_scan += lidar.directions.size();
+  const std::vector<double> rays_per_s =
+      lidars.empty() ? std::vector<double>{} : measureRays(world, robot, lidars, options.repeat);
+  const double peak_rss_before_render_mb = peakRssMb();
+  const RenderTimes render = measureRender(settled, robot.name(), options);
+  std::vector<std::string> unique_warnings;
+  for (const auto& warning : warnings) {
+    if (std::find(unique_warnings.begin(), unique_warnings.end(), warning) == unique_warnings.end())
+      unique_warnings.push_back(warning);
+  }
+  for (const auto& warning : unique_warnings) std::cerr << "bench: warning: " << warning << "\n";
+
+  const Planar ideal = unicycle(drive.settled, options.v, options.w, options.duration);
+  const bool steady = options.duration > kSpinUpTime;
+  const Planar steady_ideal =
+      unicycle(drive.after_spin_up, options.v, options.w, options.duration - kSpinUpTime);
+
+  JsonObject json;
+  json.text("robot", options.robot);
+  json.text("world", world_file);
+  json.numbers("pose", {options.pose.x, options.pose.y, options.pose.yaw});
+  json.text("wheel_model", first.wheel_model);
+  json.text("wheel_model_requested", options.wheel_model);
+  json.number("step_s", options.step);
+  json.number("duration_s", options.duration);
+  json.numbers("cmd", {options.v, options.w});
+  json.number("lidars", static_cast<double>(lidars.size()));
+  json.number("lidar_rays_per_scan", static_cast<double>(rays_per_scan));
+  json.number("lidar_rate_hz", lidars.empty() ? NAN : lidars.front().update_rate);
+  json.number("obstacles", options.obstacles);
+  json.numbers("render_size",
+               {static_cast<double>(options.render_width), static_cast<double>(options.render_height)});
+  json.number("repeat", options.repeat);
+  json.number("rtf_physics", median(rtf(physics_runs)));
+  json.number("rtf_lidar", median(rtf(lidar_runs)));
+  json.number("rays_per_s", median(rays_per_s));
+  json.number("render_ms", median(render.render_ms));
+  json.number("png_ms", median(render.png_ms));
+  json.number("startup_s", first.startup_s);
+  json.number("startup_cpu_s", first.startup_cpu_s);
+  json.number("peak_rss_mb", peakRssMb());
+  json.number("pose_error_m", distance(drive.end, ideal));
+  json.number("pose_error_steady_m", steady ? distance(drive.end, steady_ideal) : NAN);
+  json.number("yaw_error_deg", std::remainder(drive.end.yaw - ideal.yaw, 2 * M_PI) * 180 / M_PI);
+  json.numbers("rtf_physics_runs", rtf(physics_runs));
+  json.numbers("rtf_lidar_runs", rtf(lidar_runs));
+  json.numbers("rays_per_s_runs", rays_per_s);
+  json.numbers("render_ms_runs", render.render_ms);
+  json.number("render_first_ms", render.first_render_ms);
+  json.number("scene_ms", render.scene_ms);
+  json.numbers("png_ms_runs", render.png_ms);
+  json.number("png_bytes", static_cast<double>(render.png_bytes));
+  json.number("peak_rss_before_render_mb", peak_rss_before_render_mb);
+  json.texts("warnings", unique_warnings);
+  std::cout << json.str();
+  return EXIT_SUCCESS;
+}
+
+}  // namespace
+}  // namespace bullet_sim
+
+int main(int argc, char** argv) {
+  using namespace bullet_sim;
+  Options options;
+  try {
+    options = parseArguments(argc, argv);
+  } catch (const UsageError& error) {
+    std::cerr << "bench: " << error.what() << "\n\n" << kUsage;
+    return kExitUsage;
+  }
+  if (options.help) {
+    std::cout << kUsage;
+    return EXIT_SUCCESS;
+  }
+  try {
+    return run(options);
+  } catch (const std::exception& error) {  // SpecError lists every problem of the file, one per line
+    std::cerr << "bench: " << error.what() << "\n";
+    return kExitFailure;
+  }
+}

@@ -1,0 +1,110 @@
+// The bench tool as a user runs it: its JSON parses and holds numbers, its options reach the robot, and bad
+// input gives the usage and exit status 2. A smoke test: timings are printed, never asserted.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+
+namespace bullet_sim {
+namespace {
+
+/// The bench scenario's robot and world.
+std::string scenario() {
+  return "--robot '" + test::packageFile("bullet_sim", "bench/bench_robot.urdf") + "' --world '" +
+         test::packageFile("bullet_sim", "bench/bench_home.world") + "'";
+}
+
+/// The numbers under `keys` of the JSON object `json`, read by Python's strict json module; a key that is
+/// missing or holds anything but a number fails the test.
+std::map<std::string, double> numbersIn(const std::string& json, const std::vector<std::string>& keys) {
+  char path[] = "/tmp/bullet_sim_bench_test_XXXXXX";
+  const int fd = mkstemp(path);
+  close(fd);
+  std::ofstream(path) << json;
+  std::string command =
+      "python3 -c 'import json, sys\n"
+      "values = json.load(open(sys.argv[1]))\n"
+      "for key in sys.argv[2:]:\n"
+      "    value = values.get(key)\n"
+      "    if isinstance(value, bool) or not isinstance(value, (int, float)):\n"
+      "        sys.exit(\"%s is %r, not a number\" % (key, value))\n"
+      "    print(key, repr(float(value)))' ";
+  command += path;
+  for (const auto& key : keys) command += " " + key;
+  const test::CommandResult result = test::run(command);
+  std::remove(path);
+  EXPECT_EQ(result.status, 0) << result.errors << "\nin\n" << json;
+  std::map<std::string, double> numbers;
+  std::istringstream lines(result.output);
+  std::string key;
+  for (double value; lines >> key >> value;) numbers[key] = value;
+  return numbers;
+}
+
+std::string bench(const std::string& args) { return std::string(BENCH) + " " + args; }
+
+TEST(Bench, PrintsOneJsonObjectOfNumbersAndFollowsTheCommand) {
+  const test::CommandResult result = test::run(bench(scenario() + " --cmd 0.5,0 --duration 2 --repeat 1"));
+  ASSERT_EQ(result.status, 0) << result.errors;
+  EXPECT_EQ(result.errors, "") << "the bench robot and world load without a warning";
+  const auto numbers =
+      numbersIn(result.output, {"rtf_physics", "rtf_lidar", "rays_per_s", "render_ms", "png_ms", "startup_s",
+                                "peak_rss_mb", "pose_error_m", "pose_error_steady_m", "lidar_rays_per_scan",
+                                "lidar_rate_hz", "duration_s", "repeat"});
+  for (const auto& [key, value] : numbers) EXPECT_GT(value, 0) << key;
+  EXPECT_EQ(numbers.at("lidar_rays_per_scan"), 360);
+  EXPECT_EQ(numbers.at("lidar_rate_hz"), 10);
+  // simulation_test holds the physics to its accuracy; these catch a bench that measures the wrong thing (a
+  // wrong frame or sign is off by about the 1 m driven). From rest, the wheels slip for a few centimetres.
+  EXPECT_LT(numbers.at("pose_error_m"), 0.1);
+  EXPECT_LT(numbers.at("pose_error_steady_m"), 0.01);
+}
+
+TEST(Bench, AppliesTheWheelModelAndLidarOptionsToTheRobot) {
+  const test::CommandResult result = test::run(
+      bench(scenario() + " --wheel-model raycast --lidar 1800x16 --lidar-rate 5 --duration 0.2 --repeat 1"));
+  ASSERT_EQ(result.status, 0) << result.errors;
+  const auto numbers = numbersIn(result.output, {"lidar_rays_per_scan", "lidar_rate_hz", "rays_per_s"});
+  EXPECT_EQ(numbers.at("lidar_rays_per_scan"), 1800 * 16);
+  EXPECT_EQ(numbers.at("lidar_rate_hz"), 5);
+  EXPECT_NE(result.output.find("\"wheel_model_requested\": \"raycast\""), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("\"pose_error_steady_m\": null"), std::string::npos)
+      << "no steady figure for a run shorter than the spin-up\n"
+      << result.output;
+}
+
+TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
+  for (const std::string args :
+       {"", "--world home.world", "--robot x.urdf --bogus 1", "--robot x.urdf --cmd 0.5",
+        "--robot x.urdf --lidar 1800x", "--robot x.urdf --repeat 0", "--robot x.urdf --wheel-model tank",
+        "--robot x.urdf --step -1", "--robot x.urdf --render 640"}) {
+    SCOPED_TRACE(args);
+    const test::CommandResult result = test::run(bench(args));
+    EXPECT_EQ(WEXITSTATUS(result.status), 2);
+    EXPECT_NE(result.errors.find("usage: bench"), std::string::npos) << result.errors;
+  }
+}
+
+TEST(Bench, ALoadErrorSaysWhatAndExitsWith1) {
+  test::CommandResult result = test::run(bench("--robot /nonexistent/robot.urdf"));
+  EXPECT_EQ(WEXITSTATUS(result.status), 1);
+  EXPECT_NE(result.errors.find("cannot read URDF [/nonexistent/robot.urdf]"), std::string::npos)
+      << result.errors;
+
+  result = test::run(bench("--robot '" + test::packageFile("bullet_sim", "bench/bench_robot.urdf") +
+                           "' --world no_such.world"));
+  EXPECT_EQ(WEXITSTATUS(result.status), 1);
+  EXPECT_NE(result.errors.find("no_such.world"), std::string::npos) << result.errors;
+}
+
+}  // namespace
+}  // namespace bullet_sim
