@@ -24,19 +24,18 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   solver.m_numIterations = options_.solver_iterations;
   solver.m_timeStep = options_.step_size;  // robots size their motor impulses from it before the first step
 
+  // One collision object per shape, not per model: a house's walls as one object would put every robot part
+  // next to all of them in the broadphase.
   for (const auto& model : world.models) {
-    if (model.collisions.empty()) continue;
-    btCompoundShape* compound = shapes_->makeCompound();
     for (const auto& collision : model.collisions) {
-      compound->addChildShape(toBullet(collision.origin), shapes_->make(collision.shape, /*moving=*/false));
+      auto object = std::make_unique<btCollisionObject>();
+      object->setCollisionShape(shapes_->make(collision.shape, /*moving=*/false));
+      object->setWorldTransform(toBullet(model.pose * collision.origin));
+      object->setFriction(1.0);  // Gazebo's default mu
+      object->setRestitution(0);
+      world_->addCollisionObject(object.get(), kStaticGroup, kRobotGroup);
+      statics_.push_back(std::move(object));
     }
-    auto object = std::make_unique<btCollisionObject>();
-    object->setCollisionShape(compound);
-    object->setWorldTransform(toBullet(model.pose));
-    object->setFriction(1.0);  // Gazebo's default mu
-    object->setRestitution(0);
-    world_->addCollisionObject(object.get(), kStaticGroup, kRobotGroup);
-    statics_.push_back(std::move(object));
   }
 }
 

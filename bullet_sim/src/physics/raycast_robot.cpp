@@ -54,6 +54,9 @@ RaycastRobot::RaycastRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, cons
   layout_ = partitionAtMovingJoints(spec_);
   for (size_t i = 0; i < spec_.links.size(); ++i) link_index_[spec_.links[i].name] = static_cast<int>(i);
   for (const auto& joint : spec_.joints) {
+    tree_child_.push_back(linkIndex(joint.child));
+    tree_parent_.push_back(linkIndex(joint.parent));
+    tree_moving_.push_back(joint.moves() ? static_cast<int>(joints_.size()) : -1);
     if (!joint.moves()) continue;
     joint_index_[joint.name] = static_cast<int>(joints_.size());
     joints_.push_back({&joint, linkIndex(joint.child), linkIndex(joint.parent)});
@@ -69,7 +72,7 @@ RaycastRobot::~RaycastRobot() { world_.removeRigidBody(chassis_.get()); }
 int RaycastRobot::linkIndex(const std::string& link) const { return link_index_.at(link); }
 
 void RaycastRobot::buildWheels() {
-  updateLinkFrames();  // the zero pose
+  linkFrames();  // the zero pose
   for (size_t j = 0; j < joints_.size(); ++j) {
     Joint& joint = joints_[j];
     if (joint.spec->type != JointSpec::Type::kContinuous) continue;
@@ -94,6 +97,7 @@ void RaycastRobot::buildWheels() {
         "or a cylinder along the joint axis): use <wheelModel>contact</wheelModel>");
   }
   diagnostics.throwIfErrors();
+  hub_in_root_.resize(wheels_.size());
   ray_origins_.resize(wheels_.size());
   ray_directions_.resize(wheels_.size());
   ray_hits_.resize(wheels_.size());
@@ -136,28 +140,41 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   damper_ = 2 * kDampingRatio * std::sqrt(spring_ * share);
 }
 
-void RaycastRobot::updateLinkFrames() {
+const std::vector<Eigen::Isometry3d>& RaycastRobot::linkFrames() const {
+  if (!frames_stale_) return link_in_root_;
   link_in_root_[0] = Eigen::Isometry3d::Identity();
-  for (const auto& joint : spec_.joints) {  // parents before children
-    const int child = linkIndex(joint.child);
-    const double position = joint.moves() ? joints_[joint_index_.at(joint.name)].position : 0.0;
-    link_in_root_[child] =
-        link_in_root_[linkIndex(joint.parent)] * joint.origin * jointMotion(joint, position);
+  for (size_t k = 0; k < spec_.joints.size(); ++k) {  // parents before children
+    const JointSpec& joint = spec_.joints[k];
+    const double position = tree_moving_[k] >= 0 ? joints_[tree_moving_[k]].position : 0.0;
+    link_in_root_[tree_child_[k]] =
+        link_in_root_[tree_parent_[k]] * joint.origin * jointMotion(joint, position);
   }
+  frames_stale_ = false;
+  return link_in_root_;
+}
+
+void RaycastRobot::updateHubs() {
+  if (!hubs_stale_) return;
+  const auto& frames = linkFrames();
+  for (size_t w = 0; w < wheels_.size(); ++w) hub_in_root_[w] = frames[joints_[wheels_[w].joint].child_link];
+  hubs_stale_ = false;
 }
 
 void RaycastRobot::beforeStep() {
   for (auto& joint : joints_) {
-    if (joint.wheel < 0) joint.position += joint.velocity * dt_;  // kinematic joints move at their velocity
+    if (joint.wheel < 0 && joint.velocity != 0) {  // kinematic joints move at their velocity
+      joint.position += joint.velocity * dt_;
+      hubs_stale_ = frames_stale_ = true;
+    }
   }
-  updateLinkFrames();
+  updateHubs();
 
   const btTransform body = chassis_->getWorldTransform();
   const Eigen::Isometry3d root = fromBullet(body) * root_to_body_.inverse();
   const Eigen::Vector3d up = root.linear().col(2);
   const Eigen::Vector3d com = fromBullet(body.getOrigin());
   for (size_t w = 0; w < wheels_.size(); ++w) {
-    ray_origins_[w] = root * link_in_root_[joints_[wheels_[w].joint].child_link].translation();
+    ray_origins_[w] = root * hub_in_root_[w].translation();
     ray_directions_[w] = -up;
   }
   // A ray reaches one radius below the rim, so a wheel finds the ground before it lands.
@@ -201,7 +218,7 @@ void RaycastRobot::beforeStep() {
     const double force = std::max(0.0, spring_ * compression + damper_ * closing);
     contact.normal_impulse = force * dt_;
     chassis_->applyImpulse(toBullet(up * contact.normal_impulse), toBullet(contact.offset));
-    const Eigen::Vector3d axis = (root * link_in_root_[joint.child_link]).linear() * joint.spec->axis;
+    const Eigen::Vector3d axis = root.linear() * hub_in_root_[w].linear() * joint.spec->axis;
     contact.forward = axis.cross(up).normalized();  // where a positive spin rolls the wheel
     contact.lateral = up.cross(contact.forward);
     contact.touching = !wheel.caster;
@@ -256,13 +273,14 @@ void RaycastRobot::beforeStep() {
 }
 
 void RaycastRobot::afterStep() {
-  updateLinkFrames();
+  frames_stale_ = true;  // the wheels turned
   root_pose_ = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
 }
 
 void RaycastRobot::reset(const Eigen::Isometry3d& root_pose) {
   for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = 0;
   for (auto& wheel : wheels_) wheel.spin_target = wheel.max_torque = 0;
+  hubs_stale_ = frames_stale_ = true;
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
   chassis_->setLinearVelocity(btVector3(0, 0, 0));
   chassis_->setAngularVelocity(btVector3(0, 0, 0));
@@ -291,7 +309,9 @@ void RaycastRobot::setJointPosition(int joint, double position, double) {
     setJointVelocity(joint, 0, target.spec->effort);  // a wheel held still brakes
     return;
   }
-  target.position = std::clamp(position, target.spec->lower, target.spec->upper);
+  const double held = std::clamp(position, target.spec->lower, target.spec->upper);
+  if (held != target.position) hubs_stale_ = frames_stale_ = true;
+  target.position = held;
   target.velocity = 0;
 }
 
@@ -299,7 +319,7 @@ Eigen::Isometry3d RaycastRobot::linkPose(const std::string& link) const {
   const auto found = link_index_.find(link);
   if (found == link_index_.end())
     throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
-  return root_pose_ * link_in_root_[found->second];
+  return root_pose_ * linkFrames()[found->second];
 }
 
 Eigen::Vector3d RaycastRobot::linkLinearVelocity(const std::string& link) const {

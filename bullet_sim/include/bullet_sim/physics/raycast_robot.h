@@ -76,8 +76,10 @@ class RaycastRobot : public PhysicsRobot {
 
   void buildWheels();
   void buildChassis(const Eigen::Isometry3d& root_pose);
-  /// Link frames in the root link's frame, from the joint positions.
-  void updateLinkFrames();
+  /// Link frames in the root link's frame, from the joint positions; computed when asked for, after a change.
+  const std::vector<Eigen::Isometry3d>& linkFrames() const;
+  /// Where each wheel's hub is in the root frame, with its axle: only kinematic joints move them.
+  void updateHubs();
   int linkIndex(const std::string& link) const;
 
   ModelSpec spec_;
@@ -88,13 +90,18 @@ class RaycastRobot : public PhysicsRobot {
   std::vector<Joint> joints_;
   std::unordered_map<std::string, int> joint_index_;
   std::unordered_map<std::string, int> link_index_;
+  /// Per spec_.joints entry: its child and parent link indices, and its index into joints_ (-1 when fixed).
+  std::vector<int> tree_child_, tree_parent_, tree_moving_;
   std::vector<Wheel> wheels_;
   double mass_ = 0;
   double spring_ = 0;               ///< [N/m] per wheel
   double damper_ = 0;               ///< [N s/m] per wheel
   Eigen::Isometry3d root_to_body_;  ///< the chassis body's frame (com, principal axes) in the root link frame
-  std::vector<Eigen::Isometry3d> link_in_root_;
-  Eigen::Isometry3d root_pose_;  ///< world pose of the root link after the last step
+  mutable std::vector<Eigen::Isometry3d> link_in_root_;
+  mutable bool frames_stale_ = true;
+  bool hubs_stale_ = true;
+  std::vector<Eigen::Isometry3d> hub_in_root_;  ///< per wheel
+  Eigen::Isometry3d root_pose_;                 ///< world pose of the root link after the last step
 
   std::unique_ptr<BulletShapes> shapes_;
   std::unique_ptr<btRigidBody> chassis_;
