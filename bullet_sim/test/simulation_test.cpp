@@ -61,7 +61,9 @@ void drive(Simulation& simulation, WheeledDrive& drive, double v, double w, doub
   const auto steps = std::lround(seconds / simulation.stepSize());
   const auto resend = std::lround(0.1 / simulation.stepSize());
   for (long i = 0; i < steps; ++i) {
-    if (i % resend == 0) ASSERT_TRUE(drive.setCommand(v, w, simulation.time()));
+    if (i % resend == 0) {
+      ASSERT_TRUE(drive.setCommand(v, w, simulation.time()));
+    }
     simulation.step();
   }
 }
@@ -337,8 +339,11 @@ TEST(Lidar, RangesBeyondMaxAreInfAndBelowMinAreMinusInf) {
     EXPECT_DOUBLE_EQ(scan.angle_increment, M_PI / 180);
     int below_min = 0, beyond_max = 0;
     expectRoomScan(scan, &below_min, &beyond_max);
-    if (x == 0.0) EXPECT_GT(beyond_max, 0) << "the wall ahead is 3 m away, beyond the 2.5 m maximum";
-    if (x == 2.8) EXPECT_GT(below_min, 0) << "the wall ahead is 0.2 m away, inside the 0.3 m minimum";
+    if (x == 0.0) {
+      EXPECT_GT(beyond_max, 0) << "the wall ahead is 3 m away, beyond the 2.5 m maximum";
+    } else {
+      EXPECT_GT(below_min, 0) << "the wall ahead is 0.2 m away, inside the 0.3 m minimum";
+    }
   }
 }
 

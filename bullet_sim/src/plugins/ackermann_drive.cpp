@@ -126,7 +126,10 @@ SteeringAngles ackermannAngles(double wheelbase, double steering_track, double c
 
 AckermannDrive::AckermannDrive(std::string name, AckermannConfig config, const ModelSpec& model,
                                const RobotBody& body, Diagnostics& diagnostics)
-    : Plugin(std::move(name)), config_(std::move(config)), timer_(config_.update_rate) {
+    : Plugin(std::move(name)),
+      config_(std::move(config)),
+      timer_(config_.update_rate),
+      command_(config_.command_timeout) {
   const std::string where = "plugin [" + this->name() + "]";
   if (!model.link(config_.robot_base_frame)) {
     diagnostics.error(where + " <robot_base_frame> [" + config_.robot_base_frame + "] is not a link" +
@@ -249,11 +252,7 @@ AckermannDrive::AckermannDrive(std::string name, AckermannConfig config, const M
 }
 
 bool AckermannDrive::setCommand(double linear, double angular, double sim_time) {
-  if (!std::isfinite(linear) || !std::isfinite(angular)) return false;
-  linear_ = linear;
-  angular_ = angular;
-  command_time_ = sim_time;
-  return true;
+  return command_.set(linear, angular, sim_time);
 }
 
 double AckermannDrive::curvatureLimit(double side) const {
@@ -273,10 +272,8 @@ double AckermannDrive::curvatureLimit(double side) const {
 void AckermannDrive::applyCommands(const StepTime& time, RobotBody& body) {
   updated_this_step_ = timer_.due(time);
   if (!updated_this_step_) return;
-  const bool timed_out =
-      config_.command_timeout > 0 && time.sim_time - command_time_ > config_.command_timeout;
-  const double linear = timed_out ? 0.0 : std::clamp(linear_, -config_.max_speed, config_.max_speed);
-  const double angular = timed_out ? 0.0 : angular_;
+  const double linear = std::clamp(command_.linear(time.sim_time), -config_.max_speed, config_.max_speed);
+  const double angular = command_.angular(time.sim_time);
 
   // At v = 0 a turn cannot be driven: the wheels steer as far as they go towards the side of w.
   const double wanted = linear != 0 ? angular / linear : angular > 0 ? INFINITY : angular < 0 ? -INFINITY : 0;
@@ -299,19 +296,13 @@ void AckermannDrive::applyCommands(const StepTime& time, RobotBody& body) {
 void AckermannDrive::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
   if (!updated_this_step_) return;
   // The base's pose in the world, i.e. ground truth, as ROS 2's plugin reports it.
-  const Eigen::Isometry3d base = body.linkPose(config_.robot_base_frame);
-  const Eigen::Matrix3d to_base = base.linear().transpose();
-  odometry_.stamp = time.sim_time;
-  odometry_.pose = base;
-  odometry_.linear_velocity = to_base * body.linkLinearVelocity(config_.robot_base_frame);
-  odometry_.angular_velocity = to_base * body.linkAngularVelocity(config_.robot_base_frame);
+  setGroundTruth(odometry_, body, config_.robot_base_frame, time.sim_time);
   ++odometry_count_;
 }
 
 void AckermannDrive::reset() {
   timer_.reset();
-  linear_ = angular_ = 0;
-  command_time_ = 0;
+  command_.reset();
   curvature_ = 0;
   steering_targets_ = {};
   odometry_.stamp = 0;

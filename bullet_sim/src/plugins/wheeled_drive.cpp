@@ -33,8 +33,8 @@ void readCommon(PluginTags& tags, DriveConfig& config) {
   config.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
   config.wheel_model = tags.text("wheelModel", config.wheel_model);
   if (config.wheel_model != "contact" && config.wheel_model != "raycast") {
-    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" + config.wheel_model +
-                             "]");
+    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" +
+                             config.wheel_model + "]");
   }
   tags.accept({"rosDebugLevel", "alwaysOn"});
 }
@@ -91,7 +91,10 @@ DriveConfig parseSkidSteerConfig(PluginTags& tags) {
 
 WheeledDrive::WheeledDrive(std::string name, DriveConfig config, const ModelSpec& model,
                            const RobotBody& body, Diagnostics& diagnostics)
-    : Plugin(std::move(name)), config_(std::move(config)), timer_(config_.update_rate) {
+    : Plugin(std::move(name)),
+      config_(std::move(config)),
+      timer_(config_.update_rate),
+      command_(config_.command_timeout) {
   const std::string where = "plugin [" + this->name() + "]";
   const auto poses = linkPosesAtZero(model);
   if (!model.link(config_.robot_base_frame)) {
@@ -163,11 +166,7 @@ WheeledDrive::WheeledDrive(std::string name, DriveConfig config, const ModelSpec
 }
 
 bool WheeledDrive::setCommand(double linear, double angular, double sim_time) {
-  if (!std::isfinite(linear) || !std::isfinite(angular)) return false;
-  linear_ = linear;
-  angular_ = angular;
-  command_time_ = sim_time;
-  return true;
+  return command_.set(linear, angular, sim_time);
 }
 
 void WheeledDrive::applyCommands(const StepTime& time, RobotBody& body) {
@@ -176,10 +175,8 @@ void WheeledDrive::applyCommands(const StepTime& time, RobotBody& body) {
   const double elapsed = time.sim_time - last_update_;
   last_update_ = time.sim_time;
 
-  const bool timed_out =
-      config_.command_timeout > 0 && time.sim_time - command_time_ > config_.command_timeout;
-  const double linear = timed_out ? 0.0 : linear_;
-  const double angular = timed_out ? 0.0 : angular_;
+  const double linear = command_.linear(time.sim_time);
+  const double angular = command_.angular(time.sim_time);
   const double radius = config_.wheel_diameter / 2;
   const auto drive = [&](std::vector<Wheel>& wheels, double target) {
     for (auto& wheel : wheels) {
@@ -219,8 +216,6 @@ Eigen::Vector2d WheeledDrive::integrateEncoders(const RobotBody& body) {
 
 void WheeledDrive::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
   if (!updated_this_step_) return;
-  const Eigen::Isometry3d base = body.linkPose(config_.robot_base_frame);
-  const Eigen::Matrix3d to_base = base.linear().transpose();
   const double elapsed = time.sim_time - odometry_.stamp;
   odometry_.stamp = time.sim_time;
   if (config_.odometry_from_encoders) {
@@ -230,10 +225,7 @@ void WheeledDrive::sense(const StepTime& time, const RobotBody& body, const RayC
     odometry_.linear_velocity = Eigen::Vector3d(moved.x() / elapsed, 0, 0);
     odometry_.angular_velocity = Eigen::Vector3d(0, 0, moved.y() / elapsed);
   } else {
-    // Gazebo's world source: the base's pose in the world, i.e. ground truth.
-    odometry_.pose = base;
-    odometry_.linear_velocity = to_base * body.linkLinearVelocity(config_.robot_base_frame);
-    odometry_.angular_velocity = to_base * body.linkAngularVelocity(config_.robot_base_frame);
+    setGroundTruth(odometry_, body, config_.robot_base_frame, time.sim_time);
   }
   ++odometry_count_;
 
@@ -256,8 +248,7 @@ void WheeledDrive::sense(const StepTime& time, const RobotBody& body, const RayC
 void WheeledDrive::reset() {
   timer_.reset();
   last_update_ = 0;
-  linear_ = angular_ = 0;
-  command_time_ = 0;
+  command_.reset();
   encoder_pose_.setZero();
   odometry_.stamp = 0;
   for (auto* wheels : {&left_, &right_}) {

@@ -39,6 +39,7 @@
 #include <optional>
 #include <string>
 
+#include "bullet_sim/plugins/drive_support.h"
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/plugin.h"
 
@@ -139,9 +140,7 @@ class AckermannDrive : public Plugin {
   std::array<double, 2> left_limits_{}, right_limits_{};
   UpdateTimer timer_;
   bool updated_this_step_ = false;
-  double linear_ = 0;
-  double angular_ = 0;
-  double command_time_ = 0;
+  VelocityCommand command_;
   double curvature_ = 0;
   SteeringAngles steering_targets_;
   Odometry odometry_;

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/plugins/drive_support.h"
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/plugin.h"
 
@@ -95,9 +96,7 @@ class WheeledDrive : public Plugin {
   UpdateTimer timer_;
   bool updated_this_step_ = false;
   double last_update_ = 0;
-  double linear_ = 0;
-  double angular_ = 0;
-  double command_time_ = 0;
+  VelocityCommand command_;
   Eigen::Vector3d encoder_pose_ = Eigen::Vector3d::Zero();  ///< x [m], y [m], yaw [rad]
   Odometry odometry_;
   uint64_t odometry_count_ = 0;
