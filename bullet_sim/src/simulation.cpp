@@ -1,6 +1,7 @@
 #include "bullet_sim/simulation.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 
@@ -34,6 +35,7 @@ Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
   return root;
 }
 
+/// The same primitive of the same size within 1 mm, or the same mesh file at the same scale.
 /// The wheel-ground model of a robot: what its drive plugin's <wheelModel> asks for (the plugin's config
 /// checks the value), the default for a drive without the tag, and contact for a robot with no drive plugin
 /// at all.
@@ -89,6 +91,19 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     body = std::make_unique<MultiBodyRobot>(std::move(model), physics_->bullet(), root);
   }
   auto robot = std::make_unique<Robot>(name, std::move(body), root);
+  for (const auto& [joint, position] : pose.joints) {
+    const int index = robot->body().jointIndex(joint);
+    if (index < 0) {
+      diagnostics.error("initial position for [" + joint + "], which is not a moving joint" +
+                        didYouMean(joint, robot->body().spec().jointNames()));
+    } else if (!std::isfinite(position)) {
+      diagnostics.error("initial position for [" + joint + "] is not a number");
+    } else {
+      robot->spawn_joints_.emplace_back(index, position);
+    }
+  }
+  diagnostics.throwIfErrors();
+  robot->body().reset(root, robot->spawn_joints_);
   const auto& parts = robot->body().parts();
   for (size_t k = 0; k < parts.size(); ++k) {
     robot->ray_bodies_.push_back(parts[k].collisions.empty()
@@ -179,7 +194,7 @@ void Simulation::refreshRays() {
 
 void Simulation::resetWorld() {
   for (auto& robot : robots_) {
-    robot->body_->reset(robot->spawn_pose_);
+    robot->body_->reset(robot->spawn_pose_, robot->spawn_joints_);
     for (auto& plugin : robot->plugins_) plugin->reset();
   }
   refreshRays();

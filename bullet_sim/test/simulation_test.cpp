@@ -10,6 +10,7 @@
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/simulation.h"
+#include "bullet_sim/spec/diagnostics.h"
 #include "bullet_sim/spec/model_geometry.h"
 #include "test_support.h"
 
@@ -413,6 +414,50 @@ TEST(Simulation, TheSameInputsAndSeedGiveABitIdenticalRun) {
     }
     EXPECT_EQ(first.ranges, second.ranges);
     EXPECT_NE(runWheelchair(8, wheel_model).ranges, first.ranges) << "the seed drives the lidar noise";
+  }
+}
+
+TEST(Simulation, InitialJointPositionsApplyAtSpawnAndAfterAReset) {
+  for (const auto& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    Simulation simulation(test::shippedWorld("empty.world"));
+    SpawnPose pose;
+    pose.joints = {{"front_left_joint", 1.0}, {"rear_right_joint", 0.5}};
+    Robot& robot = simulation.spawn("chair", test::wheelchair(wheel_model), pose);
+    const auto position = [&](const char* joint) {
+      return robot.body().jointPosition(robot.body().jointIndex(joint));
+    };
+    EXPECT_NEAR(position("front_left_joint"), 1.0, 1e-9);
+    EXPECT_NEAR(position("rear_right_joint"), 0.5, 1e-9);
+    EXPECT_NEAR(position("front_right_joint"), 0.0, 1e-9);
+    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0, 0.5);
+    simulation.resetSimulation();
+    EXPECT_NEAR(position("front_left_joint"), 1.0, 1e-9);
+    EXPECT_NEAR(position("rear_right_joint"), 0.5, 1e-9);
+
+    SpawnPose typo;
+    typo.joints = {{"front_left_jiont", 1.0}};
+    try {
+      simulation.spawn("other", test::wheelchair(wheel_model), typo);
+      ADD_FAILURE() << "a misspelt joint was accepted";
+    } catch (const SpecError& e) {
+      EXPECT_NE(std::string(e.what()).find("[front_left_jiont], which is not a moving joint (did you mean "
+                                           "[front_left_joint]?)"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST(Simulation, PanTiltHoldsWhereItSpawns) {
+  for (const auto& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    Simulation simulation(test::shippedWorld("empty.world"));
+    SpawnPose pose;
+    pose.joints = {{"jq1_Joint", 0.3}};
+    Robot& robot = simulation.spawn("car", test::yahboomcar(wheel_model), pose);
+    for (int i = 0; i < 1000; ++i) simulation.step();
+    EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq1_Joint")), 0.3, 0.01);
   }
 }
 

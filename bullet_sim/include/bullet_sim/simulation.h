@@ -2,6 +2,7 @@
 // every robot's plugins around the physics. ROS-free; time is a count of steps, never a clock.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,9 +20,10 @@ namespace bullet_sim {
 /// Where a robot's root link goes: x, y, yaw, and optionally z, roll and pitch. Without z, the robot's lowest
 /// collision point rests on the ground (z = 0): no falling from the sky, no sinking.
 struct SpawnPose {
-  double x = 0, y = 0, yaw = 0;  ///< [m], [m], [rad]
-  std::optional<double> z;       ///< [m]
-  double roll = 0, pitch = 0;    ///< [rad]
+  double x = 0, y = 0, yaw = 0;          ///< [m], [m], [rad]
+  std::optional<double> z;               ///< [m]
+  double roll = 0, pitch = 0;            ///< [rad]
+  std::map<std::string, double> joints;  ///< initial joint positions (spawn_model -J) [rad] or [m]; others 0
 };
 
 struct SimulationOptions {
@@ -56,6 +58,7 @@ class Robot {
   std::string name_;
   std::unique_ptr<PhysicsRobot> body_;
   Eigen::Isometry3d spawn_pose_;
+  JointPositions spawn_joints_;
   std::vector<std::unique_ptr<Plugin>> plugins_;
   std::vector<BodyId> ray_bodies_;  ///< per part; kNoBody for a part without collisions
 };
@@ -69,9 +72,9 @@ class Simulation {
 
   /// Adds a robot named `name`. Throws SpecError listing every problem (a name in use, a plugin naming a
   /// missing joint, ...), and then leaves the simulation as it was. Load messages go to `warnings`.
-  /// A world saved with the robot in it is refused: a world model of the robot's name, or one with exactly the
-  /// robot's collision shapes (matched one to one by type and size) whose bounding box overlaps the robot's
-  /// at the spawn pose.
+  /// A world saved with the robot in it is refused: a world model of the robot's name, or one with exactly
+  /// the robot's collision shapes (matched one to one by type and size) whose bounding box overlaps the
+  /// robot's at the spawn pose.
   Robot& spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
                std::vector<std::string>* warnings = nullptr);
   /// False when there is no robot of that name.

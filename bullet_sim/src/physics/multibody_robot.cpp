@@ -173,7 +173,7 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
     }
     if (spec.friction > 0) motorFor(joint);  // dry joint friction: a motor holding zero velocity
   }
-  reset(root_pose);
+  reset(root_pose, {});
 }
 
 btMultiBodyJointMotor* MultiBodyRobot::motorFor(Joint& joint) {
@@ -220,7 +220,7 @@ void MultiBodyRobot::afterStep() {
   }
 }
 
-void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose) {
+void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   body_->setBaseVel(btVector3(0, 0, 0));
   body_->setBaseOmega(btVector3(0, 0, 0));
@@ -233,6 +233,7 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose) {
       joint.motor->setMaxAppliedImpulse(joint.spec->friction * dt_);
     }
   }
+  for (const auto& [joint, position] : joints) body_->setJointPos(joints_.at(joint).bullet_link, position);
   body_->clearForcesAndTorques();
   body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
   part_poses_.resize(parts_.size());

@@ -64,7 +64,7 @@ RaycastRobot::RaycastRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, cons
   link_in_root_.resize(spec_.links.size(), Eigen::Isometry3d::Identity());
   buildWheels();
   buildChassis(root_pose);
-  reset(root_pose);
+  reset(root_pose, {});
 }
 
 RaycastRobot::~RaycastRobot() { world_.removeRigidBody(chassis_.get()); }
@@ -277,8 +277,9 @@ void RaycastRobot::afterStep() {
   root_pose_ = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
 }
 
-void RaycastRobot::reset(const Eigen::Isometry3d& root_pose) {
+void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
   for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = 0;
+  for (const auto& [joint, position] : joints) joints_.at(joint).position = position;
   for (auto& wheel : wheels_) wheel.spin_target = wheel.max_torque = 0;
   hubs_stale_ = frames_stale_ = true;
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));

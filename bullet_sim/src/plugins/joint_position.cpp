@@ -24,7 +24,9 @@ JointPosition::JointPosition(const PluginSpec& spec, const ModelSpec& model, con
                         "] has no effort limit, so nothing can hold it: set <limit effort=...> in the URDF");
       continue;
     }
-    held_.push_back({name, body.jointIndex(name), joint->lower, joint->upper, joint->effort});
+    const int index = body.jointIndex(name);
+    const double initial = std::clamp(body.jointPosition(index), joint->lower, joint->upper);
+    held_.push_back({name, index, joint->lower, joint->upper, joint->effort, initial, initial});
   }
   if (!tags.has("jointName")) {
     diagnostics.warning(tags.where() + " has no <jointName> (a bullet_sim tag): it holds no joint");
@@ -48,7 +50,7 @@ void JointPosition::applyCommands(const StepTime&, RobotBody& body) {
 }
 
 void JointPosition::reset() {
-  for (auto& held : held_) held.target = 0;
+  for (auto& held : held_) held.target = held.initial;
 }
 
 }  // namespace bullet_sim

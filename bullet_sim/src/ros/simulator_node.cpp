@@ -159,9 +159,15 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
   const std::string source = "model [" + request.model_name + "]";
   try {
     std::vector<std::string> warnings;
+    if (request.joint_names.size() != request.joint_positions.size()) {
+      throw std::invalid_argument("joint_names and joint_positions differ in length");
+    }
     ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings);
-    Robot& robot = simulation_->spawn(request.model_name, std::move(model),
-                                      toSpawnPose(request.initial_pose, request.place_on_ground), &warnings);
+    SpawnPose pose = toSpawnPose(request.initial_pose, request.place_on_ground);
+    for (size_t i = 0; i < request.joint_names.size(); ++i) {
+      pose.joints[request.joint_names[i]] = request.joint_positions[i];
+    }
+    Robot& robot = simulation_->spawn(request.model_name, std::move(model), pose, &warnings);
     auto adapter = std::make_unique<RobotAdapter>(robot, request.robot_namespace, tf_,
                                                   [this] { return simulation_->time(); });
     for (const auto& warning : warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());

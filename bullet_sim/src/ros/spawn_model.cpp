@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
 
   std::map<std::string, std::string> values;
   bool urdf = false, unpause = false, have_z = false;
-  std::vector<std::string> joints;
+  std::vector<std::pair<std::string, std::string>> joints;
   for (size_t i = 1; i < args.size(); ++i) {
     const std::string& flag = args[i];
     if (flag == "-urdf") {
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     } else if (flag == "-unpause") {
       unpause = true;
     } else if (flag == "-J" && i + 2 < args.size()) {
-      joints.push_back(args[i + 1] + "=" + args[i + 2]);
+      joints.emplace_back(args[i + 1], args[i + 2]);
       i += 2;
     } else if (flag == "-sdf" || flag == "-database" || flag == "-stdin") {
       return fail(flag + " is not supported: bullet_sim spawns URDF (-urdf with -file or -param)");
@@ -53,7 +53,6 @@ int main(int argc, char** argv) {
   }
   if (!urdf) return fail("give -urdf: bullet_sim spawns URDF models");
   if (!values.count("model")) return fail("give -model NAME");
-  if (!joints.empty()) ROS_WARN("-J initial joint positions are not applied yet; joints start at 0");
 
   std::string xml;
   if (values.count("file")) {
@@ -88,6 +87,14 @@ int main(int argc, char** argv) {
     spawn.request.initial_pose.orientation.w = q.w();
   } catch (const std::exception& e) {
     return fail(e.what());
+  }
+  for (const auto& [joint, value] : joints) {
+    try {
+      spawn.request.joint_positions.push_back(std::stod(value));
+    } catch (const std::exception&) {
+      return fail("-J " + joint + " must be followed by a number, not [" + value + "]");
+    }
+    spawn.request.joint_names.push_back(joint);
   }
   spawn.request.model_name = values["model"];
   spawn.request.model_xml = xml;

@@ -34,7 +34,7 @@ class MultiBodyRobot : public PhysicsRobot {
 
   void beforeStep() override;
   void afterStep() override;
-  void reset(const Eigen::Isometry3d& root_pose) override;
+  void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) override;
 
   const ModelSpec& spec() const override { return spec_; }
   int jointIndex(const std::string& joint) const override;

@@ -52,6 +52,9 @@ class RobotBody {
   virtual Eigen::Isometry3d partPose(int part) const = 0;
 };
 
+/// Joint positions by joint index (see RobotBody::jointIndex): [rad] or [m].
+using JointPositions = std::vector<std::pair<int, double>>;
+
 /// The physics side of a robot: what the simulation calls around each step, on top of what plugins see.
 class PhysicsRobot : public RobotBody {
  public:
@@ -59,8 +62,9 @@ class PhysicsRobot : public RobotBody {
   virtual void beforeStep() = 0;
   /// Refreshes the cached link frames; call after the world steps.
   virtual void afterStep() = 0;
-  /// Puts the robot back at `root_pose` with every joint at 0 and at rest.
-  virtual void reset(const Eigen::Isometry3d& root_pose) = 0;
+  /// Puts the robot back at `root_pose`, at rest, with the joints in `joints` (index, position) there and
+  /// every other joint at 0.
+  virtual void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) = 0;
 };
 
 }  // namespace bullet_sim

@@ -1,8 +1,8 @@
 // Holds named joints at commanded positions with a motor, so that a pan/tilt does not sag under gravity.
 // Declared as libgazebo_ros_joint_pose_trajectory.so (Gazebo's plugin that sets joints from a
 // trajectory_msgs/JointTrajectory). Tags: topicName [set_joint_trajectory], updateRate, robotNamespace;
-// ours: jointName [comma-separated; the joints held, at 0 until commanded]. The motor's effort is the joint's
-// URDF effort limit.
+// ours: jointName [comma-separated; the joints held, where the robot spawned until commanded]. The motor's
+// effort is the joint's URDF effort limit.
 #pragma once
 
 #include "bullet_sim/plugins/plugin.h"
@@ -30,7 +30,8 @@ class JointPosition : public Plugin {
     int joint;
     double lower, upper;  ///< [rad] or [m]
     double effort;        ///< [N m] or [N]
-    double target = 0;
+    double initial;  ///< where the robot spawned with it
+    double target;
   };
   std::vector<Held> held_;
   std::string topic_ = "set_joint_trajectory";
