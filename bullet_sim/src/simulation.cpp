@@ -36,6 +36,51 @@ Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
 }
 
 /// The same primitive of the same size within 1 mm, or the same mesh file at the same scale.
+bool sameShape(const Shape& a, const Shape& b) {
+  constexpr double kTolerance = 0.001;  // [m] saved worlds round sizes (Gazebo writes 6 significant digits)
+  if (a.type != b.type) return false;
+  switch (a.type) {
+    case Shape::Type::kBox:
+      return (a.box_size - b.box_size).cwiseAbs().maxCoeff() < kTolerance;
+    case Shape::Type::kCylinder:
+      return std::abs(a.radius - b.radius) < kTolerance && std::abs(a.length - b.length) < kTolerance;
+    case Shape::Type::kSphere:
+      return std::abs(a.radius - b.radius) < kTolerance;
+    case Shape::Type::kMesh:  // a saved world names it model://..., the URDF package://...
+      return std::filesystem::path(a.mesh_path).filename() == std::filesystem::path(b.mesh_path).filename() &&
+             a.mesh_scale.isApprox(b.mesh_scale);
+    case Shape::Type::kPlane:
+      return false;
+  }
+  return false;
+}
+
+/// Whether `world_model` is a saved copy of `model` in the way of its spawn at `root`: it has exactly the
+/// robot's collision shapes, matched one to one (Gazebo saves each URDF collision as one SDF collision, at
+/// whatever joint angles it had), and its bounding box overlaps the robot's.
+bool isCopyInTheWay(const WorldModelSpec& world_model, const ModelSpec& model,
+                    const Eigen::Isometry3d& root) {
+  std::vector<const Shape*> unmatched;
+  Eigen::AlignedBox3d robot_box;
+  const auto links = linkPosesAtZero(model);
+  for (const auto& link : model.links) {
+    for (const auto& collision : link.collisions) {
+      unmatched.push_back(&collision.shape);
+      robot_box.extend(boundingBox(collision.shape, root * links.at(link.name) * collision.origin));
+    }
+  }
+  if (unmatched.empty() || unmatched.size() != world_model.collisions.size()) return false;
+  Eigen::AlignedBox3d copy_box;
+  for (const auto& collision : world_model.collisions) {
+    const auto match = std::find_if(unmatched.begin(), unmatched.end(),
+                                    [&](const Shape* shape) { return sameShape(*shape, collision.shape); });
+    if (match == unmatched.end()) return false;
+    unmatched.erase(match);
+    copy_box.extend(boundingBox(collision.shape, world_model.pose * collision.origin));
+  }
+  return robot_box.intersects(copy_box);
+}
+
 /// The wheel-ground model of a robot: what its drive plugin's <wheelModel> asks for (the plugin's config
 /// checks the value), the default for a drive without the tag, and contact for a robot with no drive plugin
 /// at all.
@@ -81,6 +126,10 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     if (world_model.name == name) {
       diagnostics.error("the world already holds a model named [" + name +
                         "]: was the world saved with the robot in it? Remove it from the .world file");
+    } else if (isCopyInTheWay(world_model, model, root)) {
+      diagnostics.error("the world's model [" + world_model.name + "] has the collision shapes of robot [" +
+                        name + "] where it spawns: was the world saved with the robot in it? Remove [" +
+                        world_model.name + "] from the .world file, or spawn the robot elsewhere");
     }
   }
   diagnostics.throwIfErrors();

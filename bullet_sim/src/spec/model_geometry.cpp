@@ -55,6 +55,35 @@ double lowestPoint(const Shape& shape, const Eigen::Isometry3d& pose) {
   return std::numeric_limits<double>::infinity();
 }
 
+Eigen::AlignedBox3d boundingBox(const Shape& shape, const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d rotation = pose.linear();
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();  // half extents along the world axes
+  switch (shape.type) {
+    case Shape::Type::kBox:
+      half = rotation.cwiseAbs() * (shape.box_size / 2);
+      break;
+    case Shape::Type::kCylinder:
+      for (int i = 0; i < 3; ++i) {
+        const double axis = std::abs(rotation(i, 2));
+        half(i) = shape.length / 2 * axis + shape.radius * std::sqrt(std::max(0.0, 1.0 - axis * axis));
+      }
+      break;
+    case Shape::Type::kSphere:
+      half.setConstant(shape.radius);
+      break;
+    case Shape::Type::kMesh: {
+      Eigen::AlignedBox3d box;
+      if (shape.mesh) {
+        for (const auto& v : shape.mesh->vertices) box.extend(pose * v);
+      }
+      return box;
+    }
+    case Shape::Type::kPlane:
+      return Eigen::AlignedBox3d();
+  }
+  return Eigen::AlignedBox3d(pose.translation() - half, pose.translation() + half);
+}
+
 std::optional<std::string> inertiaProblem(double mass, const Eigen::Matrix3d& inertia) {
   std::ostringstream why;
   if (!std::isfinite(mass) || mass <= 0) {

@@ -97,10 +97,12 @@ Eigen::Isometry3d parsePose(const char* text, bool* ok) {
 
 class ModelParser {
  public:
-  ModelParser(const std::string& source, const PackageResolver& resolver)
-      : diagnostics_(source), resolver_(resolver) {}
+  ModelParser(Diagnostics& diagnostics, const PackageResolver& resolver)
+      : diagnostics_(diagnostics), resolver_(resolver) {}
 
-  ModelSpec parse(const std::string& xml) {
+  /// The model as far as it can be read, every problem in `diagnostics_`; nullopt when there is no model to
+  /// read (malformed XML, another root element, urdfdom's rejection).
+  std::optional<ModelSpec> parse(const std::string& xml) {
     auto document = std::make_shared<tinyxml2::XMLDocument>();
     if (document->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
       std::string message = "line " + std::to_string(document->ErrorLineNum()) + ": " + document->ErrorStr();
@@ -115,16 +117,15 @@ class ModelParser {
                    "plain space";
       }
       diagnostics_.error(message);
-      diagnostics_.throwIfErrors();
+      return std::nullopt;
     }
     const tinyxml2::XMLElement* robot = document->RootElement();
     if (!robot || std::string(robot->Name()) != "robot") {
       diagnostics_.error("the root element is <" + std::string(robot ? robot->Name() : "") +
                          ">, not <robot>: is this a URDF?");
-      diagnostics_.throwIfErrors();
+      return std::nullopt;
     }
-    reportXacroLeftovers(robot);
-    diagnostics_.throwIfErrors();
+    reportXacroLeftovers(robot);  // urdfdom skips such elements, so its own complaints still come out
 
     urdf::ModelInterfaceSharedPtr urdf_model;
     {
@@ -132,7 +133,7 @@ class ModelParser {
       urdf_model = urdf::parseURDF(xml);
       if (!urdf_model) diagnostics_.error("urdfdom rejected the model: " + console.text());
     }
-    diagnostics_.throwIfErrors();
+    if (!urdf_model) return std::nullopt;
 
     ModelSpec spec;
     spec.name = urdf_model->getName();
@@ -141,12 +142,9 @@ class ModelParser {
     addTree(*urdf_model, *urdf_model->getRoot(), spec);
     readGazeboExtensions(robot, spec);
     checkMovingLinksHaveMass(spec);
-    diagnostics_.throwIfErrors();
     spec.document = std::move(document);
     return spec;
   }
-
-  std::vector<std::string> warnings() const { return diagnostics_.warnings(); }
 
  private:
   void reportXacroLeftovers(const tinyxml2::XMLElement* robot) {
@@ -466,7 +464,7 @@ class ModelParser {
                                        : " is not a Gazebo tag bullet_sim knows: ignored"));
   }
 
-  Diagnostics diagnostics_;
+  Diagnostics& diagnostics_;
   const PackageResolver& resolver_;
   std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;
 };
@@ -508,13 +506,17 @@ std::vector<std::string> ModelSpec::jointNames() const {
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
                      std::vector<std::string>* warnings) {
-  ModelParser parser(source, resolver);
-  ModelSpec spec = parser.parse(urdf_xml);
-  if (warnings) {
-    const auto found = parser.warnings();
-    warnings->insert(warnings->end(), found.begin(), found.end());
-  }
-  return spec;
+  Diagnostics diagnostics(source);
+  std::optional<ModelSpec> spec = readModel(urdf_xml, resolver, diagnostics);
+  diagnostics.throwIfErrors();
+  if (warnings)
+    warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
+  return std::move(*spec);
+}
+
+std::optional<ModelSpec> readModel(const std::string& urdf_xml, const PackageResolver& resolver,
+                                   Diagnostics& diagnostics) {
+  return ModelParser(diagnostics, resolver).parse(urdf_xml);
 }
 
 }  // namespace bullet_sim

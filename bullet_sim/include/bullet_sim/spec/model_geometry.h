@@ -22,6 +22,9 @@ std::map<std::string, Eigen::Isometry3d> linkPosesAtZero(const ModelSpec& model)
 /// Lowest z [m] of a shape placed at `pose`; -infinity for a plane that is not horizontal.
 double lowestPoint(const Shape& shape, const Eigen::Isometry3d& pose);
 
+/// Axis-aligned bounding box [m] of a shape placed at `pose`; empty for a plane or a mesh that is not loaded.
+Eigen::AlignedBox3d boundingBox(const Shape& shape, const Eigen::Isometry3d& pose);
+
 /// Why a mass [kg] and an inertia tensor about the centre of mass [kg m^2] are not physically valid
 /// (non-positive mass, not positive definite, principal moments breaking I1 + I2 >= I3), or nullopt.
 std::optional<std::string> inertiaProblem(double mass, const Eigen::Matrix3d& inertia);

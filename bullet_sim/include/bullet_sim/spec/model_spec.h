@@ -17,6 +17,8 @@
 
 namespace bullet_sim {
 
+class Diagnostics;
+
 struct InertialSpec {
   double mass = 0;                                    ///< [kg]
   Eigen::Vector3d com = Eigen::Vector3d::Zero();      ///< centre of mass in the link frame [m]
@@ -100,5 +102,12 @@ struct ModelSpec {
 /// Warnings (ignored tags, ...) are appended to `warnings` when given.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
                      std::vector<std::string>* warnings = nullptr);
+
+/// What parseModel reads, for tools that report problems instead of loading (urdf_doctor): never throws;
+/// every error and warning goes to `diagnostics`, and the model comes back as far as it could be read (a
+/// collision or visual whose mesh cannot be loaded is left out). nullopt when there is no model to read:
+/// malformed XML, a root element other than <robot>, or urdfdom rejected the file.
+std::optional<ModelSpec> readModel(const std::string& urdf_xml, const PackageResolver& resolver,
+                                   Diagnostics& diagnostics);
 
 }  // namespace bullet_sim
