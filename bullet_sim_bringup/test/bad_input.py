@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """rostest node: the simulator under bad input. A NaN or inf in cmd_vel is ignored (the robot stays put, the node
 keeps stepping); the drive's commandTimeout stops the robot when commands stop; a malformed and an empty robot
-description make spawn_model exit non-zero with the reason, while the simulator keeps running."""
+description, or a flag that is not a number, make spawn_model exit non-zero with the reason, while the simulator
+keeps running."""
 import math
 import os
 import subprocess
@@ -97,6 +98,14 @@ class BadInput(unittest.TestCase):
     def spawn_model(self, *source):
         command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", *source, "-model", "bad", "-timeout", "30"]
         return subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+
+    def test_a_flag_that_is_not_a_number_fails_the_spawn_with_the_reason(self):
+        fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
+        command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", os.path.join(fixtures, "minimal.urdf"),
+                   "-model", "bad", "-timeout", "soon"]
+        result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+        self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
+        self.assertIn("-timeout must be a number, not [soon]", result.stderr)
 
     def test_bad_descriptions_fail_the_spawn_and_the_simulator_keeps_running(self):
         fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")

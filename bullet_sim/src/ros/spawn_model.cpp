@@ -75,7 +75,9 @@ int main(int argc, char** argv) {
     }
   };
   bullet_sim::SpawnModel spawn;
+  double timeout = 60.0;  // [s] for the simulator's service
   try {
+    if (values.count("timeout")) timeout = number("timeout");
     spawn.request.initial_pose.position.x = number("x");
     spawn.request.initial_pose.position.y = number("y");
     spawn.request.initial_pose.position.z = number("z");
@@ -102,7 +104,6 @@ int main(int argc, char** argv) {
   spawn.request.place_on_ground = !have_z;
 
   const std::string gazebo = values.count("gazebo_namespace") ? values["gazebo_namespace"] : "/gazebo";
-  const double timeout = values.count("timeout") ? std::stod(values["timeout"]) : 60.0;
   if (!ros::service::waitForService(gazebo + "/spawn_urdf", ros::Duration(timeout))) {
     return fail("no service " + gazebo + "/spawn_urdf after " + std::to_string(timeout) +
                 " s: is the simulator running?");
