@@ -13,9 +13,6 @@
 namespace bullet_sim {
 namespace {
 
-constexpr int kExitFailure = 1;
-constexpr int kExitUsage = 2;
-
 constexpr char kUsage[] =
     "usage: render_model (--xacro FILE [--arg name:=value]... | --urdf FILE) [--world FILE]\n"
     "                    [--view chase|top|front] [--size WxH] [--pose x,y,yaw] --out FILE.png\n"
@@ -117,22 +114,6 @@ int run(const Options& options) {
 }  // namespace bullet_sim
 
 int main(int argc, char** argv) {
-  using namespace bullet_sim;
-  Options options;
-  try {
-    options = parseArguments(argc, argv);
-  } catch (const UsageError& error) {
-    std::cerr << "render_model: " << error.what() << "\n\n" << kUsage;
-    return kExitUsage;
-  }
-  if (options.help) {
-    std::cout << kUsage;
-    return EXIT_SUCCESS;
-  }
-  try {
-    return run(options);
-  } catch (const std::exception& error) {  // SpecError lists every problem of the file, one per line
-    std::cerr << "render_model: " << error.what() << "\n";
-    return kExitFailure;
-  }
+  return bullet_sim::toolMain("render_model", bullet_sim::kUsage, argc, argv, bullet_sim::parseArguments,
+                              bullet_sim::run);
 }

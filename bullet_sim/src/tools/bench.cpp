@@ -33,9 +33,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kExitFailure = 1;
-constexpr int kExitUsage = 2;
-
 constexpr char kUsage[] =
     "usage: bench --robot FILE.urdf|FILE.xacro [--world FILE] [--pose x,y,yaw]\n"
     "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
@@ -737,22 +734,6 @@ int run(const Options& options) {
 }  // namespace bullet_sim
 
 int main(int argc, char** argv) {
-  using namespace bullet_sim;
-  Options options;
-  try {
-    options = parseArguments(argc, argv);
-  } catch (const UsageError& error) {
-    std::cerr << "bench: " << error.what() << "\n\n" << kUsage;
-    return kExitUsage;
-  }
-  if (options.help) {
-    std::cout << kUsage;
-    return EXIT_SUCCESS;
-  }
-  try {
-    return run(options);
-  } catch (const std::exception& error) {  // SpecError lists every problem of the file, one per line
-    std::cerr << "bench: " << error.what() << "\n";
-    return kExitFailure;
-  }
+  return bullet_sim::toolMain("bench", bullet_sim::kUsage, argc, argv, bullet_sim::parseArguments,
+                              bullet_sim::run);
 }

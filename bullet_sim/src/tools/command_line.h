@@ -2,6 +2,9 @@
 // robot description from a URDF or an xacro file, and the world file a user means.
 #pragma once
 
+#include <cstdlib>
+#include <exception>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -34,5 +37,29 @@ std::string readUrdfFile(const std::string& path);
 
 /// The world file for a --world option (see findWorldFile); bullet_sim's empty.world when `name` is empty.
 std::string findWorld(const std::string& name, const PackageResolver& resolver);
+
+/// A tool's whole main: `usage` on --help (exit 0) or after a UsageError (exit 2), then `run`, whose
+/// exceptions are reported on stderr (exit 1). A SpecError lists every problem of the file, one per line.
+template <typename Options>
+int toolMain(const char* tool, const char* usage, int argc, char** argv, Options (*parse)(int, char**),
+             int (*run)(const Options&)) {
+  Options options;
+  try {
+    options = parse(argc, argv);
+  } catch (const UsageError& error) {
+    std::cerr << tool << ": " << error.what() << "\n\n" << usage;
+    return 2;
+  }
+  if (options.help) {
+    std::cout << usage;
+    return EXIT_SUCCESS;
+  }
+  try {
+    return run(options);
+  } catch (const std::exception& error) {
+    std::cerr << tool << ": " << error.what() << "\n";
+    return EXIT_FAILURE;
+  }
+}
 
 }  // namespace bullet_sim
