@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "bullet_sim/spec/diagnostics.h"
-#include "bullet_sim/spec/doctor.h"
+#include "bullet_sim/tools/doctor.h"
 #include "bullet_sim/spec/model_spec.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -7,7 +7,7 @@
 
 #include "bullet_sim/physics/multibody_robot.h"
 #include "bullet_sim/physics/raycast_robot.h"
-#include "bullet_sim/plugins/factory.h"
+#include "bullet_sim/plugins/drive_support.h"
 #include "bullet_sim/spec/model_geometry.h"
 
 namespace bullet_sim {
@@ -81,18 +81,10 @@ bool isCopyInTheWay(const WorldModelSpec& world_model, const ModelSpec& model,
   return robot_box.intersects(copy_box);
 }
 
-/// The wheel-ground model of a robot: what its drive plugin's <wheelModel> asks for (the plugin's config
-/// checks the value), the default for a drive without the tag, and contact for a robot with no drive plugin
-/// at all.
+/// The wheel-ground model of a robot: its drive's, and contact for a robot with no drive plugin.
 std::string wheelModelOf(const ModelSpec& model) {
   for (const auto& plugin : model.plugins) {
-    if (plugin.filename.find("_drive.so") == std::string::npos || !plugin.element) continue;
-    const auto* tag = plugin.element->FirstChildElement("wheelModel");
-    if (!tag || !tag->GetText()) return kDefaultWheelModel;
-    std::string value = tag->GetText();
-    value.erase(0, value.find_first_not_of(" \t\r\n"));
-    value.erase(value.find_last_not_of(" \t\r\n") + 1);
-    return value;
+    if (const auto* drive = plugin.configAs<DriveConfigHead>()) return drive->wheel_model;
   }
   return "contact";
 }
@@ -153,31 +145,37 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   }
   diagnostics.throwIfErrors();
   robot->body().reset(root, robot->spawn_joints_);
-  const auto& parts = robot->body().parts();
-  for (size_t k = 0; k < parts.size(); ++k) {
-    robot->ray_bodies_.push_back(parts[k].collisions.empty()
-                                     ? kNoBody
-                                     : rays_.addBody(parts[k].collisions, robot->body().partPose(k), false));
-  }
-  PluginContext context;
-  context.robot_name = name;
-  context.seed = options_.seed;
-  context.gravity = world_.gravity;
-  context.ray_body = [&](int part) { return part >= 0 ? robot->ray_bodies_[part] : kNoBody; };
-  robot->plugins_ = createPlugins(robot->body().spec(), robot->body(), context, diagnostics);
-
-  if (!diagnostics.errors().empty()) {
-    for (BodyId body : robot->ray_bodies_) {
-      if (body != kNoBody) rays_.removeBody(body);
-    }
-    rays_.commit();
-    diagnostics.throwIfErrors();
-  }
-  rays_.commit();
+  equip(*robot, diagnostics);
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   robots_.push_back(std::move(robot));
   return *robots_.back();
+}
+
+void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
+  const auto& parts = robot.body().parts();
+  for (size_t k = 0; k < parts.size(); ++k) {
+    robot.ray_bodies_.push_back(parts[k].collisions.empty()
+                                    ? kNoBody
+                                    : rays_.addBody(parts[k].collisions, robot.body().partPose(k), false));
+  }
+  try {
+    for (const auto& declaration : robot.body().spec().plugins) {
+      const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
+      const PluginSetup setup{robot.body(), robot.name(), options_.seed, world_.gravity,
+                              part >= 0 ? robot.ray_bodies_[part] : kNoBody};
+      robot.plugins_.push_back(options_.plugins->create(declaration, setup));
+    }
+  } catch (const std::exception& e) {
+    diagnostics.error(e.what());
+  }
+  if (!diagnostics.errors().empty()) {
+    for (BodyId body : robot.ray_bodies_) {
+      if (body != kNoBody) rays_.removeBody(body);
+    }
+  }
+  rays_.commit();
+  diagnostics.throwIfErrors();
 }
 
 bool Simulation::remove(const std::string& name) {

@@ -12,6 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/plugins/ackermann_drive.h"
+#include "bullet_sim/plugins/imu.h"
+#include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/spec/model_geometry.h"
 #include "bullet_sim/spec/model_spec.h"
 #include "test_support.h"
@@ -36,11 +41,6 @@ struct RobotCase {
 using test::CommandResult;
 using test::run;
 
-std::string tagText(const tinyxml2::XMLElement* parent, const char* tag) {
-  const auto* child = parent->FirstChildElement(tag);
-  return child && child->GetText() ? child->GetText() : "";
-}
-
 class Description : public ::testing::TestWithParam<RobotCase> {
  protected:
   void SetUp() override {
@@ -60,10 +60,11 @@ class Description : public ::testing::TestWithParam<RobotCase> {
     }
   }
 
-  /// The model-level <plugin> whose filename is `filename`, or nullptr.
-  const tinyxml2::XMLElement* plugin(const std::string& filename) const {
+  /// The config of the first plugin whose config is a `Config`, or nullptr.
+  template <class Config>
+  const Config* config() const {
     for (const auto& p : model_.plugins) {
-      if (p.filename == filename) return p.element;
+      if (const auto* found = p.configAs<Config>()) return found;
     }
     return nullptr;
   }
@@ -143,25 +144,20 @@ TEST_P(Description, WheelsTouchTheGroundAndNothingSinks) {
 TEST_P(Description, DrivePluginAgreesWithJointGeometry) {
   std::vector<std::array<std::string, 2>> axles;  // left joint, right joint
   double separation = 0, diameter = 0;            // [m] as the plugin states them
-  const tinyxml2::XMLElement* drive = plugin("libgazebo_ros_diff_drive.so");
-  if (drive) {
-    axles.push_back({tagText(drive, "leftJoint"), tagText(drive, "rightJoint")});
-  } else if ((drive = plugin("libgazebo_ros_ackermann_drive.so"))) {
-    // Our Ackermann extension drives the rear axle; its figures are optional (the plugin reads the URDF).
-    axles.push_back({tagText(drive, "rear_left_joint"), tagText(drive, "rear_right_joint")});
-    if (tagText(drive, "track_width").empty() || tagText(drive, "wheel_radius").empty())
-      GTEST_SKIP() << "the Ackermann plugin gives no <track_width> and <wheel_radius> to check";
-    separation = std::stod(tagText(drive, "track_width"));
-    diameter = 2 * std::stod(tagText(drive, "wheel_radius"));
+  if (const auto* drive = config<DriveConfig>()) {  // Gazebo classic's diff drive and skid steer
+    for (size_t i = 0; i < drive->left_joints.size() && i < drive->right_joints.size(); ++i)
+      axles.push_back({drive->left_joints[i], drive->right_joints[i]});
+    separation = drive->wheel_separation;
+    diameter = drive->wheel_diameter;
   } else {
-    drive = plugin("libgazebo_ros_skid_steer_drive.so");
-    ASSERT_TRUE(drive) << "no diff-drive, skid-steer or Ackermann plugin";
-    axles.push_back({tagText(drive, "leftFrontJoint"), tagText(drive, "rightFrontJoint")});
-    axles.push_back({tagText(drive, "leftRearJoint"), tagText(drive, "rightRearJoint")});
-  }
-  if (separation == 0) {  // Gazebo classic's drives
-    separation = std::stod(tagText(drive, "wheelSeparation"));
-    diameter = std::stod(tagText(drive, "wheelDiameter"));
+    // Our Ackermann extension drives the rear axle; its figures are optional (the plugin reads the URDF).
+    const auto* car = config<AckermannConfig>();
+    ASSERT_TRUE(car) << "no diff-drive, skid-steer or Ackermann plugin";
+    axles.push_back({car->rear_left_joint, car->rear_right_joint});
+    if (!car->track_width || !car->wheel_radius)
+      GTEST_SKIP() << "the Ackermann plugin gives no <track_width> and <wheel_radius> to check";
+    separation = *car->track_width;
+    diameter = 2 * *car->wheel_radius;
   }
   const auto poses = linkPosesAtZero(model_);
 
@@ -191,10 +187,13 @@ TEST_P(Description, DrivePluginAgreesWithJointGeometry) {
 }
 
 TEST_P(Description, SensorFrameNamesExist) {
-  for (const auto& sensor : model_.sensors) {
-    ASSERT_TRUE(sensor.plugin) << "sensor [" << sensor.name << "] has no plugin, so Gazebo publishes nothing";
-    const std::string frame = tagText(sensor.plugin->element, "frameName");
-    EXPECT_TRUE(model_.link(frame)) << "sensor [" << sensor.name << "] <frameName>" << frame;
+  for (const auto& plugin : model_.plugins) {
+    if (!plugin.sensor) continue;
+    const auto* lidar = plugin.configAs<RayLidarConfig>();
+    const auto* imu = plugin.configAs<ImuConfig>();
+    ASSERT_TRUE(lidar || imu) << plugin.where() << " is neither a lidar nor an IMU";
+    const std::string& frame = lidar ? lidar->frame : imu->frame;
+    EXPECT_TRUE(model_.link(frame)) << plugin.where() << " <frameName>" << frame;
   }
 }
 
@@ -210,18 +209,14 @@ TEST_P(Description, RevoluteJointsHaveRealLimits) {
 
 TEST_P(Description, LidarsCastNoBeamTwice) {
   size_t lidars = 0;
-  for (const auto& sensor : model_.sensors) {
-    if (sensor.type != "ray") continue;
+  for (const auto& plugin : model_.plugins) {
+    const auto* lidar = plugin.configAs<RayLidarConfig>();
+    if (!lidar) continue;
     ++lidars;
-    const auto* horizontal =
-        sensor.element->FirstChildElement("ray")->FirstChildElement("scan")->FirstChildElement("horizontal");
-    const double samples = std::stod(tagText(horizontal, "samples"));
-    const double min_angle = std::stod(tagText(horizontal, "min_angle"));
-    const double max_angle = std::stod(tagText(horizontal, "max_angle"));
     // Gazebo spaces N beams (max - min) / (N - 1) apart; the beam after the last must not wrap onto the
     // first.
-    const double increment = (max_angle - min_angle) / (samples - 1);
-    EXPECT_LE(max_angle - min_angle + increment, 2 * M_PI + 1e-9) << "sensor [" << sensor.name << "]";
+    const double increment = (lidar->max_angle - lidar->min_angle) / (lidar->beams() - 1);
+    EXPECT_LE(lidar->max_angle - lidar->min_angle + increment, 2 * M_PI + 1e-9) << plugin.where();
   }
   EXPECT_EQ(lidars, GetParam().ray_sensors);
 }

@@ -69,12 +69,13 @@ TEST(ModelSpec, ReportsEveryProblemOfAFileAtOnce) {
   EXPECT_NE(error.find("no_such_mesh.stl"), std::string::npos) << error;
 }
 
-TEST(ModelSpec, UnknownJointInAPluginFailsTheSpawnWithASuggestion) {
+TEST(ModelSpec, UnknownJointInAPluginFailsTheLoadWithASuggestion) {
   Simulation simulation(test::shippedWorld("empty.world"));
-  ModelSpec model = parseModel(readFile(fixture("robots/fail_unknown_plugin_joint.urdf")),
-                               "fail_unknown_plugin_joint.urdf", PackageResolver::fromEnvironment());
-  try {
-    simulation.spawn("robot", std::move(model), {});
+  try {  // refused at load, with the file's other problems
+    simulation.spawn("robot",
+                     parseModel(readFile(fixture("robots/fail_unknown_plugin_joint.urdf")),
+                                "fail_unknown_plugin_joint.urdf", PackageResolver::fromEnvironment()),
+                     {});
     FAIL() << "spawn accepted a drive naming a missing joint";
   } catch (const SpecError& e) {
     EXPECT_NE(std::string(e.what()).find("plugin [drive] names joint [right_whel_joint], which does not "

@@ -1,6 +1,7 @@
 // The simulator core against closed forms: robots at rest, driving straight, turning, on arcs; the lidar
 // against analytic distances; bit-identical reruns. Stepped in-process, no roscore.
 #include <gtest/gtest.h>
+#include <tinyxml2.h>
 
 #include <algorithm>
 #include <cmath>
@@ -206,7 +207,8 @@ TEST(Simulation, SeedStyleReversedWheelAxisIsCompensated) {
     Simulation simulation(test::shippedWorld("empty.world"));
     std::vector<std::string> warnings;
     Robot& robot = simulation.spawn(
-        "chair", parseModel(urdf, "seed-style chair", PackageResolver::fromEnvironment()), {}, &warnings);
+        "chair", parseModel(urdf, "seed-style chair", PackageResolver::fromEnvironment(), &warnings), {},
+        &warnings);
     std::string said;
     for (const auto& w : warnings) said += w + "\n";
     EXPECT_NE(said.find("joint [front_right_joint] turns about 0 -1 0"), std::string::npos) << said;
@@ -480,7 +482,9 @@ TEST(Simulation, ResetSimulationRestoresPosesAndTime) {
 TEST(Simulation, EachIgnoredOrSuspectTagIsSaidOnceAtLoad) {
   Simulation simulation(test::shippedWorld("empty.world"));
   std::vector<std::string> warnings;
-  simulation.spawn("robot", fixtureRobot("load_messages.urdf"), {}, &warnings);
+  ModelSpec model = parseModel(test::readFile(test::fixture("robots/load_messages.urdf")), "load_messages.urdf",
+                               PackageResolver::fromEnvironment(), &warnings);
+  simulation.spawn("robot", std::move(model), {}, &warnings);
   const auto said = [&](const std::string& text) {
     return std::count_if(warnings.begin(), warnings.end(),
                          [&](const std::string& w) { return w.find(text) != std::string::npos; });
@@ -534,6 +538,56 @@ TEST(Simulation, RobotsShareTheWorldAndSeeEachOther) {
   EXPECT_GT(ahead, 1.0);
   EXPECT_EQ(chair.name(), "chair");
   EXPECT_EQ(simulation.robotNames(), (std::vector<std::string>{"mast", "chair", "car"}));
+}
+
+}  // namespace
+}  // namespace bullet_sim
+
+namespace bullet_sim {
+namespace {
+
+/// two_wheeler.urdf with a diff drive that publishes its wheels' tf.
+std::string twoWheelerWithWheelTf() {
+  tinyxml2::XMLDocument document;
+  const std::string urdf = test::readFile(test::fixture("robots/two_wheeler.urdf"));
+  EXPECT_EQ(document.Parse(urdf.c_str()), tinyxml2::XML_SUCCESS);
+  auto* plugin = document.RootElement()->InsertNewChildElement("gazebo")->InsertNewChildElement("plugin");
+  plugin->SetAttribute("name", "drive");
+  plugin->SetAttribute("filename", "libgazebo_ros_diff_drive.so");
+  for (const auto& [tag, text] : std::vector<std::pair<const char*, const char*>>{
+           {"leftJoint", "left_wheel_joint"}, {"rightJoint", "right_wheel_joint"}, {"wheelSeparation", "0.35"},
+           {"wheelDiameter", "0.1"}, {"publishWheelTF", "true"}}) {
+    plugin->InsertNewChildElement(tag)->SetText(text);
+  }
+  tinyxml2::XMLPrinter printer;
+  document.Print(&printer);
+  return printer.CStr();
+}
+
+TEST(Simulation, PublishWheelTfGivesEachWheelInItsParentAtItsJointAngle) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  Robot& robot = simulation.spawn(
+      "robot", parseModel(twoWheelerWithWheelTf(), "two_wheeler", PackageResolver::fromEnvironment()), {});
+  WheeledDrive& drive = *robot.pluginsOf<WheeledDrive>().at(0);
+  const Stream<TransformSample>* wheel_tf = nullptr;
+  for (const auto& port : drive.ports().outputs) {
+    const auto* stream = std::get_if<const Stream<TransformSample>*>(&port.stream);
+    if (stream && (*stream)->latest().frames.empty()) wheel_tf = *stream;  // the odom tf has its frame already
+  }
+  ASSERT_NE(wheel_tf, nullptr);
+  ASSERT_TRUE(drive.setCommand(0.2, 0, simulation.time()));
+  for (int i = 0; i < 500; ++i) simulation.step();
+  ASSERT_EQ(wheel_tf->latest().frames.size(), 2u);
+  for (const auto& frame : wheel_tf->latest().frames) {
+    SCOPED_TRACE(frame.child);
+    EXPECT_EQ(frame.parent, "base_link");
+    const double side = frame.child == "left_wheel" ? 1 : -1;
+    EXPECT_TRUE(frame.pose.translation().isApprox(Eigen::Vector3d(0.1, side * 0.175, 0), 1e-6));
+    const double angle = robot.body().jointPosition(robot.body().jointIndex(frame.child + "_joint"));
+    EXPECT_GT(std::abs(angle), 1.0);  // it rolled about 0.1 m on a 0.05 m radius
+    const Eigen::AngleAxisd turned(frame.pose.linear());
+    EXPECT_NEAR(std::remainder(turned.angle() * turned.axis().y() - angle, 2 * M_PI), 0, 1e-6);
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/spec/model_spec.h"
 #include "bullet_sim/spec/package_resolver.h"
 #include "bullet_sim/spec/world_spec.h"

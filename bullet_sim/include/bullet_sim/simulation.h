@@ -11,6 +11,7 @@
 #include "bullet_sim/physics/physics_world.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/plugin.h"
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/sensing/ray_caster.h"
 #include "bullet_sim/spec/model_spec.h"
 #include "bullet_sim/spec/world_spec.h"
@@ -29,6 +30,8 @@ struct SpawnPose {
 struct SimulationOptions {
   PhysicsOptions physics;
   uint64_t seed = 0;  ///< seeds every sensor's noise; the same inputs and seed give a bit-identical run
+  /// Builds the robots' plugins: the registry their models were parsed with. It must outlive the simulation.
+  const PluginRegistry* plugins = &PluginRegistry::builtin();
 };
 
 /// A spawned robot: its physics and its plugins.
@@ -40,7 +43,6 @@ class Robot {
   const std::string& name() const { return name_; }
   PhysicsRobot& body() { return *body_; }
   const PhysicsRobot& body() const { return *body_; }
-  const Eigen::Isometry3d& spawnPose() const { return spawn_pose_; }
   const std::vector<std::unique_ptr<Plugin>>& plugins() const { return plugins_; }
 
   /// The plugins of type T (e.g. WheeledDrive, RayLidar).
@@ -97,6 +99,8 @@ class Simulation {
 
  private:
   void refreshRays();
+  /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
+  void equip(Robot& robot, Diagnostics& diagnostics);
 
   WorldSpec world_;
   SimulationOptions options_;

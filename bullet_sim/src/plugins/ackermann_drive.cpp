@@ -14,16 +14,6 @@ namespace {
 constexpr double kGeometryTolerance = 0.005;  // [m] tag figures vs URDF geometry before we say so
 constexpr double kMinVerticalAxis = 0.9;      // |z| of a steering axis, as a unit vector in the base frame
 
-/// ROS 2's pose and twist covariance: x, y and yaw as given, unknown (1e12) in z, roll and pitch.
-std::array<double, 36> planarCovariance(double x, double y, double yaw) {
-  std::array<double, 36> covariance{};
-  covariance[0] = x;
-  covariance[7] = y;
-  covariance[14] = covariance[21] = covariance[28] = 1e12;
-  covariance[35] = yaw;
-  return covariance;
-}
-
 /// A tag under ROS 2's name, or else under the ROS 1 name our other drives use.
 std::string eitherText(PluginTags& tags, const std::string& ros2, const std::string& ros1,
                        const std::string& fallback) {
@@ -41,11 +31,8 @@ std::string vectorText(const Eigen::Vector3d& v) {
   return text.str();
 }
 
-}  // namespace
-
-AckermannConfig parseAckermannConfig(PluginTags& tags) {
-  AckermannConfig config;
-  config.robot_namespace = tags.text("robotNamespace", "");
+/// The tags, with ROS 2's names; the URDF's figures come later (readGeometry).
+void readAckermannTags(PluginTags& tags, AckermannConfig& config) {
   config.command_topic = eitherText(tags, "command_topic", "commandTopic", config.command_topic);
   config.odometry_topic = eitherText(tags, "odometry_topic", "odometryTopic", config.odometry_topic);
   config.odometry_frame = eitherText(tags, "odometry_frame", "odometryFrame", config.odometry_frame);
@@ -53,12 +40,7 @@ AckermannConfig parseAckermannConfig(PluginTags& tags) {
   config.update_rate =
       tags.positive("update_rate", tags.positive("updateRate", config.update_rate, /*allow_zero=*/true),
                     /*allow_zero=*/true);
-  config.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
-  // Read by the simulation when it builds the robot; checked here, as the other drives do.
-  if (const std::string model = tags.text("wheelModel", "contact");
-      model != "contact" && model != "raycast") {
-    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" + model + "]");
-  }
+  readDriveExtras(tags, config);
 
   config.front_left_joint = tags.text("front_left_joint", config.front_left_joint);
   config.front_right_joint = tags.text("front_right_joint", config.front_right_joint);
@@ -111,8 +93,156 @@ AckermannConfig parseAckermannConfig(PluginTags& tags) {
       tags.diagnostics().warning(tags.where() + " <" + tag + "> is not published by bullet_sim: ignored");
     }
   }
-  // max_steering_angle only scales the steering wheel; the others are every Gazebo plugin's.
-  tags.accept({"max_steering_angle", "rosDebugLevel", "alwaysOn"});
+  // max_steering_angle only scales the steering wheel.
+  tags.accept({"max_steering_angle"});
+}
+
+/// Checks the joints the drive moves and reads their figures from the URDF at the zero pose.
+class GeometryReader {
+ public:
+  GeometryReader(const DeclarationSource& source, AckermannConfig& config)
+      : model_(source.model),
+        diagnostics_(source.diagnostics),
+        where_(source.tags.where()),
+        config_(config),
+        poses_(linkPosesAtZero(model_)),
+        base_inverse_(poses_.at(config.robot_base_frame).inverse()) {}
+
+  void read() {
+    const JointSpec* left_hinge = steering("left_steering_joint", config_.left_steering_joint,
+                                           config_.left_steering, config_.left_limits);
+    const JointSpec* right_hinge = steering("right_steering_joint", config_.right_steering_joint,
+                                            config_.right_steering, config_.right_limits);
+    const JointSpec* rear_left = wheel("rear_left_joint", config_.rear_left_joint, config_.rear_left);
+    const JointSpec* rear_right = wheel("rear_right_joint", config_.rear_right_joint, config_.rear_right);
+    // The front wheels roll freely: they only have to exist and turn.
+    movingJoint("front_left_joint", config_.front_left_joint);
+    movingJoint("front_right_joint", config_.front_right_joint);
+    if (!left_hinge || !right_hinge || !rear_left || !rear_right) return;
+    measure(*left_hinge, *right_hinge, *rear_left, *rear_right);
+    checkFigures();
+  }
+
+ private:
+  /// The joint a tag names, or nullptr once its problem is reported.
+  const JointSpec* movingJoint(const std::string& tag, const std::string& joint_name) {
+    const JointSpec* joint = model_.joint(joint_name);
+    if (!joint) {
+      diagnostics_.error(where_ + " <" + tag + "> [" + joint_name + "] is not a joint" +
+                         didYouMean(joint_name, model_.jointNames()));
+    } else if (!joint->moves()) {
+      diagnostics_.error(where_ + " <" + tag + "> [" + joint_name + "] is a fixed joint: it must move");
+      return nullptr;
+    }
+    return joint;
+  }
+
+  /// Where a joint is in the base frame: its child link's frame, through which the joint axis passes.
+  Eigen::Isometry3d inBase(const JointSpec& joint) const { return base_inverse_ * poses_.at(joint.child); }
+
+  const JointSpec* steering(const std::string& tag, const std::string& joint_name, AckermannJoint& out,
+                            std::array<double, 2>& limits) {
+    const JointSpec* joint = movingJoint(tag, joint_name);
+    if (!joint) return nullptr;
+    const Eigen::Vector3d axis = inBase(*joint).linear() * joint->axis;
+    if (std::abs(axis.z()) < kMinVerticalAxis) {
+      diagnostics_.error(where_ + " <" + tag + "> [" + joint_name + "] turns about " + vectorText(axis) +
+                         " in [" + config_.robot_base_frame + "]: a steering joint turns about the vertical");
+    }
+    if (joint->effort <= 0) {
+      diagnostics_.error(where_ + " <" + tag + "> [" + joint_name +
+                         "] has no effort limit, so nothing can steer it: set <limit effort=...> in the URDF");
+    }
+    out = {joint_name, axis.z() >= 0 ? 1.0 : -1.0, joint->effort};
+    // The joint's limits as steering angles (positive = left), within max_steer.
+    const double lower = out.sign > 0 ? joint->lower : -joint->upper;
+    const double upper = out.sign > 0 ? joint->upper : -joint->lower;
+    limits = {std::max(-config_.max_steer, lower), std::min(config_.max_steer, upper)};
+    return joint;
+  }
+
+  const JointSpec* wheel(const std::string& tag, const std::string& joint_name, AckermannJoint& out) {
+    const JointSpec* joint = movingJoint(tag, joint_name);
+    if (!joint) return nullptr;
+    out = {joint_name, wheelRollSign(poses_, config_.robot_base_frame, *joint), joint->effort};
+    if (out.sign < 0) {
+      diagnostics_.warning(where_ + " joint [" + joint_name + "] turns about " + vectorText(joint->axis) +
+                           ", against the other wheels: it is driven with the opposite sign so the car rolls "
+                           "forward");
+    }
+    if (joint->effort <= 0) {
+      diagnostics_.error(where_ + " <" + tag + "> [" + joint_name +
+                         "] has no effort limit, so nothing can drive it: set <limit effort=...> in the URDF");
+    }
+    return joint;
+  }
+
+  void measure(const JointSpec& left_hinge, const JointSpec& right_hinge, const JointSpec& rear_left,
+               const JointSpec& rear_right) {
+    AckermannGeometry& geometry = config_.geometry;
+    const Eigen::Vector3d left_kingpin = inBase(left_hinge).translation();
+    const Eigen::Vector3d right_kingpin = inBase(right_hinge).translation();
+    const Eigen::Vector3d left_rear = inBase(rear_left).translation();
+    const Eigen::Vector3d right_rear = inBase(rear_right).translation();
+    geometry.steering_track = left_kingpin.y() - right_kingpin.y();
+    geometry.rear_track = left_rear.y() - right_rear.y();
+    geometry.wheelbase = (left_kingpin.x() + right_kingpin.x()) / 2 - (left_rear.x() + right_rear.x()) / 2;
+    if (geometry.steering_track <= 0 || geometry.rear_track <= 0) {
+      diagnostics_.error(where_ + " the left joints must be to the left of the right ones in [" +
+                         config_.robot_base_frame + "]: are <left_steering_joint>/<right_steering_joint> or " +
+                         "<rear_left_joint>/<rear_right_joint> swapped?");
+    }
+    if (geometry.wheelbase <= 0) {
+      diagnostics_.error(where_ + " the steering joints must be ahead of the rear wheels in [" +
+                         config_.robot_base_frame + "]");
+    }
+    for (const JointSpec* joint : {&rear_left, &rear_right}) {
+      const LinkSpec* link = model_.link(joint->child);
+      const Shape* shape = link->collisions.empty() ? nullptr : &link->collisions.front().shape;
+      if (!shape || (shape->type != Shape::Type::kCylinder && shape->type != Shape::Type::kSphere)) {
+        diagnostics_.error(where_ + " rear wheel [" + link->name +
+                           "] needs a cylinder or sphere collision: its radius is the wheel radius");
+        continue;
+      }
+      geometry.wheel_radius = std::max(geometry.wheel_radius, shape->radius);
+    }
+  }
+
+  void checkFigures() {
+    const auto check = [&](const std::optional<double>& figure, const char* tag, double urdf,
+                           const std::string& what) {
+      if (!figure || std::abs(*figure - urdf) <= kGeometryTolerance) return;
+      std::ostringstream message;
+      message << where_ << " <" << tag << "> " << *figure << " m disagrees with the URDF, where " << what
+              << " is " << urdf << " m: the URDF's figure is used";
+      diagnostics_.warning(message.str());
+    };
+    const AckermannGeometry& geometry = config_.geometry;
+    check(config_.wheel_base, "wheel_base", geometry.wheelbase, "the rear axle to the steering joints' line");
+    check(config_.track_width, "track_width", geometry.rear_track,
+          "[" + config_.rear_left_joint + "] to [" + config_.rear_right_joint + "]");
+    check(config_.wheel_radius, "wheel_radius", geometry.wheel_radius, "the rear wheels' collision radius");
+  }
+
+  const ModelSpec& model_;
+  Diagnostics& diagnostics_;
+  const std::string& where_;
+  AckermannConfig& config_;
+  const std::map<std::string, Eigen::Isometry3d> poses_;
+  const Eigen::Isometry3d base_inverse_;
+};
+
+}  // namespace
+
+AckermannConfig parseAckermann(const DeclarationSource& source) {
+  AckermannConfig config;
+  readAckermannTags(source.tags, config);
+  if (!source.model.link(config.robot_base_frame)) {
+    source.diagnostics.error(source.tags.where() + " <robot_base_frame> [" + config.robot_base_frame +
+                             "] is not a link" + didYouMean(config.robot_base_frame, source.model.linkNames()));
+    return config;
+  }
+  GeometryReader(source, config).read();
   return config;
 }
 
@@ -124,188 +254,64 @@ SteeringAngles ackermannAngles(double wheelbase, double steering_track, double c
           std::atan2(wheelbase * curvature, 1 + curvature * half)};
 }
 
-AckermannDrive::AckermannDrive(std::string name, AckermannConfig config, const ModelSpec& model,
-                               const RobotBody& body, Diagnostics& diagnostics)
-    : Plugin(std::move(name)),
-      config_(std::move(config)),
-      timer_(config_.update_rate),
-      command_(config_.command_timeout) {
-  const std::string where = "plugin [" + this->name() + "]";
-  if (!model.link(config_.robot_base_frame)) {
-    diagnostics.error(where + " <robot_base_frame> [" + config_.robot_base_frame + "] is not a link" +
-                      didYouMean(config_.robot_base_frame, model.linkNames()));
-    return;
-  }
-  const auto poses = linkPosesAtZero(model);
-  const Eigen::Isometry3d base_inverse = poses.at(config_.robot_base_frame).inverse();
-
-  /// The joint a tag names, or nullptr once its problem is reported.
-  const auto movingJoint = [&](const std::string& tag, const std::string& joint_name) -> const JointSpec* {
-    const JointSpec* joint = model.joint(joint_name);
-    if (!joint) {
-      diagnostics.error(where + " <" + tag + "> [" + joint_name + "] is not a joint" +
-                        didYouMean(joint_name, model.jointNames()));
-    } else if (!joint->moves()) {
-      diagnostics.error(where + " <" + tag + "> [" + joint_name + "] is a fixed joint: it must move");
-      return nullptr;
-    }
-    return joint;
-  };
-  /// Where a joint is in the base frame: its child link's frame, through which the joint axis passes.
-  const auto inBase = [&](const JointSpec& joint) { return base_inverse * poses.at(joint.child); };
-
-  const auto steering = [&](const std::string& tag, const std::string& joint_name, Steering& out,
-                            std::array<double, 2>& limits) -> const JointSpec* {
-    const JointSpec* joint = movingJoint(tag, joint_name);
-    if (!joint) return nullptr;
-    const Eigen::Vector3d axis = inBase(*joint).linear() * joint->axis;
-    if (std::abs(axis.z()) < kMinVerticalAxis) {
-      diagnostics.error(where + " <" + tag + "> [" + joint_name + "] turns about " + vectorText(axis) +
-                        " in [" + config_.robot_base_frame + "]: a steering joint turns about the vertical");
-    }
-    if (joint->effort <= 0) {
-      diagnostics.error(where + " <" + tag + "> [" + joint_name +
-                        "] has no effort limit, so nothing can steer it: set <limit effort=...> in the URDF");
-    }
-    out = {body.jointIndex(joint_name), axis.z() >= 0 ? 1.0 : -1.0, joint->effort};
-    // The joint's limits as steering angles (positive = left), within max_steer.
-    const double lower = out.sign > 0 ? joint->lower : -joint->upper;
-    const double upper = out.sign > 0 ? joint->upper : -joint->lower;
-    limits = {std::max(-config_.max_steer, lower), std::min(config_.max_steer, upper)};
-    return joint;
-  };
-  const auto wheel = [&](const std::string& tag, const std::string& joint_name,
-                         Wheel& out) -> const JointSpec* {
-    const JointSpec* joint = movingJoint(tag, joint_name);
-    if (!joint) return nullptr;
-    const Eigen::Vector3d axis = inBase(*joint).linear() * joint->axis;
-    // Spinning about +y (the base's left) rolls a wheel forward.
-    out = {body.jointIndex(joint_name), axis.y() >= 0 ? 1.0 : -1.0, joint->effort};
-    if (out.sign < 0) {
-      diagnostics.warning(where + " joint [" + joint_name + "] turns about " + vectorText(joint->axis) +
-                          ", against the other wheels: it is driven with the opposite sign so the car rolls "
-                          "forward");
-    }
-    if (joint->effort <= 0) {
-      diagnostics.error(where + " <" + tag + "> [" + joint_name +
-                        "] has no effort limit, so nothing can drive it: set <limit effort=...> in the URDF");
-    }
-    return joint;
-  };
-
-  const JointSpec* left_hinge =
-      steering("left_steering_joint", config_.left_steering_joint, left_steering_, left_limits_);
-  const JointSpec* right_hinge =
-      steering("right_steering_joint", config_.right_steering_joint, right_steering_, right_limits_);
-  const JointSpec* rear_left = wheel("rear_left_joint", config_.rear_left_joint, rear_left_);
-  const JointSpec* rear_right = wheel("rear_right_joint", config_.rear_right_joint, rear_right_);
-  // The front wheels roll freely: they only have to exist and turn.
-  movingJoint("front_left_joint", config_.front_left_joint);
-  movingJoint("front_right_joint", config_.front_right_joint);
-  if (!left_hinge || !right_hinge || !rear_left || !rear_right) return;
-
-  const Eigen::Vector3d left_kingpin = inBase(*left_hinge).translation();
-  const Eigen::Vector3d right_kingpin = inBase(*right_hinge).translation();
-  const Eigen::Vector3d left_rear = inBase(*rear_left).translation();
-  const Eigen::Vector3d right_rear = inBase(*rear_right).translation();
-  geometry_.steering_track = left_kingpin.y() - right_kingpin.y();
-  geometry_.rear_track = left_rear.y() - right_rear.y();
-  geometry_.wheelbase = (left_kingpin.x() + right_kingpin.x()) / 2 - (left_rear.x() + right_rear.x()) / 2;
-  if (geometry_.steering_track <= 0 || geometry_.rear_track <= 0) {
-    diagnostics.error(where + " the left joints must be to the left of the right ones in [" +
-                      config_.robot_base_frame + "]: are <left_steering_joint>/<right_steering_joint> or " +
-                      "<rear_left_joint>/<rear_right_joint> swapped?");
-  }
-  if (geometry_.wheelbase <= 0) {
-    diagnostics.error(where + " the steering joints must be ahead of the rear wheels in [" +
-                      config_.robot_base_frame + "]");
-  }
-
-  for (const JointSpec* joint : {rear_left, rear_right}) {
-    const LinkSpec* link = model.link(joint->child);
-    const Shape* shape = link->collisions.empty() ? nullptr : &link->collisions.front().shape;
-    if (!shape || (shape->type != Shape::Type::kCylinder && shape->type != Shape::Type::kSphere)) {
-      diagnostics.error(where + " rear wheel [" + link->name +
-                        "] needs a cylinder or sphere collision: its radius is the wheel radius");
-      continue;
-    }
-    geometry_.wheel_radius = std::max(geometry_.wheel_radius, shape->radius);
-  }
-
-  const auto check = [&](const std::optional<double>& figure, const char* tag, double urdf,
-                         const std::string& what) {
-    if (!figure || std::abs(*figure - urdf) <= kGeometryTolerance) return;
-    std::ostringstream message;
-    message << where << " <" << tag << "> " << *figure << " m disagrees with the URDF, where " << what
-            << " is " << urdf << " m: the URDF's figure is used";
-    diagnostics.warning(message.str());
-  };
-  check(config_.wheel_base, "wheel_base", geometry_.wheelbase, "the rear axle to the steering joints' line");
-  check(config_.track_width, "track_width", geometry_.rear_track,
-        "[" + config_.rear_left_joint + "] to [" + config_.rear_right_joint + "]");
-  check(config_.wheel_radius, "wheel_radius", geometry_.wheel_radius, "the rear wheels' collision radius");
-
-  odometry_.frame_id = config_.odometry_frame;
-  odometry_.child_frame_id = config_.robot_base_frame;
-  odometry_.pose_covariance = config_.pose_covariance;
-  odometry_.twist_covariance = config_.twist_covariance;
-}
-
-bool AckermannDrive::setCommand(double linear, double angular, double sim_time) {
-  return command_.set(linear, angular, sim_time);
-}
+AckermannDrive::AckermannDrive(const PluginDeclaration& declaration, const AckermannConfig& config,
+                               const PluginSetup& setup)
+    : DrivePlugin(declaration, config, setup),
+      config_(config),
+      left_steering_(setup.body.jointIndex(config.left_steering.name)),
+      right_steering_(setup.body.jointIndex(config.right_steering.name)),
+      rear_left_(setup.body.jointIndex(config.rear_left.name)),
+      rear_right_(setup.body.jointIndex(config.rear_right.name)) {}
 
 double AckermannDrive::curvatureLimit(double side) const {
   // A wheel at lateral offset y reaches angle a at curvature k = tan(a) / (L + y tan(a)). The wheel on the
   // inside of the turn always reaches its limit at a finite curvature (max_steer < pi/2); the outside one
   // may never.
   double limit = INFINITY;
-  const double half = geometry_.steering_track / 2;
-  for (const auto& [y, limits] : {std::pair{half, left_limits_}, std::pair{-half, right_limits_}}) {
+  const AckermannGeometry& geometry = config_.geometry;
+  const double half = geometry.steering_track / 2;
+  for (const auto& [y, limits] : {std::pair{half, config_.left_limits}, std::pair{-half, config_.right_limits}}) {
     const double tangent = std::tan(side > 0 ? limits[1] : limits[0]);
-    const double denominator = geometry_.wheelbase + y * tangent;
+    const double denominator = geometry.wheelbase + y * tangent;
     if (denominator > 0) limit = std::min(limit, std::abs(tangent / denominator));
   }
   return side * limit;
 }
 
 void AckermannDrive::applyCommands(const StepTime& time, RobotBody& body) {
-  updated_this_step_ = timer_.due(time);
+  updated_this_step_ = timer().due(time);
   if (!updated_this_step_) return;
-  const double linear = std::clamp(command_.linear(time.sim_time), -config_.max_speed, config_.max_speed);
-  const double angular = command_.angular(time.sim_time);
+  const AckermannGeometry& geometry = config_.geometry;
+  const double linear = std::clamp(command().linear(time.sim_time), -config_.max_speed, config_.max_speed);
+  const double angular = command().angular(time.sim_time);
 
   // At v = 0 a turn cannot be driven: the wheels steer as far as they go towards the side of w.
   const double wanted = linear != 0 ? angular / linear : angular > 0 ? INFINITY : angular < 0 ? -INFINITY : 0;
   curvature_ = std::clamp(wanted, curvatureLimit(-1), curvatureLimit(1));
-  steering_targets_ = ackermannAngles(geometry_.wheelbase, geometry_.steering_track, curvature_);
-  body.setJointPosition(left_steering_.joint, left_steering_.sign * steering_targets_.left,
-                        left_steering_.effort);
-  body.setJointPosition(right_steering_.joint, right_steering_.sign * steering_targets_.right,
-                        right_steering_.effort);
+  const SteeringAngles angles = ackermannAngles(geometry.wheelbase, geometry.steering_track, curvature_);
+  body.setJointPosition(left_steering_, config_.left_steering.sign * angles.left, config_.left_steering.effort);
+  body.setJointPosition(right_steering_, config_.right_steering.sign * angles.right,
+                        config_.right_steering.effort);
 
   // Each rear wheel rolls at the speed of its own turn radius, 1 / k - y, as an open differential lets it.
-  const auto drive = [&](const Wheel& wheel, double lateral) {
+  const auto drive = [&](int joint, const AckermannJoint& wheel, double lateral) {
     const double rim_speed = linear * (1 - curvature_ * lateral);
-    body.setJointVelocity(wheel.joint, wheel.sign * rim_speed / geometry_.wheel_radius, wheel.effort);
+    body.setJointVelocity(joint, wheel.sign * rim_speed / geometry.wheel_radius, wheel.effort);
   };
-  drive(rear_left_, geometry_.rear_track / 2);
-  drive(rear_right_, -geometry_.rear_track / 2);
+  drive(rear_left_, config_.rear_left, geometry.rear_track / 2);
+  drive(rear_right_, config_.rear_right, -geometry.rear_track / 2);
 }
 
 void AckermannDrive::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
   if (!updated_this_step_) return;
   // The base's pose in the world, i.e. ground truth, as ROS 2's plugin reports it.
-  setGroundTruth(odometry_, body, config_.robot_base_frame, time.sim_time);
-  ++odometry_count_;
+  fillGroundTruth(body, time.sim_time);
+  publishOdometry();
 }
 
-void AckermannDrive::reset() {
-  timer_.reset();
-  command_.reset();
+void AckermannDrive::onReset() {
+  DrivePlugin::onReset();
   curvature_ = 0;
-  steering_targets_ = {};
-  odometry_.stamp = 0;
 }
 
 }  // namespace bullet_sim

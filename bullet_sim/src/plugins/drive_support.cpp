@@ -1,8 +1,39 @@
 #include "bullet_sim/plugins/drive_support.h"
 
 #include <cmath>
+#include <sstream>
 
 namespace bullet_sim {
+
+void readDriveExtras(PluginTags& tags, DriveConfigHead& head) {
+  head.robot_namespace = tags.text("robotNamespace", "");
+  head.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
+  head.wheel_model = tags.text("wheelModel", head.wheel_model);
+  if (head.wheel_model != "contact" && head.wheel_model != "raycast") {
+    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" +
+                             head.wheel_model + "]");
+    head.wheel_model = kDefaultWheelModel;
+  }
+  tags.accept({"rosDebugLevel", "alwaysOn"});
+}
+
+std::array<double, 36> planarCovariance(double x, double y, double yaw) {
+  std::array<double, 36> covariance{};
+  covariance[0] = x;
+  covariance[7] = y;
+  covariance[14] = covariance[21] = covariance[28] = 1e12;
+  covariance[35] = yaw;
+  return covariance;
+}
+
+double wheelRollSign(const std::map<std::string, Eigen::Isometry3d>& poses, const std::string& base_frame,
+                     const JointSpec& joint) {
+  const auto base = poses.find(base_frame);
+  const Eigen::Matrix3d to_base =
+      base == poses.end() ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(base->second.linear().transpose());
+  const Eigen::Vector3d axis = to_base * poses.at(joint.child).linear() * joint.axis;
+  return axis.y() >= 0 ? 1.0 : -1.0;
+}
 
 bool VelocityCommand::set(double linear, double angular, double sim_time) {
   if (!std::isfinite(linear) || !std::isfinite(angular)) return false;
@@ -12,13 +43,51 @@ bool VelocityCommand::set(double linear, double angular, double sim_time) {
   return true;
 }
 
-void setGroundTruth(Odometry& odometry, const RobotBody& body, const std::string& base_frame, double stamp) {
-  const Eigen::Isometry3d base = body.linkPose(base_frame);
+DrivePlugin::DrivePlugin(const PluginDeclaration& declaration, const DriveConfigHead& head,
+                         const PluginSetup& setup)
+    : Plugin(declaration, setup), base_frame_(head.robot_base_frame), command_(head.command_timeout) {
+  Odometry& odometry = odometry_.next();
+  odometry.frame_id = head.odometry_frame;
+  odometry.child_frame_id = head.robot_base_frame;
+  odometry.pose_covariance = head.pose_covariance;
+  odometry.twist_covariance = head.twist_covariance;
+  odometry_tf_.next().frames = {{head.odometry_frame, head.robot_base_frame, Eigen::Isometry3d::Identity()}};
+  addInput<Twist>(head.command_topic, [this](const Twist& twist, double sim_time) -> std::string {
+    if (setCommand(twist.linear.x(), twist.angular.z(), sim_time)) return "";
+    std::ostringstream why;
+    why << "a cmd_vel that is not finite (linear.x " << twist.linear.x() << ", angular.z " << twist.angular.z()
+        << ")";
+    return why.str();
+  });
+  if (head.publish_odometry) addOutput(head.odometry_topic, odometry_);
+  if (head.publish_odom_tf) addOutput("", odometry_tf_);
+}
+
+bool DrivePlugin::setCommand(double linear, double angular, double sim_time) {
+  return command_.set(linear, angular, sim_time);
+}
+
+void DrivePlugin::publishOdometry() {
+  odometry_.publish();
+  TransformSample& tf = odometry_tf_.next();
+  tf.stamp = odometry_.latest().stamp;
+  tf.frames.front().pose = odometry_.latest().pose;
+  odometry_tf_.publish();
+}
+
+void DrivePlugin::fillGroundTruth(const RobotBody& body, double stamp) {
+  Odometry& odometry = odometry_.next();
+  const Eigen::Isometry3d base = body.linkPose(base_frame_);
   const Eigen::Matrix3d to_base = base.linear().transpose();
   odometry.stamp = stamp;
   odometry.pose = base;
-  odometry.linear_velocity = to_base * body.linkLinearVelocity(base_frame);
-  odometry.angular_velocity = to_base * body.linkAngularVelocity(base_frame);
+  odometry.linear_velocity = to_base * body.linkLinearVelocity(base_frame_);
+  odometry.angular_velocity = to_base * body.linkAngularVelocity(base_frame_);
+}
+
+void DrivePlugin::onReset() {
+  command_.reset();
+  odometry_.next().stamp = 0;
 }
 
 }  // namespace bullet_sim

@@ -2,51 +2,48 @@
 
 namespace bullet_sim {
 
-GroundTruth::GroundTruth(const PluginSpec& spec, const ModelSpec& model, Diagnostics& diagnostics,
-                         uint64_t seed)
-    : Plugin(spec.name), seed_(seed), noise_(seed) {
-  PluginTags tags(spec.element, "plugin [" + spec.name + "]", diagnostics);
-  body_ = tags.text("bodyName", "");
-  if (!model.link(body_)) {
-    diagnostics.error(tags.where() + " <bodyName> [" + body_ + "] is not a link" +
-                      didYouMean(body_, model.linkNames()));
+GroundTruthConfig parseGroundTruth(const DeclarationSource& source) {
+  PluginTags& tags = source.tags;
+  GroundTruthConfig config;
+  config.body = tags.text("bodyName", "");
+  if (!source.model.link(config.body)) {
+    source.diagnostics.error(tags.where() + " <bodyName> [" + config.body + "] is not a link" +
+                             didYouMean(config.body, source.model.linkNames()));
   }
-  topic_ = tags.text("topicName", topic_);
-  robot_namespace_ = tags.text("robotNamespace", "");
-  timer_ = UpdateTimer(tags.positive("updateRate", 0, /*allow_zero=*/true));
-  noise_stddev_ = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-  odometry_.frame_id = tags.text("frameName", "world");
-  if (odometry_.frame_id != "world" && odometry_.frame_id != "map" && odometry_.frame_id != "/world") {
-    diagnostics.warning(tags.where() + " <frameName> [" + odometry_.frame_id +
-                        "]: poses are given in the world frame, whatever the name");
+  config.topic = tags.text("topicName", config.topic);
+  config.robot_namespace = tags.text("robotNamespace", "");
+  config.update_rate = tags.positive("updateRate", 0, /*allow_zero=*/true);
+  config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
+  config.frame = tags.text("frameName", config.frame);
+  if (config.frame != "world" && config.frame != "map" && config.frame != "/world") {
+    source.diagnostics.warning(tags.where() + " <frameName> [" + config.frame +
+                               "]: poses are given in the world frame, whatever the name");
   }
-  odometry_.child_frame_id = body_;
   tags.accept({"alwaysOn", "xyzOffsets", "rpyOffsets"});
-  tags.finish();
-  const double variance = noise_stddev_ * noise_stddev_;
-  for (int i : {0, 7, 14, 21, 28, 35})
-    odometry_.pose_covariance[i] = odometry_.twist_covariance[i] = variance;
+  return config;
+}
+
+GroundTruth::GroundTruth(const PluginDeclaration& declaration, const GroundTruthConfig& config,
+                         const PluginSetup& setup)
+    : Plugin(declaration, setup), config_(config) {
+  Odometry& odometry = odometry_.next();
+  odometry.frame_id = config_.frame;
+  odometry.child_frame_id = config_.body;
+  const double variance = config_.noise_stddev * config_.noise_stddev;
+  for (int i : {0, 7, 14, 21, 28, 35}) odometry.pose_covariance[i] = odometry.twist_covariance[i] = variance;
+  addOutput(config_.topic, odometry_);
 }
 
 void GroundTruth::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
-  if (!timer_.due(time)) return;
-  std::normal_distribution<double> gaussian(0.0, noise_stddev_);
-  const auto noise = [&] {
-    return noise_stddev_ > 0 ? Eigen::Vector3d(gaussian(noise_), gaussian(noise_), gaussian(noise_))
-                             : Eigen::Vector3d::Zero();
-  };
-  odometry_.stamp = time.sim_time;
-  odometry_.pose = body.linkPose(body_);
-  odometry_.pose.translation() += noise();
+  if (!timer().due(time)) return;
+  Odometry& odometry = odometry_.next();
+  odometry.stamp = time.sim_time;
+  odometry.pose = body.linkPose(config_.body);
+  odometry.pose.translation() += gaussian3(config_.noise_stddev);
   // p3d reports velocities in the world frame.
-  odometry_.linear_velocity = body.linkLinearVelocity(body_) + noise();
-  odometry_.angular_velocity = body.linkAngularVelocity(body_) + noise();
-  ++odometry_count_;
-}
-
-void GroundTruth::reset() {
-  timer_.reset();
-  noise_.seed(seed_);
+  odometry.linear_velocity = body.linkLinearVelocity(config_.body) + gaussian3(config_.noise_stddev);
+  odometry.angular_velocity = body.linkAngularVelocity(config_.body) + gaussian3(config_.noise_stddev);
+  odometry_.publish();
 }
 
 }  // namespace bullet_sim

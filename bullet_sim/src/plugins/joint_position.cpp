@@ -2,36 +2,45 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace bullet_sim {
 
-JointPosition::JointPosition(const PluginSpec& spec, const ModelSpec& model, const RobotBody& body,
-                             Diagnostics& diagnostics)
-    : Plugin(spec.name) {
-  PluginTags tags(spec.element, "plugin [" + spec.name + "]", diagnostics);
-  topic_ = tags.text("topicName", topic_);
-  robot_namespace_ = tags.text("robotNamespace", "");
+JointPositionConfig parseJointPosition(const DeclarationSource& source) {
+  PluginTags& tags = source.tags;
+  JointPositionConfig config;
+  config.topic = tags.text("topicName", config.topic);
+  config.robot_namespace = tags.text("robotNamespace", "");
   tags.accept({"updateRate", "alwaysOn"});
   for (const auto& name : tags.list("jointName")) {
-    const JointSpec* joint = model.joint(name);
+    const JointSpec* joint = source.model.joint(name);
     if (!joint || !joint->moves()) {
-      diagnostics.error(tags.where() + " <jointName> [" + name + "] is not a moving joint" +
-                        didYouMean(name, model.jointNames()));
+      source.diagnostics.error(tags.where() + " <jointName> [" + name + "] is not a moving joint" +
+                               didYouMean(name, source.model.jointNames()));
       continue;
     }
     if (joint->effort <= 0) {
-      diagnostics.error(tags.where() + " joint [" + name +
-                        "] has no effort limit, so nothing can hold it: set <limit effort=...> in the URDF");
-      continue;
+      source.diagnostics.error(tags.where() + " joint [" + name +
+                               "] has no effort limit, so nothing can hold it: set <limit effort=...> in the URDF");
     }
-    const int index = body.jointIndex(name);
-    const double initial = std::clamp(body.jointPosition(index), joint->lower, joint->upper);
-    held_.push_back({name, index, joint->lower, joint->upper, joint->effort, initial, initial});
+    config.joints.push_back(name);
   }
   if (!tags.has("jointName")) {
-    diagnostics.warning(tags.where() + " has no <jointName> (a bullet_sim tag): it holds no joint");
+    source.diagnostics.warning(tags.where() + " has no <jointName> (a bullet_sim tag): it holds no joint");
   }
-  tags.finish();
+  return config;
+}
+
+JointPosition::JointPosition(const PluginDeclaration& declaration, const JointPositionConfig& config,
+                             const PluginSetup& setup)
+    : Plugin(declaration, setup) {
+  for (const auto& name : config.joints) {
+    const JointSpec& joint = *setup.body.spec().joint(name);
+    const int index = setup.body.jointIndex(name);
+    const double initial = std::clamp(setup.body.jointPosition(index), joint.lower, joint.upper);
+    held_.push_back({name, index, joint.lower, joint.upper, joint.effort, initial, initial});
+  }
+  addInput<JointTargets>(config.topic, [this](const JointTargets& targets, double) { return take(targets); });
 }
 
 bool JointPosition::setTarget(const std::string& joint, double position) {
@@ -45,11 +54,22 @@ bool JointPosition::setTarget(const std::string& joint, double position) {
   return false;
 }
 
+std::string JointPosition::take(const JointTargets& targets) {
+  std::ostringstream refused;
+  for (size_t i = 0; i < targets.names.size() && i < targets.positions.size(); ++i) {
+    if (!setTarget(targets.names[i], targets.positions[i])) {
+      refused << (refused.tellp() > 0 ? ", " : "a target it cannot hold: ") << "joint [" << targets.names[i]
+              << "] at " << targets.positions[i];
+    }
+  }
+  return refused.str();
+}
+
 void JointPosition::applyCommands(const StepTime&, RobotBody& body) {
   for (const auto& held : held_) body.setJointPosition(held.joint, held.target, held.effort);
 }
 
-void JointPosition::reset() {
+void JointPosition::onReset() {
   for (auto& held : held_) held.target = held.initial;
 }
 

@@ -2,21 +2,13 @@
 
 namespace bullet_sim {
 
-namespace {
-
-double readRate(const PluginSpec& spec, Diagnostics& diagnostics) {
-  PluginTags tags(spec.element, "plugin [" + spec.name + "]", diagnostics);
-  return tags.positive("updateRate", 100, /*allow_zero=*/true);
-}
-
-}  // namespace
-
-JointStates::JointStates(const PluginSpec& spec, const ModelSpec& model, const RobotBody& body,
-                         Diagnostics& diagnostics)
-    : Plugin(spec.name), timer_(readRate(spec, diagnostics)) {
-  PluginTags tags(spec.element, "plugin [" + spec.name + "]", diagnostics);
-  tags.accept({"updateRate", "alwaysOn"});
-  robot_namespace_ = tags.text("robotNamespace", "");
+JointStatesConfig parseJointStates(const DeclarationSource& source) {
+  PluginTags& tags = source.tags;
+  const ModelSpec& model = source.model;
+  JointStatesConfig config;
+  config.update_rate = tags.positive("updateRate", config.update_rate, /*allow_zero=*/true);
+  config.robot_namespace = tags.text("robotNamespace", "");
+  tags.accept({"alwaysOn"});
   std::vector<std::string> names = tags.list("jointName");
   if (!tags.has("jointName")) {
     for (const auto& joint : model.joints) {
@@ -24,30 +16,41 @@ JointStates::JointStates(const PluginSpec& spec, const ModelSpec& model, const R
     }
   }
   for (const auto& name : names) {
-    const int index = body.jointIndex(name);
-    if (index < 0) {
-      diagnostics.error(tags.where() + " <jointName> [" + name + "] is not a moving joint" +
-                        didYouMean(name, model.jointNames()));
+    const JointSpec* joint = model.joint(name);
+    if (!joint || !joint->moves()) {
+      source.diagnostics.error(tags.where() + " <jointName> [" + name + "] is not a moving joint" +
+                               didYouMean(name, model.jointNames()));
       continue;
     }
-    joints_.push_back(index);
-    states_.names.push_back(name);
+    config.joints.push_back(name);
   }
-  tags.finish();
-  states_.positions.resize(joints_.size());
-  states_.velocities.resize(joints_.size());
-  states_.efforts.resize(joints_.size());
+  return config;
+}
+
+JointStates::JointStates(const PluginDeclaration& declaration, const JointStatesConfig& config,
+                         const PluginSetup& setup)
+    : Plugin(declaration, setup) {
+  JointStateSample& states = states_.next();
+  for (const auto& name : config.joints) {
+    joints_.push_back(setup.body.jointIndex(name));
+    states.names.push_back(name);
+  }
+  states.positions.resize(joints_.size());
+  states.velocities.resize(joints_.size());
+  states.efforts.resize(joints_.size());
+  addOutput("joint_states", states_);
 }
 
 void JointStates::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
-  if (!timer_.due(time)) return;
-  states_.stamp = time.sim_time;
+  if (!timer().due(time)) return;
+  JointStateSample& states = states_.next();
+  states.stamp = time.sim_time;
   for (size_t i = 0; i < joints_.size(); ++i) {
-    states_.positions[i] = body.jointPosition(joints_[i]);
-    states_.velocities[i] = body.jointVelocity(joints_[i]);
-    states_.efforts[i] = body.jointEffort(joints_[i]);
+    states.positions[i] = body.jointPosition(joints_[i]);
+    states.velocities[i] = body.jointVelocity(joints_[i]);
+    states.efforts[i] = body.jointEffort(joints_[i]);
   }
-  ++states_count_;
+  states_.publish();
 }
 
 }  // namespace bullet_sim

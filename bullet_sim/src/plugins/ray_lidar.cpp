@@ -10,26 +10,11 @@ namespace bullet_sim {
 
 namespace {
 
-const tinyxml2::XMLElement* path(const tinyxml2::XMLElement* element,
-                                 std::initializer_list<const char*> names) {
-  for (const char* name : names) element = element ? element->FirstChildElement(name) : nullptr;
-  return element;
-}
-
-}  // namespace
-
-int RayLidarConfig::beams() const { return std::max(1, static_cast<int>(std::lround(samples * resolution))); }
-
-RayLidarConfig parseRayLidarConfig(const SensorSpec& sensor, const ModelSpec& model,
-                                   Diagnostics& diagnostics) {
-  RayLidarConfig config;
-  config.link = sensor.link;
-  config.pose = sensor.pose;
-  config.update_rate = sensor.update_rate;
-  config.frame = sensor.link;
-  const std::string where = "sensor [" + sensor.name + "] on link [" + sensor.link + "]";
-
-  PluginTags horizontal(path(sensor.element, {"ray", "scan", "horizontal"}), where + " <horizontal>",
+/// The <ray> blocks of the sensor: scan (horizontal, vertical), range and noise.
+void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
+                 Diagnostics& diagnostics) {
+  const TagNode* ray = sensor ? sensor->child("ray") : nullptr;
+  PluginTags horizontal(ray ? ray->find({"scan", "horizontal"}) : nullptr, where + " <horizontal>",
                         diagnostics);
   config.samples = static_cast<int>(horizontal.positive("samples", 640));
   config.resolution = horizontal.positive("resolution", 1);
@@ -39,8 +24,8 @@ RayLidarConfig parseRayLidarConfig(const SensorSpec& sensor, const ModelSpec& mo
   if (config.max_angle < config.min_angle)
     diagnostics.error(where + " <horizontal> <max_angle> is below <min_angle>");
 
-  if (const auto* vertical_element = path(sensor.element, {"ray", "scan", "vertical"})) {
-    PluginTags vertical(vertical_element, where + " <vertical>", diagnostics);
+  if (const TagNode* vertical_node = ray ? ray->find({"scan", "vertical"}) : nullptr) {
+    PluginTags vertical(vertical_node, where + " <vertical>", diagnostics);
     config.channels = std::max(1, static_cast<int>(std::lround(vertical.positive("samples", 1) *
                                                                vertical.positive("resolution", 1))));
     config.min_elevation = vertical.number("min_angle", 0);
@@ -51,14 +36,14 @@ RayLidarConfig parseRayLidarConfig(const SensorSpec& sensor, const ModelSpec& mo
     }
   }
 
-  PluginTags range(path(sensor.element, {"ray", "range"}), where + " <range>", diagnostics);
+  PluginTags range(ray ? ray->child("range") : nullptr, where + " <range>", diagnostics);
   config.range_min = range.positive("min", 0, /*allow_zero=*/true);
   config.range_max = range.positive("max", 0);
   range.accept({"resolution"});  // Gazebo's ray sensor does not quantise its ranges either
   range.finish();
 
-  if (const auto* noise_element = path(sensor.element, {"ray", "noise"})) {
-    PluginTags noise(noise_element, where + " <noise>", diagnostics);
+  if (const TagNode* noise_node = ray ? ray->child("noise") : nullptr) {
+    PluginTags noise(noise_node, where + " <noise>", diagnostics);
     const std::string type = noise.text("type", "gaussian");
     if (type != "gaussian" && type != "none") {
       diagnostics.error(where + " <noise><type> must be gaussian or none, not [" + type + "]");
@@ -68,44 +53,55 @@ RayLidarConfig parseRayLidarConfig(const SensorSpec& sensor, const ModelSpec& mo
     if (type == "none") config.noise_mean = config.noise_stddev = 0;
     noise.finish();
   }
+}
 
-  if (sensor.plugin) {
-    const std::string& filename = sensor.plugin->filename;
-    const bool velodyne = filename.find("velodyne") != std::string::npos;
-    config.output = velodyne                                     ? RayLidarConfig::Output::kPointCloud2
-                    : filename == "libgazebo_ros_block_laser.so" ? RayLidarConfig::Output::kPointCloud
-                                                                 : RayLidarConfig::Output::kLaserScan;
-    PluginTags tags(sensor.plugin->element, where + " plugin [" + sensor.plugin->name + "]", diagnostics);
-    config.topic = tags.text("topicName", config.topic);
-    config.frame = tags.text("frameName", config.frame);
-    config.robot_namespace = tags.text("robotNamespace", "");
-    if (velodyne) {
-      config.range_min = tags.positive("min_range", config.range_min, /*allow_zero=*/true);
-      config.range_max = tags.positive("max_range", config.range_max);
-      if (tags.has("gaussianNoise")) {
-        config.noise_mean = 0;
-        config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-      }
+/// The plugin's tags: topic, frame, and the velodyne plugins' own range and noise.
+void readPluginTags(const std::string& filename, PluginTags& tags, RayLidarConfig& config) {
+  const bool velodyne = filename.find("velodyne") != std::string::npos;
+  config.output = velodyne                                     ? RayLidarConfig::Output::kPointCloud2
+                  : filename == "libgazebo_ros_block_laser.so" ? RayLidarConfig::Output::kPointCloud
+                                                               : RayLidarConfig::Output::kLaserScan;
+  config.topic = tags.text("topicName", config.topic);
+  config.frame = tags.text("frameName", config.frame);
+  config.robot_namespace = tags.text("robotNamespace", "");
+  if (velodyne) {
+    config.range_min = tags.positive("min_range", config.range_min, /*allow_zero=*/true);
+    config.range_max = tags.positive("max_range", config.range_max);
+    if (tags.has("gaussianNoise")) {
+      config.noise_mean = 0;
+      config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
     }
-    tags.accept({"gaussianNoise", "hokuyoMinIntensity", "updateRate", "alwaysOn", "organize_cloud"});
-    tags.finish();
   }
-  if (config.range_max <= config.range_min) diagnostics.error(where + " <range> <max> must exceed <min>");
-  if (!model.link(config.frame)) {
-    diagnostics.error(where + " <frameName> [" + config.frame + "] is not a link" +
-                      didYouMean(config.frame, model.linkNames()) +
-                      "; Gazebo would publish scans in a frame tf lacks");
+  tags.accept({"gaussianNoise", "hokuyoMinIntensity", "updateRate", "alwaysOn", "organize_cloud"});
+}
+
+}  // namespace
+
+int RayLidarConfig::beams() const { return std::max(1, static_cast<int>(std::lround(samples * resolution))); }
+
+RayLidarConfig parseRayLidar(const DeclarationSource& source) {
+  const SensorDeclaration& sensor = *source.declaration.sensor;
+  const std::string where = source.declaration.where();
+  RayLidarConfig config;
+  config.link = sensor.link;
+  config.pose = sensor.pose;
+  config.update_rate = sensor.update_rate;
+  config.frame = sensor.link;
+  readRayTags(source.sensor, where, config, source.diagnostics);
+  readPluginTags(source.declaration.filename, source.tags, config);
+  if (config.range_max <= config.range_min)
+    source.diagnostics.error(where + " <range> <max> must exceed <min>");
+  if (!source.model.link(config.frame)) {
+    source.diagnostics.error(where + " <frameName> [" + config.frame + "] is not a link" +
+                             didYouMean(config.frame, source.model.linkNames()) +
+                             "; Gazebo would publish scans in a frame tf lacks");
   }
   return config;
 }
 
-RayLidar::RayLidar(std::string name, RayLidarConfig config, BodyId own_body, uint64_t seed)
-    : Plugin(std::move(name)),
-      config_(std::move(config)),
-      own_body_(own_body),
-      seed_(seed),
-      timer_(config_.update_rate),
-      noise_(seed) {
+RayLidar::RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& config,
+                   const PluginSetup& setup)
+    : Plugin(declaration, setup), config_(config), own_body_(setup.own_ray_body) {
   const int beams = config_.beams();
   const double increment = beams > 1 ? (config_.max_angle - config_.min_angle) / (beams - 1) : 0.0;
   // A LaserScan is the plane at 0 elevation; point clouds take every channel, bottom first.
@@ -122,55 +118,79 @@ RayLidar::RayLidar(std::string name, RayLidarConfig config, BodyId own_body, uin
   }
   world_directions_.resize(directions_.size());
   ranges_.resize(directions_.size());
-  scan_.frame_id = cloud_.frame_id = config_.frame;
-  scan_.angle_min = config_.min_angle;
-  scan_.angle_max = config_.max_angle;
-  scan_.angle_increment = increment;
-  scan_.scan_time = config_.update_rate > 0 ? 1.0 / config_.update_rate : 0.0;
-  scan_.range_min = config_.range_min;
-  scan_.range_max = config_.range_max;
-  if (config_.output == RayLidarConfig::Output::kLaserScan) scan_.ranges.resize(beams);
+  LaserScan& scan = scan_.next();
+  scan.frame_id = cloud_.next().frame_id = legacy_cloud_.next().frame_id = config_.frame;
+  scan.angle_min = config_.min_angle;
+  scan.angle_max = config_.max_angle;
+  scan.angle_increment = increment;
+  scan.scan_time = config_.update_rate > 0 ? 1.0 / config_.update_rate : 0.0;
+  scan.range_min = config_.range_min;
+  scan.range_max = config_.range_max;
+  switch (config_.output) {
+    case RayLidarConfig::Output::kLaserScan:
+      scan.ranges.resize(beams);
+      addOutput(config_.topic, scan_);
+      break;
+    case RayLidarConfig::Output::kPointCloud2:
+      addOutput(config_.topic, cloud_);
+      break;
+    case RayLidarConfig::Output::kPointCloud:
+      addOutput(config_.topic, legacy_cloud_);
+      break;
+  }
+}
+
+const PointCloud& RayLidar::cloud() const {
+  return config_.output == RayLidarConfig::Output::kPointCloud ? legacy_cloud_.latest() : cloud_.latest();
+}
+
+double RayLidar::measured(double range, std::normal_distribution<double>& gaussian) {
+  if (range < config_.range_min) return -std::numeric_limits<double>::infinity();
+  const bool noisy = config_.noise_stddev > 0 || config_.noise_mean != 0;
+  if (std::isfinite(range) && noisy)
+    return std::clamp(range + gaussian(noise()), config_.range_min, config_.range_max);
+  return range;
 }
 
 void RayLidar::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
-  if (!timer_.due(time)) return;
+  if (!timer().due(time)) return;
   const Eigen::Isometry3d sensor = body.linkPose(config_.link) * config_.pose;
   const Eigen::Matrix3f rotation = sensor.linear().cast<float>();
   for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
   rays.cast(sensor.translation(), world_directions_, config_.range_max, own_body_, ranges_);
-
-  std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
-  const bool noisy = config_.noise_stddev > 0 || config_.noise_mean != 0;
-  const auto measured = [&](double range) {
-    if (range < config_.range_min) return -std::numeric_limits<double>::infinity();
-    if (std::isfinite(range) && noisy)
-      return std::clamp(range + gaussian(noise_), config_.range_min, config_.range_max);
-    return range;
-  };
   if (config_.output == RayLidarConfig::Output::kLaserScan) {
-    for (size_t i = 0; i < ranges_.size(); ++i) scan_.ranges[i] = static_cast<float>(measured(ranges_[i]));
-    scan_.stamp = time.sim_time;
-    scan_.sensor_pose = sensor;
+    publishScan(time, sensor);
   } else {
-    cloud_.points.clear();
-    cloud_.rings.clear();
-    const size_t beams = static_cast<size_t>(config_.beams());
-    for (size_t i = 0; i < ranges_.size(); ++i) {
-      const double range = measured(ranges_[i]);
-      if (!std::isfinite(range)) continue;
-      cloud_.points.push_back(directions_[i] * static_cast<float>(range));
-      cloud_.rings.push_back(static_cast<uint16_t>(i / beams));
-    }
-    cloud_.intensities.assign(cloud_.points.size(), 1.0f);
-    cloud_.stamp = time.sim_time;
-    cloud_.sensor_pose = sensor;
+    publishCloud(time, sensor);
   }
-  ++scan_count_;
 }
 
-void RayLidar::reset() {
-  timer_.reset();
-  noise_.seed(seed_);
+void RayLidar::publishScan(const StepTime& time, const Eigen::Isometry3d& sensor) {
+  std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
+  LaserScan& scan = scan_.next();
+  for (size_t i = 0; i < ranges_.size(); ++i) scan.ranges[i] = static_cast<float>(measured(ranges_[i], gaussian));
+  scan.stamp = time.sim_time;
+  scan.sensor_pose = sensor;
+  scan_.publish();
+}
+
+void RayLidar::publishCloud(const StepTime& time, const Eigen::Isometry3d& sensor) {
+  std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
+  const bool legacy = config_.output == RayLidarConfig::Output::kPointCloud;
+  PointCloud& cloud = legacy ? legacy_cloud_.next() : cloud_.next();
+  cloud.points.clear();
+  cloud.rings.clear();
+  const size_t beams = static_cast<size_t>(config_.beams());
+  for (size_t i = 0; i < ranges_.size(); ++i) {
+    const double range = measured(ranges_[i], gaussian);
+    if (!std::isfinite(range)) continue;
+    cloud.points.push_back(directions_[i] * static_cast<float>(range));
+    cloud.rings.push_back(static_cast<uint16_t>(i / beams));
+  }
+  cloud.intensities.assign(cloud.points.size(), 1.0f);
+  cloud.stamp = time.sim_time;
+  cloud.sensor_pose = sensor;
+  legacy ? legacy_cloud_.publish() : cloud_.publish();
 }
 
 }  // namespace bullet_sim

@@ -12,17 +12,7 @@ namespace {
 
 constexpr double kGeometryTolerance = 0.005;  // [m] plugin figures vs URDF geometry before we say so
 
-/// Gazebo's diff-drive pose covariance: tight in x, y and yaw, unknown (1e12) in z, roll and pitch.
-std::array<double, 36> planarCovariance(double xy, double yaw) {
-  std::array<double, 36> covariance{};
-  covariance[0] = covariance[7] = xy;
-  covariance[14] = covariance[21] = covariance[28] = 1e12;
-  covariance[35] = yaw;
-  return covariance;
-}
-
 void readCommon(PluginTags& tags, DriveConfig& config) {
-  config.robot_namespace = tags.text("robotNamespace", "");
   config.command_topic = tags.text("commandTopic", config.command_topic);
   config.odometry_topic = tags.text("odometryTopic", config.odometry_topic);
   config.odometry_frame = tags.text("odometryFrame", config.odometry_frame);
@@ -30,30 +20,93 @@ void readCommon(PluginTags& tags, DriveConfig& config) {
   config.wheel_separation = tags.positive("wheelSeparation", config.wheel_separation);
   config.wheel_diameter = tags.positive("wheelDiameter", config.wheel_diameter);
   config.update_rate = tags.positive("updateRate", config.update_rate, /*allow_zero=*/true);
-  config.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
-  config.wheel_model = tags.text("wheelModel", config.wheel_model);
-  if (config.wheel_model != "contact" && config.wheel_model != "raycast") {
-    tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" +
-                             config.wheel_model + "]");
+  readDriveExtras(tags, config);
+}
+
+std::string vectorText(const Eigen::Vector3d& v) {
+  std::ostringstream text;
+  text << v.x() << ' ' << v.y() << ' ' << v.z();
+  return text.str();
+}
+
+/// Checks one side's wheels against the model: each must be a moving joint; a reversed one and a collision
+/// of another diameter are said. Returns each wheel's roll sign and its offset across the base [m].
+std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig& config,
+                              const std::vector<std::string>& joints, std::vector<double>& lateral) {
+  const ModelSpec& model = source.model;
+  Diagnostics& diagnostics = source.diagnostics;
+  const std::string& where = source.tags.where();
+  const auto poses = linkPosesAtZero(model);
+  const Eigen::Isometry3d base = poses.at(config.robot_base_frame);
+  std::vector<double> signs;
+  for (const auto& name : joints) {
+    const JointSpec* joint = model.joint(name);
+    if (!joint || !joint->moves()) {
+      diagnostics.error(where + " names joint [" + name + "], which " +
+                        (joint ? "is fixed: wheels need continuous joints" : "does not exist") +
+                        (joint ? "" : didYouMean(name, model.jointNames())));
+      signs.push_back(1);
+      continue;
+    }
+    signs.push_back(wheelRollSign(poses, config.robot_base_frame, *joint));
+    if (signs.back() < 0) {
+      diagnostics.warning(where + " joint [" + name + "] turns about " + vectorText(joint->axis) +
+                          ", against the other side: it is driven with the opposite sign so the robot rolls "
+                          "forward (Gazebo would spin it in place)");
+    }
+    if (const LinkSpec* link = model.link(joint->child); link && !link->collisions.empty()) {
+      const Shape& shape = link->collisions.front().shape;
+      if ((shape.type == Shape::Type::kCylinder || shape.type == Shape::Type::kSphere) &&
+          std::abs(2 * shape.radius - config.wheel_diameter) > kGeometryTolerance) {
+        std::ostringstream message;
+        message << where << " <wheelDiameter> " << config.wheel_diameter << " m disagrees with link ["
+                << link->name << "], whose collision is " << 2 * shape.radius << " m across";
+        diagnostics.warning(message.str());
+      }
+    }
+    lateral.push_back((base.inverse() * poses.at(joint->child)).translation().y());
   }
-  tags.accept({"rosDebugLevel", "alwaysOn"});
+  return signs;
+}
+
+/// Checks the wheels against the model (see checkSide) and wheelSeparation against their joints.
+void checkWheels(const DeclarationSource& source, DriveConfig& config) {
+  if (!source.model.link(config.robot_base_frame)) {
+    source.diagnostics.error(source.tags.where() + " <robotBaseFrame> [" + config.robot_base_frame +
+                             "] is not a link" + didYouMean(config.robot_base_frame, source.model.linkNames()));
+    return;
+  }
+  std::vector<double> left_y, right_y;
+  config.left_signs = checkSide(source, config, config.left_joints, left_y);
+  config.right_signs = checkSide(source, config, config.right_joints, right_y);
+  for (size_t i = 0; i < std::min(left_y.size(), right_y.size()); ++i) {
+    const double separation = left_y[i] - right_y[i];
+    if (std::abs(separation - config.wheel_separation) > kGeometryTolerance) {
+      std::ostringstream message;
+      message << source.tags.where() << " <wheelSeparation> " << config.wheel_separation
+              << " m disagrees with the joints [" << config.left_joints[i] << "] and ["
+              << config.right_joints[i] << "], which are " << separation << " m apart";
+      source.diagnostics.warning(message.str());
+    }
+  }
 }
 
 }  // namespace
 
-DriveConfig parseDiffDriveConfig(PluginTags& tags) {
+DriveConfig parseDiffDrive(const DeclarationSource& source) {
+  PluginTags& tags = source.tags;
   DriveConfig config;
   readCommon(tags, config);
   config.left_joints = {tags.text("leftJoint", "left_joint")};
   config.right_joints = {tags.text("rightJoint", "right_joint")};
   config.torque = tags.positive("wheelTorque", 5.0);
   config.acceleration = tags.positive("wheelAcceleration", 0.0, /*allow_zero=*/true);
-  const std::string source = tags.text("odometrySource", "world");
-  if (source == "encoder") {
+  const std::string odometry_source = tags.text("odometrySource", "world");
+  if (odometry_source == "encoder") {
     config.odometry_from_encoders = true;
-  } else if (source != "world") {
-    tags.diagnostics().warning(tags.where() + " <odometrySource> must be world or encoder, not [" + source +
-                               "]: world is used, as Gazebo does");
+  } else if (odometry_source != "world") {
+    tags.diagnostics().warning(tags.where() + " <odometrySource> must be world or encoder, not [" +
+                               odometry_source + "]: world is used, as Gazebo does");
   }
   config.publish_odometry = tags.flag("publishTf", true);
   config.publish_odom_tf = tags.flag("publishOdomTF", true);
@@ -65,12 +118,13 @@ DriveConfig parseDiffDriveConfig(PluginTags& tags) {
         tags.where() +
         " <legacyMode> is a Kinetic tag (it swapped the wheels): ignored; REP 103 is followed");
   }
-  config.pose_covariance = planarCovariance(1e-5, 1e-3);
-  config.twist_covariance = planarCovariance(1e-5, 1e-3);
+  config.pose_covariance = config.twist_covariance = planarCovariance(1e-5, 1e-5, 1e-3);
+  checkWheels(source, config);
   return config;
 }
 
-DriveConfig parseSkidSteerConfig(PluginTags& tags) {
+DriveConfig parseSkidSteer(const DeclarationSource& source) {
+  PluginTags& tags = source.tags;
   DriveConfig config;
   config.wheel_separation = 0.4;
   readCommon(tags, config);
@@ -80,103 +134,39 @@ DriveConfig parseSkidSteerConfig(PluginTags& tags) {
                          tags.text("rightRearJoint", "right_rear_joint")};
   config.torque = tags.positive("torque", 5.0);
   config.publish_odom_tf = tags.flag("broadcastTF", false);
-  const double xy = tags.positive("covariance_x", 1e-4, true);
+  const double x = tags.positive("covariance_x", 1e-4, true);
   const double y = tags.positive("covariance_y", 1e-4, true);
   const double yaw = tags.positive("covariance_yaw", 0.01, true);
-  config.pose_covariance = planarCovariance(xy, yaw);
-  config.pose_covariance[7] = y;
-  config.twist_covariance = config.pose_covariance;
+  config.pose_covariance = config.twist_covariance = planarCovariance(x, y, yaw);
+  checkWheels(source, config);
   return config;
 }
 
-WheeledDrive::WheeledDrive(std::string name, DriveConfig config, const ModelSpec& model,
-                           const RobotBody& body, Diagnostics& diagnostics)
-    : Plugin(std::move(name)),
-      config_(std::move(config)),
-      timer_(config_.update_rate),
-      command_(config_.command_timeout) {
-  const std::string where = "plugin [" + this->name() + "]";
-  const auto poses = linkPosesAtZero(model);
-  if (!model.link(config_.robot_base_frame)) {
-    diagnostics.error(where + " <robotBaseFrame> [" + config_.robot_base_frame + "] is not a link" +
-                      didYouMean(config_.robot_base_frame, model.linkNames()));
-    return;
-  }
-  const Eigen::Isometry3d base = poses.at(config_.robot_base_frame);
-
-  // Where each wheel sits across the base [m], to check wheelSeparation against the URDF.
-  std::vector<double> left_y, right_y;
-  const auto addWheels = [&](const std::vector<std::string>& names, std::vector<Wheel>& wheels,
-                             std::vector<double>& lateral) {
-    for (const auto& joint_name : names) {
-      const JointSpec* joint = model.joint(joint_name);
-      if (!joint || !joint->moves()) {
-        diagnostics.error(where + " names joint [" + joint_name + "], which " +
-                          (joint ? "is fixed: wheels need continuous joints" : "does not exist") +
-                          (joint ? "" : didYouMean(joint_name, model.jointNames())));
-        continue;
-      }
-      Wheel wheel;
-      wheel.joint = body.jointIndex(joint_name);
-      const Eigen::Isometry3d in_base = base.inverse() * poses.at(joint->child);
-      const Eigen::Vector3d axis = in_base.linear() * joint->axis;
-      // Spinning about +y (the base's left) rolls a wheel forward: its contact point moves backwards.
-      wheel.sign = axis.y() >= 0 ? 1.0 : -1.0;
-      if (wheel.sign < 0) {
-        std::ostringstream axis_text;
-        axis_text << joint->axis.x() << ' ' << joint->axis.y() << ' ' << joint->axis.z();
-        diagnostics.warning(
-            where + " joint [" + joint_name + "] turns about " + axis_text.str() +
-            ", against the other side: it is driven with the opposite sign so the robot rolls "
-            "forward (Gazebo would spin it in place)");
-      }
-      if (const LinkSpec* link = model.link(joint->child); link && !link->collisions.empty()) {
-        const Shape& shape = link->collisions.front().shape;
-        if ((shape.type == Shape::Type::kCylinder || shape.type == Shape::Type::kSphere) &&
-            std::abs(2 * shape.radius - config_.wheel_diameter) > kGeometryTolerance) {
-          std::ostringstream message;
-          message << where << " <wheelDiameter> " << config_.wheel_diameter << " m disagrees with link ["
-                  << link->name << "], whose collision is " << 2 * shape.radius << " m across";
-          diagnostics.warning(message.str());
-        }
-      }
-      lateral.push_back(in_base.translation().y());
-      wheels.push_back(wheel);
+WheeledDrive::WheeledDrive(const PluginDeclaration& declaration, const DriveConfig& config,
+                           const PluginSetup& setup)
+    : DrivePlugin(declaration, config, setup), config_(config) {
+  const auto addWheels = [&](const std::vector<std::string>& names, const std::vector<double>& signs,
+                             std::vector<Wheel>& wheels) {
+    for (size_t i = 0; i < names.size(); ++i) {
+      const JointSpec& joint = *setup.body.spec().joint(names[i]);
+      wheels.push_back({setup.body.jointIndex(names[i]), signs[i], 0, 0, joint.parent, joint.child});
+      wheel_states_.next().names.push_back(names[i]);
     }
   };
-  addWheels(config_.left_joints, left_, left_y);
-  addWheels(config_.right_joints, right_, right_y);
-  for (size_t i = 0; i < std::min(left_y.size(), right_y.size()); ++i) {
-    const double separation = left_y[i] - right_y[i];
-    if (std::abs(separation - config_.wheel_separation) > kGeometryTolerance) {
-      std::ostringstream message;
-      message << where << " <wheelSeparation> " << config_.wheel_separation
-              << " m disagrees with the joints [" << config_.left_joints[i] << "] and ["
-              << config_.right_joints[i] << "], which are " << separation << " m apart";
-      diagnostics.warning(message.str());
-    }
-  }
-  for (const auto& names : {config_.left_joints, config_.right_joints}) {
-    wheel_states_.names.insert(wheel_states_.names.end(), names.begin(), names.end());
-  }
-  odometry_.frame_id = config_.odometry_frame;
-  odometry_.child_frame_id = config_.robot_base_frame;
-  odometry_.pose_covariance = config_.pose_covariance;
-  odometry_.twist_covariance = config_.twist_covariance;
-}
-
-bool WheeledDrive::setCommand(double linear, double angular, double sim_time) {
-  return command_.set(linear, angular, sim_time);
+  addWheels(config_.left_joints, config_.left_signs, left_);
+  addWheels(config_.right_joints, config_.right_signs, right_);
+  if (config_.publish_wheel_joint_state) addOutput("joint_states", wheel_states_);
+  if (config_.publish_wheel_tf) addOutput("", wheel_tf_);
 }
 
 void WheeledDrive::applyCommands(const StepTime& time, RobotBody& body) {
-  updated_this_step_ = timer_.due(time);
+  updated_this_step_ = timer().due(time);
   if (!updated_this_step_) return;
   const double elapsed = time.sim_time - last_update_;
   last_update_ = time.sim_time;
 
-  const double linear = command_.linear(time.sim_time);
-  const double angular = command_.angular(time.sim_time);
+  const double linear = command().linear(time.sim_time);
+  const double angular = command().angular(time.sim_time);
   const double radius = config_.wheel_diameter / 2;
   const auto drive = [&](std::vector<Wheel>& wheels, double target) {
     for (auto& wheel : wheels) {
@@ -216,41 +206,56 @@ Eigen::Vector2d WheeledDrive::integrateEncoders(const RobotBody& body) {
 
 void WheeledDrive::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
   if (!updated_this_step_) return;
-  const double elapsed = time.sim_time - odometry_.stamp;
-  odometry_.stamp = time.sim_time;
   if (config_.odometry_from_encoders) {
+    Odometry& odometry = nextOdometry();
+    const double elapsed = time.sim_time - odometry.stamp;
+    odometry.stamp = time.sim_time;
     const Eigen::Vector2d moved = integrateEncoders(body);  // distance [m], turn [rad]
-    odometry_.pose = Eigen::Translation3d(encoder_pose_.x(), encoder_pose_.y(), 0) *
-                     Eigen::AngleAxisd(encoder_pose_.z(), Eigen::Vector3d::UnitZ());
-    odometry_.linear_velocity = Eigen::Vector3d(moved.x() / elapsed, 0, 0);
-    odometry_.angular_velocity = Eigen::Vector3d(0, 0, moved.y() / elapsed);
+    odometry.pose = Eigen::Translation3d(encoder_pose_.x(), encoder_pose_.y(), 0) *
+                    Eigen::AngleAxisd(encoder_pose_.z(), Eigen::Vector3d::UnitZ());
+    odometry.linear_velocity = Eigen::Vector3d(moved.x() / elapsed, 0, 0);
+    odometry.angular_velocity = Eigen::Vector3d(0, 0, moved.y() / elapsed);
   } else {
-    setGroundTruth(odometry_, body, config_.robot_base_frame, time.sim_time);
+    fillGroundTruth(body, time.sim_time);
   }
-  ++odometry_count_;
+  publishOdometry();
+  publishWheels(time, body);
+}
 
+void WheeledDrive::publishWheels(const StepTime& time, const RobotBody& body) {
   if (config_.publish_wheel_joint_state) {
-    wheel_states_.stamp = time.sim_time;
-    wheel_states_.positions.clear();
-    wheel_states_.velocities.clear();
-    wheel_states_.efforts.clear();
+    JointStateSample& states = wheel_states_.next();
+    states.stamp = time.sim_time;
+    states.positions.clear();
+    states.velocities.clear();
+    states.efforts.clear();
     for (const auto* wheels : {&left_, &right_}) {
       for (const auto& wheel : *wheels) {
-        wheel_states_.positions.push_back(body.jointPosition(wheel.joint));
-        wheel_states_.velocities.push_back(body.jointVelocity(wheel.joint));
-        wheel_states_.efforts.push_back(body.jointEffort(wheel.joint));
+        states.positions.push_back(body.jointPosition(wheel.joint));
+        states.velocities.push_back(body.jointVelocity(wheel.joint));
+        states.efforts.push_back(body.jointEffort(wheel.joint));
       }
     }
-    ++wheel_states_count_;
+    wheel_states_.publish();
+  }
+  if (config_.publish_wheel_tf) {
+    TransformSample& tf = wheel_tf_.next();
+    tf.stamp = time.sim_time;
+    tf.frames.clear();
+    for (const auto* wheels : {&left_, &right_}) {
+      for (const auto& wheel : *wheels) {
+        tf.frames.push_back(
+            {wheel.parent_link, wheel.link, body.linkPose(wheel.parent_link).inverse() * body.linkPose(wheel.link)});
+      }
+    }
+    wheel_tf_.publish();
   }
 }
 
-void WheeledDrive::reset() {
-  timer_.reset();
+void WheeledDrive::onReset() {
+  DrivePlugin::onReset();
   last_update_ = 0;
-  command_.reset();
   encoder_pose_.setZero();
-  odometry_.stamp = 0;
   for (auto* wheels : {&left_, &right_}) {
     for (auto& wheel : *wheels) wheel.rim_speed = wheel.last_position = 0;
   }

@@ -1,6 +1,5 @@
 #include "robot_adapter.h"
 
-#include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/Imu.h>
@@ -9,53 +8,44 @@
 #include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
-#include "bullet_sim/plugins/ackermann_drive.h"
-#include "bullet_sim/plugins/ground_truth.h"
-#include "bullet_sim/plugins/imu.h"
-#include "bullet_sim/plugins/joint_position.h"
-#include "bullet_sim/plugins/joint_states.h"
-#include "bullet_sim/plugins/ray_lidar.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
+#include <algorithm>
 
 namespace bullet_sim {
 
 namespace {
 
-void fill(const Eigen::Isometry3d& pose, geometry_msgs::Pose& out) {
-  const Eigen::Quaterniond q(pose.linear());
-  out.position.x = pose.translation().x();
-  out.position.y = pose.translation().y();
-  out.position.z = pose.translation().z();
-  out.orientation.x = q.x();
-  out.orientation.y = q.y();
-  out.orientation.z = q.z();
-  out.orientation.w = q.w();
+std::string withoutSlashes(std::string text) {
+  while (!text.empty() && text.front() == '/') text.erase(text.begin());
+  while (!text.empty() && text.back() == '/') text.pop_back();
+  return text;
 }
 
-void fill(const Eigen::Vector3d& v, geometry_msgs::Vector3& out) {
-  out.x = v.x();
-  out.y = v.y();
-  out.z = v.z();
+std_msgs::Header header(double stamp, const std::string& frame_id) {
+  std_msgs::Header header;
+  header.stamp = ros::Time(stamp);
+  header.frame_id = frame_id;
+  return header;
 }
 
-nav_msgs::Odometry toMessage(const Odometry& odometry, const std::string& frame, const std::string& child) {
+// One conversion per output type.
+
+nav_msgs::Odometry toMessage(const Odometry& odometry, const FramePrefix& frames) {
   nav_msgs::Odometry message;
-  message.header.stamp = ros::Time(odometry.stamp);
-  message.header.frame_id = frame;
-  message.child_frame_id = child;
-  fill(odometry.pose, message.pose.pose);
-  fill(odometry.linear_velocity, message.twist.twist.linear);
-  fill(odometry.angular_velocity, message.twist.twist.angular);
-  std::copy(odometry.pose_covariance.begin(), odometry.pose_covariance.end(),
-            message.pose.covariance.begin());
+  message.header = header(odometry.stamp, frames(odometry.frame_id));
+  message.child_frame_id = frames(odometry.child_frame_id);
+  message.pose.pose = tf2::toMsg(odometry.pose);
+  tf2::toMsg(odometry.linear_velocity, message.twist.twist.linear);
+  tf2::toMsg(odometry.angular_velocity, message.twist.twist.angular);
+  std::copy(odometry.pose_covariance.begin(), odometry.pose_covariance.end(), message.pose.covariance.begin());
   std::copy(odometry.twist_covariance.begin(), odometry.twist_covariance.end(),
             message.twist.covariance.begin());
   return message;
 }
 
-sensor_msgs::JointState toMessage(const JointStateSample& states) {
+sensor_msgs::JointState toMessage(const JointStateSample& states, const FramePrefix&) {
   sensor_msgs::JointState message;
   message.header.stamp = ros::Time(states.stamp);
   message.name = states.names;
@@ -65,232 +55,178 @@ sensor_msgs::JointState toMessage(const JointStateSample& states) {
   return message;
 }
 
-std::string withoutSlashes(std::string text) {
-  while (!text.empty() && text.front() == '/') text.erase(text.begin());
-  while (!text.empty() && text.back() == '/') text.pop_back();
-  return text;
+sensor_msgs::LaserScan toMessage(const LaserScan& scan, const FramePrefix& frames) {
+  sensor_msgs::LaserScan message;
+  message.header = header(scan.stamp, frames(scan.frame_id));
+  message.angle_min = scan.angle_min;
+  message.angle_max = scan.angle_max;
+  message.angle_increment = scan.angle_increment;
+  message.time_increment = 0;
+  message.scan_time = scan.scan_time;
+  message.range_min = scan.range_min;
+  message.range_max = scan.range_max;
+  message.ranges = scan.ranges;
+  return message;
+}
+
+/// The velodyne driver's layout: x y z intensity (float32) and ring (uint16).
+sensor_msgs::PointCloud2 toMessage(const PointCloud& cloud, const FramePrefix& frames) {
+  sensor_msgs::PointCloud2 message;
+  message.header = header(cloud.stamp, frames(cloud.frame_id));
+  sensor_msgs::PointCloud2Modifier fields(message);
+  fields.setPointCloud2Fields(5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
+                              sensor_msgs::PointField::FLOAT32, "z", 1, sensor_msgs::PointField::FLOAT32,
+                              "intensity", 1, sensor_msgs::PointField::FLOAT32, "ring", 1,
+                              sensor_msgs::PointField::UINT16);
+  fields.resize(cloud.points.size());
+  sensor_msgs::PointCloud2Iterator<float> x(message, "x"), intensity(message, "intensity");
+  sensor_msgs::PointCloud2Iterator<uint16_t> ring(message, "ring");
+  for (size_t i = 0; i < cloud.points.size(); ++i, ++x, ++intensity, ++ring) {
+    x[0] = cloud.points[i].x();
+    x[1] = cloud.points[i].y();
+    x[2] = cloud.points[i].z();
+    *intensity = cloud.intensities[i];
+    *ring = cloud.rings[i];
+  }
+  message.is_dense = true;
+  return message;
+}
+
+sensor_msgs::PointCloud toMessage(const LegacyPointCloud& cloud, const FramePrefix& frames) {
+  sensor_msgs::PointCloud message;
+  message.header = header(cloud.stamp, frames(cloud.frame_id));
+  message.channels.resize(1);
+  message.channels[0].name = "intensity";
+  message.channels[0].values = cloud.intensities;
+  message.points.resize(cloud.points.size());
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    message.points[i].x = cloud.points[i].x();
+    message.points[i].y = cloud.points[i].y();
+    message.points[i].z = cloud.points[i].z();
+  }
+  return message;
+}
+
+sensor_msgs::Imu toMessage(const ImuSample& sample, const FramePrefix& frames) {
+  sensor_msgs::Imu message;
+  message.header = header(sample.stamp, frames(sample.frame_id));
+  message.orientation = tf2::toMsg(sample.orientation);
+  tf2::toMsg(sample.angular_velocity, message.angular_velocity);
+  tf2::toMsg(sample.linear_acceleration, message.linear_acceleration);
+  for (int i : {0, 4, 8}) {
+    message.orientation_covariance[i] = sample.orientation_variance;
+    message.angular_velocity_covariance[i] = sample.angular_velocity_variance;
+    message.linear_acceleration_covariance[i] = sample.linear_acceleration_variance;
+  }
+  return message;
 }
 
 }  // namespace
 
-template <class Drive>
-ros::NodeHandle RobotAdapter::connectDrive(Drive* drive, const DriveTopics& topics) {
-  ros::NodeHandle handle = handleFor(topics.robot_namespace);
-  if (frame_prefix_.empty()) frame_prefix_ = withoutSlashes(topics.robot_namespace);
-  subscribers_.push_back(handle.subscribe<geometry_msgs::Twist>(
-      topics.command_topic, 10,
-      [this, drive, name = robot_.name()](const geometry_msgs::Twist::ConstPtr& twist) {
-        if (!drive->setCommand(twist->linear.x, twist->angular.z, sim_time_())) {
-          ROS_WARN_THROTTLE(5, "[%s] ignored a cmd_vel that is not finite (linear.x %f, angular.z %f)",
-                            name.c_str(), twist->linear.x, twist->angular.z);
-        }
-      }));
-  topics_.push_back(subscribers_.back().getTopic() + " (in)");
-  const std::string odom_frame = frame(topics.odometry_frame);
-  const std::string base_frame = frame(topics.robot_base_frame);
-  ros::Publisher odom = topics.publish_odometry ? advertise<nav_msgs::Odometry>(handle, topics.odometry_topic)
-                                                : ros::Publisher();
-  outputs_.push_back({[drive] { return drive->odometryCount(); },
-                      [this, drive, odom, odom_frame, base_frame, publish_tf = topics.publish_odom_tf] {
-                        const Odometry& odometry = drive->odometry();
-                        if (odom) odom.publish(toMessage(odometry, odom_frame, base_frame));
-                        if (publish_tf) {
-                          geometry_msgs::TransformStamped transform;
-                          transform.header.stamp = ros::Time(odometry.stamp);
-                          transform.header.frame_id = odom_frame;
-                          transform.child_frame_id = base_frame;
-                          geometry_msgs::Pose pose;
-                          fill(odometry.pose, pose);
-                          transform.transform.translation.x = pose.position.x;
-                          transform.transform.translation.y = pose.position.y;
-                          transform.transform.translation.z = pose.position.z;
-                          transform.transform.rotation = pose.orientation;
+std::string FramePrefix::operator()(const std::string& frame) const {
+  const std::string bare = withoutSlashes(frame);
+  if (prefix_.empty() || bare == "world" || bare == "map") return bare;
+  return prefix_ + "/" + bare;
+}
+
+struct RobotAdapter::Connection {
+  mutable ros::NodeHandle handle;  // advertise and subscribe are not const
+  const FramePrefix& frames;
+};
+
+RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace, tf2_ros::TransformBroadcaster& tf,
+                           std::function<double()> sim_time)
+    : robot_name_(robot.name()),
+      namespace_(withoutSlashes(robot_namespace)),
+      frames_(""),
+      tf_(tf),
+      sim_time_(std::move(sim_time)) {
+  std::string prefix = namespace_;
+  for (const auto& plugin : robot.plugins()) {
+    if (prefix.empty()) prefix = withoutSlashes(plugin->robotNamespace());
+  }
+  frames_ = FramePrefix(prefix);
+  for (const auto& plugin : robot.plugins()) connect(*plugin);
+}
+
+void RobotAdapter::connect(const Plugin& plugin) {
+  const Connection connection{handleFor(plugin.robotNamespace()), frames_};
+  for (const auto& port : plugin.ports().inputs) subscribe(connection, port);
+  for (const auto& port : plugin.ports().outputs) advertise(connection, port);
+}
+
+template <class Message, class Sample, class Convert>
+void RobotAdapter::advertiseStream(const Connection& plugin, const std::string& topic,
+                                   const Stream<Sample>* stream, Convert convert) {
+  ros::Publisher publisher = plugin.handle.advertise<Message>(topic, 10);
+  publishers_.push_back(publisher);
+  topics_.push_back(publisher.getTopic());
+  outputs_.push_back({[stream] { return stream->count(); },
+                      [publisher, stream, convert, frames = plugin.frames] {
+                        publisher.publish(convert(stream->latest(), frames));
+                      }});
+}
+
+void RobotAdapter::broadcast(const Stream<TransformSample>* stream, const FramePrefix& frames) {
+  outputs_.push_back({[stream] { return stream->count(); },
+                      [this, stream, frames] {
+                        const TransformSample& sample = stream->latest();
+                        for (const auto& frame : sample.frames) {
+                          geometry_msgs::TransformStamped transform = tf2::eigenToTransform(frame.pose);
+                          transform.header = header(sample.stamp, frames(frame.parent));
+                          transform.child_frame_id = frames(frame.child);
                           tf_.sendTransform(transform);
                         }
                       }});
-  return handle;
 }
 
-RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
-                           tf2_ros::TransformBroadcaster& tf, std::function<double()> sim_time)
-    : robot_(robot), namespace_(withoutSlashes(robot_namespace)), tf_(tf), sim_time_(std::move(sim_time)) {
-  frame_prefix_ = namespace_;
+void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
+  const auto& topic = port.topic;
+  const auto convert = [](const auto& sample, const FramePrefix& frames) { return toMessage(sample, frames); };
+  std::visit(
+      [&](const auto* stream) {
+        using Sample = std::decay_t<decltype(stream->latest())>;
+        if constexpr (std::is_same_v<Sample, TransformSample>) {
+          broadcast(stream, plugin.frames);
+        } else {
+          using Message = decltype(toMessage(stream->latest(), plugin.frames));
+          advertiseStream<Message>(plugin, topic, stream, convert);
+        }
+      },
+      port.stream);
+}
 
-  for (WheeledDrive* drive : robot.pluginsOf<WheeledDrive>()) {
-    const DriveConfig& config = drive->config();
-    ros::NodeHandle handle = connectDrive(
-        drive, {config.robot_namespace, config.command_topic, config.odometry_topic, config.odometry_frame,
-                config.robot_base_frame, config.publish_odometry, config.publish_odom_tf});
-    if (config.publish_wheel_joint_state) {
-      ros::Publisher states = advertise<sensor_msgs::JointState>(handle, "joint_states");
-      outputs_.push_back({[drive] { return drive->wheelJointStatesCount(); },
-                          [drive, states] { states.publish(toMessage(drive->wheelJointStates())); }});
-    }
-  }
-
-  for (AckermannDrive* drive : robot.pluginsOf<AckermannDrive>()) {
-    const AckermannConfig& config = drive->config();
-    connectDrive(drive,
-                 {config.robot_namespace, config.command_topic, config.odometry_topic, config.odometry_frame,
-                  config.robot_base_frame, config.publish_odometry, config.publish_odom_tf});
-  }
-
-  for (JointStates* plugin : robot.pluginsOf<JointStates>()) {
-    ros::Publisher states =
-        advertise<sensor_msgs::JointState>(handleFor(plugin->robotNamespace()), "joint_states");
-    outputs_.push_back({[plugin] { return plugin->statesCount(); },
-                        [plugin, states] { states.publish(toMessage(plugin->states())); }});
-  }
-
-  for (RayLidar* lidar : robot.pluginsOf<RayLidar>()) {
-    const RayLidarConfig& config = lidar->config();
-    const ros::NodeHandle handle = handleFor(config.robot_namespace);
-    const std::string frame_id = frame(config.frame);
-    switch (config.output) {
-      case RayLidarConfig::Output::kLaserScan: {
-        ros::Publisher scans = advertise<sensor_msgs::LaserScan>(handle, config.topic);
-        outputs_.push_back({[lidar] { return lidar->scanCount(); },
-                            [lidar, scans, frame_id] {
-                              const LaserScan& scan = lidar->scan();
-                              sensor_msgs::LaserScan message;
-                              message.header.stamp = ros::Time(scan.stamp);
-                              message.header.frame_id = frame_id;
-                              message.angle_min = scan.angle_min;
-                              message.angle_max = scan.angle_max;
-                              message.angle_increment = scan.angle_increment;
-                              message.time_increment = 0;
-                              message.scan_time = scan.scan_time;
-                              message.range_min = scan.range_min;
-                              message.range_max = scan.range_max;
-                              message.ranges = scan.ranges;
-                              scans.publish(message);
-                            }});
-        break;
-      }
-      case RayLidarConfig::Output::kPointCloud2: {
-        ros::Publisher clouds = advertise<sensor_msgs::PointCloud2>(handle, config.topic);
-        outputs_.push_back({[lidar] { return lidar->scanCount(); },
-                            [lidar, clouds, frame_id] {
-                              const PointCloud& cloud = lidar->cloud();
-                              sensor_msgs::PointCloud2 message;
-                              message.header.stamp = ros::Time(cloud.stamp);
-                              message.header.frame_id = frame_id;
-                              sensor_msgs::PointCloud2Modifier fields(message);
-                              // The velodyne driver's layout: x y z intensity (float32) and ring (uint16).
-                              fields.setPointCloud2Fields(5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
-                                                          sensor_msgs::PointField::FLOAT32, "z", 1,
-                                                          sensor_msgs::PointField::FLOAT32, "intensity", 1,
-                                                          sensor_msgs::PointField::FLOAT32, "ring", 1,
-                                                          sensor_msgs::PointField::UINT16);
-                              fields.resize(cloud.points.size());
-                              sensor_msgs::PointCloud2Iterator<float> x(message, "x"),
-                                  intensity(message, "intensity");
-                              sensor_msgs::PointCloud2Iterator<uint16_t> ring(message, "ring");
-                              for (size_t i = 0; i < cloud.points.size(); ++i, ++x, ++intensity, ++ring) {
-                                x[0] = cloud.points[i].x();
-                                x[1] = cloud.points[i].y();
-                                x[2] = cloud.points[i].z();
-                                *intensity = cloud.intensities[i];
-                                *ring = cloud.rings[i];
-                              }
-                              message.is_dense = true;
-                              clouds.publish(message);
-                            }});
-        break;
-      }
-      case RayLidarConfig::Output::kPointCloud: {
-        ros::Publisher clouds = advertise<sensor_msgs::PointCloud>(handle, config.topic);
-        outputs_.push_back({[lidar] { return lidar->scanCount(); },
-                            [lidar, clouds, frame_id] {
-                              const PointCloud& cloud = lidar->cloud();
-                              sensor_msgs::PointCloud message;
-                              message.header.stamp = ros::Time(cloud.stamp);
-                              message.header.frame_id = frame_id;
-                              message.channels.resize(1);
-                              message.channels[0].name = "intensity";
-                              message.channels[0].values = cloud.intensities;
-                              message.points.resize(cloud.points.size());
-                              for (size_t i = 0; i < cloud.points.size(); ++i) {
-                                message.points[i].x = cloud.points[i].x();
-                                message.points[i].y = cloud.points[i].y();
-                                message.points[i].z = cloud.points[i].z();
-                              }
-                              clouds.publish(message);
-                            }});
-        break;
-      }
-    }
-  }
-
-  for (Imu* imu : robot.pluginsOf<Imu>()) {
-    ros::Publisher samples =
-        advertise<sensor_msgs::Imu>(handleFor(imu->config().robot_namespace), imu->config().topic);
-    const std::string frame_id = frame(imu->config().frame);
-    outputs_.push_back({[imu] { return imu->sampleCount(); },
-                        [imu, samples, frame_id] {
-                          const ImuSample& sample = imu->sample();
-                          sensor_msgs::Imu message;
-                          message.header.stamp = ros::Time(sample.stamp);
-                          message.header.frame_id = frame_id;
-                          message.orientation.x = sample.orientation.x();
-                          message.orientation.y = sample.orientation.y();
-                          message.orientation.z = sample.orientation.z();
-                          message.orientation.w = sample.orientation.w();
-                          fill(sample.angular_velocity, message.angular_velocity);
-                          fill(sample.linear_acceleration, message.linear_acceleration);
-                          for (int i : {0, 4, 8}) {
-                            message.orientation_covariance[i] = sample.orientation_variance;
-                            message.angular_velocity_covariance[i] = sample.angular_velocity_variance;
-                            message.linear_acceleration_covariance[i] = sample.linear_acceleration_variance;
-                          }
-                          samples.publish(message);
-                        }});
-  }
-
-  for (GroundTruth* truth : robot.pluginsOf<GroundTruth>()) {
-    ros::Publisher poses = advertise<nav_msgs::Odometry>(handleFor(truth->robotNamespace()), truth->topic());
-    outputs_.push_back({[truth] { return truth->odometryCount(); },
-                        [this, truth, poses] {
-                          const Odometry& odometry = truth->odometry();
-                          poses.publish(
-                              toMessage(odometry, odometry.frame_id, frame(odometry.child_frame_id)));
-                        }});
-  }
-
-  for (JointPosition* holder : robot.pluginsOf<JointPosition>()) {
-    subscribers_.push_back(
-        handleFor(holder->robotNamespace())
-            .subscribe<trajectory_msgs::JointTrajectory>(
-                holder->topic(), 10,
-                [holder, name = robot.name()](const trajectory_msgs::JointTrajectory::ConstPtr& msg) {
-                  if (msg->points.empty()) return;
-                  const auto& positions = msg->points.front().positions;
-                  for (size_t i = 0; i < msg->joint_names.size() && i < positions.size(); ++i) {
-                    if (!holder->setTarget(msg->joint_names[i], positions[i])) {
-                      ROS_WARN_THROTTLE(5, "[%s] cannot hold joint [%s] at %f", name.c_str(),
-                                        msg->joint_names[i].c_str(), positions[i]);
-                    }
-                  }
-                }));
-    topics_.push_back(subscribers_.back().getTopic() + " (in)");
-  }
+void RobotAdapter::subscribe(const Connection& plugin, const InputPort& port) {
+  const auto warn = [name = robot_name_](const std::string& why) {
+    if (!why.empty()) ROS_WARN_THROTTLE(5, "[%s] ignored %s", name.c_str(), why.c_str());
+  };
+  std::visit(
+      [&](const auto& handler) {
+        using Handler = std::decay_t<decltype(handler)>;
+        if constexpr (std::is_same_v<Handler, InputHandler<Twist>>) {
+          subscribers_.push_back(plugin.handle.subscribe<geometry_msgs::Twist>(
+              port.topic, 10, [this, handler, warn](const geometry_msgs::Twist::ConstPtr& message) {
+                Twist twist;
+                tf2::fromMsg(message->linear, twist.linear);
+                tf2::fromMsg(message->angular, twist.angular);
+                warn(handler(twist, sim_time_()));
+              }));
+        } else {
+          static_assert(std::is_same_v<Handler, InputHandler<JointTargets>>, "an input type without a topic");
+          subscribers_.push_back(plugin.handle.subscribe<trajectory_msgs::JointTrajectory>(
+              port.topic, 10, [this, handler, warn](const trajectory_msgs::JointTrajectory::ConstPtr& message) {
+                if (message->points.empty()) return;
+                warn(handler({message->joint_names, message->points.front().positions}, sim_time_()));
+              }));
+        }
+      },
+      port.sink);
+  topics_.push_back(subscribers_.back().getTopic() + " (in)");
 }
 
 ros::NodeHandle RobotAdapter::handleFor(const std::string& plugin_namespace) const {
   const std::string ns = namespace_.empty() ? withoutSlashes(plugin_namespace) : namespace_;
   return ns.empty() ? ros::NodeHandle() : ros::NodeHandle("/" + ns);
-}
-
-std::string RobotAdapter::frame(const std::string& name) const {
-  const std::string bare = withoutSlashes(name);
-  return frame_prefix_.empty() ? bare : frame_prefix_ + "/" + bare;
-}
-
-template <class Message>
-ros::Publisher RobotAdapter::advertise(ros::NodeHandle handle, const std::string& topic) {
-  publishers_.push_back(handle.advertise<Message>(topic, 10));
-  topics_.push_back(publishers_.back().getTopic());
-  return publishers_.back();
 }
 
 void RobotAdapter::publish() {

@@ -1,12 +1,12 @@
-// The ROS face of one spawned robot: subscribes its plugins' command topics and publishes their outputs,
-// in the robot's namespace and with its frame prefix. Runs between steps, on the node's thread.
+// The ROS face of one spawned robot: for every plugin, a subscription per input and a publisher per output,
+// in the robot's namespace and with its frame prefix. Each output type maps to its message, and each input
+// type to its subscription, in one place. Runs between steps, on the node's thread.
 #pragma once
 
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,10 +14,22 @@
 
 namespace bullet_sim {
 
+/// Frame names as the robot publishes them: without leading or trailing '/', and under the robot's prefix,
+/// except the global frames (world, map).
+class FramePrefix {
+ public:
+  explicit FramePrefix(std::string prefix) : prefix_(std::move(prefix)) {}
+  std::string operator()(const std::string& frame) const;
+
+ private:
+  std::string prefix_;
+};
+
 class RobotAdapter {
  public:
-  /// `robot_namespace` from the spawn request overrides every plugin's <robotNamespace> when it is not empty.
-  /// `sim_time` tells when a command arrived.
+  /// `robot_namespace` from the spawn request overrides every plugin's <robotNamespace> when it is not empty;
+  /// it is also the frame prefix, which is otherwise the first <robotNamespace> among the robot's plugins.
+  /// `sim_time` tells when an input arrived.
   RobotAdapter(Robot& robot, const std::string& robot_namespace, tf2_ros::TransformBroadcaster& tf,
                std::function<double()> sim_time);
 
@@ -29,33 +41,24 @@ class RobotAdapter {
 
  private:
   struct Output {
-    std::function<uint64_t()> count;  ///< changes when the plugin has a new output
+    std::function<uint64_t()> count;  ///< changes when the plugin has a new sample
     std::function<void()> publish;
     uint64_t seen = 0;
   };
-  /// What a drive plugin's cmd_vel, odometry and odom tf need from its config.
-  struct DriveTopics {
-    std::string robot_namespace;
-    std::string command_topic;
-    std::string odometry_topic;
-    std::string odometry_frame;
-    std::string robot_base_frame;
-    bool publish_odometry;
-    bool publish_odom_tf;
-  };
+  struct Connection;  ///< what connect() needs of one plugin
 
-  /// Subscribes a drive (WheeledDrive, AckermannDrive) to its cmd_vel and publishes its odometry and odom
-  /// tf. Returns the node handle of its namespace.
-  template <class Drive>
-  ros::NodeHandle connectDrive(Drive* drive, const DriveTopics& topics);
+  void connect(const Plugin& plugin);
+  void advertise(const Connection& plugin, const OutputPort& port);
+  void subscribe(const Connection& plugin, const InputPort& port);
+  template <class Message, class Sample, class Convert>
+  void advertiseStream(const Connection& plugin, const std::string& topic, const Stream<Sample>* stream,
+                       Convert convert);
+  void broadcast(const Stream<TransformSample>* stream, const FramePrefix& frames);
   ros::NodeHandle handleFor(const std::string& plugin_namespace) const;
-  std::string frame(const std::string& name) const;
-  template <class Message>
-  ros::Publisher advertise(ros::NodeHandle handle, const std::string& topic);
 
-  Robot& robot_;
+  const std::string robot_name_;
   std::string namespace_;
-  std::string frame_prefix_;
+  FramePrefix frames_;
   tf2_ros::TransformBroadcaster& tf_;
   std::function<double()> sim_time_;
   std::vector<ros::Publisher> publishers_;

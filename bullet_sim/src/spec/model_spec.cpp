@@ -1,6 +1,7 @@
 #include "bullet_sim/spec/model_spec.h"
 
 #include <console_bridge/console.h>
+#include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
@@ -97,8 +98,8 @@ Eigen::Isometry3d parsePose(const char* text, bool* ok) {
 
 class ModelParser {
  public:
-  ModelParser(Diagnostics& diagnostics, const PackageResolver& resolver)
-      : diagnostics_(diagnostics), resolver_(resolver) {}
+  ModelParser(Diagnostics& diagnostics, const PackageResolver& resolver, const PluginParsers& plugins)
+      : diagnostics_(diagnostics), resolver_(resolver), plugins_(plugins) {}
 
   /// The model as far as it can be read, every problem in `diagnostics_`; nullopt when there is no model to
   /// read (malformed XML, another root element, urdfdom's rejection).
@@ -142,7 +143,7 @@ class ModelParser {
     addTree(*urdf_model, *urdf_model->getRoot(), spec);
     readGazeboExtensions(robot, spec);
     checkMovingLinksHaveMass(spec);
-    spec.document = std::move(document);
+    declarePlugins(spec);
     return spec;
   }
 
@@ -322,11 +323,11 @@ class ModelParser {
       const std::string line = "line " + std::to_string(gazebo->GetLineNum()) + ": ";
       const char* reference = gazebo->Attribute("reference");
       if (!reference) {
-        readModelBlock(gazebo, line, spec);
+        readModelBlock(gazebo, line);
       } else if (auto link = std::find_if(spec.links.begin(), spec.links.end(),
                                           [&](const LinkSpec& l) { return l.name == reference; });
                  link != spec.links.end()) {
-        readLinkBlock(gazebo, line, *link, spec);
+        readLinkBlock(gazebo, line, *link);
       } else if (spec.joint(reference)) {
         for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
           warnIgnored(line + "<gazebo reference=\"" + reference + "\"> <" + tag->Name() + ">",
@@ -339,18 +340,17 @@ class ModelParser {
     }
   }
 
-  void readModelBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, ModelSpec& spec) {
+  void readModelBlock(const tinyxml2::XMLElement* gazebo, const std::string& line) {
     for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
       if (std::string(tag->Name()) == "plugin") {
-        spec.plugins.push_back(makePlugin(tag, line));
+        if (auto plugin = makePlugin(tag, line)) model_plugins_.push_back({std::move(*plugin), tag, nullptr});
       } else {
         warnIgnored(line + "<gazebo> <" + std::string(tag->Name()) + ">", false);
       }
     }
   }
 
-  void readLinkBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, LinkSpec& link,
-                     ModelSpec& spec) {
+  void readLinkBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, LinkSpec& link) {
     const std::string where = line + "<gazebo reference=\"" + link.name + "\"> ";
     for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
       const std::string name = tag->Name();
@@ -392,7 +392,7 @@ class ModelParser {
       } else if (name == "gravity") {
         flag(&link.gravity);
       } else if (name == "sensor") {
-        spec.sensors.push_back(makeSensor(tag, link.name, where));
+        makeSensor(tag, link.name, where);
       } else {
         warnIgnored(where + "<" + name + ">", kIgnoredLinkTags.count(name) > 0);
       }
@@ -412,20 +412,20 @@ class ModelParser {
     }
   }
 
-  PluginSpec makePlugin(const tinyxml2::XMLElement* element, const std::string& line) {
-    PluginSpec plugin;
-    plugin.element = element;
+  /// The declaration of a <plugin>, its config still to come; nullopt when it has no filename.
+  std::optional<PluginDeclaration> makePlugin(const tinyxml2::XMLElement* element, const std::string& line) {
+    PluginDeclaration plugin;
     plugin.name = element->Attribute("name") ? element->Attribute("name") : "";
     plugin.filename = element->Attribute("filename") ? element->Attribute("filename") : "";
-    if (plugin.filename.empty())
+    if (plugin.filename.empty()) {
       diagnostics_.error(line + "<plugin name=\"" + plugin.name + "\"> has no filename");
+      return std::nullopt;
+    }
     return plugin;
   }
 
-  SensorSpec makeSensor(const tinyxml2::XMLElement* element, const std::string& link,
-                        const std::string& where) {
-    SensorSpec sensor;
-    sensor.element = element;
+  void makeSensor(const tinyxml2::XMLElement* element, const std::string& link, const std::string& where) {
+    SensorDeclaration sensor;
     sensor.link = link;
     sensor.name = element->Attribute("name") ? element->Attribute("name") : "";
     sensor.type = element->Attribute("type") ? element->Attribute("type") : "";
@@ -444,8 +444,50 @@ class ModelParser {
         sensor.update_rate = *value;
       }
     }
-    if (auto* plugin = element->FirstChildElement("plugin")) sensor.plugin = makePlugin(plugin, where);
-    return sensor;
+    const auto* plugin_element = element->FirstChildElement("plugin");
+    if (!plugin_element) {
+      diagnostics_.warning("sensor [" + sensor.name + "] on link [" + link +
+                           "] has no <plugin>, so Gazebo publishes nothing from it: ignored");
+      return;
+    }
+    if (auto plugin = makePlugin(plugin_element, where)) {
+      plugin->sensor = std::move(sensor);
+      sensor_plugins_.push_back({std::move(*plugin), plugin_element, element});
+    }
+  }
+
+  /// Turns every <plugin> into its typed config, once the links and joints it may name are known. Those
+  /// bullet_sim does not simulate are left out, with the parser's warning.
+  void declarePlugins(ModelSpec& spec) {
+    for (auto* found : {&model_plugins_, &sensor_plugins_}) {
+      for (auto& [declaration, plugin_element, sensor_element] : *found) {
+        const TagNode plugin_tags = toTagNode(*plugin_element);
+        const std::optional<TagNode> sensor_tags =
+            sensor_element ? std::optional<TagNode>(toTagNode(*sensor_element)) : std::nullopt;
+        const std::string where =
+            declaration.sensor ? declaration.where() + " plugin [" + declaration.name + "]" : declaration.where();
+        PluginTags tags(&plugin_tags, where, diagnostics_);
+        const DeclarationSource source{declaration, tags, sensor_tags ? &*sensor_tags : nullptr, spec,
+                                       diagnostics_};
+        declaration.config = plugins_.parse(source);
+        if (declaration.config) spec.plugins.push_back(std::move(declaration));
+      }
+    }
+  }
+
+  static TagNode toTagNode(const tinyxml2::XMLElement& element) {
+    TagNode node;
+    node.name = element.Name();
+    node.line = element.GetLineNum();
+    const std::string text = element.GetText() ? element.GetText() : "";
+    const auto first = text.find_first_not_of(" \t\n\r");
+    const auto last = text.find_last_not_of(" \t\n\r");
+    if (first != std::string::npos) node.text = text.substr(first, last - first + 1);
+    for (auto* attribute = element.FirstAttribute(); attribute; attribute = attribute->Next())
+      node.attributes[attribute->Name()] = attribute->Value();
+    for (auto* child = element.FirstChildElement(); child; child = child->NextSiblingElement())
+      node.children.push_back(toTagNode(*child));
+    return node;
   }
 
   void checkMovingLinksHaveMass(const ModelSpec& spec) {
@@ -464,9 +506,19 @@ class ModelParser {
                                        : " is not a Gazebo tag bullet_sim knows: ignored"));
   }
 
+  /// A <plugin> found in the file, with its elements (alive while the document is), awaiting its config.
+  struct FoundPlugin {
+    PluginDeclaration declaration;
+    const tinyxml2::XMLElement* plugin;
+    const tinyxml2::XMLElement* sensor;  ///< nullptr for a model plugin
+  };
+
   Diagnostics& diagnostics_;
   const PackageResolver& resolver_;
+  const PluginParsers& plugins_;
   std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;
+  std::vector<FoundPlugin> model_plugins_;
+  std::vector<FoundPlugin> sensor_plugins_;
 };
 
 }  // namespace
@@ -505,9 +557,9 @@ std::vector<std::string> ModelSpec::jointNames() const {
 }
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings) {
+                     const PluginParsers& plugins, std::vector<std::string>* warnings) {
   Diagnostics diagnostics(source);
-  std::optional<ModelSpec> spec = readModel(urdf_xml, resolver, diagnostics);
+  std::optional<ModelSpec> spec = readModel(urdf_xml, resolver, plugins, diagnostics);
   diagnostics.throwIfErrors();
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
@@ -515,8 +567,8 @@ ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, con
 }
 
 std::optional<ModelSpec> readModel(const std::string& urdf_xml, const PackageResolver& resolver,
-                                   Diagnostics& diagnostics) {
-  return ModelParser(diagnostics, resolver).parse(urdf_xml);
+                                   const PluginParsers& plugins, Diagnostics& diagnostics) {
+  return ModelParser(diagnostics, resolver, plugins).parse(urdf_xml);
 }
 
 }  // namespace bullet_sim

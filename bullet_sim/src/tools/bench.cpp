@@ -330,10 +330,10 @@ void addObstacles(WorldSpec& world, const Options& options) {
 
 /// The model without its lidars, for timing the physics alone.
 ModelSpec withoutLidars(ModelSpec model) {
-  auto& sensors = model.sensors;
-  sensors.erase(std::remove_if(sensors.begin(), sensors.end(),
-                               [](const SensorSpec& sensor) { return isRaySensor(sensor.type); }),
-                sensors.end());
+  auto& plugins = model.plugins;
+  plugins.erase(std::remove_if(plugins.begin(), plugins.end(),
+                               [](const PluginDeclaration& plugin) { return plugin.configAs<RayLidarConfig>(); }),
+                plugins.end());
   return model;
 }
 
@@ -645,7 +645,7 @@ int run(const Options& options) {
   WorldSpec world = loadWorld(world_file, resolver, &warnings);
   addObstacles(world, options);
   const ModelSpec model_without_lidars = withoutLidars(model);
-  const bool has_lidars = model_without_lidars.sensors.size() != model.sensors.size();
+  const bool has_lidars = model_without_lidars.plugins.size() != model.plugins.size();
 
   // Runs with and without lidars take turns, so that a slow spell of a shared machine hits both alike. The
   // first spawn is of the whole robot: startup_s is to its first step.

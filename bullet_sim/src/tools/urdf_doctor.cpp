@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/spec/doctor.h"
+#include "bullet_sim/tools/doctor.h"
 
 extern char** environ;
 

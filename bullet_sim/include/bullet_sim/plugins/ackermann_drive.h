@@ -45,32 +45,50 @@
 
 namespace bullet_sim {
 
-struct AckermannConfig {
-  std::string robot_namespace;
-  std::string command_topic = "cmd_vel";
-  std::string odometry_topic = "odom";
-  std::string odometry_frame = "odom";
-  std::string robot_base_frame = "base_footprint";
+/// The car's geometry as the URDF gives it at the zero pose [m].
+struct AckermannGeometry {
+  double wheelbase = 0;       ///< from the rear axle to the line through the steering axes
+  double steering_track = 0;  ///< between the steering axes
+  double rear_track = 0;      ///< between the rear wheels
+  double wheel_radius = 0;    ///< of the rear wheels
+};
+
+/// A joint the drive moves, as the URDF has it.
+struct AckermannJoint {
+  std::string name;
+  double sign = 1;    ///< +1 when a positive angle steers left, or a positive velocity rolls forward
+  double effort = 0;  ///< [N m] the URDF's effort limit, the motor's strength
+};
+
+struct AckermannConfig : DriveConfigHead {
   std::string front_left_joint = "front_left_joint";
   std::string front_right_joint = "front_right_joint";
   std::string rear_left_joint = "rear_left_joint";
   std::string rear_right_joint = "rear_right_joint";
   std::string left_steering_joint = "left_steering_joint";
   std::string right_steering_joint = "right_steering_joint";
-  double max_steer = 0.6;    ///< [rad] no tyre steers further (nor beyond its joint limits)
-  double max_speed = 20;     ///< [m/s] |v| is clamped to this
-  double update_rate = 100;  ///< [Hz]; 0 = every step
-  bool publish_odometry = false;
-  bool publish_odom_tf = false;
-  double command_timeout = 0;          ///< [s]; 0 = off
+  double max_steer = 0.6;              ///< [rad] no tyre steers further (nor beyond its joint limits)
+  double max_speed = 20;               ///< [m/s] |v| is clamped to this
   std::optional<double> wheel_base;    ///< [m] only checked against the URDF
   std::optional<double> track_width;   ///< [m] of the rear wheels; only checked
   std::optional<double> wheel_radius;  ///< [m] of the rear wheels; only checked
-  std::array<double, 36> pose_covariance{};
-  std::array<double, 36> twist_covariance{};
+
+  // From the URDF, at load:
+  AckermannGeometry geometry;
+  AckermannJoint left_steering, right_steering, rear_left, rear_right;
+  /// Steering limits per wheel [rad], max_steer and the joint limits combined: {right turn, left turn}.
+  std::array<double, 2> left_limits{}, right_limits{};
+
+  AckermannConfig() {
+    update_rate = 100;
+    publish_odometry = false;
+    publish_odom_tf = false;
+  }
 };
 
-AckermannConfig parseAckermannConfig(PluginTags& tags);
+/// Read and checked against the model: the joints exist and move, the steering joints turn about the vertical
+/// and have effort limits, the base frame exists, the tag figures agree with the URDF.
+AckermannConfig parseAckermann(const DeclarationSource& source);
 
 /// Steering angles of the two front wheels [rad], positive to the left.
 struct SteeringAngles {
@@ -83,68 +101,27 @@ struct SteeringAngles {
 /// and `steering_track` T [m], the distance between the steering axes.
 SteeringAngles ackermannAngles(double wheelbase, double steering_track, double curvature);
 
-/// The car's geometry as the URDF gives it at the zero pose [m].
-struct AckermannGeometry {
-  double wheelbase = 0;       ///< from the rear axle to the line through the steering axes
-  double steering_track = 0;  ///< between the steering axes
-  double rear_track = 0;      ///< between the rear wheels
-  double wheel_radius = 0;    ///< of the rear wheels
-};
-
-class AckermannDrive : public Plugin {
+class AckermannDrive : public DrivePlugin {
  public:
-  /// Checks the config against the model: the joints exist and move, the steering joints turn about the
-  /// vertical and have effort limits, the base frame exists, the tag figures agree with the URDF. Problems
-  /// go to `diagnostics`.
-  AckermannDrive(std::string name, AckermannConfig config, const ModelSpec& model, const RobotBody& body,
-                 Diagnostics& diagnostics);
-
-  /// The latest cmd_vel: forward speed [m/s] and turn rate [rad/s]. Returns false, and changes nothing, when
-  /// a value is not finite.
-  bool setCommand(double linear, double angular, double sim_time);
+  AckermannDrive(const PluginDeclaration& declaration, const AckermannConfig& config, const PluginSetup& setup);
 
   void applyCommands(const StepTime& time, RobotBody& body) override;
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-  void reset() override;
 
   const AckermannConfig& config() const { return config_; }
-  const AckermannGeometry& geometry() const { return geometry_; }
+  const AckermannGeometry& geometry() const { return config_.geometry; }
   /// The curvature [1/m] the last update steered for, after the steering limits.
   double curvature() const { return curvature_; }
-  /// The steering angles the last update commanded [rad].
-  const SteeringAngles& steeringTargets() const { return steering_targets_; }
-  /// The latest odometry (the base frame's pose in the world), and how many have been produced.
-  const Odometry& odometry() const { return odometry_; }
-  uint64_t odometryCount() const { return odometry_count_; }
 
  private:
-  struct Steering {
-    int joint = -1;
-    double sign = 1;  ///< +1 when a positive joint angle steers left
-    double effort = 0;
-  };
-  struct Wheel {
-    int joint = -1;
-    double sign = 1;  ///< +1 when a positive joint velocity rolls the car forward
-    double effort = 0;
-  };
-
+  void onReset() override;
   /// The curvature [1/m] at which the first tyre on the left (`side` = 1) or right (-1) reaches its limit.
   double curvatureLimit(double side) const;
 
   AckermannConfig config_;
-  AckermannGeometry geometry_;
-  Steering left_steering_, right_steering_;
-  Wheel rear_left_, rear_right_;
-  /// Steering limits per wheel [rad], max_steer and the joint limits combined: {right turn, left turn}.
-  std::array<double, 2> left_limits_{}, right_limits_{};
-  UpdateTimer timer_;
+  int left_steering_ = -1, right_steering_ = -1, rear_left_ = -1, rear_right_ = -1;  ///< joint indices
   bool updated_this_step_ = false;
-  VelocityCommand command_;
   double curvature_ = 0;
-  SteeringAngles steering_targets_;
-  Odometry odometry_;
-  uint64_t odometry_count_ = 0;
 };
 
 }  // namespace bullet_sim

@@ -1,12 +1,40 @@
-// What the drive plugins share: the cmd_vel they follow, and ground-truth odometry.
+// What the drive plugins share: their config head (cmd_vel, odometry, wheel model), the cmd_vel they follow,
+// odometry with its tf, and the rule that says which way a wheel rolls.
 #pragma once
 
+#include <array>
+#include <map>
 #include <string>
 
-#include "bullet_sim/physics/robot_body.h"
-#include "bullet_sim/plugins/outputs.h"
+#include "bullet_sim/plugins/plugin.h"
 
 namespace bullet_sim {
+
+/// The config every drive starts with.
+struct DriveConfigHead : PluginConfig {
+  std::string command_topic = "cmd_vel";
+  std::string odometry_topic = "odom";
+  std::string odometry_frame = "odom";
+  std::string robot_base_frame = "base_footprint";
+  bool publish_odometry = true;  ///< odometry on odometry_topic
+  bool publish_odom_tf = true;   ///< odometry_frame -> robot_base_frame on /tf
+  double command_timeout = 0;    ///< [s]; 0 = off (ours: Gazebo keeps the last command for ever)
+  std::string wheel_model = kDefaultWheelModel;  ///< "contact" or "raycast" (ours)
+  std::array<double, 36> pose_covariance{};
+  std::array<double, 36> twist_covariance{};
+};
+
+/// Reads what every drive reads under the same names: robotNamespace, and our commandTimeout and wheelModel.
+void readDriveExtras(PluginTags& tags, DriveConfigHead& head);
+
+/// A pose or twist covariance that knows x, y and yaw, and nothing (1e12) of z, roll and pitch.
+std::array<double, 36> planarCovariance(double x, double y, double yaw);
+
+/// Whether a positive velocity of `joint` rolls its wheel forward (+1) or backward (-1) in `base_frame`: a
+/// wheel spinning about the base's +y (its left) rolls forward, by REP 103. `poses` are the model's link
+/// poses at zero (linkPosesAtZero).
+double wheelRollSign(const std::map<std::string, Eigen::Isometry3d>& poses, const std::string& base_frame,
+                     const JointSpec& joint);
 
 /// The latest cmd_vel: forward speed [m/s] and turn rate [rad/s], zero once older than a timeout.
 class VelocityCommand {
@@ -30,8 +58,32 @@ class VelocityCommand {
   double command_time_ = 0;
 };
 
-/// Gazebo's "world" odometry source: the pose of `base_frame` in the world, and its velocities in its own
-/// frame.
-void setGroundTruth(Odometry& odometry, const RobotBody& body, const std::string& base_frame, double stamp);
+/// A drive: it follows cmd_vel (its input) and publishes odometry and, when asked, its tf.
+class DrivePlugin : public Plugin {
+ public:
+  DrivePlugin(const PluginDeclaration& declaration, const DriveConfigHead& head, const PluginSetup& setup);
+
+  /// The latest cmd_vel: forward speed [m/s] and turn rate [rad/s]. Returns false, and changes nothing, when
+  /// a value is not finite.
+  bool setCommand(double linear, double angular, double sim_time);
+  /// The latest odometry, and how many have been produced (a new one when the count changes).
+  const Odometry& odometry() const { return odometry_.latest(); }
+  uint64_t odometryCount() const { return odometry_.count(); }
+
+ protected:
+  const VelocityCommand& command() const { return command_; }
+  /// The odometry to fill; publishOdometry() then makes it the latest, with its tf.
+  Odometry& nextOdometry() { return odometry_.next(); }
+  void publishOdometry();
+  /// Gazebo's "world" odometry source: the base frame's pose in the world, its velocities in its own frame.
+  void fillGroundTruth(const RobotBody& body, double stamp);
+  void onReset() override;
+
+ private:
+  std::string base_frame_;
+  VelocityCommand command_;
+  Stream<Odometry> odometry_;
+  Stream<TransformSample> odometry_tf_;
+};
 
 }  // namespace bullet_sim

@@ -3,35 +3,33 @@
 //   gaussianNoise [0] (on position and velocity), robotNamespace.
 #pragma once
 
-#include <random>
+#include <string>
 
-#include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/plugin.h"
 
 namespace bullet_sim {
 
+struct GroundTruthConfig : PluginConfig {
+  std::string body;
+  std::string topic = "ground_truth";
+  std::string frame = "world";
+  double noise_stddev = 0;  ///< [m], [m/s], [rad/s]
+};
+
+GroundTruthConfig parseGroundTruth(const DeclarationSource& source);
+
 class GroundTruth : public Plugin {
  public:
-  GroundTruth(const PluginSpec& spec, const ModelSpec& model, Diagnostics& diagnostics, uint64_t seed);
+  GroundTruth(const PluginDeclaration& declaration, const GroundTruthConfig& config, const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-  void reset() override;
 
-  const std::string& topic() const { return topic_; }
-  const std::string& robotNamespace() const { return robot_namespace_; }
-  const Odometry& odometry() const { return odometry_; }
-  uint64_t odometryCount() const { return odometry_count_; }
+  const Odometry& odometry() const { return odometry_.latest(); }
+  uint64_t odometryCount() const { return odometry_.count(); }
 
  private:
-  std::string body_;
-  std::string topic_ = "ground_truth";
-  std::string robot_namespace_;
-  double noise_stddev_ = 0;
-  uint64_t seed_;
-  UpdateTimer timer_{0};
-  std::mt19937_64 noise_;
-  Odometry odometry_;
-  uint64_t odometry_count_ = 0;
+  GroundTruthConfig config_;
+  Stream<Odometry> odometry_;
 };
 
 }  // namespace bullet_sim

@@ -6,47 +6,40 @@
 // Linear acceleration is measured, as a real IMU does: at rest it reads +g upwards.
 #pragma once
 
-#include <random>
-
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/plugin.h"
 
 namespace bullet_sim {
 
-struct ImuConfig {
+struct ImuConfig : PluginConfig {
   std::string link;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< in the link frame
-  double update_rate = 0;                                  ///< [Hz]; 0 = every step
   double noise_stddev = 0;
   std::string topic = "imu";
   std::string frame;
-  std::string robot_namespace;
 };
 
-ImuConfig parseImuSensorConfig(const SensorSpec& sensor, const ModelSpec& model, Diagnostics& diagnostics);
-ImuConfig parseImuPluginConfig(const PluginSpec& plugin, const ModelSpec& model, Diagnostics& diagnostics);
+ImuConfig parseImuSensor(const DeclarationSource& source);
+ImuConfig parseImuPlugin(const DeclarationSource& source);
 
 class Imu : public Plugin {
  public:
-  Imu(std::string name, ImuConfig config, const Eigen::Vector3d& gravity, uint64_t seed);
+  Imu(const PluginDeclaration& declaration, const ImuConfig& config, const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-  void reset() override;
 
   const ImuConfig& config() const { return config_; }
-  const ImuSample& sample() const { return sample_; }
-  uint64_t sampleCount() const { return sample_count_; }
+  const ImuSample& sample() const { return samples_.latest(); }
+  uint64_t sampleCount() const { return samples_.count(); }
 
  private:
+  void onReset() override;
+
   ImuConfig config_;
   Eigen::Vector3d gravity_;
-  uint64_t seed_;
-  UpdateTimer timer_;
-  std::mt19937_64 noise_;
   Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
   double last_time_ = -1;
-  ImuSample sample_;
-  uint64_t sample_count_ = 0;
+  Stream<ImuSample> samples_;
 };
 
 }  // namespace bullet_sim

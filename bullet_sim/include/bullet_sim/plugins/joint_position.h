@@ -5,24 +5,30 @@
 // effort is the joint's URDF effort limit.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "bullet_sim/plugins/plugin.h"
 
 namespace bullet_sim {
 
+struct JointPositionConfig : PluginConfig {
+  std::string topic = "set_joint_trajectory";
+  std::vector<std::string> joints;  ///< moving joints with an effort limit, checked
+};
+
+JointPositionConfig parseJointPosition(const DeclarationSource& source);
+
 class JointPosition : public Plugin {
  public:
-  JointPosition(const PluginSpec& spec, const ModelSpec& model, const RobotBody& body,
-                Diagnostics& diagnostics);
+  JointPosition(const PluginDeclaration& declaration, const JointPositionConfig& config,
+                const PluginSetup& setup);
 
   /// Commands `joint` to `position` [rad or m], clamped to its limits. False for a joint this plugin does not
   /// hold or a position that is not finite.
   bool setTarget(const std::string& joint, double position);
 
   void applyCommands(const StepTime& time, RobotBody& body) override;
-  void reset() override;
-
-  const std::string& topic() const { return topic_; }
-  const std::string& robotNamespace() const { return robot_namespace_; }
 
  private:
   struct Held {
@@ -30,12 +36,14 @@ class JointPosition : public Plugin {
     int joint;
     double lower, upper;  ///< [rad] or [m]
     double effort;        ///< [N m] or [N]
-    double initial;  ///< where the robot spawned with it
+    double initial;       ///< where the robot spawned with it
     double target;
   };
+  void onReset() override;
+  /// The input: the first point of a trajectory; "" when every joint in it is held, else why not.
+  std::string take(const JointTargets& targets);
+
   std::vector<Held> held_;
-  std::string topic_ = "set_joint_trajectory";
-  std::string robot_namespace_;
 };
 
 }  // namespace bullet_sim

@@ -2,29 +2,33 @@
 // Tags: jointName [comma-separated; every moving joint when absent], updateRate [100 Hz], robotNamespace.
 #pragma once
 
-#include "bullet_sim/plugins/outputs.h"
+#include <string>
+#include <vector>
+
 #include "bullet_sim/plugins/plugin.h"
 
 namespace bullet_sim {
 
+struct JointStatesConfig : PluginConfig {
+  std::vector<std::string> joints;  ///< moving joints, checked
+
+  JointStatesConfig() { update_rate = 100; }
+};
+
+JointStatesConfig parseJointStates(const DeclarationSource& source);
+
 class JointStates : public Plugin {
  public:
-  JointStates(const PluginSpec& spec, const ModelSpec& model, const RobotBody& body,
-              Diagnostics& diagnostics);
+  JointStates(const PluginDeclaration& declaration, const JointStatesConfig& config, const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-  void reset() override { timer_.reset(); }
 
-  const std::string& robotNamespace() const { return robot_namespace_; }
-  const JointStateSample& states() const { return states_; }
-  uint64_t statesCount() const { return states_count_; }
+  const JointStateSample& states() const { return states_.latest(); }
+  uint64_t statesCount() const { return states_.count(); }
 
  private:
   std::vector<int> joints_;
-  std::string robot_namespace_;
-  UpdateTimer timer_;
-  JointStateSample states_;
-  uint64_t states_count_ = 0;
+  Stream<JointStateSample> states_;
 };
 
 }  // namespace bullet_sim

@@ -1,4 +1,5 @@
-// What plugins produce, in ROS message terms but without ROS: the node's adapters copy these into messages.
+// What plugins produce and take, in ROS message terms but without ROS: the node's adapter maps each type to its
+// message once.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -45,7 +46,7 @@ struct LaserScan {
   Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();  ///< in the world, when the scan was taken
 };
 
-/// sensor_msgs/PointCloud2 (or PointCloud): the in-range returns of a lidar, in its frame.
+/// sensor_msgs/PointCloud2: the in-range returns of a lidar, in its frame.
 struct PointCloud {
   double stamp = 0;
   std::string frame_id;
@@ -53,6 +54,20 @@ struct PointCloud {
   std::vector<float> intensities;  ///< per point; 1 for every return (surfaces have no reflectivity here)
   std::vector<uint16_t> rings;     ///< the channel of each point, 0 = bottom
   Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();  ///< in the world, when the scan was taken
+};
+
+/// sensor_msgs/PointCloud, the older message (libgazebo_ros_block_laser.so publishes it).
+struct LegacyPointCloud : PointCloud {};
+
+/// Transforms for /tf, all of one stamp.
+struct TransformSample {
+  struct Frame {
+    std::string parent;
+    std::string child;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< child in parent
+  };
+  double stamp = 0;
+  std::vector<Frame> frames;
 };
 
 /// sensor_msgs/Imu.
@@ -65,6 +80,18 @@ struct ImuSample {
   double orientation_variance = 0;
   double angular_velocity_variance = 0;
   double linear_acceleration_variance = 0;
+};
+
+/// geometry_msgs/Twist, an input: a velocity command.
+struct Twist {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();   ///< [m/s]
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();  ///< [rad/s]
+};
+
+/// An input: positions for named joints (the first point of a trajectory_msgs/JointTrajectory).
+struct JointTargets {
+  std::vector<std::string> names;
+  std::vector<double> positions;  ///< [rad] or [m]
 };
 
 }  // namespace bullet_sim

@@ -2,16 +2,15 @@
 // its commands, physics steps, then every plugin senses the stepped world, which it may only read.
 #pragma once
 
-#include <tinyxml2.h>
+#include <Eigen/Core>
 
 #include <cstdint>
-#include <set>
+#include <random>
 #include <string>
-#include <vector>
 
 #include "bullet_sim/physics/robot_body.h"
+#include "bullet_sim/plugins/ports.h"
 #include "bullet_sim/sensing/ray_caster.h"
-#include "bullet_sim/spec/diagnostics.h"
 #include "bullet_sim/spec/model_spec.h"
 
 namespace bullet_sim {
@@ -20,26 +19,6 @@ namespace bullet_sim {
 struct StepTime {
   double sim_time = 0;
   double dt = 0;
-};
-
-class Plugin {
- public:
-  explicit Plugin(std::string name) : name_(std::move(name)) {}
-  virtual ~Plugin() = default;
-
-  const std::string& name() const { return name_; }
-
-  /// Phase 1: apply commands to the robot (motor targets) for this step.
-  virtual void applyCommands(const StepTime&, RobotBody&) {}
-  /// Whether sense() casts rays this step, so that moving bodies are refreshed for it first.
-  virtual bool castsRays(const StepTime&) const { return false; }
-  /// Phase 3: read the stepped world.
-  virtual void sense(const StepTime&, const RobotBody&, const RayCaster&) {}
-  /// Back to the state at spawn (commands, timers, integrated odometry).
-  virtual void reset() {}
-
- private:
-  std::string name_;
 };
 
 /// Fires at `rate` [Hz] of sim time (0 = every step), first one period after the start, like Gazebo's
@@ -59,35 +38,67 @@ class UpdateTimer {
   double next_ = 0;
 };
 
-/// Reads a plugin's or sensor's child tags once, at load. Problems go to `diagnostics` naming the plugin and
-/// the tag; finish() warns once about each tag that nothing read (Gazebo ignores unknown tags silently).
-class PluginTags {
+/// What a plugin is built with at spawn, beside its declaration.
+struct PluginSetup {
+  const RobotBody& body;
+  std::string robot_name;
+  uint64_t seed = 0;  ///< the simulation's; each plugin mixes in its robot's name and its own
+  Eigen::Vector3d gravity{0, 0, -9.81};
+  BodyId own_ray_body = kNoBody;  ///< the ray-caster body of the part a sensor sits on, which it skips
+};
+
+/// What every plugin has: its name and namespace, the head of its messages, an update timer at its config's
+/// rate, a noise source seeded from the simulation's seed and its robot's and its own names, and its ports.
+class Plugin {
  public:
-  PluginTags(const tinyxml2::XMLElement* element, std::string where, Diagnostics& diagnostics);
+  Plugin(const PluginDeclaration& declaration, const PluginSetup& setup);
+  virtual ~Plugin() = default;
+  Plugin(const Plugin&) = delete;
+  Plugin& operator=(const Plugin&) = delete;
 
-  bool has(const std::string& tag) const;
-  std::string text(const std::string& tag, const std::string& fallback);
-  double number(const std::string& tag, double fallback);
-  /// A number that must be > 0 (or >= 0 with `allow_zero`).
-  double positive(const std::string& tag, double fallback, bool allow_zero = false);
-  bool flag(const std::string& tag, bool fallback);
-  /// A comma- or space-separated list.
-  std::vector<std::string> list(const std::string& tag);
-  /// Marks tags as known but not modelled: no warning.
-  void accept(std::initializer_list<const char*> tags);
-  /// Warns about the tags nothing read.
-  void finish();
-
-  Diagnostics& diagnostics() { return diagnostics_; }
+  const std::string& name() const { return name_; }
+  const std::string& robotNamespace() const { return robot_namespace_; }
+  /// "plugin [name]" or "sensor [name] on link [link]".
   const std::string& where() const { return where_; }
+  const PluginPorts& ports() const { return ports_; }
+
+  /// Phase 1: apply commands to the robot (motor targets) for this step.
+  virtual void applyCommands(const StepTime&, RobotBody&) {}
+  /// Whether sense() casts rays this step, so that moving bodies are refreshed for it first.
+  virtual bool castsRays(const StepTime&) const { return false; }
+  /// Phase 3: read the stepped world.
+  virtual void sense(const StepTime&, const RobotBody&, const RayCaster&) {}
+  /// Back to the state at spawn: the timer and the noise restart, then onReset().
+  void reset();
+
+ protected:
+  /// What a plugin resets beyond the timer and the noise (commands, integrated odometry).
+  virtual void onReset() {}
+
+  UpdateTimer& timer() { return timer_; }
+  const UpdateTimer& timer() const { return timer_; }
+  /// The plugin's own seeded noise source.
+  std::mt19937_64& noise() { return noise_; }
+  /// Three independent samples of N(0, stddev^2); zero, drawing nothing, when `stddev` is 0.
+  Eigen::Vector3d gaussian3(double stddev);
+
+  template <class Sample>
+  void addOutput(const std::string& topic, const Stream<Sample>& stream) {
+    ports_.outputs.push_back({topic, &stream});
+  }
+  template <class Input>
+  void addInput(const std::string& topic, InputHandler<Input> handler) {
+    ports_.inputs.push_back({topic, std::move(handler)});
+  }
 
  private:
-  const tinyxml2::XMLElement* find(const std::string& tag);
-
-  const tinyxml2::XMLElement* element_;
+  std::string name_;
+  std::string robot_namespace_;
   std::string where_;
-  Diagnostics& diagnostics_;
-  std::set<std::string> read_;
+  UpdateTimer timer_;
+  uint64_t seed_;
+  std::mt19937_64 noise_;
+  PluginPorts ports_;
 };
 
 /// A 64-bit FNV-1a hash: a stable seed for a plugin's noise from its name, the same on every platform.

@@ -24,12 +24,11 @@
 
 namespace bullet_sim {
 
-struct RayLidarConfig {
+struct RayLidarConfig : PluginConfig {
   enum class Output { kLaserScan, kPointCloud2, kPointCloud };
 
   std::string link;                                        ///< the link the sensor is on
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor frame in the link frame
-  double update_rate = 0;                                  ///< [Hz]; 0 = every step
   int samples = 640;
   double resolution = 1;
   double min_angle = 0;  ///< [rad]
@@ -44,43 +43,44 @@ struct RayLidarConfig {
   Output output = Output::kLaserScan;
   std::string topic = "scan";
   std::string frame;
-  std::string robot_namespace;
 
   int beams() const;  ///< horizontal beams per channel
 };
 
-/// Reads the sensor and plugin tags; problems go to `diagnostics`.
-RayLidarConfig parseRayLidarConfig(const SensorSpec& sensor, const ModelSpec& model,
-                                   Diagnostics& diagnostics);
+/// Reads the sensor and plugin tags; the plugin's filename chooses the output.
+RayLidarConfig parseRayLidar(const DeclarationSource& source);
 
 class RayLidar : public Plugin {
  public:
-  /// `own_body`: the ray-caster body of the part the sensor sits on, which its rays skip.
-  RayLidar(std::string name, RayLidarConfig config, BodyId own_body, uint64_t seed);
+  RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& config, const PluginSetup& setup);
 
-  bool castsRays(const StepTime& time) const override { return timer_.wouldFire(time); }
+  bool castsRays(const StepTime& time) const override { return timer().wouldFire(time); }
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-  void reset() override;
 
   const RayLidarConfig& config() const { return config_; }
-  /// The latest scan: a LaserScan output, or for point clouds the ranges of every ray (channel-major).
-  const LaserScan& scan() const { return scan_; }
-  /// The latest point cloud (point-cloud outputs only).
-  const PointCloud& cloud() const { return cloud_; }
-  uint64_t scanCount() const { return scan_count_; }
+  /// The direction of every ray in the sensor frame (unit vectors), channel-major, bottom channel first.
+  const std::vector<Eigen::Vector3f>& directions() const { return directions_; }
+  /// The latest scan (LaserScan output).
+  const LaserScan& scan() const { return scan_.latest(); }
+  /// The latest point cloud (point-cloud outputs).
+  const PointCloud& cloud() const;
+  /// How many scans or clouds there were.
+  uint64_t scanCount() const { return scan_.count() + cloud_.count() + legacy_cloud_.count(); }
 
  private:
+  void publishScan(const StepTime& time, const Eigen::Isometry3d& sensor);
+  void publishCloud(const StepTime& time, const Eigen::Isometry3d& sensor);
+  /// What the sensor measures for a true range: REP 117's infinities, noise on in-range values.
+  double measured(double range, std::normal_distribution<double>& gaussian);
+
   RayLidarConfig config_;
   BodyId own_body_;
-  uint64_t seed_;
-  UpdateTimer timer_;
-  std::mt19937_64 noise_;
   std::vector<Eigen::Vector3f> directions_;  ///< per ray, in the sensor frame, channel-major
   std::vector<Eigen::Vector3f> world_directions_;
   std::vector<double> ranges_;
-  LaserScan scan_;
-  PointCloud cloud_;
-  uint64_t scan_count_ = 0;
+  Stream<LaserScan> scan_;
+  Stream<PointCloud> cloud_;
+  Stream<LegacyPointCloud> legacy_cloud_;
 };
 
 }  // namespace bullet_sim

@@ -1,8 +1,6 @@
 // A robot model: URDF links and joints plus Gazebo's <gazebo> extensions, validated and immutable.
 #pragma once
 
-#include <tinyxml2.h>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -14,6 +12,7 @@
 
 #include "bullet_sim/spec/geometry.h"
 #include "bullet_sim/spec/package_resolver.h"
+#include "bullet_sim/spec/plugin_declaration.h"
 
 namespace bullet_sim {
 
@@ -61,33 +60,14 @@ struct JointSpec {
   bool moves() const { return type != Type::kFixed; }
 };
 
-/// A <plugin> element; its tags are read by the plugin's own config parser.
-struct PluginSpec {
-  std::string name;
-  std::string filename;
-  const tinyxml2::XMLElement* element = nullptr;  ///< owned by the ModelSpec's document
-};
-
-/// A <sensor> inside <gazebo reference="link">.
-struct SensorSpec {
-  std::string name;
-  std::string type;                                        ///< "ray", "gpu_ray", "imu", ...
-  std::string link;                                        ///< the reference link
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< in the link frame
-  double update_rate = 0;                                  ///< [Hz]; 0 = every step
-  std::optional<PluginSpec> plugin;
-  const tinyxml2::XMLElement* element = nullptr;
-};
-
 struct ModelSpec {
   std::string name;
   std::string source;               ///< where the URDF came from, for messages
   std::string root;                 ///< root link
   std::vector<LinkSpec> links;      ///< the root first, then parents before children
   std::vector<JointSpec> joints;    ///< in the order of `links` (joint i + 1 leads to links[i + 1])
-  std::vector<PluginSpec> plugins;  ///< model-level <gazebo><plugin>
-  std::vector<SensorSpec> sensors;
-  std::shared_ptr<const tinyxml2::XMLDocument> document;  ///< keeps plugin and sensor elements alive
+  /// The plugins bullet_sim simulates, typed: the model's own <gazebo><plugin>s first, then the sensors'.
+  std::vector<PluginDeclaration> plugins;
 
   const LinkSpec* link(const std::string& name) const;
   const JointSpec* joint(const std::string& name) const;
@@ -97,17 +77,19 @@ struct ModelSpec {
   std::vector<std::string> jointNames() const;
 };
 
-/// Parses a URDF string with its <gazebo> tags. Throws SpecError naming `source` and listing every problem
-/// (malformed XML with line number, urdfdom's complaint, missing meshes, references to missing links).
-/// Warnings (ignored tags, ...) are appended to `warnings` when given.
+/// Parses a URDF string with its <gazebo> tags; `plugins` turns each <plugin> into its typed config (the
+/// plugin registry's parseModel overload passes the built-in plugins). Throws SpecError naming `source` and
+/// listing every problem (malformed XML with line number, urdfdom's complaint, missing meshes, references to
+/// missing links, bad plugin tags). Warnings (ignored tags, plugins not simulated, ...) are appended to
+/// `warnings` when given.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings = nullptr);
+                     const PluginParsers& plugins, std::vector<std::string>* warnings = nullptr);
 
 /// What parseModel reads, for tools that report problems instead of loading (urdf_doctor): never throws;
 /// every error and warning goes to `diagnostics`, and the model comes back as far as it could be read (a
 /// collision or visual whose mesh cannot be loaded is left out). nullopt when there is no model to read:
 /// malformed XML, a root element other than <robot>, or urdfdom rejected the file.
 std::optional<ModelSpec> readModel(const std::string& urdf_xml, const PackageResolver& resolver,
-                                   Diagnostics& diagnostics);
+                                   const PluginParsers& plugins, Diagnostics& diagnostics);
 
 }  // namespace bullet_sim

@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/doctor.h"
+#include "bullet_sim/tools/doctor.h"
 
 #include <tinyxml2.h>
 
@@ -16,7 +16,8 @@
 
 // The doctor reads the drive plugins' joints with the simulator's own config parsers, so it sees the same
 // tags and defaults that a spawn would.
-#include "bullet_sim/plugins/plugin.h"
+#include "bullet_sim/plugins/joint_position.h"
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/spec/diagnostics.h"
 #include "bullet_sim/spec/model_geometry.h"
@@ -244,7 +245,7 @@ class Examination {
     reportLookAlikes(look_alikes);
 
     Diagnostics diagnostics(report_.source);
-    const std::optional<ModelSpec> model = readModel(xml_, resolver_, diagnostics);
+    const std::optional<ModelSpec> model = readModel(xml_, resolver_, PluginRegistry::builtin(), diagnostics);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);
     for (const auto& warning : diagnostics.warnings()) add(Severity::kWarning, warning);
 
@@ -374,21 +375,14 @@ class Examination {
 
   struct Drive {
     std::string plugin;
-    DriveConfig config;
+    const DriveConfig& config;
   };
 
-  /// The diff-drive and skid-steer plugins, read as a spawn reads them; their tag problems are reported.
-  std::vector<Drive> drives(const ModelSpec& model) {
+  /// The diff-drive and skid-steer plugins, as a spawn reads them (readModel reported their tag problems).
+  static std::vector<Drive> drives(const ModelSpec& model) {
     std::vector<Drive> found;
     for (const auto& plugin : model.plugins) {
-      const bool diff = plugin.filename == "libgazebo_ros_diff_drive.so";
-      if (!diff && plugin.filename != "libgazebo_ros_skid_steer_drive.so") continue;
-      Diagnostics diagnostics(report_.source);
-      PluginTags tags(plugin.element, "plugin [" + plugin.name + "]", diagnostics);
-      found.push_back({plugin.name, diff ? parseDiffDriveConfig(tags) : parseSkidSteerConfig(tags)});
-      tags.finish();
-      for (const auto& error : diagnostics.errors()) add(Severity::kError, error);
-      for (const auto& warning : diagnostics.warnings()) add(Severity::kWarning, warning);
+      if (const auto* config = plugin.configAs<DriveConfig>()) found.push_back({plugin.name, *config});
     }
     return found;
   }
@@ -398,24 +392,13 @@ class Examination {
   void checkDriveAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
     const auto poses = linkPosesAtZero(model);
     for (const Drive& drive : drive_plugins) {
-      const auto base_pose = poses.find(drive.config.robot_base_frame);
-      const Eigen::Isometry3d base =
-          base_pose == poses.end() ? Eigen::Isometry3d::Identity() : base_pose->second;
       std::vector<const JointSpec*> forward, backward;
       for (const auto& side : {drive.config.left_joints, drive.config.right_joints}) {
         for (const auto& name : side) {
           const JointSpec* joint = model.joint(name);
-          if (!joint || !joint->moves()) {
-            add(Severity::kError,
-                message("plugin [" + drive.plugin + "]",
-                        "names joint [" + name + "], which " + (joint ? "is fixed" : "does not exist"),
-                        joint ? "make it continuous"
-                              : "name an existing joint" + didYouMean(name, model.jointNames())));
-            continue;
-          }
-          const Eigen::Vector3d axis =
-              base.linear().transpose() * poses.at(joint->child).linear() * joint->axis;
-          (axis.y() >= 0 ? forward : backward).push_back(joint);
+          if (!joint || !joint->moves()) continue;  // readModel reported it
+          (wheelRollSign(poses, drive.config.robot_base_frame, *joint) > 0 ? forward : backward)
+              .push_back(joint);
         }
       }
       for (const JointSpec* joint : backward) {
@@ -442,10 +425,8 @@ class Examination {
       driven.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
     }
     for (const auto& plugin : model.plugins) {
-      if (plugin.filename != "libgazebo_ros_joint_pose_trajectory.so") continue;
-      Diagnostics ignored(report_.source);  // JointPosition reports its own tag problems at spawn
-      PluginTags tags(plugin.element, "", ignored);
-      for (const auto& joint : tags.list("jointName")) driven.insert(joint);
+      if (const auto* holder = plugin.configAs<JointPositionConfig>())
+        driven.insert(holder->joints.begin(), holder->joints.end());
     }
     return driven;
   }

@@ -1,0 +1,59 @@
+// How a plugin talks to the outside: typed, sequenced outputs and typed inputs, each under a topic name. The
+// ROS node maps each output type to its message, and each input type to its subscription, once; a plugin
+// whose types exist needs nothing new in the node.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "bullet_sim/plugins/outputs.h"
+
+namespace bullet_sim {
+
+/// A plugin's stream of samples of one type: the latest, and how many there were (a new one when the count
+/// changes).
+template <class Sample>
+class Stream {
+ public:
+  const Sample& latest() const { return latest_; }
+  uint64_t count() const { return count_; }
+  /// The sample to fill; it keeps the previous one's contents (frames, sizes) until overwritten.
+  Sample& next() { return latest_; }
+  /// Makes the filled sample the latest.
+  void publish() { ++count_; }
+
+ private:
+  Sample latest_{};
+  uint64_t count_ = 0;
+};
+
+using OutputStream =
+    std::variant<const Stream<Odometry>*, const Stream<TransformSample>*, const Stream<JointStateSample>*,
+                 const Stream<LaserScan>*, const Stream<PointCloud>*, const Stream<LegacyPointCloud>*,
+                 const Stream<ImuSample>*>;
+
+struct OutputPort {
+  std::string topic;  ///< relative to the plugin's namespace; "" for transforms, which go to /tf
+  OutputStream stream;
+};
+
+/// Takes an input at `sim_time` [s]; returns "" when taken, else why it was refused (the node warns).
+template <class Input>
+using InputHandler = std::function<std::string(const Input& input, double sim_time)>;
+
+using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTargets>>;
+
+struct InputPort {
+  std::string topic;  ///< relative to the plugin's namespace
+  InputSink sink;
+};
+
+struct PluginPorts {
+  std::vector<OutputPort> outputs;
+  std::vector<InputPort> inputs;
+};
+
+}  // namespace bullet_sim

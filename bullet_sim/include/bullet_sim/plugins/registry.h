@@ -1,0 +1,61 @@
+// The one table of what bullet_sim simulates. Each Gazebo plugin filename (for a sensor's plugin, with the
+// sensor types it serves) maps to its config parser and its factory. A new plugin is one file pair under
+// plugins/ and one line in registry.cpp's table; tests and library users may add their own to a copy.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bullet_sim/plugins/plugin.h"
+
+namespace bullet_sim {
+
+using ConfigParser = std::function<std::shared_ptr<const PluginConfig>(const DeclarationSource& source)>;
+using PluginFactory =
+    std::function<std::unique_ptr<Plugin>(const PluginDeclaration& declaration, const PluginSetup& setup)>;
+
+struct PluginType {
+  std::string filename;                   ///< Gazebo's, e.g. libgazebo_ros_diff_drive.so
+  std::vector<std::string> sensor_types;  ///< the <sensor type>s it serves; empty for a model plugin
+  ConfigParser parse;  ///< reads the tags it knows; the registry then warns once about each other tag
+  PluginFactory create;
+};
+
+/// A plugin type whose config `Config` comes from `parse` and whose behaviour is `Behaviour`, built as
+/// Behaviour(declaration, config, setup).
+template <class Behaviour, class Config>
+PluginType pluginType(std::string filename, std::vector<std::string> sensor_types,
+                      Config (*parse)(const DeclarationSource&)) {
+  return {std::move(filename), std::move(sensor_types),
+          [parse](const DeclarationSource& source) { return std::make_shared<const Config>(parse(source)); },
+          [](const PluginDeclaration& declaration, const PluginSetup& setup) -> std::unique_ptr<Plugin> {
+            return std::make_unique<Behaviour>(declaration, *declaration.configAs<Config>(), setup);
+          }};
+}
+
+class PluginRegistry final : public PluginParsers {
+ public:
+  /// Every plugin bullet_sim ships.
+  static const PluginRegistry& builtin();
+
+  /// Adds a type; one of the same filename and sensor types is replaced.
+  void add(PluginType type);
+  /// The type for a model plugin (`sensor_type` nullptr) or a sensor's plugin, or nullptr.
+  const PluginType* find(const std::string& filename, const std::string* sensor_type) const;
+
+  /// The typed config, or nullptr after one warning when no type matches.
+  std::shared_ptr<const PluginConfig> parse(const DeclarationSource& source) const override;
+  /// The plugin of a declaration this registry parsed.
+  std::unique_ptr<Plugin> create(const PluginDeclaration& declaration, const PluginSetup& setup) const;
+
+ private:
+  std::vector<PluginType> types_;
+};
+
+/// parseModel with the built-in plugins.
+ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
+                     std::vector<std::string>* warnings = nullptr);
+
+}  // namespace bullet_sim

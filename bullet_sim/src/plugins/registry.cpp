@@ -1,0 +1,104 @@
+#include "bullet_sim/plugins/registry.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "bullet_sim/plugins/ackermann_drive.h"
+#include "bullet_sim/plugins/ground_truth.h"
+#include "bullet_sim/plugins/imu.h"
+#include "bullet_sim/plugins/joint_position.h"
+#include "bullet_sim/plugins/joint_states.h"
+#include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
+
+namespace bullet_sim {
+
+namespace {
+
+const std::vector<std::string> kRaySensors = {"ray", "gpu_ray"};
+
+PluginRegistry makeBuiltin() {
+  PluginRegistry registry;
+  for (PluginType type : {
+           pluginType<WheeledDrive>("libgazebo_ros_diff_drive.so", {}, parseDiffDrive),
+           pluginType<WheeledDrive>("libgazebo_ros_skid_steer_drive.so", {}, parseSkidSteer),
+           pluginType<AckermannDrive>("libgazebo_ros_ackermann_drive.so", {}, parseAckermann),  // ROS 2's
+           pluginType<JointStates>("libgazebo_ros_joint_state_publisher.so", {}, parseJointStates),
+           pluginType<JointPosition>("libgazebo_ros_joint_pose_trajectory.so", {}, parseJointPosition),
+           pluginType<GroundTruth>("libgazebo_ros_p3d.so", {}, parseGroundTruth),
+           pluginType<Imu>("libgazebo_ros_imu.so", {}, parseImuPlugin),
+           pluginType<Imu>("libgazebo_ros_imu_sensor.so", {"imu"}, parseImuSensor),
+           pluginType<RayLidar>("libgazebo_ros_laser.so", kRaySensors, parseRayLidar),
+           pluginType<RayLidar>("libgazebo_ros_gpu_laser.so", kRaySensors, parseRayLidar),
+           pluginType<RayLidar>("libgazebo_ros_velodyne_laser.so", kRaySensors, parseRayLidar),
+           pluginType<RayLidar>("libgazebo_ros_velodyne_gpu_laser.so", kRaySensors, parseRayLidar),
+           pluginType<RayLidar>("libgazebo_ros_block_laser.so", kRaySensors, parseRayLidar),
+       }) {
+    registry.add(std::move(type));
+  }
+  return registry;
+}
+
+}  // namespace
+
+const PluginRegistry& PluginRegistry::builtin() {
+  static const PluginRegistry registry = makeBuiltin();
+  return registry;
+}
+
+void PluginRegistry::add(PluginType type) {
+  auto same = std::find_if(types_.begin(), types_.end(), [&](const PluginType& known) {
+    return known.filename == type.filename && known.sensor_types == type.sensor_types;
+  });
+  if (same != types_.end()) {
+    *same = std::move(type);
+  } else {
+    types_.push_back(std::move(type));
+  }
+}
+
+const PluginType* PluginRegistry::find(const std::string& filename, const std::string* sensor_type) const {
+  for (const auto& type : types_) {
+    if (type.filename != filename) continue;
+    const bool serves = sensor_type ? std::count(type.sensor_types.begin(), type.sensor_types.end(), *sensor_type) > 0
+                                    : type.sensor_types.empty();
+    if (serves) return &type;
+  }
+  return nullptr;
+}
+
+std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSource& source) const {
+  const PluginDeclaration& declaration = source.declaration;
+  const auto& sensor = declaration.sensor;
+  if (const PluginType* type = find(declaration.filename, sensor ? &sensor->type : nullptr)) {
+    auto config = type->parse(source);
+    source.tags.finish();  // one warning for each tag the parser did not read
+    return config;
+  }
+  if (sensor) {
+    source.diagnostics.warning(declaration.where() + " of type [" + sensor->type + "] with plugin [" +
+                               declaration.filename + "] is not simulated by bullet_sim: ignored");
+  } else {
+    source.diagnostics.warning(declaration.where() + " filename [" + declaration.filename +
+                               "] is not a plugin bullet_sim simulates: ignored");
+  }
+  return nullptr;
+}
+
+std::unique_ptr<Plugin> PluginRegistry::create(const PluginDeclaration& declaration,
+                                               const PluginSetup& setup) const {
+  const auto& sensor = declaration.sensor;
+  const PluginType* type = find(declaration.filename, sensor ? &sensor->type : nullptr);
+  if (!type) {
+    throw std::invalid_argument(declaration.where() + " filename [" + declaration.filename +
+                                "] was parsed by another plugin registry than the simulation's");
+  }
+  return type->create(declaration, setup);
+}
+
+ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
+                     std::vector<std::string>* warnings) {
+  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings);
+}
+
+}  // namespace bullet_sim

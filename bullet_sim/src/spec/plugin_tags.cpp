@@ -1,0 +1,100 @@
+#include "bullet_sim/spec/plugin_tags.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace bullet_sim {
+
+const TagNode* TagNode::child(const std::string& tag) const {
+  for (const auto& node : children) {
+    if (node.name == tag) return &node;
+  }
+  return nullptr;
+}
+
+const TagNode* TagNode::find(std::initializer_list<const char*> path) const {
+  const TagNode* node = this;
+  for (const char* tag : path) {
+    node = node->child(tag);
+    if (!node) return nullptr;
+  }
+  return node;
+}
+
+std::string TagNode::attribute(const std::string& key) const {
+  const auto found = attributes.find(key);
+  return found == attributes.end() ? "" : found->second;
+}
+
+PluginTags::PluginTags(const TagNode* element, std::string where, Diagnostics& diagnostics)
+    : element_(element), where_(std::move(where)), diagnostics_(diagnostics) {}
+
+const TagNode* PluginTags::find(const std::string& tag) {
+  read_.insert(tag);
+  return element_ ? element_->child(tag) : nullptr;
+}
+
+bool PluginTags::has(const std::string& tag) const { return element_ && element_->child(tag); }
+
+std::string PluginTags::text(const std::string& tag, const std::string& fallback) {
+  const TagNode* node = find(tag);
+  return node ? node->text : fallback;
+}
+
+double PluginTags::number(const std::string& tag, double fallback) {
+  const TagNode* node = find(tag);
+  if (!node) return fallback;
+  std::istringstream in(node->text);
+  double parsed;
+  if (!(in >> parsed) || !std::isfinite(parsed)) {
+    diagnostics_.error(where_ + " <" + tag + "> must be a number, not [" + node->text + "]");
+    return fallback;
+  }
+  return parsed;
+}
+
+double PluginTags::positive(const std::string& tag, double fallback, bool allow_zero) {
+  const double value = number(tag, fallback);
+  if (value < 0 || (!allow_zero && value == 0)) {
+    std::ostringstream message;
+    message << where_ << " <" << tag << "> must be " << (allow_zero ? ">= 0" : "> 0") << ", not " << value;
+    diagnostics_.error(message.str());
+    return fallback;
+  }
+  return value;
+}
+
+bool PluginTags::flag(const std::string& tag, bool fallback) {
+  const TagNode* node = find(tag);
+  if (!node) return fallback;
+  if (node->text == "true" || node->text == "1") return true;
+  if (node->text == "false" || node->text == "0") return false;
+  diagnostics_.error(where_ + " <" + tag + "> must be true or false, not [" + node->text + "]");
+  return fallback;
+}
+
+std::vector<std::string> PluginTags::list(const std::string& tag) {
+  std::string value = text(tag, "");
+  for (char& c : value) {
+    if (c == ',') c = ' ';
+  }
+  std::istringstream in(value);
+  std::vector<std::string> items;
+  for (std::string item; in >> item;) items.push_back(item);
+  return items;
+}
+
+void PluginTags::accept(std::initializer_list<const char*> tags) {
+  for (const char* tag : tags) read_.insert(tag);
+}
+
+void PluginTags::finish() {
+  if (!element_) return;
+  for (const auto& node : element_->children) {
+    if (read_.insert(node.name).second) {  // one warning per tag
+      diagnostics_.warning(where_ + " <" + node.name + "> is not a tag this plugin knows: ignored");
+    }
+  }
+}
+
+}  // namespace bullet_sim
