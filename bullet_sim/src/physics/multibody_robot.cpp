@@ -94,75 +94,14 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   bool self_collide = false;
   for (const auto& link : spec_.links) self_collide |= link.self_collide;
-
-  for (int k = 1; k <= links; ++k) {
-    const JointSpec& joint = *part_joint_[k];
-    const int parent = parent_part_[k];
-    // The child part's frame at q = 0 in the parent's Bullet frame, and the child's Bullet frame in its part
-    // frame.
-    const Eigen::Isometry3d joint_in_parent = frames_[parent].part_to_bullet.inverse() *
-                                              frames_[parent].link_in_part.at(joint.parent) * joint.origin;
-    const Eigen::Isometry3d& child = frames_[k].part_to_bullet;
-    const Eigen::Matrix3d child_in_parent = joint_in_parent.linear() * child.linear();
-    const Eigen::Quaterniond parent_to_child(child_in_parent.transpose());
-    const btQuaternion rotation(parent_to_child.x(), parent_to_child.y(), parent_to_child.z(),
-                                parent_to_child.w());
-    const btVector3 axis = toBullet(child.linear().transpose() * joint.axis);
-    const btVector3 parent_com_to_pivot = toBullet(joint_in_parent.translation());
-    const btVector3 pivot_to_com = toBullet(child.linear().transpose() * child.translation());
-    if (joint.type == JointSpec::Type::kPrismatic) {
-      body_->setupPrismatic(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1,
-                            rotation, axis, parent_com_to_pivot, pivot_to_com,
-                            /*disableParentCollision=*/true);
-    } else {
-      body_->setupRevolute(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1,
-                           rotation, axis, parent_com_to_pivot, pivot_to_com,
-                           /*disableParentCollision=*/true);
-    }
-    joint_index_[joint.name] = static_cast<int>(joints_.size());
-    joints_.push_back({&joint, k - 1});
-  }
+  for (int k = 1; k <= links; ++k) setupJoint(k);
   body_->finalizeMultiDof();
   body_->setLinearDamping(0);
   body_->setAngularDamping(0);
   body_->setUseGyroTerm(true);
   body_->setHasSelfCollision(self_collide);
   world_.addMultiBody(body_.get());
-
-  for (int k = 0; k <= links; ++k) {
-    auto collider = std::make_unique<btMultiBodyLinkCollider>(body_.get(), k - 1);
-    if (parts_[k].collisions.empty()) {
-      // Bullet solves a link's motors in its collider's simulation island, so a part without collisions still
-      // gets a collider: a point that collides with nothing.
-      Shape point;
-      point.type = Shape::Type::kSphere;
-      point.radius = 1e-3;
-      collider->setCollisionShape(shapes_->make(point, true));
-      world_.addCollisionObject(collider.get(), 0, 0);
-    } else {
-      btCompoundShape* compound = shapes_->makeCompound();
-      const Eigen::Isometry3d bullet_to_part = frames_[k].part_to_bullet.inverse();
-      for (const auto& collision : parts_[k].collisions) {
-        compound->addChildShape(toBullet(bullet_to_part * collision.origin),
-                                shapes_->make(collision.shape, true));
-      }
-      collider->setCollisionShape(compound);
-      const SurfaceSpec& surface = spec_.link(parts_[k].root_link)->surface;
-      collider->setFriction(surface.mu1);
-      collider->setRestitution(0);
-      if (surface.kp || surface.kd) {
-        // Gazebo's defaults: a rigid contact (kp 1e12 N/m) with kd 1 N s/m.
-        collider->setContactStiffnessAndDamping(surface.kp.value_or(1e12), surface.kd.value_or(1.0));
-      }
-      world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
-    }
-    if (k == 0) {
-      body_->setBaseCollider(collider.get());
-    } else {
-      body_->getLink(k - 1).m_collider = collider.get();
-    }
-    colliders_.push_back(std::move(collider));
-  }
+  for (int k = 0; k <= links; ++k) addCollider(k);
 
   for (auto& joint : joints_) {
     const JointSpec& spec = *joint.spec;
@@ -174,6 +113,65 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
     if (spec.friction > 0) motorFor(joint);  // dry joint friction: a motor holding zero velocity
   }
   reset(root_pose, {});
+}
+
+void MultiBodyRobot::setupJoint(int k) {
+  const JointSpec& joint = *part_joint_[k];
+  const int parent = parent_part_[k];
+  // The child part's frame at q = 0 in the parent's Bullet frame, and the child's Bullet frame in its part
+  // frame.
+  const Eigen::Isometry3d joint_in_parent =
+      frames_[parent].part_to_bullet.inverse() * frames_[parent].link_in_part.at(joint.parent) * joint.origin;
+  const Eigen::Isometry3d& child = frames_[k].part_to_bullet;
+  const Eigen::Matrix3d child_in_parent = joint_in_parent.linear() * child.linear();
+  const Eigen::Quaterniond parent_to_child(child_in_parent.transpose());
+  const btQuaternion rotation(parent_to_child.x(), parent_to_child.y(), parent_to_child.z(), parent_to_child.w());
+  const btVector3 axis = toBullet(child.linear().transpose() * joint.axis);
+  const btVector3 parent_com_to_pivot = toBullet(joint_in_parent.translation());
+  const btVector3 pivot_to_com = toBullet(child.linear().transpose() * child.translation());
+  if (joint.type == JointSpec::Type::kPrismatic) {
+    body_->setupPrismatic(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1, rotation,
+                          axis, parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
+  } else {
+    body_->setupRevolute(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1, rotation,
+                         axis, parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
+  }
+  joint_index_[joint.name] = static_cast<int>(joints_.size());
+  joints_.push_back({&joint, k - 1});
+}
+
+void MultiBodyRobot::addCollider(int k) {
+  auto collider = std::make_unique<btMultiBodyLinkCollider>(body_.get(), k - 1);
+  if (parts_[k].collisions.empty()) {
+    // Bullet solves a link's motors in its collider's simulation island, so a part without collisions still
+    // gets a collider: a point that collides with nothing.
+    Shape point;
+    point.type = Shape::Type::kSphere;
+    point.radius = 1e-3;
+    collider->setCollisionShape(shapes_->make(point, true));
+    world_.addCollisionObject(collider.get(), 0, 0);
+  } else {
+    btCompoundShape* compound = shapes_->makeCompound();
+    const Eigen::Isometry3d bullet_to_part = frames_[k].part_to_bullet.inverse();
+    for (const auto& collision : parts_[k].collisions) {
+      compound->addChildShape(toBullet(bullet_to_part * collision.origin), shapes_->make(collision.shape, true));
+    }
+    collider->setCollisionShape(compound);
+    const SurfaceSpec& surface = spec_.link(parts_[k].root_link)->surface;
+    collider->setFriction(surface.mu1);
+    collider->setRestitution(0);
+    if (surface.kp || surface.kd) {
+      // Gazebo's defaults: a rigid contact (kp 1e12 N/m) with kd 1 N s/m.
+      collider->setContactStiffnessAndDamping(surface.kp.value_or(1e12), surface.kd.value_or(1.0));
+    }
+    world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
+  }
+  if (k == 0) {
+    body_->setBaseCollider(collider.get());
+  } else {
+    body_->getLink(k - 1).m_collider = collider.get();
+  }
+  colliders_.push_back(std::move(collider));
 }
 
 btMultiBodyJointMotor* MultiBodyRobot::motorFor(Joint& joint) {

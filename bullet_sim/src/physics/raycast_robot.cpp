@@ -101,6 +101,7 @@ void RaycastRobot::buildWheels() {
   ray_origins_.resize(wheels_.size());
   ray_directions_.resize(wheels_.size());
   ray_hits_.resize(wheels_.size());
+  contacts_.resize(wheels_.size());
 }
 
 void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
@@ -168,11 +169,25 @@ void RaycastRobot::beforeStep() {
     }
   }
   updateHubs();
+  const Eigen::Isometry3d root = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
+  castWheelRays(root);
+  const btMatrix3x3& inverse_inertia = chassis_->getInvInertiaTensorWorld();
+  for (int r = 0; r < 3; ++r) inverse_inertia_.row(r) = fromBullet(inverse_inertia[r]);
+  // The suspension, then the motors and friction together: sequential impulses over the wheels, with each
+  // motor's impulse held within torque * dt and each contact's within the friction circle.
+  pressWheels(root);
+  for (int pass = 0; pass < kFrictionIterations; ++pass) {
+    for (size_t w = 0; w < wheels_.size(); ++w) driveWheel(w);
+  }
+  for (size_t w = 0; w < wheels_.size(); ++w) {
+    Joint& joint = joints_[wheels_[w].joint];
+    joint.effort = contacts_[w].motor_impulse / dt_;
+    joint.position += joint.velocity * dt_;
+  }
+}
 
-  const btTransform body = chassis_->getWorldTransform();
-  const Eigen::Isometry3d root = fromBullet(body) * root_to_body_.inverse();
+void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
   const Eigen::Vector3d up = root.linear().col(2);
-  const Eigen::Vector3d com = fromBullet(body.getOrigin());
   for (size_t w = 0; w < wheels_.size(); ++w) {
     ray_origins_[w] = root * hub_in_root_[w].translation();
     ray_directions_[w] = -up;
@@ -181,95 +196,75 @@ void RaycastRobot::beforeStep() {
   double reach = 0;
   for (const auto& wheel : wheels_) reach = std::max(reach, 2 * wheel.radius);
   ground_.castStatic(ray_origins_, ray_directions_, reach, ray_hits_);
+}
 
-  const auto velocityAt = [&](const Eigen::Vector3d& offset) -> Eigen::Vector3d {
-    return fromBullet(chassis_->getLinearVelocity()) +
-           fromBullet(chassis_->getAngularVelocity()).cross(offset);
-  };
-  const Eigen::Matrix3d inverse_inertia = [&] {
-    Eigen::Matrix3d m;
-    const btMatrix3x3& b = chassis_->getInvInertiaTensorWorld();
-    for (int r = 0; r < 3; ++r) m.row(r) = fromBullet(b[r]);
-    return m;
-  }();
-  const auto inverseMass = [&](const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) {
-    const Eigen::Vector3d arm = offset.cross(direction);
-    return 1 / mass_ + arm.dot(inverse_inertia * arm);
-  };
+Eigen::Vector3d RaycastRobot::velocityAt(const Eigen::Vector3d& offset) const {
+  return fromBullet(chassis_->getLinearVelocity()) + fromBullet(chassis_->getAngularVelocity()).cross(offset);
+}
 
-  // The suspension, then the motors and friction together: sequential impulses over the wheels, with each
-  // motor's impulse held within torque * dt and each contact's within the friction circle.
-  struct Contact {
-    Eigen::Vector3d offset, forward, lateral;
-    double normal_impulse = 0, forward_impulse = 0, lateral_impulse = 0;
-    double motor_impulse = 0;  ///< [N m s] on the wheel's spin this step, within its torque budget
-    bool touching = false;
-  };
-  std::array<Contact, 16> contacts{};  // more wheels than this are not a wheeled robot
-  for (size_t w = 0; w < wheels_.size() && w < contacts.size(); ++w) {
+double RaycastRobot::inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const {
+  const Eigen::Vector3d arm = offset.cross(direction);
+  return 1 / mass_ + arm.dot(inverse_inertia_ * arm);
+}
+
+void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
+  const Eigen::Vector3d up = root.linear().col(2);
+  const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  for (size_t w = 0; w < wheels_.size(); ++w) {
     Wheel& wheel = wheels_[w];
-    Joint& joint = joints_[wheel.joint];
+    Contact& contact = contacts_[w];
+    contact = Contact{};
     const double compression = wheel.radius - ray_hits_[w];
     if (!(compression > 0)) continue;  // in the air (a miss is +inf)
-    Contact& contact = contacts[w];
     const Eigen::Vector3d point = ray_origins_[w] - up * ray_hits_[w];
     contact.offset = point - com;
     const double closing = -velocityAt(contact.offset).dot(up);  // [m/s] towards the ground
     const double force = std::max(0.0, spring_ * compression + damper_ * closing);
     contact.normal_impulse = force * dt_;
     chassis_->applyImpulse(toBullet(up * contact.normal_impulse), toBullet(contact.offset));
-    const Eigen::Vector3d axis = root.linear() * hub_in_root_[w].linear() * joint.spec->axis;
+    const Eigen::Vector3d axis = root.linear() * hub_in_root_[w].linear() * joints_[wheel.joint].spec->axis;
     contact.forward = axis.cross(up).normalized();  // where a positive spin rolls the wheel
     contact.lateral = up.cross(contact.forward);
     contact.touching = !wheel.caster;
   }
-  for (int pass = 0; pass < kFrictionIterations; ++pass) {
-    for (size_t w = 0; w < wheels_.size() && w < contacts.size(); ++w) {
-      Contact& contact = contacts[w];
-      Wheel& wheel = wheels_[w];
-      Joint& joint = joints_[wheel.joint];
-      if (wheel.max_torque > 0) {
-        const double budget = wheel.max_torque * dt_;
-        const double total = std::clamp(
-            contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia, -budget, budget);
-        joint.velocity += (total - contact.motor_impulse) / wheel.inertia;
-        contact.motor_impulse = total;
-      }
-      if (!contact.touching) continue;
-      const Eigen::Vector3d velocity = velocityAt(contact.offset);
-      // Slip of the chassis over the rim, and the impulses that would cancel it (the rim shares the forward
-      // one).
-      const double forward_slip = velocity.dot(contact.forward) - joint.velocity * wheel.radius;
-      const double lateral_slip = velocity.dot(contact.lateral);
-      // While its motor has torque to spare, the motor holds the rim: the chassis takes the whole impulse.
-      const double budget = wheel.max_torque * dt_;
-      const bool held = wheel.max_torque > 0 && std::abs(contact.motor_impulse) < budget;
-      const double forward_mass = 1 / (inverseMass(contact.offset, contact.forward) +
-                                       (held ? 0.0 : wheel.radius * wheel.radius / wheel.inertia));
-      const double lateral_mass = 1 / inverseMass(contact.offset, contact.lateral);
-      Eigen::Vector2d total(contact.forward_impulse - forward_slip * forward_mass,
-                            contact.lateral_impulse - lateral_slip * lateral_mass);
-      const double limit = wheel.friction * contact.normal_impulse;  // the friction circle
-      if (total.norm() > limit) total *= limit / total.norm();
-      const Eigen::Vector2d change =
-          total - Eigen::Vector2d(contact.forward_impulse, contact.lateral_impulse);
-      contact.forward_impulse = total.x();
-      contact.lateral_impulse = total.y();
-      chassis_->applyImpulse(toBullet(contact.forward * change.x() + contact.lateral * change.y()),
-                             toBullet(contact.offset));
-      // The rim feels the reaction; a holding motor takes what it can, the rest turns the wheel.
-      const double reaction = wheel.radius * change.x();
-      const double motor =
-          held ? std::clamp(contact.motor_impulse + reaction, -budget, budget) : contact.motor_impulse;
-      joint.velocity -= (reaction - (motor - contact.motor_impulse)) / wheel.inertia;
-      contact.motor_impulse = motor;
-    }
+}
+
+void RaycastRobot::driveWheel(size_t w) {
+  Contact& contact = contacts_[w];
+  Wheel& wheel = wheels_[w];
+  Joint& joint = joints_[wheel.joint];
+  const double budget = wheel.max_torque * dt_;
+  if (wheel.max_torque > 0) {
+    const double total = std::clamp(
+        contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia, -budget, budget);
+    joint.velocity += (total - contact.motor_impulse) / wheel.inertia;
+    contact.motor_impulse = total;
   }
-  for (size_t w = 0; w < wheels_.size() && w < contacts.size(); ++w) {
-    Joint& joint = joints_[wheels_[w].joint];
-    joint.effort = contacts[w].motor_impulse / dt_;
-    joint.position += joint.velocity * dt_;
-  }
+  if (!contact.touching) return;
+  const Eigen::Vector3d velocity = velocityAt(contact.offset);
+  // Slip of the chassis over the rim, and the impulses that would cancel it (the rim shares the forward one).
+  const double forward_slip = velocity.dot(contact.forward) - joint.velocity * wheel.radius;
+  const double lateral_slip = velocity.dot(contact.lateral);
+  // While its motor has torque to spare, the motor holds the rim: the chassis takes the whole impulse.
+  const bool held = wheel.max_torque > 0 && std::abs(contact.motor_impulse) < budget;
+  const double forward_mass = 1 / (inverseMass(contact.offset, contact.forward) +
+                                   (held ? 0.0 : wheel.radius * wheel.radius / wheel.inertia));
+  const double lateral_mass = 1 / inverseMass(contact.offset, contact.lateral);
+  Eigen::Vector2d total(contact.forward_impulse - forward_slip * forward_mass,
+                        contact.lateral_impulse - lateral_slip * lateral_mass);
+  const double limit = wheel.friction * contact.normal_impulse;  // the friction circle
+  if (total.norm() > limit) total *= limit / total.norm();
+  const Eigen::Vector2d change = total - Eigen::Vector2d(contact.forward_impulse, contact.lateral_impulse);
+  contact.forward_impulse = total.x();
+  contact.lateral_impulse = total.y();
+  chassis_->applyImpulse(toBullet(contact.forward * change.x() + contact.lateral * change.y()),
+                         toBullet(contact.offset));
+  // The rim feels the reaction; a holding motor takes what it can, the rest turns the wheel.
+  const double reaction = wheel.radius * change.x();
+  const double motor =
+      held ? std::clamp(contact.motor_impulse + reaction, -budget, budget) : contact.motor_impulse;
+  joint.velocity -= (reaction - (motor - contact.motor_impulse)) / wheel.inertia;
+  contact.motor_impulse = motor;
 }
 
 void RaycastRobot::afterStep() {

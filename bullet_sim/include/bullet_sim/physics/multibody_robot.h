@@ -67,6 +67,10 @@ class MultiBodyRobot : public PhysicsRobot {
 
   void buildParts();
   void buildMultiBody(const Eigen::Isometry3d& root_pose);
+  /// Joins part `k` to its parent part with its joint (revolute or prismatic).
+  void setupJoint(int k);
+  /// Gives part `k` its collision shape, friction and contact stiffness.
+  void addCollider(int k);
   btMultiBodyJointMotor* motorFor(Joint& joint);
 
   ModelSpec spec_;

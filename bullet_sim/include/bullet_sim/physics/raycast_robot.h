@@ -74,7 +74,24 @@ class RaycastRobot : public PhysicsRobot {
     double max_torque = 0;   ///< [N m]; 0 = free
   };
 
+  /// A wheel's contact with the ground in one step, and the impulses solved for it.
+  struct Contact {
+    Eigen::Vector3d offset, forward, lateral;  ///< from the centre of mass; the rolling and side directions
+    double normal_impulse = 0, forward_impulse = 0, lateral_impulse = 0;
+    double motor_impulse = 0;  ///< [N m s] on the wheel's spin this step, within its torque budget
+    bool touching = false;     ///< in contact and gripping (casters only carry load)
+  };
+
   void buildWheels();
+  /// Casts each wheel's ray down from its hub; the root link is at `root`.
+  void castWheelRays(const Eigen::Isometry3d& root);
+  /// The suspension: each wheel on the ground pushes the chassis up by its spring and damper.
+  void pressWheels(const Eigen::Isometry3d& root);
+  /// One pass of wheel `w`'s motor and friction impulses.
+  void driveWheel(size_t w);
+  Eigen::Vector3d velocityAt(const Eigen::Vector3d& offset) const;
+  /// The chassis's inverse mass felt at `offset` from its centre of mass along `direction`.
+  double inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const;
   void buildChassis(const Eigen::Isometry3d& root_pose);
   /// Link frames in the root link's frame, from the joint positions; computed when asked for, after a change.
   const std::vector<Eigen::Isometry3d>& linkFrames() const;
@@ -108,6 +125,8 @@ class RaycastRobot : public PhysicsRobot {
   // Per step scratch, kept to avoid allocating.
   std::vector<Eigen::Vector3d> ray_origins_, ray_directions_;
   std::vector<double> ray_hits_;
+  std::vector<Contact> contacts_;  ///< per wheel
+  Eigen::Matrix3d inverse_inertia_;  ///< the chassis's, in the world frame, this step
 };
 
 }  // namespace bullet_sim
