@@ -17,8 +17,8 @@
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
-#include "bullet_sim/spec/model_geometry.h"
-#include "bullet_sim/spec/model_spec.h"
+#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/description/model_spec.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -9,10 +9,10 @@
 
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/render/offscreen_renderer.h"
-#include "bullet_sim/render/robot_snapshot.h"
-#include "bullet_sim/render/scene_builder.h"
+#include "bullet_sim/scene/robot_snapshot.h"
+#include "bullet_sim/scene/scene_builder.h"
 #include "bullet_sim/simulation.h"
-#include "bullet_sim/spec/model_geometry.h"
+#include "bullet_sim/description/model_geometry.h"
 #include "test_support.h"
 
 namespace bullet_sim {

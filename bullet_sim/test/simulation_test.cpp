@@ -11,8 +11,8 @@
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/simulation.h"
-#include "bullet_sim/spec/diagnostics.h"
-#include "bullet_sim/spec/model_geometry.h"
+#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/model_geometry.h"
 #include "test_support.h"
 
 namespace bullet_sim {

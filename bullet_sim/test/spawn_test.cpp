@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "bullet_sim/simulation.h"
-#include "bullet_sim/spec/diagnostics.h"
+#include "bullet_sim/description/diagnostics.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/spec/model_spec.h"
-#include "bullet_sim/spec/package_resolver.h"
-#include "bullet_sim/spec/world_spec.h"
+#include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/description/package_resolver.h"
+#include "bullet_sim/description/world_spec.h"
 
 namespace bullet_sim::test {
 

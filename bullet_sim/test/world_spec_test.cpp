@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/spec/gazebo_materials.h"
-#include "bullet_sim/spec/world_spec.h"
+#include "bullet_sim/description/gazebo_materials.h"
+#include "bullet_sim/description/world_spec.h"
 
 namespace bullet_sim {
 namespace {

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "bullet_sim/spec/geometry.h"
+#include "bullet_sim/description/geometry.h"
 
 namespace bullet_sim {
 

@@ -1,4 +1,4 @@
-#include "bullet_sim/physics/multibody_robot.h"
+#include "physics/multibody_robot.h"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
@@ -10,8 +10,8 @@
 #include <cmath>
 
 #include "bullet_shapes.h"
-#include "bullet_sim/physics/robot_parts.h"
-#include "bullet_sim/spec/diagnostics.h"
+#include "physics/robot_parts.h"
+#include "bullet_sim/description/diagnostics.h"
 
 namespace bullet_sim {
 

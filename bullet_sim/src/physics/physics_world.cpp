@@ -4,7 +4,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
 #include "bullet_shapes.h"
-#include "bullet_sim/physics/multibody_robot.h"
+#include "physics/multibody_robot.h"
 
 namespace bullet_sim {
 

@@ -1,4 +1,4 @@
-#include "bullet_sim/physics/raycast_robot.h"
+#include "physics/raycast_robot.h"
 
 #include <algorithm>
 #include <array>
@@ -8,9 +8,9 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
 #include "bullet_shapes.h"
-#include "bullet_sim/physics/multibody_robot.h"
-#include "bullet_sim/spec/diagnostics.h"
-#include "bullet_sim/spec/model_geometry.h"
+#include "physics/multibody_robot.h"
+#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/model_geometry.h"
 
 namespace bullet_sim {
 

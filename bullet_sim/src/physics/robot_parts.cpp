@@ -1,4 +1,4 @@
-#include "bullet_sim/physics/robot_parts.h"
+#include "physics/robot_parts.h"
 
 #include <Eigen/Eigenvalues>
 

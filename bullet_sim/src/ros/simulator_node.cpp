@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "bullet_sim/render/image.h"
-#include "bullet_sim/render/robot_snapshot.h"
-#include "bullet_sim/spec/diagnostics.h"
+#include "bullet_sim/scene/robot_snapshot.h"
+#include "bullet_sim/description/diagnostics.h"
 
 namespace bullet_sim {
 

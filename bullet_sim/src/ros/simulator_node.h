@@ -20,9 +20,9 @@
 #include "bullet_sim/DeleteModel.h"
 #include "bullet_sim/Snapshot.h"
 #include "bullet_sim/SpawnModel.h"
-#include "bullet_sim/render/camera.h"
+#include "bullet_sim/scene/camera.h"
 #include "bullet_sim/render/offscreen_renderer.h"
-#include "bullet_sim/render/scene.h"
+#include "bullet_sim/scene/scene.h"
 #include "bullet_sim/simulation.h"
 #include "robot_adapter.h"
 

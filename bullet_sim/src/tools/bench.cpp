@@ -23,8 +23,8 @@
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/render/offscreen_renderer.h"
-#include "bullet_sim/render/robot_snapshot.h"
-#include "bullet_sim/render/scene_builder.h"
+#include "bullet_sim/scene/robot_snapshot.h"
+#include "bullet_sim/scene/scene_builder.h"
 #include "bullet_sim/simulation.h"
 #include "tools/command_line.h"
 

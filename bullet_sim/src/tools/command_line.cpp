@@ -11,7 +11,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "bullet_sim/spec/world_spec.h"
+#include "bullet_sim/description/world_spec.h"
 
 extern char** environ;
 

@@ -19,9 +19,9 @@
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
-#include "bullet_sim/spec/diagnostics.h"
-#include "bullet_sim/spec/model_geometry.h"
-#include "bullet_sim/spec/model_spec.h"
+#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/description/model_spec.h"
 
 namespace bullet_sim {
 

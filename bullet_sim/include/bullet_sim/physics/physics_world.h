@@ -4,7 +4,7 @@
 #include <memory>
 #include <vector>
 
-#include "bullet_sim/spec/world_spec.h"
+#include "bullet_sim/description/world_spec.h"
 
 class btCollisionObject;
 class btMultiBodyDynamicsWorld;

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "bullet_sim/render/image.h"
-#include "bullet_sim/render/scene.h"
+#include "bullet_sim/scene/scene.h"
 
 namespace bullet_sim {
 

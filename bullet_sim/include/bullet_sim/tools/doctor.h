@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/spec/package_resolver.h"
+#include "bullet_sim/description/package_resolver.h"
 
 namespace bullet_sim {
 

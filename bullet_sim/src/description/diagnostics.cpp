@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/diagnostics.h"
+#include "bullet_sim/description/diagnostics.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/plugin_declaration.h"
+#include "bullet_sim/description/plugin_declaration.h"
 
 namespace bullet_sim {
 

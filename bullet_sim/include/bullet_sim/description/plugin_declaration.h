@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "bullet_sim/spec/plugin_tags.h"
+#include "bullet_sim/description/plugin_tags.h"
 
 namespace bullet_sim {
 

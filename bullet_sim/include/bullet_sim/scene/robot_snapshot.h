@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/render/camera.h"
-#include "bullet_sim/render/scene.h"
+#include "bullet_sim/scene/camera.h"
+#include "bullet_sim/scene/scene.h"
 #include "bullet_sim/simulation.h"
 
 namespace bullet_sim {

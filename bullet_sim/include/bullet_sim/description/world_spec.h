@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/spec/diagnostics.h"
-#include "bullet_sim/spec/geometry.h"
-#include "bullet_sim/spec/package_resolver.h"
+#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/geometry.h"
+#include "bullet_sim/description/package_resolver.h"
 
 namespace bullet_sim {
 

@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "bullet_sim/render/camera.h"
-#include "bullet_sim/spec/mesh.h"
+#include "bullet_sim/scene/camera.h"
+#include "bullet_sim/description/mesh.h"
 
 namespace bullet_sim {
 

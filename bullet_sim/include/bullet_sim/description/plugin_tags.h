@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/spec/diagnostics.h"
+#include "bullet_sim/description/diagnostics.h"
 
 namespace bullet_sim {
 

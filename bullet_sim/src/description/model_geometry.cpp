@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/model_geometry.h"
+#include "bullet_sim/description/model_geometry.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "bullet_sim/spec/model_spec.h"
+#include "bullet_sim/description/model_spec.h"
 
 namespace bullet_sim {
 

@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/world_spec.h"
+#include "bullet_sim/description/world_spec.h"
 
 #include <stdlib.h>  // mkdtemp
 #include <tinyxml2.h>
@@ -13,8 +13,8 @@
 #include <optional>
 #include <sstream>
 
-#include "bullet_sim/spec/gazebo_materials.h"
-#include "bullet_sim/spec/mesh.h"
+#include "bullet_sim/description/gazebo_materials.h"
+#include "bullet_sim/description/mesh.h"
 
 namespace bullet_sim {
 namespace fs = std::filesystem;

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "bullet_sim/physics/robot_body.h"
-#include "bullet_sim/physics/robot_parts.h"
+#include "physics/robot_parts.h"
 #include "bullet_sim/sensing/ray_caster.h"
 
 class btMultiBodyDynamicsWorld;

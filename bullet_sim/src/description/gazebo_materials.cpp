@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/gazebo_materials.h"
+#include "bullet_sim/description/gazebo_materials.h"
 
 #include <array>
 #include <utility>

@@ -1,4 +1,4 @@
-#include "bullet_sim/render/camera.h"
+#include "bullet_sim/scene/camera.h"
 
 #include <algorithm>
 

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "bullet_sim/spec/geometry.h"
+#include "bullet_sim/description/geometry.h"
 
 namespace bullet_sim {
 

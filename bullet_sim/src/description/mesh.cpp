@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/mesh.h"
+#include "bullet_sim/description/mesh.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "bullet_sim/spec/mesh.h"
+#include "bullet_sim/description/mesh.h"
 
 namespace bullet_sim {
 

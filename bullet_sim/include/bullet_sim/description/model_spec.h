@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/spec/geometry.h"
-#include "bullet_sim/spec/package_resolver.h"
-#include "bullet_sim/spec/plugin_declaration.h"
+#include "bullet_sim/description/geometry.h"
+#include "bullet_sim/description/package_resolver.h"
+#include "bullet_sim/description/plugin_declaration.h"
 
 namespace bullet_sim {
 

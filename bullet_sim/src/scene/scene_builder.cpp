@@ -1,4 +1,4 @@
-#include "bullet_sim/render/scene_builder.h"
+#include "bullet_sim/scene/scene_builder.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "bullet_sim/render/scene.h"
+#include "bullet_sim/scene/scene.h"
 
 #include <algorithm>
 

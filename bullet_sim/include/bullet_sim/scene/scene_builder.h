@@ -9,10 +9,10 @@
 #include <string>
 
 #include "bullet_sim/plugins/outputs.h"
-#include "bullet_sim/render/scene.h"
-#include "bullet_sim/spec/geometry.h"
-#include "bullet_sim/spec/model_spec.h"
-#include "bullet_sim/spec/world_spec.h"
+#include "bullet_sim/scene/scene.h"
+#include "bullet_sim/description/geometry.h"
+#include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/description/world_spec.h"
 
 namespace bullet_sim {
 

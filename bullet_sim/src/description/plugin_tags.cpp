@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/plugin_tags.h"
+#include "bullet_sim/description/plugin_tags.h"
 
 #include <cmath>
 #include <sstream>

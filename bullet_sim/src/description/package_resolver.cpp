@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/package_resolver.h"
+#include "bullet_sim/description/package_resolver.h"
 
 #include <tinyxml2.h>
 

@@ -1,4 +1,4 @@
-#include "bullet_sim/render/robot_snapshot.h"
+#include "bullet_sim/scene/robot_snapshot.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "bullet_sim/plugins/ray_lidar.h"
-#include "bullet_sim/render/scene_builder.h"
+#include "bullet_sim/scene/scene_builder.h"
 
 namespace bullet_sim {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "bullet_sim/physics/robot_body.h"
-#include "bullet_sim/spec/model_spec.h"
+#include "bullet_sim/description/model_spec.h"
 
 namespace bullet_sim {
 

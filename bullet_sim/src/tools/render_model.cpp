@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "bullet_sim/render/offscreen_renderer.h"
-#include "bullet_sim/render/robot_snapshot.h"
-#include "bullet_sim/spec/diagnostics.h"
+#include "bullet_sim/scene/robot_snapshot.h"
+#include "bullet_sim/description/diagnostics.h"
 #include "tools/command_line.h"
 
 namespace bullet_sim {

@@ -1,4 +1,4 @@
-#include "bullet_sim/spec/model_spec.h"
+#include "bullet_sim/description/model_spec.h"
 
 #include <console_bridge/console.h>
 #include <tinyxml2.h>
@@ -9,9 +9,9 @@
 #include <set>
 #include <sstream>
 
-#include "bullet_sim/spec/diagnostics.h"
-#include "bullet_sim/spec/gazebo_materials.h"
-#include "bullet_sim/spec/model_geometry.h"
+#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/gazebo_materials.h"
+#include "bullet_sim/description/model_geometry.h"
 
 namespace bullet_sim {
 
