@@ -9,6 +9,7 @@
 
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/render/offscreen_renderer.h"
+#include "bullet_sim/scene/recording.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene_builder.h"
 #include "bullet_sim/simulation.h"
@@ -478,5 +479,34 @@ TEST(RenderModel, AnUnwritableOutputSaysSoAndExitsWith1) {
       std::string::npos)
       << result.errors;
 }
+}  // namespace
+}  // namespace bullet_sim
+
+namespace bullet_sim {
+namespace {
+
+TEST(Recording, TrailsGrowEveryTenthOfASecondAndFramesComeAtTheirPeriod) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  simulation.spawn("chair", test::wheelchair(), {});
+  Recording recording(/*frame_period=*/0.25);
+  std::vector<std::string> frames;
+  for (int i = 0; i < 1000; ++i) {  // 1 s at 1 ms
+    simulation.step();
+    if (const auto frame = recording.afterStep(simulation)) frames.push_back(*frame);
+  }
+  EXPECT_EQ(frames, (std::vector<std::string>{"frame_000001.png", "frame_000002.png", "frame_000003.png",
+                                              "frame_000004.png"}));
+  ASSERT_EQ(recording.trails().size(), 1u);
+  EXPECT_EQ(recording.trails().front().points.size(), 10u);  // at 0.001 s, then every 0.1 s
+
+  recording.restart();
+  simulation.resetSimulation();
+  EXPECT_TRUE(recording.trails().empty());
+  for (int i = 0; i < 250; ++i) simulation.step();
+  EXPECT_EQ(recording.afterStep(simulation), std::optional<std::string>("frame_000005.png"));
+  recording.forget("chair");
+  EXPECT_TRUE(recording.trails().empty());
+}
+
 }  // namespace
 }  // namespace bullet_sim

@@ -14,8 +14,6 @@ namespace bullet_sim {
 namespace {
 
 constexpr int kMaxSnapshotSide = 4096;     // [px]
-constexpr double kTrailSpacing = 0.1;      // [s] of sim time between trail points
-constexpr size_t kMaxTrailPoints = 10000;  // 1000 s of trail
 
 std::filesystem::path defaultSnapshotDir() {
   const char* ros_home = std::getenv("ROS_HOME");
@@ -74,8 +72,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   }
   simulation_ = std::make_unique<Simulation>(loadWorldParam(private_), options);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
-  snapshot_period_ = std::max(0.0, private_.param("snapshot_period", 0.0));
-  next_frame_ = snapshot_period_;
+  recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
 
   clock_ = node_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   services_.push_back(private_.advertiseService("spawn_urdf", &SimulatorNode::spawn, this));
@@ -121,23 +118,9 @@ void SimulatorNode::step() {
 }
 
 void SimulatorNode::afterStep() {
-  const double now = simulation_->time();
-  if (now + 1e-9 >= next_trail_point_) {
-    next_trail_point_ = now + kTrailSpacing;
-    for (const auto& name : simulation_->robotNames()) {
-      const Robot& robot = *simulation_->robot(name);
-      auto& points = trails_[name].points;
-      if (points.size() < kMaxTrailPoints) {
-        points.push_back(robot.body().linkPose(robot.body().spec().root).translation());
-      }
-    }
-  }
-  if (snapshot_period_ > 0 && now + 1e-9 >= next_frame_) {
-    next_frame_ = now + snapshot_period_;
-    char name[32];
-    std::snprintf(name, sizeof(name), "frame_%06d.png", ++frame_);
+  if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
-    if (!writeSnapshot(snapshot_dir_ / name, View::kChase, 640, 480, &error)) {
+    if (!writeSnapshot(snapshot_dir_ / *frame, View::kChase, 640, 480, &error)) {
       ROS_WARN_THROTTLE(10, "~snapshot_period: %s", error.c_str());
     }
   }
@@ -186,7 +169,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
 
 bool SimulatorNode::remove(DeleteModel::Request& request, DeleteModel::Response& response) {
   adapters_.erase(request.model_name);
-  trails_.erase(request.model_name);
+  recording_->forget(request.model_name);
   response.success = simulation_->remove(request.model_name);
   response.message = response.success ? "deleted model [" + request.model_name + "]"
                                       : "no model [" + request.model_name + "]" +
@@ -196,9 +179,7 @@ bool SimulatorNode::remove(DeleteModel::Request& request, DeleteModel::Response&
 
 bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   simulation_->resetSimulation();
-  trails_.clear();
-  next_trail_point_ = 0;
-  next_frame_ = snapshot_period_;
+  recording_->restart();
   step();  // time restarts at the first step, and /clock is never 0
   anchorPacing();
   return true;
@@ -206,7 +187,7 @@ bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::
 
 bool SimulatorNode::resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   simulation_->resetWorld();
-  trails_.clear();
+  recording_->clearTrails();
   return true;
 }
 
@@ -256,9 +237,8 @@ bool SimulatorNode::writeSnapshot(const std::filesystem::path& path, View view, 
   try {
     std::filesystem::create_directories(path.parent_path());
     if (!renderer_) renderer_ = std::make_unique<OffscreenRenderer>();
-    std::vector<Polyline> trails;
-    for (const auto& [name, trail] : trails_) trails.push_back(trail);
-    const Image image = renderer_->render(simulationScene(*simulation_, view, "", trails), width, height);
+    const Image image =
+        renderer_->render(simulationScene(*simulation_, view, "", recording_->trails()), width, height);
     return writePng(path.string(), image, error);
   } catch (const std::exception& e) {
     *error = e.what();

@@ -21,6 +21,7 @@
 #include "bullet_sim/Snapshot.h"
 #include "bullet_sim/SpawnModel.h"
 #include "bullet_sim/scene/camera.h"
+#include "bullet_sim/scene/recording.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/scene.h"
 #include "bullet_sim/simulation.h"
@@ -72,11 +73,7 @@ class SimulatorNode {
 
   std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot
   std::filesystem::path snapshot_dir_;
-  double snapshot_period_ = 0;  ///< [s] of sim time; 0 = no periodic frames
-  double next_frame_ = 0;
-  int frame_ = 0;
-  std::map<std::string, Polyline> trails_;  ///< each robot's root link path, for the pictures
-  double next_trail_point_ = 0;
+  std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
 };
 
 }  // namespace bullet_sim
