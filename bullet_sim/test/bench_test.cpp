@@ -1,5 +1,6 @@
 // The bench tool as a user runs it: its JSON parses and holds numbers, its options reach the robot, and bad
 // input gives the usage and exit status 2. A smoke test: timings are printed, never asserted.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -16,6 +17,8 @@
 
 namespace bullet_sim {
 namespace {
+
+using ::testing::HasSubstr;
 
 /// The bench scenario's robot and world.
 std::string scenario() {
@@ -76,10 +79,8 @@ TEST(Bench, AppliesTheWheelModelAndLidarOptionsToTheRobot) {
   const auto numbers = numbersIn(result.output, {"lidar_rays_per_scan", "lidar_rate_hz", "rays_per_s"});
   EXPECT_EQ(numbers.at("lidar_rays_per_scan"), 1800 * 16);
   EXPECT_EQ(numbers.at("lidar_rate_hz"), 5);
-  EXPECT_NE(result.output.find("\"wheel_model_requested\": \"raycast\""), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("\"pose_error_steady_m\": null"), std::string::npos)
-      << "no steady figure for a run shorter than the spin-up\n"
-      << result.output;
+  EXPECT_THAT(result.output, HasSubstr("\"wheel_model_requested\": \"raycast\""));
+  EXPECT_THAT(result.output, HasSubstr("\"pose_error_steady_m\": null"));
 }
 
 TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
@@ -90,20 +91,19 @@ TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
     SCOPED_TRACE(args);
     const test::CommandResult result = test::run(bench(args));
     EXPECT_EQ(WEXITSTATUS(result.status), 2);
-    EXPECT_NE(result.errors.find("usage: bench"), std::string::npos) << result.errors;
+    EXPECT_THAT(result.errors, HasSubstr("usage: bench"));
   }
 }
 
 TEST(Bench, ALoadErrorSaysWhatAndExitsWith1) {
   test::CommandResult result = test::run(bench("--robot /nonexistent/robot.urdf"));
   EXPECT_EQ(WEXITSTATUS(result.status), 1);
-  EXPECT_NE(result.errors.find("cannot read URDF [/nonexistent/robot.urdf]"), std::string::npos)
-      << result.errors;
+  EXPECT_THAT(result.errors, HasSubstr("cannot read URDF [/nonexistent/robot.urdf]"));
 
   result = test::run(bench("--robot '" + test::packageFile("bullet_sim", "bench/bench_robot.urdf") +
                            "' --world no_such.world"));
   EXPECT_EQ(WEXITSTATUS(result.status), 1);
-  EXPECT_NE(result.errors.find("no_such.world"), std::string::npos) << result.errors;
+  EXPECT_THAT(result.errors, HasSubstr("no_such.world"));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Checks every robot description the workspace ships: it expands, parses, loads its meshes, has valid
 // inertia, rests on its wheels at the zero pose, and its drive plugin agrees with its joint geometry.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <urdf/model.h>
 
@@ -23,6 +24,8 @@
 
 namespace bullet_sim {
 namespace {
+
+using ::testing::HasSubstr;
 
 constexpr double kGroundTolerance = 0.002;    // [m] wheel bottoms vs z = 0 of base_footprint
 constexpr double kGeometryTolerance = 0.001;  // [m] plugin figures vs joint geometry
@@ -85,7 +88,7 @@ TEST_P(Description, PassesCheckUrdf) {
   const CommandResult check = run(std::string("check_urdf ") + urdf_file);
   std::remove(urdf_file);
   EXPECT_EQ(check.status, 0) << check.output << check.errors;
-  EXPECT_NE(check.output.find("Successfully Parsed XML"), std::string::npos) << check.output;
+  EXPECT_THAT(check.output, HasSubstr("Successfully Parsed XML"));
 }
 
 TEST_P(Description, ParsesWithUrdfModelAndLoadsWithoutWarnings) {

@@ -1,5 +1,6 @@
 // urdf_doctor: every defect of the seeds' own files (test/fixtures/doctor/, one per defect) is reported with
 // its element, reason and fix; the exit codes keep their contract; the robots we ship come out clean.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -11,6 +12,8 @@
 
 namespace bullet_sim {
 namespace {
+
+using ::testing::HasSubstr;
 
 using test::fixture;
 using test::readFile;
@@ -247,44 +250,39 @@ TEST(DoctorTool, ExitsZeroOnAShippedXacro) {
   const auto result =
       doctor(test::packageFile("smartcar_description", "urdf/smartcar.urdf.xacro") + " with_lidar:=false");
   EXPECT_EQ(result.status, 0) << result.output << result.errors;
-  EXPECT_NE(result.output.find("smartcar.urdf.xacro: clean"), std::string::npos) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("smartcar.urdf.xacro: clean"));
 }
 
 TEST(DoctorTool, ExitsZeroOnWarningsOnly) {
   const auto result = doctor(fixture("doctor/001_head_collision_shape.urdf"));
   EXPECT_EQ(result.status, 0) << result.output;
-  EXPECT_NE(result.output.find("0 errors, 1 warning"), std::string::npos) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("0 errors, 1 warning"));
 }
 
 TEST(DoctorTool, ExitsOneAndListsEveryProblem) {
   const auto result = doctor(fixture("robots/fail_two_problems.urdf"));
   EXPECT_EQ(result.status, 1) << result.output;
-  EXPECT_NE(result.output.find("error: link [base_link] <inertial>: mass -1 kg is not positive"),
-            std::string::npos)
-      << result.output;
-  EXPECT_NE(result.output.find("no_such_mesh.stl"), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("2 errors"), std::string::npos) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("error: link [base_link] <inertial>: mass -1 kg is not positive"));
+  EXPECT_THAT(result.output, HasSubstr("no_such_mesh.stl"));
+  EXPECT_THAT(result.output, HasSubstr("2 errors"));
 }
 
 TEST(DoctorTool, ExitsTwoOnAParseError) {
   const auto result = doctor(fixture("doctor/002_non_breaking_space.urdf"));
   EXPECT_EQ(result.status, 2) << result.output;
-  EXPECT_NE(result.output.find("line 6 column 14"), std::string::npos) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("line 6 column 14"));
 }
 
 TEST(DoctorTool, ExitsTwoWithXacrosMessageWhenXacroFails) {
   const auto result = doctor(fixture("doctor/fail_xacro.urdf.xacro"));
   EXPECT_EQ(result.status, 2) << result.output;
-  EXPECT_NE(result.output.find("xacro failed: error: name 'undefined_base_name' is not defined"),
-            std::string::npos)
-      << result.output;
+  EXPECT_THAT(result.output, HasSubstr("xacro failed: error: name 'undefined_base_name' is not defined"));
 }
 
 TEST(DoctorTool, ExitsTwoOnAFileThatCannotBeRead) {
   const auto result = doctor("/nonexistent/robot.urdf");
   EXPECT_EQ(result.status, 2) << result.output;
-  EXPECT_NE(result.output.find("/nonexistent/robot.urdf: error: cannot read the file"), std::string::npos)
-      << result.output;
+  EXPECT_THAT(result.output, HasSubstr("/nonexistent/robot.urdf: error: cannot read the file"));
   EXPECT_EQ(doctor("").status, 2) << "no file is a usage error";
 }
 

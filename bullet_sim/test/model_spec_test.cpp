@@ -1,4 +1,5 @@
 // Loading robot models: one fixture per failure mode, each with the message it must give.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "bullet_sim/simulation.h"
@@ -7,6 +8,8 @@
 
 namespace bullet_sim {
 namespace {
+
+using ::testing::HasSubstr;
 
 using test::fixture;
 using test::readFile;
@@ -32,41 +35,38 @@ TEST(ModelSpec, LoadsTheMinimalRobot) {
 
 TEST(ModelSpec, MalformedXmlNamesTheLine) {
   const std::string error = loadError("fail_malformed.urdf");
-  EXPECT_NE(error.find("fail_malformed.urdf"), std::string::npos) << error;
-  EXPECT_NE(error.find("line 2:"), std::string::npos) << error;  // where <robot> opens
-  EXPECT_NE(error.find("closed by a different tag"), std::string::npos) << error;
+  EXPECT_THAT(error, HasSubstr("fail_malformed.urdf"));
+  EXPECT_THAT(error, HasSubstr("line 2:"));  // where <robot> opens
+  EXPECT_THAT(error, HasSubstr("closed by a different tag"));
 }
 
 TEST(ModelSpec, NonBreakingSpaceIsNamedWithLineAndColumn) {
   const std::string error = loadError("fail_non_breaking_space.urdf");
-  EXPECT_NE(error.find("line 3 column 8 holds a non-breaking space (U+00A0"), std::string::npos) << error;
+  EXPECT_THAT(error, HasSubstr("line 3 column 8 holds a non-breaking space (U+00A0"));
 }
 
 TEST(ModelSpec, MissingMeshNamesLinkAndUri) {
   const std::string error = loadError("fail_missing_mesh.urdf");
-  EXPECT_NE(error.find("link [base_link] <visual>: cannot load mesh"), std::string::npos) << error;
-  EXPECT_NE(error.find("no_such_mesh.stl"), std::string::npos) << error;
+  EXPECT_THAT(error, HasSubstr("link [base_link] <visual>: cannot load mesh"));
+  EXPECT_THAT(error, HasSubstr("no_such_mesh.stl"));
 }
 
 TEST(ModelSpec, UnexpandedMacroCallSuggestsTheXacroPrefix) {
   const std::string error = loadError("fail_unexpanded_macro.urdf");
-  EXPECT_NE(error.find("<mbot_base/> is not a URDF element"), std::string::npos) << error;
-  EXPECT_NE(error.find("write <xacro:mbot_base/>"), std::string::npos) << error;
+  EXPECT_THAT(error, HasSubstr("<mbot_base/> is not a URDF element"));
+  EXPECT_THAT(error, HasSubstr("write <xacro:mbot_base/>"));
 }
 
 TEST(ModelSpec, GazeboReferenceToMissingLinkSuggestsTheNearMiss) {
   const std::string error = loadError("fail_sensor_missing_link.urdf");
-  EXPECT_NE(
-      error.find("<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"),
-      std::string::npos)
-      << error;
+  EXPECT_THAT(error, HasSubstr("<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"));
 }
 
 TEST(ModelSpec, ReportsEveryProblemOfAFileAtOnce) {
   const std::string error = loadError("fail_two_problems.urdf");
-  EXPECT_NE(error.find("2 problems"), std::string::npos) << error;
-  EXPECT_NE(error.find("mass -1 kg is not positive"), std::string::npos) << error;
-  EXPECT_NE(error.find("no_such_mesh.stl"), std::string::npos) << error;
+  EXPECT_THAT(error, HasSubstr("2 problems"));
+  EXPECT_THAT(error, HasSubstr("mass -1 kg is not positive"));
+  EXPECT_THAT(error, HasSubstr("no_such_mesh.stl"));
 }
 
 TEST(ModelSpec, UnknownJointInAPluginFailsTheLoadWithASuggestion) {
@@ -78,10 +78,8 @@ TEST(ModelSpec, UnknownJointInAPluginFailsTheLoadWithASuggestion) {
                      {});
     FAIL() << "spawn accepted a drive naming a missing joint";
   } catch (const SpecError& e) {
-    EXPECT_NE(std::string(e.what()).find("plugin [drive] names joint [right_whel_joint], which does not "
-                                         "exist (did you mean [right_wheel_joint]?)"),
-              std::string::npos)
-        << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("plugin [drive] names joint [right_whel_joint], which does not "
+                                         "exist (did you mean [right_wheel_joint]?)"));
   }
   EXPECT_TRUE(simulation.robotNames().empty()) << "a refused robot leaves nothing behind";
   simulation.step();
@@ -98,8 +96,7 @@ TEST(ModelSpec, SpawnRefusesADuplicateName) {
     simulation.spawn("robot", model(), {.x = 2});
     FAIL() << "two robots share a name";
   } catch (const SpecError& e) {
-    EXPECT_NE(std::string(e.what()).find("a robot named [robot] already exists"), std::string::npos)
-        << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("a robot named [robot] already exists"));
   }
   EXPECT_EQ(simulation.robotNames().size(), 1u);
 }

@@ -1,6 +1,7 @@
 // The headless renderer against analytic pictures: walls where the orthographic projection puts them, lidar
 // hits where the beams end, the right way up and round; PNG round trips; every shipped robot through the code
 // render_model runs, and render_model itself. In-process, no roscore, no display.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <png.h>
 
@@ -18,6 +19,8 @@
 
 namespace bullet_sim {
 namespace {
+
+using ::testing::HasSubstr;
 
 constexpr int kWidth = 640, kHeight = 480;
 constexpr int kColourTolerance = 2;  // [0, 255] per channel: OpenGL's rounding of lit colours
@@ -196,7 +199,7 @@ TEST(Render, LidarHitsAreDrawnWhereTheBeamsHit) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   Robot& mast = simulation.spawn("mast", lidarMast(), {});
   RayLidar* lidar = mast.pluginsOf<RayLidar>().at(0);
-  while (lidar->scanCount() == 0) simulation.step();
+  ASSERT_TRUE(test::stepUntil(simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan"));
 
   Scene scene = bareScene();
   addWorld(scene, simulation.world());
@@ -398,8 +401,8 @@ TEST(Png, AnUnwritablePathGivesFalseAndSaysWhy) {
   const Image image{2, 2, std::vector<uint8_t>(16, 128)};
   std::string error;
   EXPECT_FALSE(writePng("/nonexistent_directory/robot.png", image, &error));
-  EXPECT_NE(error.find("[/nonexistent_directory/robot.png]"), std::string::npos) << error;
-  EXPECT_NE(error.find("No such file or directory"), std::string::npos) << error;
+  EXPECT_THAT(error, HasSubstr("[/nonexistent_directory/robot.png]"));
+  EXPECT_THAT(error, HasSubstr("No such file or directory"));
 }
 
 /// Expands, loads and snapshots a robot in empty.world as render_model does, collecting every load message.
@@ -465,7 +468,7 @@ TEST(RenderModel, BadArgumentsPrintTheUsageAndExitWith2) {
     SCOPED_TRACE(args);
     const test::CommandResult result = test::run(std::string(RENDER_MODEL) + " " + args);
     EXPECT_EQ(WEXITSTATUS(result.status), 2);
-    EXPECT_NE(result.errors.find("usage: render_model"), std::string::npos) << result.errors;
+    EXPECT_THAT(result.errors, HasSubstr("usage: render_model"));
   }
 }
 
@@ -474,10 +477,7 @@ TEST(RenderModel, AnUnwritableOutputSaysSoAndExitsWith1) {
       test::run(std::string(RENDER_MODEL) + " --urdf '" + test::fixture("robots/lidar_mast.urdf") +
                 "' --out /nonexistent_directory/robot.png");
   EXPECT_EQ(WEXITSTATUS(result.status), 1);
-  EXPECT_NE(
-      result.errors.find("cannot write PNG [/nonexistent_directory/robot.png]: No such file or directory"),
-      std::string::npos)
-      << result.errors;
+  EXPECT_THAT(result.errors, HasSubstr("cannot write PNG [/nonexistent_directory/robot.png]: No such file or directory"));
 }
 }  // namespace
 }  // namespace bullet_sim

@@ -1,5 +1,6 @@
 // The simulator core against closed forms: robots at rest, driving straight, turning, on arcs; the lidar
 // against analytic distances; bit-identical reruns. Stepped in-process, no roscore.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <tinyxml2.h>
 
@@ -17,6 +18,8 @@
 
 namespace bullet_sim {
 namespace {
+
+using ::testing::HasSubstr;
 
 constexpr double kDeg = M_PI / 180;
 
@@ -71,8 +74,7 @@ void drive(Simulation& simulation, WheeledDrive& drive, double v, double w, doub
 }
 
 ModelSpec fixtureRobot(const std::string& file) {
-  return parseModel(test::readFile(test::fixture("robots/" + file)), file,
-                    PackageResolver::fromEnvironment());
+  return test::parseQuietly(test::readFile(test::fixture("robots/" + file)), file);
 }
 
 /// Pose of `link` relative to where it was at spawn, in the spawn frame.
@@ -211,8 +213,8 @@ TEST(Simulation, SeedStyleReversedWheelAxisIsCompensated) {
         &warnings);
     std::string said;
     for (const auto& w : warnings) said += w + "\n";
-    EXPECT_NE(said.find("joint [front_right_joint] turns about 0 -1 0"), std::string::npos) << said;
-    EXPECT_NE(said.find("driven with the opposite sign"), std::string::npos) << said;
+    EXPECT_THAT(said, HasSubstr("joint [front_right_joint] turns about 0 -1 0"));
+    EXPECT_THAT(said, HasSubstr("driven with the opposite sign"));
 
     const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
     drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0, 2.0);
@@ -291,7 +293,7 @@ double roomDistance(const Eigen::Vector3d& origin, const Eigen::Vector3d& direct
 /// The first scan of the robot's lidar.
 LaserScan firstScan(Simulation& simulation, Robot& robot) {
   RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
-  while (lidar->scanCount() == 0) simulation.step();
+  test::stepUntil(simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan");
   return lidar->scan();
 }
 
@@ -320,7 +322,7 @@ TEST(Lidar, WheelchairScanMatchesTheRoomAndNeverSeesTheChair) {
       test::replaceAfter(test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro"),
                          "<sensor", "<stddev>0.01</stddev>", "<stddev>0</stddev>");
   Simulation simulation(test::shippedWorld("test_room.world"));
-  Robot& robot = simulation.spawn("chair", parseModel(urdf, "chair", PackageResolver::fromEnvironment()),
+  Robot& robot = simulation.spawn("chair", test::parseQuietly(urdf, "chair"),
                                   {.x = 0.5, .y = -0.3, .yaw = 0.3});
   const LaserScan scan = firstScan(simulation, robot);
   ASSERT_EQ(scan.ranges.size(), 360u);
@@ -357,7 +359,7 @@ TEST(Lidar, MultiChannelReturnsLieOnTheRoomsWallsAndFloor) {
   RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
   ASSERT_EQ(lidar->config().output, RayLidarConfig::Output::kPointCloud2);
   ASSERT_EQ(lidar->config().channels, 16);
-  while (lidar->scanCount() == 0) simulation.step();
+  ASSERT_TRUE(test::stepUntil(simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a point cloud"));
   const PointCloud& cloud = lidar->cloud();
   // The upper channels clear the 1 m walls in places and return nothing; every other ray hits a wall or the
   // floor.
@@ -385,7 +387,7 @@ TEST(Lidar, ThePluginFilenameChoosesTheMessage) {
         test::replaceAfter(velodyne, "<plugin", "libgazebo_ros_velodyne_laser.so", filename);
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot =
-        simulation.spawn("mast", parseModel(urdf, filename, PackageResolver::fromEnvironment()), {});
+        simulation.spawn("mast", test::parseQuietly(urdf, filename), {});
     EXPECT_EQ(robot.pluginsOf<RayLidar>().at(0)->config().output, output) << filename;
   }
 }
@@ -443,10 +445,8 @@ TEST(Simulation, InitialJointPositionsApplyAtSpawnAndAfterAReset) {
       simulation.spawn("other", test::wheelchair(wheel_model), typo);
       ADD_FAILURE() << "a misspelt joint was accepted";
     } catch (const SpecError& e) {
-      EXPECT_NE(std::string(e.what()).find("[front_left_jiont], which is not a moving joint (did you mean "
-                                           "[front_left_joint]?)"),
-                std::string::npos)
-          << e.what();
+      EXPECT_THAT(std::string(e.what()), HasSubstr("[front_left_jiont], which is not a moving joint (did you mean "
+                                           "[front_left_joint]?)"));
     }
   }
 }
@@ -506,7 +506,7 @@ TEST(Simulation, TurnGravityOffHoldsALinkUpAndGravityPullsTheRest) {
     }
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot =
-        simulation.spawn("box", parseModel(urdf, "box", PackageResolver::fromEnvironment()), {.z = 1.0});
+        simulation.spawn("box", test::parseQuietly(urdf, "box"), {.z = 1.0});
     for (int i = 0; i < 300; ++i) simulation.step();  // 0.3 s
     const double fallen = 1.0 - robot.body().linkPose("base_link").translation().z();
     if (weightless) {
@@ -567,7 +567,7 @@ std::string twoWheelerWithWheelTf() {
 TEST(Simulation, PublishWheelTfGivesEachWheelInItsParentAtItsJointAngle) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn(
-      "robot", parseModel(twoWheelerWithWheelTf(), "two_wheeler", PackageResolver::fromEnvironment()), {});
+      "robot", test::parseQuietly(twoWheelerWithWheelTf(), "two_wheeler"), {});
   WheeledDrive& drive = *robot.pluginsOf<WheeledDrive>().at(0);
   const Stream<TransformSample>* wheel_tf = nullptr;
   for (const auto& port : drive.ports().outputs) {

@@ -1,5 +1,6 @@
 // Spawning into a world that was saved with the robot in it (seed 000's pitfall: "two robots appear"): the
 // copy is found by its collision shapes where the robot spawns, and the spawn is refused naming it.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "bullet_sim/simulation.h"
@@ -8,6 +9,8 @@
 
 namespace bullet_sim {
 namespace {
+
+using ::testing::HasSubstr;
 
 using test::fixture;
 using test::readFile;
@@ -42,11 +45,9 @@ std::string spawnError(Simulation& simulation, const std::string& name, ModelSpe
 TEST(Spawn, RefusesAWorldSavedWithTheRobotWhereItSpawns) {
   Simulation simulation(savedWorld());
   const std::string error = spawnError(simulation, "robot", robotFixture("two_wheeler.urdf"), at(0, 0));
-  EXPECT_NE(error.find("the world's model [two_wheeler] has the collision shapes of robot [robot] where it "
+  EXPECT_THAT(error, HasSubstr("the world's model [two_wheeler] has the collision shapes of robot [robot] where it "
                        "spawns: was the world saved with the robot in it? Remove [two_wheeler] from the "
-                       ".world file"),
-            std::string::npos)
-      << error;
+                       ".world file"));
   EXPECT_TRUE(simulation.robotNames().empty()) << "a refused robot leaves nothing behind";
   simulation.step();
 }
@@ -54,7 +55,7 @@ TEST(Spawn, RefusesAWorldSavedWithTheRobotWhereItSpawns) {
 TEST(Spawn, RefusesAWorldModelWithTheRobotsName) {
   Simulation simulation(savedWorld());
   const std::string error = spawnError(simulation, "two_wheeler", robotFixture("two_wheeler.urdf"), at(3, 0));
-  EXPECT_NE(error.find("the world already holds a model named [two_wheeler]"), std::string::npos) << error;
+  EXPECT_THAT(error, HasSubstr("the world already holds a model named [two_wheeler]"));
 }
 
 TEST(Spawn, AcceptsTheRobotAwayFromTheSavedCopy) {

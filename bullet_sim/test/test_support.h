@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/simulation.h"
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/world_spec.h"
@@ -74,10 +75,18 @@ inline std::string withWheelModel(std::string urdf, const std::string& wheel_mod
   return urdf.insert(at, "<wheelModel>" + wheel_model + "</wheelModel>");
 }
 
+/// Parses a URDF as the simulator does; a load warning fails the test, since the files tests load are clean
+/// unless a test says otherwise (MuJoCo's habit).
+inline ModelSpec parseQuietly(const std::string& urdf, const std::string& source) {
+  std::vector<std::string> warnings;
+  ModelSpec model = parseModel(urdf, source, PackageResolver::fromEnvironment(), &warnings);
+  for (const auto& warning : warnings) ADD_FAILURE() << source << ": unexpected load warning: " << warning;
+  return model;
+}
+
 inline ModelSpec loadShippedRobot(const std::string& package, const std::string& xacro,
                                   const std::string& wheel_model = "") {
-  return parseModel(withWheelModel(expandXacro(package, xacro), wheel_model), package + "/" + xacro,
-                    PackageResolver::fromEnvironment());
+  return parseQuietly(withWheelModel(expandXacro(package, xacro), wheel_model), package + "/" + xacro);
 }
 
 inline ModelSpec wheelchair(const std::string& wheel_model = "") {
@@ -110,6 +119,21 @@ inline std::string replaceAfter(std::string text, const std::string& anchor, con
   EXPECT_NE(found, std::string::npos) << from;
   if (at != std::string::npos && found != std::string::npos) text.replace(found, from.size(), to);
   return text;
+}
+
+/// Steps until `done()` holds, for at most `max_seconds` of sim time; false, with a test failure naming
+/// `what`, when it never does.
+template <class Done>
+bool stepUntil(Simulation& simulation, Done done, double max_seconds, const std::string& what) {
+  const double deadline = simulation.time() + max_seconds;
+  while (!done()) {
+    if (simulation.time() >= deadline) {
+      ADD_FAILURE() << what << " did not happen within " << max_seconds << " s of sim time";
+      return false;
+    }
+    simulation.step();
+  }
+  return true;
 }
 
 }  // namespace bullet_sim::test
