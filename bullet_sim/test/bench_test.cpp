@@ -90,19 +90,19 @@ TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
         "--robot x.urdf --step -1", "--robot x.urdf --render 640"}) {
     SCOPED_TRACE(args);
     const test::CommandResult result = test::run(bench(args));
-    EXPECT_EQ(WEXITSTATUS(result.status), 2);
+    EXPECT_EQ(result.status, 2);
     EXPECT_THAT(result.errors, HasSubstr("usage: bench"));
   }
 }
 
 TEST(Bench, ALoadErrorSaysWhatAndExitsWith1) {
   test::CommandResult result = test::run(bench("--robot /nonexistent/robot.urdf"));
-  EXPECT_EQ(WEXITSTATUS(result.status), 1);
+  EXPECT_EQ(result.status, 1);
   EXPECT_THAT(result.errors, HasSubstr("cannot read URDF [/nonexistent/robot.urdf]"));
 
   result = test::run(bench("--robot '" + test::packageFile("bullet_sim", "bench/bench_robot.urdf") +
                            "' --world no_such.world"));
-  EXPECT_EQ(WEXITSTATUS(result.status), 1);
+  EXPECT_EQ(result.status, 1);
   EXPECT_THAT(result.errors, HasSubstr("no_such.world"));
 }
 

@@ -467,7 +467,7 @@ TEST(RenderModel, BadArgumentsPrintTheUsageAndExitWith2) {
         "--urdf x.urdf --xacro y --out z.png"}) {
     SCOPED_TRACE(args);
     const test::CommandResult result = test::run(std::string(RENDER_MODEL) + " " + args);
-    EXPECT_EQ(WEXITSTATUS(result.status), 2);
+    EXPECT_EQ(result.status, 2);
     EXPECT_THAT(result.errors, HasSubstr("usage: render_model"));
   }
 }
@@ -476,7 +476,7 @@ TEST(RenderModel, AnUnwritableOutputSaysSoAndExitsWith1) {
   const test::CommandResult result =
       test::run(std::string(RENDER_MODEL) + " --urdf '" + test::fixture("robots/lidar_mast.urdf") +
                 "' --out /nonexistent_directory/robot.png");
-  EXPECT_EQ(WEXITSTATUS(result.status), 1);
+  EXPECT_EQ(result.status, 1);
   EXPECT_THAT(result.errors, HasSubstr("cannot write PNG [/nonexistent_directory/robot.png]: No such file or directory"));
 }
 }  // namespace

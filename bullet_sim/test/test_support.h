@@ -12,33 +12,21 @@
 
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/simulation.h"
+#include "bullet_sim/tools/subprocess.h"
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/world_spec.h"
 
 namespace bullet_sim::test {
 
-struct CommandResult {
-  int status = -1;
-  std::string output;  ///< stdout
-  std::string errors;  ///< stderr
-};
+using CommandResult = ProcessOutput;
 
+/// Runs a shell command line, as a user would type it; its exit status, stdout and stderr.
 inline CommandResult run(const std::string& command) {
-  char error_file[] = "/tmp/bullet_sim_test_XXXXXX";
-  const int fd = mkstemp(error_file);
-  close(fd);
-  CommandResult result;
-  if (FILE* pipe = popen((command + " 2>" + error_file).c_str(), "r")) {
-    std::array<char, 4096> buffer;
-    for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;)
-      result.output.append(buffer.data(), n);
-    result.status = pclose(pipe);
-  }
-  std::ifstream errors(error_file);
-  result.errors.assign(std::istreambuf_iterator<char>(errors), {});
-  std::remove(error_file);
-  return result;
+  std::string error;
+  const auto result = runProcess({"/bin/sh", "-c", command}, &error);
+  if (!result) throw std::runtime_error(error);
+  return *result;
 }
 
 /// A file shipped in `package`, found through ROS_PACKAGE_PATH.
@@ -56,14 +44,13 @@ inline std::string readFile(const std::string& path) {
 
 /// The URDF of a shipped xacro; each expansion (about 0.3 s) runs once per test binary.
 inline std::string expandXacro(const std::string& package, const std::string& xacro,
-                               const std::string& args = "") {
+                               const std::vector<std::string>& args = {}) {
   static std::map<std::string, std::string> expanded;
-  const std::string command = "xacro '" + packageFile(package, xacro) + "' " + args;
-  auto found = expanded.find(command);
+  std::string key = package + "/" + xacro;
+  for (const auto& arg : args) key += " " + arg;
+  auto found = expanded.find(key);
   if (found != expanded.end()) return found->second;
-  const CommandResult result = run(command);
-  if (result.status != 0) throw std::runtime_error(command + " failed:\n" + result.errors);
-  return expanded[command] = result.output;
+  return expanded[key] = bullet_sim::expandXacro(packageFile(package, xacro), args);
 }
 
 /// `urdf` with its drive plugin asking for `wheel_model` ("contact" or "raycast"; "" leaves it as it is).

@@ -1,9 +1,5 @@
 #include "tools/command_line.h"
 
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -12,8 +8,7 @@
 #include <sstream>
 
 #include "bullet_sim/description/world_spec.h"
-
-extern char** environ;
+#include "bullet_sim/tools/subprocess.h"
 
 namespace bullet_sim {
 
@@ -40,46 +35,11 @@ std::vector<std::string> split(const std::string& text, char separator) {
 }
 
 std::string runXacro(const std::string& file, const std::vector<std::string>& args) {
-  std::vector<std::string> command = {"xacro", file};
-  command.insert(command.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& word : command) argv.push_back(word.data());
-  argv.push_back(nullptr);
-
-  int pipe_fds[2];
-  if (pipe(pipe_fds) != 0)
-    throw Failure(std::string("cannot create a pipe for xacro: ") + std::strerror(errno));
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
-  posix_spawn_file_actions_addclose(&actions, pipe_fds[0]);
-  posix_spawn_file_actions_addclose(&actions, pipe_fds[1]);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, "xacro", &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  close(pipe_fds[1]);
-  if (spawned != 0) {
-    close(pipe_fds[0]);
-    throw Failure(
-        std::string("cannot run xacro: ") + std::strerror(spawned) +
-        "; install it (scripts/workspace.sh install) and put it on PATH, or pass an expanded .urdf");
+  try {
+    return expandXacro(file, args);
+  } catch (const std::runtime_error& error) {
+    throw Failure(error.what());
   }
-  std::string urdf;
-  char buffer[65536];
-  for (ssize_t n; (n = read(pipe_fds[0], buffer, sizeof buffer)) != 0;) {
-    if (n > 0)
-      urdf.append(buffer, n);
-    else if (errno != EINTR)
-      break;
-  }
-  close(pipe_fds[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw Failure("xacro " + file + " failed (see its message above)");
-  }
-  return urdf;
 }
 
 std::string readUrdfFile(const std::string& path) {

@@ -29,7 +29,7 @@ double parseNumber(const std::string& text, const std::string& option);
 /// `text` cut at every `separator`; a trailing separator gives a trailing empty part.
 std::vector<std::string> split(const std::string& text, char separator);
 
-/// The URDF that `xacro file args...` prints. xacro's own messages go straight to our stderr.
+/// The URDF that `xacro file args...` prints (expandXacro); a Failure with xacro's message when it fails.
 std::string runXacro(const std::string& file, const std::vector<std::string>& args);
 
 /// The whole of a URDF file.
