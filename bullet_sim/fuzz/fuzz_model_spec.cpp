@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/tools/doctor.h"
 #include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/tools/doctor.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string urdf(reinterpret_cast<const char*>(data), size);

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <limits>
 
+#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/plugins/drive_support.h"
 #include "physics/multibody_robot.h"
 #include "physics/raycast_robot.h"
-#include "bullet_sim/plugins/drive_support.h"
-#include "bullet_sim/description/model_geometry.h"
 
 namespace bullet_sim {
 

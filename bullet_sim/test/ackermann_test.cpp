@@ -264,8 +264,9 @@ std::string loadMessages(const std::string& urdf) {
 TEST(AckermannConfig, AJointTypoIsAnErrorWithASuggestion) {
   const std::string said = loadMessages(
       test::replaceAfter(tianracerUrdf(), kPlugin, "left_rear_wheel_joint<", "left_rear_wheel_jiont<"));
-  EXPECT_THAT(said, HasSubstr("plugin [ackermann_drive] <rear_left_joint> [left_rear_wheel_jiont] is not a joint "
-                      "(did you mean [left_rear_wheel_joint]?)"));
+  EXPECT_THAT(said,
+              HasSubstr("plugin [ackermann_drive] <rear_left_joint> [left_rear_wheel_jiont] is not a joint "
+                        "(did you mean [left_rear_wheel_joint]?)"));
 }
 
 TEST(AckermannConfig, GainsAreReadAndIgnoredWithOneWarning) {
@@ -274,7 +275,7 @@ TEST(AckermannConfig, GainsAreReadAndIgnoredWithOneWarning) {
       "<left_steering_pid_gain>1500 0 1</left_steering_pid_gain><right_steering_pid_gain>1500 0 1"
       "</right_steering_pid_gain><linear_velocity_pid_gain>1000 0 1</linear_velocity_pid_gain><max_speed>"));
   EXPECT_THAT(said, HasSubstr("plugin [ackermann_drive] <left_steering_pid_gain>, <right_steering_pid_gain>, "
-                      "<linear_velocity_pid_gain>: read and ignored"));
+                              "<linear_velocity_pid_gain>: read and ignored"));
   EXPECT_THAT(said, Not(HasSubstr("is not a tag this plugin knows")));
 }
 
@@ -293,10 +294,11 @@ TEST(AckermannConfig, UnknownTagsGetOneWarning) {
 TEST(AckermannConfig, TheWheelModelIsContactOrRaycast) {
   for (const std::string model : {"contact", "raycast", "magic"}) {
     SCOPED_TRACE(model);
-    const std::string said = loadMessages(test::replaceAfter(tianracerUrdf(), kPlugin, "<max_speed>",
-                                                             "<wheelModel>" + model + "</wheelModel><max_speed>"));
+    const std::string said = loadMessages(test::replaceAfter(
+        tianracerUrdf(), kPlugin, "<max_speed>", "<wheelModel>" + model + "</wheelModel><max_speed>"));
     if (model == "magic") {
-      EXPECT_THAT(said, HasSubstr("plugin [ackermann_drive] <wheelModel> must be contact or raycast, not [magic]"));
+      EXPECT_THAT(said,
+                  HasSubstr("plugin [ackermann_drive] <wheelModel> must be contact or raycast, not [magic]"));
     } else {
       EXPECT_EQ(said, "");
     }

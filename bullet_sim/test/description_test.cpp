@@ -13,13 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/plugins/ackermann_drive.h"
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
-#include "bullet_sim/description/model_geometry.h"
-#include "bullet_sim/description/model_spec.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -145,8 +145,8 @@ TEST_P(Description, WheelsTouchTheGroundAndNothingSinks) {
 }
 
 TEST_P(Description, DrivePluginAgreesWithJointGeometry) {
-  std::vector<std::array<std::string, 2>> axles;  // left joint, right joint
-  double separation = 0, diameter = 0;            // [m] as the plugin states them
+  std::vector<std::array<std::string, 2>> axles;    // left joint, right joint
+  double separation = 0, diameter = 0;              // [m] as the plugin states them
   if (const auto* drive = config<DriveConfig>()) {  // Gazebo classic's diff drive and skid steer
     for (size_t i = 0; i < drive->left_joints.size() && i < drive->right_joints.size(); ++i)
       axles.push_back({drive->left_joints[i], drive->right_joints[i]});

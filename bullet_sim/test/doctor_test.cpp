@@ -179,11 +179,13 @@ TEST(DoctorSeed003, ZeroEffortAndVelocityOnThePanTiltItDrives) {
   EXPECT_EQ(report.errors(), 4u) << report.text();  // the loader's refusal, and the doctor's detail
   for (const char* joint : {"jq1_Joint", "jq2_Joint"}) {
     const std::string name = joint;
-    EXPECT_EQ(countFindings(report, kError, {"joint [" + name + "] <limit>",
-                                             "effort and velocity are 0, yet a plugin drives it"}),
-              1u)
+    EXPECT_EQ(
+        countFindings(report, kError,
+                      {"joint [" + name + "] <limit>", "effort and velocity are 0, yet a plugin drives it"}),
+        1u)
         << report.text();
-    EXPECT_EQ(countFindings(report, kError, {"plugin [pan_tilt] joint [" + name + "] has no effort limit"}), 1u)
+    EXPECT_EQ(countFindings(report, kError, {"plugin [pan_tilt] joint [" + name + "] has no effort limit"}),
+              1u)
         << report.text();
   }
 }
@@ -209,7 +211,7 @@ TEST(Doctor, MassLessMovingLinkAndMissingMeshComeFromTheLoader) {
 struct ShippedRobot {
   std::string package;
   std::string xacro;
-  std::vector<std::string> args;  ///< xacro's name:=value arguments
+  std::vector<std::string> args;               ///< xacro's name:=value arguments
   std::vector<std::string> expected_warnings;  ///< a part of each warning that stays, and why in the README
 };
 
@@ -225,19 +227,19 @@ TEST_P(DoctorShipped, IsCleanButForKnownWarnings) {
     EXPECT_EQ(countFindings(report, kWarning, {warning}), 1u) << report.text();
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, DoctorShipped,
-                         ::testing::Values(
-                             // The lidar keeps the CAD export's inertia (puck and bracket), scaled to its
-                             // mass; its collision is only the puck, about 14 times lighter in rotation.
-                             ShippedRobot{"smartwheelchair_model",
-                                          "urdf/smartwheelchair_model.urdf.xacro",
-                                          {},
-                                          {"link [laser_Link] <inertial>: principal moments"}},
-                             ShippedRobot{"smartcar_description", "urdf/smartcar.urdf.xacro", {}, {}},
-                             ShippedRobot{
-                                 "smartcar_description", "urdf/smartcar.urdf.xacro", {"with_lidar:=false"}, {}},
-                             ShippedRobot{"yahboomcar_description", "urdf/yahboomcar.urdf.xacro", {}, {}},
-                             ShippedRobot{"tianracer_description", "urdf/tianracer.urdf.xacro", {}, {}}));
+INSTANTIATE_TEST_SUITE_P(
+    Robots, DoctorShipped,
+    ::testing::Values(
+        // The lidar keeps the CAD export's inertia (puck and bracket), scaled to its
+        // mass; its collision is only the puck, about 14 times lighter in rotation.
+        ShippedRobot{"smartwheelchair_model",
+                     "urdf/smartwheelchair_model.urdf.xacro",
+                     {},
+                     {"link [laser_Link] <inertial>: principal moments"}},
+        ShippedRobot{"smartcar_description", "urdf/smartcar.urdf.xacro", {}, {}},
+        ShippedRobot{"smartcar_description", "urdf/smartcar.urdf.xacro", {"with_lidar:=false"}, {}},
+        ShippedRobot{"yahboomcar_description", "urdf/yahboomcar.urdf.xacro", {}, {}},
+        ShippedRobot{"tianracer_description", "urdf/tianracer.urdf.xacro", {}, {}}));
 
 /// urdf_doctor's exit status and what it prints, run as a user would.
 test::CommandResult doctor(const std::string& arguments) {
@@ -275,8 +277,9 @@ TEST(DoctorTool, ExitsTwoOnAParseError) {
 TEST(DoctorTool, ExitsTwoWithXacrosMessageWhenXacroFails) {
   const auto result = doctor(fixture("doctor/fail_xacro.urdf.xacro"));
   EXPECT_EQ(result.status, 2) << result.output;
-  EXPECT_THAT(result.output, HasSubstr("fail_xacro.urdf.xacro failed: error: name 'undefined_base_name' is not "
-                                       "defined"));
+  EXPECT_THAT(result.output,
+              HasSubstr("fail_xacro.urdf.xacro failed: error: name 'undefined_base_name' is not "
+                        "defined"));
 }
 
 TEST(DoctorTool, ExitsTwoOnAFileThatCannotBeRead) {

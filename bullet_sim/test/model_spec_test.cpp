@@ -2,8 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "bullet_sim/simulation.h"
 #include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -59,7 +59,9 @@ TEST(ModelSpec, UnexpandedMacroCallSuggestsTheXacroPrefix) {
 
 TEST(ModelSpec, GazeboReferenceToMissingLinkSuggestsTheNearMiss) {
   const std::string error = loadError("fail_sensor_missing_link.urdf");
-  EXPECT_THAT(error, HasSubstr("<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"));
+  EXPECT_THAT(
+      error,
+      HasSubstr("<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"));
 }
 
 TEST(ModelSpec, ReportsEveryProblemOfAFileAtOnce) {
@@ -78,8 +80,9 @@ TEST(ModelSpec, UnknownJointInAPluginFailsTheLoadWithASuggestion) {
                      {});
     FAIL() << "spawn accepted a drive naming a missing joint";
   } catch (const SpecError& e) {
-    EXPECT_THAT(std::string(e.what()), HasSubstr("plugin [drive] names joint [right_whel_joint], which does not "
-                                         "exist (did you mean [right_wheel_joint]?)"));
+    EXPECT_THAT(std::string(e.what()),
+                HasSubstr("plugin [drive] names joint [right_whel_joint], which does not "
+                          "exist (did you mean [right_wheel_joint]?)"));
   }
   EXPECT_TRUE(simulation.robotNames().empty()) << "a refused robot leaves nothing behind";
   simulation.step();

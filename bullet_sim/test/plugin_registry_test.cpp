@@ -99,8 +99,9 @@ TEST(PluginRegistry, ARegisteredPluginIsParsedIntoItsTypedConfig) {
 
 TEST(PluginRegistry, WithoutTheRegistrationThePluginIsOneWarning) {
   std::vector<std::string> warnings;
-  const ModelSpec model = parseModel(robotWithAltimeter({{"linkName", "base_link"}}), "altimeter robot",
-                                     PackageResolver::fromEnvironment(), PluginRegistry::builtin(), &warnings);
+  const ModelSpec model =
+      parseModel(robotWithAltimeter({{"linkName", "base_link"}}), "altimeter robot",
+                 PackageResolver::fromEnvironment(), PluginRegistry::builtin(), &warnings);
   EXPECT_TRUE(model.plugins.empty());
   EXPECT_EQ(warnings, std::vector<std::string>{"plugin [altimeter] filename [libtest_altimeter.so] is not a "
                                                "plugin bullet_sim simulates: ignored"});

@@ -8,13 +8,13 @@
 #include <cstdio>
 #include <functional>
 
+#include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/recording.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene_builder.h"
 #include "bullet_sim/simulation.h"
-#include "bullet_sim/description/model_geometry.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -199,7 +199,8 @@ TEST(Render, LidarHitsAreDrawnWhereTheBeamsHit) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   Robot& mast = simulation.spawn("mast", lidarMast(), {});
   RayLidar* lidar = mast.pluginsOf<RayLidar>().at(0);
-  ASSERT_TRUE(test::stepUntil(simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan"));
+  ASSERT_TRUE(test::stepUntil(
+      simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan"));
 
   Scene scene = bareScene();
   addWorld(scene, simulation.world());
@@ -477,7 +478,8 @@ TEST(RenderModel, AnUnwritableOutputSaysSoAndExitsWith1) {
       test::run(std::string(RENDER_MODEL) + " --urdf '" + test::fixture("robots/lidar_mast.urdf") +
                 "' --out /nonexistent_directory/robot.png");
   EXPECT_EQ(result.status, 1);
-  EXPECT_THAT(result.errors, HasSubstr("cannot write PNG [/nonexistent_directory/robot.png]: No such file or directory"));
+  EXPECT_THAT(result.errors,
+              HasSubstr("cannot write PNG [/nonexistent_directory/robot.png]: No such file or directory"));
 }
 }  // namespace
 }  // namespace bullet_sim

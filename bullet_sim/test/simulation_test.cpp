@@ -8,12 +8,12 @@
 #include <cmath>
 #include <set>
 
+#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/simulation.h"
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/model_geometry.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -293,7 +293,8 @@ double roomDistance(const Eigen::Vector3d& origin, const Eigen::Vector3d& direct
 /// The first scan of the robot's lidar.
 LaserScan firstScan(Simulation& simulation, Robot& robot) {
   RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
-  test::stepUntil(simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan");
+  test::stepUntil(
+      simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan");
   return lidar->scan();
 }
 
@@ -322,8 +323,8 @@ TEST(Lidar, WheelchairScanMatchesTheRoomAndNeverSeesTheChair) {
       test::replaceAfter(test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro"),
                          "<sensor", "<stddev>0.01</stddev>", "<stddev>0</stddev>");
   Simulation simulation(test::shippedWorld("test_room.world"));
-  Robot& robot = simulation.spawn("chair", test::parseQuietly(urdf, "chair"),
-                                  {.x = 0.5, .y = -0.3, .yaw = 0.3});
+  Robot& robot =
+      simulation.spawn("chair", test::parseQuietly(urdf, "chair"), {.x = 0.5, .y = -0.3, .yaw = 0.3});
   const LaserScan scan = firstScan(simulation, robot);
   ASSERT_EQ(scan.ranges.size(), 360u);
   EXPECT_EQ(scan.frame_id, "laser_Link");
@@ -359,7 +360,8 @@ TEST(Lidar, MultiChannelReturnsLieOnTheRoomsWallsAndFloor) {
   RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
   ASSERT_EQ(lidar->config().output, RayLidarConfig::Output::kPointCloud2);
   ASSERT_EQ(lidar->config().channels, 16);
-  ASSERT_TRUE(test::stepUntil(simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a point cloud"));
+  ASSERT_TRUE(test::stepUntil(
+      simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a point cloud"));
   const PointCloud& cloud = lidar->cloud();
   // The upper channels clear the 1 m walls in places and return nothing; every other ray hits a wall or the
   // floor.
@@ -386,8 +388,7 @@ TEST(Lidar, ThePluginFilenameChoosesTheMessage) {
     const std::string urdf =
         test::replaceAfter(velodyne, "<plugin", "libgazebo_ros_velodyne_laser.so", filename);
     Simulation simulation(test::shippedWorld("empty.world"));
-    Robot& robot =
-        simulation.spawn("mast", test::parseQuietly(urdf, filename), {});
+    Robot& robot = simulation.spawn("mast", test::parseQuietly(urdf, filename), {});
     EXPECT_EQ(robot.pluginsOf<RayLidar>().at(0)->config().output, output) << filename;
   }
 }
@@ -445,8 +446,9 @@ TEST(Simulation, InitialJointPositionsApplyAtSpawnAndAfterAReset) {
       simulation.spawn("other", test::wheelchair(wheel_model), typo);
       ADD_FAILURE() << "a misspelt joint was accepted";
     } catch (const SpecError& e) {
-      EXPECT_THAT(std::string(e.what()), HasSubstr("[front_left_jiont], which is not a moving joint (did you mean "
-                                           "[front_left_joint]?)"));
+      EXPECT_THAT(std::string(e.what()),
+                  HasSubstr("[front_left_jiont], which is not a moving joint (did you mean "
+                            "[front_left_joint]?)"));
     }
   }
 }
@@ -482,8 +484,8 @@ TEST(Simulation, ResetSimulationRestoresPosesAndTime) {
 TEST(Simulation, EachIgnoredOrSuspectTagIsSaidOnceAtLoad) {
   Simulation simulation(test::shippedWorld("empty.world"));
   std::vector<std::string> warnings;
-  ModelSpec model = parseModel(test::readFile(test::fixture("robots/load_messages.urdf")), "load_messages.urdf",
-                               PackageResolver::fromEnvironment(), &warnings);
+  ModelSpec model = parseModel(test::readFile(test::fixture("robots/load_messages.urdf")),
+                               "load_messages.urdf", PackageResolver::fromEnvironment(), &warnings);
   simulation.spawn("robot", std::move(model), {}, &warnings);
   const auto said = [&](const std::string& text) {
     return std::count_if(warnings.begin(), warnings.end(),
@@ -505,8 +507,7 @@ TEST(Simulation, TurnGravityOffHoldsALinkUpAndGravityPullsTheRest) {
           "<gazebo reference=\"base_link\"><turnGravityOff>true</turnGravityOff></gazebo></robot>");
     }
     Simulation simulation(test::shippedWorld("empty.world"));
-    Robot& robot =
-        simulation.spawn("box", test::parseQuietly(urdf, "box"), {.z = 1.0});
+    Robot& robot = simulation.spawn("box", test::parseQuietly(urdf, "box"), {.z = 1.0});
     for (int i = 0; i < 300; ++i) simulation.step();  // 0.3 s
     const double fallen = 1.0 - robot.body().linkPose("base_link").translation().z();
     if (weightless) {
@@ -554,9 +555,12 @@ std::string twoWheelerWithWheelTf() {
   auto* plugin = document.RootElement()->InsertNewChildElement("gazebo")->InsertNewChildElement("plugin");
   plugin->SetAttribute("name", "drive");
   plugin->SetAttribute("filename", "libgazebo_ros_diff_drive.so");
-  for (const auto& [tag, text] : std::vector<std::pair<const char*, const char*>>{
-           {"leftJoint", "left_wheel_joint"}, {"rightJoint", "right_wheel_joint"}, {"wheelSeparation", "0.35"},
-           {"wheelDiameter", "0.1"}, {"publishWheelTF", "true"}}) {
+  for (const auto& [tag, text] :
+       std::vector<std::pair<const char*, const char*>>{{"leftJoint", "left_wheel_joint"},
+                                                        {"rightJoint", "right_wheel_joint"},
+                                                        {"wheelSeparation", "0.35"},
+                                                        {"wheelDiameter", "0.1"},
+                                                        {"publishWheelTF", "true"}}) {
     plugin->InsertNewChildElement(tag)->SetText(text);
   }
   tinyxml2::XMLPrinter printer;
@@ -566,13 +570,13 @@ std::string twoWheelerWithWheelTf() {
 
 TEST(Simulation, PublishWheelTfGivesEachWheelInItsParentAtItsJointAngle) {
   Simulation simulation(test::shippedWorld("empty.world"));
-  Robot& robot = simulation.spawn(
-      "robot", test::parseQuietly(twoWheelerWithWheelTf(), "two_wheeler"), {});
+  Robot& robot = simulation.spawn("robot", test::parseQuietly(twoWheelerWithWheelTf(), "two_wheeler"), {});
   WheeledDrive& drive = *robot.pluginsOf<WheeledDrive>().at(0);
   const Stream<TransformSample>* wheel_tf = nullptr;
   for (const auto& port : drive.ports().outputs) {
     const auto* stream = std::get_if<const Stream<TransformSample>*>(&port.stream);
-    if (stream && (*stream)->latest().frames.empty()) wheel_tf = *stream;  // the odom tf has its frame already
+    if (stream && (*stream)->latest().frames.empty())
+      wheel_tf = *stream;  // the odom tf has its frame already
   }
   ASSERT_NE(wheel_tf, nullptr);
   ASSERT_TRUE(drive.setCommand(0.2, 0, simulation.time()));

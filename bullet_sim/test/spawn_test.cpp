@@ -3,8 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "bullet_sim/simulation.h"
 #include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -45,9 +45,10 @@ std::string spawnError(Simulation& simulation, const std::string& name, ModelSpe
 TEST(Spawn, RefusesAWorldSavedWithTheRobotWhereItSpawns) {
   Simulation simulation(savedWorld());
   const std::string error = spawnError(simulation, "robot", robotFixture("two_wheeler.urdf"), at(0, 0));
-  EXPECT_THAT(error, HasSubstr("the world's model [two_wheeler] has the collision shapes of robot [robot] where it "
-                       "spawns: was the world saved with the robot in it? Remove [two_wheeler] from the "
-                       ".world file"));
+  EXPECT_THAT(error,
+              HasSubstr("the world's model [two_wheeler] has the collision shapes of robot [robot] where it "
+                        "spawns: was the world saved with the robot in it? Remove [two_wheeler] from the "
+                        ".world file"));
   EXPECT_TRUE(simulation.robotNames().empty()) << "a refused robot leaves nothing behind";
   simulation.step();
 }

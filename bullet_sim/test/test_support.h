@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/simulation.h"
-#include "bullet_sim/tools/subprocess.h"
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/simulation.h"
+#include "bullet_sim/tools/subprocess.h"
 
 namespace bullet_sim::test {
 

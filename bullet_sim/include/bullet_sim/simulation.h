@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/physics/physics_world.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/plugin.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/sensing/ray_caster.h"
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/world_spec.h"
 
 namespace bullet_sim {
 

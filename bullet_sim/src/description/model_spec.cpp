@@ -464,8 +464,9 @@ class ModelParser {
         const TagNode plugin_tags = toTagNode(*plugin_element);
         const std::optional<TagNode> sensor_tags =
             sensor_element ? std::optional<TagNode>(toTagNode(*sensor_element)) : std::nullopt;
-        const std::string where =
-            declaration.sensor ? declaration.where() + " plugin [" + declaration.name + "]" : declaration.where();
+        const std::string where = declaration.sensor
+                                      ? declaration.where() + " plugin [" + declaration.name + "]"
+                                      : declaration.where();
         PluginTags tags(&plugin_tags, where, diagnostics_);
         const DeclarationSource source{declaration, tags, sensor_tags ? &*sensor_tags : nullptr, spec,
                                        diagnostics_};

@@ -10,8 +10,8 @@
 #include <cmath>
 
 #include "bullet_shapes.h"
-#include "physics/robot_parts.h"
 #include "bullet_sim/description/diagnostics.h"
+#include "physics/robot_parts.h"
 
 namespace bullet_sim {
 
@@ -125,13 +125,14 @@ void MultiBodyRobot::setupJoint(int k) {
   const Eigen::Isometry3d& child = frames_[k].part_to_bullet;
   const Eigen::Matrix3d child_in_parent = joint_in_parent.linear() * child.linear();
   const Eigen::Quaterniond parent_to_child(child_in_parent.transpose());
-  const btQuaternion rotation(parent_to_child.x(), parent_to_child.y(), parent_to_child.z(), parent_to_child.w());
+  const btQuaternion rotation(parent_to_child.x(), parent_to_child.y(), parent_to_child.z(),
+                              parent_to_child.w());
   const btVector3 axis = toBullet(child.linear().transpose() * joint.axis);
   const btVector3 parent_com_to_pivot = toBullet(joint_in_parent.translation());
   const btVector3 pivot_to_com = toBullet(child.linear().transpose() * child.translation());
   if (joint.type == JointSpec::Type::kPrismatic) {
-    body_->setupPrismatic(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1, rotation,
-                          axis, parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
+    body_->setupPrismatic(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1,
+                          rotation, axis, parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
   } else {
     body_->setupRevolute(k - 1, frames_[k].mass, toBullet(frames_[k].principal_inertia), parent - 1, rotation,
                          axis, parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
@@ -154,7 +155,8 @@ void MultiBodyRobot::addCollider(int k) {
     btCompoundShape* compound = shapes_->makeCompound();
     const Eigen::Isometry3d bullet_to_part = frames_[k].part_to_bullet.inverse();
     for (const auto& collision : parts_[k].collisions) {
-      compound->addChildShape(toBullet(bullet_to_part * collision.origin), shapes_->make(collision.shape, true));
+      compound->addChildShape(toBullet(bullet_to_part * collision.origin),
+                              shapes_->make(collision.shape, true));
     }
     collider->setCollisionShape(compound);
     const SurfaceSpec& surface = spec_.link(parts_[k].root_link)->surface;

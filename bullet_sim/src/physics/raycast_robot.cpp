@@ -8,9 +8,9 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
 #include "bullet_shapes.h"
-#include "physics/multibody_robot.h"
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/model_geometry.h"
+#include "physics/multibody_robot.h"
 
 namespace bullet_sim {
 

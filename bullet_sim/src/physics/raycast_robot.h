@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "bullet_sim/physics/robot_body.h"
-#include "physics/robot_parts.h"
 #include "bullet_sim/sensing/ray_caster.h"
+#include "physics/robot_parts.h"
 
 class btMultiBodyDynamicsWorld;
 class btRigidBody;
@@ -125,7 +125,7 @@ class RaycastRobot : public PhysicsRobot {
   // Per step scratch, kept to avoid allocating.
   std::vector<Eigen::Vector3d> ray_origins_, ray_directions_;
   std::vector<double> ray_hits_;
-  std::vector<Contact> contacts_;  ///< per wheel
+  std::vector<Contact> contacts_;    ///< per wheel
   Eigen::Matrix3d inverse_inertia_;  ///< the chassis's, in the world frame, this step
 };
 

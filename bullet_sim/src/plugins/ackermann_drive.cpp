@@ -150,8 +150,9 @@ class GeometryReader {
                          " in [" + config_.robot_base_frame + "]: a steering joint turns about the vertical");
     }
     if (joint->effort <= 0) {
-      diagnostics_.error(where_ + " <" + tag + "> [" + joint_name +
-                         "] has no effort limit, so nothing can steer it: set <limit effort=...> in the URDF");
+      diagnostics_.error(
+          where_ + " <" + tag + "> [" + joint_name +
+          "] has no effort limit, so nothing can steer it: set <limit effort=...> in the URDF");
     }
     out = {joint_name, axis.z() >= 0 ? 1.0 : -1.0, joint->effort};
     // The joint's limits as steering angles (positive = left), within max_steer.
@@ -171,8 +172,9 @@ class GeometryReader {
                            "forward");
     }
     if (joint->effort <= 0) {
-      diagnostics_.error(where_ + " <" + tag + "> [" + joint_name +
-                         "] has no effort limit, so nothing can drive it: set <limit effort=...> in the URDF");
+      diagnostics_.error(
+          where_ + " <" + tag + "> [" + joint_name +
+          "] has no effort limit, so nothing can drive it: set <limit effort=...> in the URDF");
     }
     return joint;
   }
@@ -189,7 +191,8 @@ class GeometryReader {
     geometry.wheelbase = (left_kingpin.x() + right_kingpin.x()) / 2 - (left_rear.x() + right_rear.x()) / 2;
     if (geometry.steering_track <= 0 || geometry.rear_track <= 0) {
       diagnostics_.error(where_ + " the left joints must be to the left of the right ones in [" +
-                         config_.robot_base_frame + "]: are <left_steering_joint>/<right_steering_joint> or " +
+                         config_.robot_base_frame +
+                         "]: are <left_steering_joint>/<right_steering_joint> or " +
                          "<rear_left_joint>/<rear_right_joint> swapped?");
     }
     if (geometry.wheelbase <= 0) {
@@ -239,7 +242,8 @@ AckermannConfig parseAckermann(const DeclarationSource& source) {
   readAckermannTags(source.tags, config);
   if (!source.model.link(config.robot_base_frame)) {
     source.diagnostics.error(source.tags.where() + " <robot_base_frame> [" + config.robot_base_frame +
-                             "] is not a link" + didYouMean(config.robot_base_frame, source.model.linkNames()));
+                             "] is not a link" +
+                             didYouMean(config.robot_base_frame, source.model.linkNames()));
     return config;
   }
   GeometryReader(source, config).read();
@@ -270,7 +274,8 @@ double AckermannDrive::curvatureLimit(double side) const {
   double limit = INFINITY;
   const AckermannGeometry& geometry = config_.geometry;
   const double half = geometry.steering_track / 2;
-  for (const auto& [y, limits] : {std::pair{half, config_.left_limits}, std::pair{-half, config_.right_limits}}) {
+  for (const auto& [y, limits] :
+       {std::pair{half, config_.left_limits}, std::pair{-half, config_.right_limits}}) {
     const double tangent = std::tan(side > 0 ? limits[1] : limits[0]);
     const double denominator = geometry.wheelbase + y * tangent;
     if (denominator > 0) limit = std::min(limit, std::abs(tangent / denominator));
@@ -289,7 +294,8 @@ void AckermannDrive::applyCommands(const StepTime& time, RobotBody& body) {
   const double wanted = linear != 0 ? angular / linear : angular > 0 ? INFINITY : angular < 0 ? -INFINITY : 0;
   curvature_ = std::clamp(wanted, curvatureLimit(-1), curvatureLimit(1));
   const SteeringAngles angles = ackermannAngles(geometry.wheelbase, geometry.steering_track, curvature_);
-  body.setJointPosition(left_steering_, config_.left_steering.sign * angles.left, config_.left_steering.effort);
+  body.setJointPosition(left_steering_, config_.left_steering.sign * angles.left,
+                        config_.left_steering.effort);
   body.setJointPosition(right_steering_, config_.right_steering.sign * angles.right,
                         config_.right_steering.effort);
 

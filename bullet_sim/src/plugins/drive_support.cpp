@@ -55,8 +55,8 @@ DrivePlugin::DrivePlugin(const PluginDeclaration& declaration, const DriveConfig
   addInput<Twist>(head.command_topic, [this](const Twist& twist, double sim_time) -> std::string {
     if (setCommand(twist.linear.x(), twist.angular.z(), sim_time)) return "";
     std::ostringstream why;
-    why << "a cmd_vel that is not finite (linear.x " << twist.linear.x() << ", angular.z " << twist.angular.z()
-        << ")";
+    why << "a cmd_vel that is not finite (linear.x " << twist.linear.x() << ", angular.z "
+        << twist.angular.z() << ")";
     return why.str();
   });
   if (head.publish_odometry) addOutput(head.odometry_topic, odometry_);

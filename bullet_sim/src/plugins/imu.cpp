@@ -75,7 +75,8 @@ void Imu::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
   ImuSample& sample = samples_.next();
   sample.stamp = time.sim_time;
   sample.orientation = Eigen::Quaterniond(frame.linear());
-  sample.angular_velocity = to_frame * body.linkAngularVelocity(config_.link) + gaussian3(config_.noise_stddev);
+  sample.angular_velocity =
+      to_frame * body.linkAngularVelocity(config_.link) + gaussian3(config_.noise_stddev);
   sample.linear_acceleration = to_frame * (acceleration - gravity_) + gaussian3(config_.noise_stddev);
   samples_.publish();
 }

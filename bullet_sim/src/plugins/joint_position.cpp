@@ -20,8 +20,9 @@ JointPositionConfig parseJointPosition(const DeclarationSource& source) {
       continue;
     }
     if (joint->effort <= 0) {
-      source.diagnostics.error(tags.where() + " joint [" + name +
-                               "] has no effort limit, so nothing can hold it: set <limit effort=...> in the URDF");
+      source.diagnostics.error(
+          tags.where() + " joint [" + name +
+          "] has no effort limit, so nothing can hold it: set <limit effort=...> in the URDF");
     }
     config.joints.push_back(name);
   }

@@ -168,7 +168,8 @@ void RayLidar::sense(const StepTime& time, const RobotBody& body, const RayCaste
 void RayLidar::publishScan(const StepTime& time, const Eigen::Isometry3d& sensor) {
   std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
   LaserScan& scan = scan_.next();
-  for (size_t i = 0; i < ranges_.size(); ++i) scan.ranges[i] = static_cast<float>(measured(ranges_[i], gaussian));
+  for (size_t i = 0; i < ranges_.size(); ++i)
+    scan.ranges[i] = static_cast<float>(measured(ranges_[i], gaussian));
   scan.stamp = time.sim_time;
   scan.sensor_pose = sensor;
   scan_.publish();

@@ -60,8 +60,9 @@ void PluginRegistry::add(PluginType type) {
 const PluginType* PluginRegistry::find(const std::string& filename, const std::string* sensor_type) const {
   for (const auto& type : types_) {
     if (type.filename != filename) continue;
-    const bool serves = sensor_type ? std::count(type.sensor_types.begin(), type.sensor_types.end(), *sensor_type) > 0
-                                    : type.sensor_types.empty();
+    const bool serves = sensor_type
+                            ? std::count(type.sensor_types.begin(), type.sensor_types.end(), *sensor_type) > 0
+                            : type.sensor_types.empty();
     if (serves) return &type;
   }
   return nullptr;

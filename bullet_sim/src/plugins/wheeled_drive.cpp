@@ -73,7 +73,8 @@ std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig
 void checkWheels(const DeclarationSource& source, DriveConfig& config) {
   if (!source.model.link(config.robot_base_frame)) {
     source.diagnostics.error(source.tags.where() + " <robotBaseFrame> [" + config.robot_base_frame +
-                             "] is not a link" + didYouMean(config.robot_base_frame, source.model.linkNames()));
+                             "] is not a link" +
+                             didYouMean(config.robot_base_frame, source.model.linkNames()));
     return;
   }
   std::vector<double> left_y, right_y;
@@ -244,8 +245,8 @@ void WheeledDrive::publishWheels(const StepTime& time, const RobotBody& body) {
     tf.frames.clear();
     for (const auto* wheels : {&left_, &right_}) {
       for (const auto& wheel : *wheels) {
-        tf.frames.push_back(
-            {wheel.parent_link, wheel.link, body.linkPose(wheel.parent_link).inverse() * body.linkPose(wheel.link)});
+        tf.frames.push_back({wheel.parent_link, wheel.link,
+                             body.linkPose(wheel.parent_link).inverse() * body.linkPose(wheel.link)});
       }
     }
     wheel_tf_.publish();

@@ -39,7 +39,8 @@ nav_msgs::Odometry toMessage(const Odometry& odometry, const FramePrefix& frames
   message.pose.pose = tf2::toMsg(odometry.pose);
   tf2::toMsg(odometry.linear_velocity, message.twist.twist.linear);
   tf2::toMsg(odometry.angular_velocity, message.twist.twist.angular);
-  std::copy(odometry.pose_covariance.begin(), odometry.pose_covariance.end(), message.pose.covariance.begin());
+  std::copy(odometry.pose_covariance.begin(), odometry.pose_covariance.end(),
+            message.pose.covariance.begin());
   std::copy(odometry.twist_covariance.begin(), odometry.twist_covariance.end(),
             message.twist.covariance.begin());
   return message;
@@ -134,8 +135,8 @@ struct RobotAdapter::Connection {
   const FramePrefix& frames;
 };
 
-RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace, tf2_ros::TransformBroadcaster& tf,
-                           std::function<double()> sim_time)
+RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
+                           tf2_ros::TransformBroadcaster& tf, std::function<double()> sim_time)
     : robot_name_(robot.name()),
       namespace_(withoutSlashes(robot_namespace)),
       frames_(""),
@@ -182,7 +183,9 @@ void RobotAdapter::broadcast(const Stream<TransformSample>* stream, const FrameP
 
 void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
   const auto& topic = port.topic;
-  const auto convert = [](const auto& sample, const FramePrefix& frames) { return toMessage(sample, frames); };
+  const auto convert = [](const auto& sample, const FramePrefix& frames) {
+    return toMessage(sample, frames);
+  };
   std::visit(
       [&](const auto* stream) {
         using Sample = std::decay_t<decltype(stream->latest())>;
@@ -214,7 +217,8 @@ void RobotAdapter::subscribe(const Connection& plugin, const InputPort& port) {
         } else {
           static_assert(std::is_same_v<Handler, InputHandler<JointTargets>>, "an input type without a topic");
           subscribers_.push_back(plugin.handle.subscribe<trajectory_msgs::JointTrajectory>(
-              port.topic, 10, [this, handler, warn](const trajectory_msgs::JointTrajectory::ConstPtr& message) {
+              port.topic, 10,
+              [this, handler, warn](const trajectory_msgs::JointTrajectory::ConstPtr& message) {
                 if (message->points.empty()) return;
                 warn(handler({message->joint_names, message->points.front().positions}, sim_time_()));
               }));

@@ -5,15 +5,15 @@
 
 #include <cmath>
 
+#include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/render/image.h"
 #include "bullet_sim/scene/robot_snapshot.h"
-#include "bullet_sim/description/diagnostics.h"
 
 namespace bullet_sim {
 
 namespace {
 
-constexpr int kMaxSnapshotSide = 4096;     // [px]
+constexpr int kMaxSnapshotSide = 4096;  // [px]
 
 std::filesystem::path defaultSnapshotDir() {
   const char* ros_home = std::getenv("ROS_HOME");

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <tinyxml2.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +19,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bullet_sim/plugins/ray_lidar.h"
@@ -113,70 +115,65 @@ std::pair<std::string, std::string> pairOf(const std::string& text, char separat
   return {parts[0], parts[1]};
 }
 
+/// A number in (low, high] [unit] that is the whole of `text`.
+double parseBounded(const std::string& text, const std::string& option, double low, double high,
+                    const std::string& unit) {
+  const double number = parseNumber(text, option);
+  if (number <= low || number > high) {
+    std::ostringstream message;
+    message << option << " [" << text << "]: give more than " << low << " and at most " << high << " "
+            << unit;
+    throw UsageError(message.str());
+  }
+  return number;
+}
+
+void parseLidar(const std::string& value, Options& options) {
+  const bool channels = value.find('x') != std::string::npos;
+  const auto [samples, count] =
+      channels ? pairOf(value, 'x', "--lidar", "SAMPLES or SAMPLESxCHANNELS, e.g. 360 or 1800x16")
+               : std::pair<std::string, std::string>{value, "1"};
+  options.lidar_samples = parseCount(samples, "--lidar", 1, 100000);
+  options.lidar_channels = parseCount(count, "--lidar", 1, 1024);
+}
+
 Options parseArguments(int argc, char** argv) {
   Options options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string option = argv[i];
-    if (option == "--help" || option == "-h") {
-      options.help = true;
-      return options;
-    }
-    if (i + 1 >= argc) throw UsageError(option + " needs a value");
-    const std::string value = argv[++i];
-    const auto positive = [&](double low, double high, const std::string& unit) {
-      const double number = parseNumber(value, option);
-      if (number <= low || number > high) {
-        std::ostringstream message;
-        message << option << " [" << value << "]: give more than " << low << " and at most " << high << " "
-                << unit;
-        throw UsageError(message.str());
-      }
-      return number;
-    };
-    if (option == "--robot") {
-      options.robot = value;
-    } else if (option == "--world") {
-      options.world = value;
-    } else if (option == "--pose") {
-      const auto parts = split(value, ',');
-      if (parts.size() != 3) throw UsageError("--pose [" + value + "]: write x,y,yaw in m, m, rad");
-      options.pose.x = parseNumber(parts[0], option);
-      options.pose.y = parseNumber(parts[1], option);
-      options.pose.yaw = parseNumber(parts[2], option);
-    } else if (option == "--wheel-model") {
-      if (value != "contact" && value != "raycast")
-        throw UsageError("--wheel-model [" + value + "]: choose contact or raycast");
-      options.wheel_model = value;
-    } else if (option == "--step") {
-      options.step = positive(0, 0.1, "s");
-    } else if (option == "--duration") {
-      options.duration = positive(0, 3600, "s");
-    } else if (option == "--cmd") {
-      const auto [v, w] = pairOf(value, ',', option, "v,w in m/s, rad/s, e.g. 0.5,0.3");
-      options.v = parseNumber(v, option);
-      options.w = parseNumber(w, option);
-    } else if (option == "--lidar") {
-      const bool channels = value.find('x') != std::string::npos;
-      const auto [samples, count] =
-          channels ? pairOf(value, 'x', option, "SAMPLES or SAMPLESxCHANNELS, e.g. 360 or 1800x16")
-                   : std::pair<std::string, std::string>{value, "1"};
-      options.lidar_samples = parseCount(samples, option, 1, 100000);
-      options.lidar_channels = parseCount(count, option, 1, 1024);
-    } else if (option == "--lidar-rate") {
-      options.lidar_rate = positive(0, 10000, "Hz");
-    } else if (option == "--render") {
-      const auto [width, height] = pairOf(value, 'x', option, "WxH, e.g. 640x480");
-      options.render_width = parseCount(width, option, 1, 4096);
-      options.render_height = parseCount(height, option, 1, 4096);
-    } else if (option == "--obstacles") {
-      options.obstacles = parseCount(value, option, 0, 100000);
-    } else if (option == "--repeat") {
-      options.repeat = parseCount(value, option, 1, 1000);
-    } else {
-      throw UsageError("unknown option [" + option + "]");
-    }
-  }
-  if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
+  using Value = const std::string&;
+  parseCommandLine(
+      argc, argv,
+      {{"--robot", [&](Value value) { options.robot = value; }},
+       {"--world", [&](Value value) { options.world = value; }},
+       {"--pose",
+        [&](Value value) {
+          parsePlanarPose(value, "--pose", &options.pose.x, &options.pose.y, &options.pose.yaw);
+        }},
+       {"--wheel-model",
+        [&](Value value) {
+          if (value != "contact" && value != "raycast")
+            throw UsageError("--wheel-model [" + value + "]: choose contact or raycast");
+          options.wheel_model = value;
+        }},
+       {"--step", [&](Value value) { options.step = parseBounded(value, "--step", 0, 0.1, "s"); }},
+       {"--duration",
+        [&](Value value) { options.duration = parseBounded(value, "--duration", 0, 3600, "s"); }},
+       {"--cmd",
+        [&](Value value) {
+          const auto [v, w] = pairOf(value, ',', "--cmd", "v,w in m/s, rad/s, e.g. 0.5,0.3");
+          options.v = parseNumber(v, "--cmd");
+          options.w = parseNumber(w, "--cmd");
+        }},
+       {"--lidar", [&](Value value) { parseLidar(value, options); }},
+       {"--lidar-rate",
+        [&](Value value) { options.lidar_rate = parseBounded(value, "--lidar-rate", 0, 10000, "Hz"); }},
+       {"--render",
+        [&](Value value) {
+          std::tie(options.render_width, options.render_height) = parseSize(value, "--render", 4096);
+        }},
+       {"--obstacles", [&](Value value) { options.obstacles = parseCount(value, "--obstacles", 0, 100000); }},
+       {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }}},
+      &options.help);
+  if (!options.help && options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
   return options;
 }
 
@@ -331,9 +328,10 @@ void addObstacles(WorldSpec& world, const Options& options) {
 /// The model without its lidars, for timing the physics alone.
 ModelSpec withoutLidars(ModelSpec model) {
   auto& plugins = model.plugins;
-  plugins.erase(std::remove_if(plugins.begin(), plugins.end(),
-                               [](const PluginDeclaration& plugin) { return plugin.configAs<RayLidarConfig>(); }),
-                plugins.end());
+  plugins.erase(
+      std::remove_if(plugins.begin(), plugins.end(),
+                     [](const PluginDeclaration& plugin) { return plugin.configAs<RayLidarConfig>(); }),
+      plugins.end());
   return model;
 }
 
@@ -475,30 +473,17 @@ struct LidarRays {
   double update_rate = 0;                   ///< [Hz]
 };
 
-/// The rays RayLidar casts per scan: every channel for point clouds, the plane at 0 elevation for a
-/// LaserScan.
-LidarRays lidarRays(const RayLidarConfig& config, const RobotBody& body) {
-  LidarRays lidar;
-  lidar.link = config.link;
-  lidar.sensor = body.linkPose(config.link) * config.pose;
-  lidar.range_max = config.range_max;
-  lidar.update_rate = config.update_rate;
-  const int beams = config.beams();
-  const int channels = config.output == RayLidarConfig::Output::kLaserScan ? 1 : config.channels;
-  const double increment = beams > 1 ? (config.max_angle - config.min_angle) / (beams - 1) : 0.0;
-  const double elevation_step =
-      channels > 1 ? (config.max_elevation - config.min_elevation) / (channels - 1) : 0;
-  const Eigen::Matrix3d rotation = lidar.sensor.linear();
-  for (int channel = 0; channel < channels; ++channel) {
-    const double elevation = channels > 1 ? config.min_elevation + channel * elevation_step : 0.0;
-    for (int i = 0; i < beams; ++i) {
-      const double angle = config.min_angle + i * increment;
-      const Eigen::Vector3d direction(std::cos(elevation) * std::cos(angle),
-                                      std::cos(elevation) * std::sin(angle), std::sin(elevation));
-      lidar.directions.push_back((rotation * direction).cast<float>());
-    }
-  }
-  return lidar;
+/// The rays a lidar casts per scan, its own directions turned into the world.
+LidarRays lidarRays(const RayLidar& lidar, const RobotBody& body) {
+  const RayLidarConfig& config = lidar.config();
+  LidarRays rays;
+  rays.link = config.link;
+  rays.sensor = body.linkPose(config.link) * config.pose;
+  rays.range_max = config.range_max;
+  rays.update_rate = config.update_rate;
+  const Eigen::Matrix3f rotation = rays.sensor.linear().cast<float>();
+  for (const Eigen::Vector3f& direction : lidar.directions()) rays.directions.push_back(rotation * direction);
+  return rays;
 }
 
 /// Rays per wall second of a RayCaster holding the world and the robot's parts where they are, casting every
@@ -580,62 +565,46 @@ RenderTimes measureRender(const Simulation& simulation, const std::string& robot
   return times;
 }
 
-/// One JSON object, its fields in the order they are added. Numbers that are not finite become null.
-class JsonObject {
- public:
-  void number(const std::string& key, double value) { field(key, format(value)); }
-  void text(const std::string& key, const std::optional<std::string>& value) {
-    field(key, value ? quote(*value) : "null");
-  }
-  void numbers(const std::string& key, const std::vector<double>& values) {
-    std::string list;
-    for (double value : values) list += (list.empty() ? "" : ", ") + format(value);
-    field(key, "[" + list + "]");
-  }
-  void texts(const std::string& key, const std::vector<std::string>& values) {
-    std::string list;
-    for (const auto& value : values) list += (list.empty() ? "\n    " : ",\n    ") + quote(value);
-    field(key, "[" + list + (list.empty() ? "]" : "\n  ]"));
-  }
-  std::string str() const {
-    std::string out = "{";
-    for (size_t i = 0; i < fields_.size(); ++i) out += (i ? ",\n  " : "\n  ") + fields_[i];
-    return out + "\n}\n";
-  }
+using Json = nlohmann::ordered_json;  // fields in the order they are set
 
- private:
-  void field(const std::string& key, const std::string& value) {
-    fields_.push_back(quote(key) + ": " + value);
-  }
-  static std::string format(double value) {
-    if (!std::isfinite(value)) return "null";
-    std::ostringstream out;
-    out.precision(6);
-    out << value;
-    return out.str();
-  }
-  static std::string quote(const std::string& text) {
-    std::string out = "\"";
-    for (const char c : text) {
-      if (c == '"' || c == '\\') {
-        out += '\\';
-        out += c;
-      } else if (static_cast<unsigned char>(c) < 0x20) {
-        char escaped[8];
-        std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-        out += escaped;
-      } else {
-        out += c;
-      }
-    }
-    return out + "\"";
-  }
-  std::vector<std::string> fields_;
-};
+/// A figure: null when it is not finite.
+Json figure(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
+
+Json figureList(const std::vector<double>& values) {
+  Json list = Json::array();
+  for (double value : values) list.push_back(figure(value));
+  return list;
+}
 
 double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
-int run(const Options& options) {
+/// Everything bench measures, for the report.
+struct Figures {
+  std::string world_file;
+  std::vector<DriveRun> lidar_runs, physics_runs;
+  std::vector<LidarRays> lidars;
+  std::vector<double> rays_per_s;
+  double peak_rss_before_render_mb = 0;
+  RenderTimes render;
+  std::vector<std::string> warnings;  ///< each once
+};
+
+/// The timed drives, with and without lidars, of the robot the options describe.
+Figures drive(const Options& options, const ModelSpec& model, const WorldSpec& world,
+              std::vector<std::string>& warnings) {
+  Figures figures;
+  const ModelSpec model_without_lidars = withoutLidars(model);
+  const bool has_lidars = model_without_lidars.plugins.size() != model.plugins.size();
+  // Runs with and without lidars take turns, so that a slow spell of a shared machine hits both alike. The
+  // first spawn is of the whole robot: startup_s is to its first step.
+  for (int i = 0; i < options.repeat; ++i) {
+    if (has_lidars) figures.lidar_runs.push_back(driveOnce(world, model, options, warnings));
+    figures.physics_runs.push_back(driveOnce(world, model_without_lidars, options, warnings));
+  }
+  return figures;
+}
+
+Figures measure(const Options& options) {
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   std::vector<std::string> warnings;
   const std::string urdf =
@@ -644,23 +613,8 @@ int run(const Options& options) {
   const std::string world_file = findWorld(options.world, resolver);
   WorldSpec world = loadWorld(world_file, resolver, &warnings);
   addObstacles(world, options);
-  const ModelSpec model_without_lidars = withoutLidars(model);
-  const bool has_lidars = model_without_lidars.plugins.size() != model.plugins.size();
-
-  // Runs with and without lidars take turns, so that a slow spell of a shared machine hits both alike. The
-  // first spawn is of the whole robot: startup_s is to its first step.
-  std::vector<DriveRun> lidar_runs, physics_runs;
-  for (int i = 0; i < options.repeat; ++i) {
-    if (has_lidars) lidar_runs.push_back(driveOnce(world, model, options, warnings));
-    physics_runs.push_back(driveOnce(world, model_without_lidars, options, warnings));
-  }
-  const DriveRun& first = has_lidars ? lidar_runs.front() : physics_runs.front();
-  const DriveRun& drive = physics_runs.front();  // every run follows the same path: physics is deterministic
-  const auto rtf = [&](const std::vector<DriveRun>& runs) {
-    std::vector<double> factors;
-    for (const DriveRun& run : runs) factors.push_back(options.duration / run.wall_s);
-    return factors;
-  };
+  Figures figures = drive(options, model, world, warnings);
+  figures.world_file = world_file;
 
   // Rays and pictures of the robot settled at its spawn pose, its lidars having scanned.
   SimulationOptions simulation_options;
@@ -668,65 +622,80 @@ int run(const Options& options) {
   Simulation settled(world, simulation_options);
   const Robot& robot = settled.spawn(model.name, model, options.pose);
   for (long i = 0; i < std::lround(kSettleTime / options.step); ++i) settled.step();
-  std::vector<LidarRays> lidars;
   for (const RayLidar* lidar : robot.pluginsOf<RayLidar>())
-    lidars.push_back(lidarRays(lidar->config(), robot.body()));
-  size_t rays_per_scan = 0;
-  for (const auto& lidar : lidars) rays_per_scan += lidar.directions.size();
-  const std::vector<double> rays_per_s =
-      lidars.empty() ? std::vector<double>{} : measureRays(world, robot, lidars, options.repeat);
-  const double peak_rss_before_render_mb = peakRssMb();
-  const RenderTimes render = measureRender(settled, robot.name(), options);
-  std::vector<std::string> unique_warnings;
+    figures.lidars.push_back(lidarRays(*lidar, robot.body()));
+  if (!figures.lidars.empty()) figures.rays_per_s = measureRays(world, robot, figures.lidars, options.repeat);
+  figures.peak_rss_before_render_mb = peakRssMb();
+  figures.render = measureRender(settled, robot.name(), options);
   for (const auto& warning : warnings) {
-    if (std::find(unique_warnings.begin(), unique_warnings.end(), warning) == unique_warnings.end())
-      unique_warnings.push_back(warning);
+    if (std::find(figures.warnings.begin(), figures.warnings.end(), warning) == figures.warnings.end())
+      figures.warnings.push_back(warning);
   }
-  for (const auto& warning : unique_warnings) std::cerr << "bench: warning: " << warning << "\n";
+  return figures;
+}
 
+/// The inputs, then the figures (medians of the runs), then every run's figures and the warnings.
+Json report(const Options& options, const Figures& figures) {
+  const bool has_lidars = !figures.lidar_runs.empty();
+  const DriveRun& first = has_lidars ? figures.lidar_runs.front() : figures.physics_runs.front();
+  const DriveRun& drive =
+      figures.physics_runs.front();  // every run follows the same path: it is deterministic
+  const auto rtf = [&](const std::vector<DriveRun>& runs) {
+    std::vector<double> factors;
+    for (const DriveRun& run : runs) factors.push_back(options.duration / run.wall_s);
+    return factors;
+  };
+  size_t rays_per_scan = 0;
+  for (const auto& lidar : figures.lidars) rays_per_scan += lidar.directions.size();
   const Planar ideal = unicycle(drive.settled, options.v, options.w, options.duration);
   const bool steady = options.duration > kSpinUpTime;
   const Planar steady_ideal =
       unicycle(drive.after_spin_up, options.v, options.w, options.duration - kSpinUpTime);
+  const RenderTimes& render = figures.render;
 
-  JsonObject json;
-  json.text("robot", options.robot);
-  json.text("world", world_file);
-  json.numbers("pose", {options.pose.x, options.pose.y, options.pose.yaw});
-  json.text("wheel_model", first.wheel_model);
-  json.text("wheel_model_requested", options.wheel_model);
-  json.number("step_s", options.step);
-  json.number("duration_s", options.duration);
-  json.numbers("cmd", {options.v, options.w});
-  json.number("lidars", static_cast<double>(lidars.size()));
-  json.number("lidar_rays_per_scan", static_cast<double>(rays_per_scan));
-  json.number("lidar_rate_hz", lidars.empty() ? NAN : lidars.front().update_rate);
-  json.number("obstacles", options.obstacles);
-  json.numbers("render_size",
-               {static_cast<double>(options.render_width), static_cast<double>(options.render_height)});
-  json.number("repeat", options.repeat);
-  json.number("rtf_physics", median(rtf(physics_runs)));
-  json.number("rtf_lidar", median(rtf(lidar_runs)));
-  json.number("rays_per_s", median(rays_per_s));
-  json.number("render_ms", median(render.render_ms));
-  json.number("png_ms", median(render.png_ms));
-  json.number("startup_s", first.startup_s);
-  json.number("startup_cpu_s", first.startup_cpu_s);
-  json.number("peak_rss_mb", peakRssMb());
-  json.number("pose_error_m", distance(drive.end, ideal));
-  json.number("pose_error_steady_m", steady ? distance(drive.end, steady_ideal) : NAN);
-  json.number("yaw_error_deg", std::remainder(drive.end.yaw - ideal.yaw, 2 * M_PI) * 180 / M_PI);
-  json.numbers("rtf_physics_runs", rtf(physics_runs));
-  json.numbers("rtf_lidar_runs", rtf(lidar_runs));
-  json.numbers("rays_per_s_runs", rays_per_s);
-  json.numbers("render_ms_runs", render.render_ms);
-  json.number("render_first_ms", render.first_render_ms);
-  json.number("scene_ms", render.scene_ms);
-  json.numbers("png_ms_runs", render.png_ms);
-  json.number("png_bytes", static_cast<double>(render.png_bytes));
-  json.number("peak_rss_before_render_mb", peak_rss_before_render_mb);
-  json.texts("warnings", unique_warnings);
-  std::cout << json.str();
+  Json json;
+  json["robot"] = options.robot;
+  json["world"] = figures.world_file;
+  json["pose"] = figureList({options.pose.x, options.pose.y, options.pose.yaw});
+  json["wheel_model"] = first.wheel_model;
+  json["wheel_model_requested"] = options.wheel_model ? Json(*options.wheel_model) : Json(nullptr);
+  json["step_s"] = options.step;
+  json["duration_s"] = options.duration;
+  json["cmd"] = figureList({options.v, options.w});
+  json["lidars"] = figures.lidars.size();
+  json["lidar_rays_per_scan"] = rays_per_scan;
+  json["lidar_rate_hz"] = figure(figures.lidars.empty() ? NAN : figures.lidars.front().update_rate);
+  json["obstacles"] = options.obstacles;
+  json["render_size"] = {options.render_width, options.render_height};
+  json["repeat"] = options.repeat;
+  json["rtf_physics"] = figure(median(rtf(figures.physics_runs)));
+  json["rtf_lidar"] = figure(median(rtf(figures.lidar_runs)));
+  json["rays_per_s"] = figure(median(figures.rays_per_s));
+  json["render_ms"] = figure(median(render.render_ms));
+  json["png_ms"] = figure(median(render.png_ms));
+  json["startup_s"] = first.startup_s;
+  json["startup_cpu_s"] = first.startup_cpu_s;
+  json["peak_rss_mb"] = peakRssMb();
+  json["pose_error_m"] = distance(drive.end, ideal);
+  json["pose_error_steady_m"] = figure(steady ? distance(drive.end, steady_ideal) : NAN);
+  json["yaw_error_deg"] = std::remainder(drive.end.yaw - ideal.yaw, 2 * M_PI) * 180 / M_PI;
+  json["rtf_physics_runs"] = figureList(rtf(figures.physics_runs));
+  json["rtf_lidar_runs"] = figureList(rtf(figures.lidar_runs));
+  json["rays_per_s_runs"] = figureList(figures.rays_per_s);
+  json["render_ms_runs"] = figureList(render.render_ms);
+  json["render_first_ms"] = figure(render.first_render_ms);
+  json["scene_ms"] = figure(render.scene_ms);
+  json["png_ms_runs"] = figureList(render.png_ms);
+  json["png_bytes"] = render.png_bytes;
+  json["peak_rss_before_render_mb"] = figures.peak_rss_before_render_mb;
+  json["warnings"] = figures.warnings;
+  return json;
+}
+
+int run(const Options& options) {
+  const Figures figures = measure(options);
+  for (const auto& warning : figures.warnings) std::cerr << "bench: warning: " << warning << "\n";
+  std::cout << report(options, figures).dump(2) << "\n";
   return EXIT_SUCCESS;
 }
 

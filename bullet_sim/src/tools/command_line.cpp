@@ -1,5 +1,7 @@
 #include "tools/command_line.h"
 
+#include <CLI/CLI.hpp>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -11,6 +13,52 @@
 #include "bullet_sim/tools/subprocess.h"
 
 namespace bullet_sim {
+
+void parseCommandLine(int argc, char** argv, const std::vector<ToolOption>& options, bool* help,
+                      const ToolOption* positional) {
+  CLI::App app;
+  app.set_help_flag();  // the tool prints its own usage
+  app.add_flag("-h,--help", *help);
+  std::vector<std::vector<std::string>> values(options.size());
+  for (size_t i = 0; i < options.size(); ++i) {
+    CLI::Option* option = app.add_option(options[i].name, values[i]);
+    if (!options[i].repeatable) option->expected(1);
+  }
+  std::vector<std::string> words;
+  if (positional) app.add_option(positional->name, words);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    throw UsageError(error.what());
+  }
+  if (*help) return;
+  for (size_t i = 0; i < options.size(); ++i) {
+    for (const auto& value : values[i]) options[i].take(value);
+  }
+  for (const auto& word : words) positional->take(word);
+}
+
+std::pair<int, int> parseSize(const std::string& text, const std::string& option, int largest) {
+  const auto sides = split(text, 'x');
+  if (sides.size() != 2) throw UsageError(option + " [" + text + "]: write WxH, e.g. 640x480");
+  const auto side = [&](const std::string& part) {
+    const double pixels = parseNumber(part, option);
+    if (pixels < 1 || pixels > largest || pixels != std::floor(pixels)) {
+      throw UsageError(option + " [" + text + "]: width and height are whole numbers from 1 to " +
+                       std::to_string(largest));
+    }
+    return static_cast<int>(pixels);
+  };
+  return {side(sides[0]), side(sides[1])};
+}
+
+void parsePlanarPose(const std::string& text, const std::string& option, double* x, double* y, double* yaw) {
+  const auto parts = split(text, ',');
+  if (parts.size() != 3) throw UsageError(option + " [" + text + "]: write x,y,yaw in m, m, rad");
+  *x = parseNumber(parts[0], option);
+  *y = parseNumber(parts[1], option);
+  *yaw = parseNumber(parts[2], option);
+}
 
 double parseNumber(const std::string& text, const std::string& option) {
   size_t used = 0;

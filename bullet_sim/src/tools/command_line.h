@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <exception>
+#include <functional>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,25 @@ class UsageError : public std::runtime_error {
 class Failure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// An option of a tool's command line: its name ("--world"), and what takes its text, once per use.
+struct ToolOption {
+  std::string name;
+  std::function<void(const std::string& value)> take;
+  bool repeatable = false;
+};
+
+/// Parses a tool's command line with CLI11: each option's values go to its `take`, in the order of
+/// `options`; -h or --help sets `help` (and nothing else is taken). Positional words go to `positional`'s
+/// `take`, when given. Anything CLI11 refuses (an unknown option, a missing value) is a UsageError.
+void parseCommandLine(int argc, char** argv, const std::vector<ToolOption>& options, bool* help,
+                      const ToolOption* positional = nullptr);
+
+/// "WxH" as two whole numbers from 1 to `largest`; UsageError naming `option` otherwise.
+std::pair<int, int> parseSize(const std::string& text, const std::string& option, int largest);
+
+/// "x,y,yaw" [m, m, rad]; UsageError naming `option` otherwise.
+void parsePlanarPose(const std::string& text, const std::string& option, double* x, double* y, double* yaw);
 
 /// A finite number that is the whole of `text`; UsageError naming `option` otherwise.
 double parseNumber(const std::string& text, const std::string& option);

@@ -16,12 +16,12 @@
 
 // The doctor reads the drive plugins' joints with the simulator's own config parsers, so it sees the same
 // tags and defaults that a spawn would.
-#include "bullet_sim/plugins/joint_position.h"
-#include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/plugins/joint_position.h"
+#include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
 
 namespace bullet_sim {
 

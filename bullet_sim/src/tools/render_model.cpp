@@ -3,11 +3,12 @@
 #include <cmath>
 #include <iostream>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/robot_snapshot.h"
-#include "bullet_sim/description/diagnostics.h"
 #include "tools/command_line.h"
 
 namespace bullet_sim {
@@ -37,51 +38,34 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string option = argv[i];
-    if (option == "--help" || option == "-h") {
-      options.help = true;
-      return options;
-    }
-    if (i + 1 >= argc) throw UsageError(option + " needs a value");
-    const std::string value = argv[++i];
-    if (option == "--xacro") {
-      options.xacro = value;
-    } else if (option == "--arg") {
-      if (value.find(":=") == std::string::npos) throw UsageError("--arg [" + value + "]: write name:=value");
-      options.xacro_args.push_back(value);
-    } else if (option == "--urdf") {
-      options.urdf = value;
-    } else if (option == "--world") {
-      options.world = value;
-    } else if (option == "--view") {
-      const auto view = parseView(value);
-      if (!view) throw UsageError("--view [" + value + "]: choose chase, top or front");
-      options.view = *view;
-    } else if (option == "--size") {
-      const auto sides = split(value, 'x');
-      const auto side = [&](const std::string& text) {
-        const double pixels = parseNumber(text, "--size");
-        if (pixels < 1 || pixels > 16384 || pixels != std::floor(pixels)) {
-          throw UsageError("--size [" + value + "]: width and height are whole numbers from 1 to 16384");
-        }
-        return static_cast<int>(pixels);
-      };
-      if (sides.size() != 2) throw UsageError("--size [" + value + "]: write WxH, e.g. 640x480");
-      options.width = side(sides[0]);
-      options.height = side(sides[1]);
-    } else if (option == "--pose") {
-      const auto parts = split(value, ',');
-      if (parts.size() != 3) throw UsageError("--pose [" + value + "]: write x,y,yaw in m, m, rad");
-      options.pose.x = parseNumber(parts[0], "--pose");
-      options.pose.y = parseNumber(parts[1], "--pose");
-      options.pose.yaw = parseNumber(parts[2], "--pose");
-    } else if (option == "--out") {
-      options.out = value;
-    } else {
-      throw UsageError("unknown option [" + option + "]");
-    }
-  }
+  parseCommandLine(argc, argv,
+                   {{"--xacro", [&](const std::string& value) { options.xacro = value; }},
+                    {"--arg",
+                     [&](const std::string& value) {
+                       if (value.find(":=") == std::string::npos)
+                         throw UsageError("--arg [" + value + "]: write name:=value");
+                       options.xacro_args.push_back(value);
+                     },
+                     /*repeatable=*/true},
+                    {"--urdf", [&](const std::string& value) { options.urdf = value; }},
+                    {"--world", [&](const std::string& value) { options.world = value; }},
+                    {"--view",
+                     [&](const std::string& value) {
+                       const auto view = parseView(value);
+                       if (!view) throw UsageError("--view [" + value + "]: choose chase, top or front");
+                       options.view = *view;
+                     }},
+                    {"--size",
+                     [&](const std::string& value) {
+                       std::tie(options.width, options.height) = parseSize(value, "--size", 16384);
+                     }},
+                    {"--pose",
+                     [&](const std::string& value) {
+                       parsePlanarPose(value, "--pose", &options.pose.x, &options.pose.y, &options.pose.yaw);
+                     }},
+                    {"--out", [&](const std::string& value) { options.out = value; }}},
+                   &options.help);
+  if (options.help) return options;
   if (options.xacro.empty() == options.urdf.empty()) throw UsageError("give one of --xacro or --urdf");
   if (!options.xacro_args.empty() && options.xacro.empty()) throw UsageError("--arg goes with --xacro");
   if (options.out.empty()) throw UsageError("--out FILE.png is missing");

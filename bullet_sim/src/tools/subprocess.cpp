@@ -59,7 +59,8 @@ std::optional<ProcessOutput> runProcess(const std::vector<std::string>& command,
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, out_pipe[1], STDOUT_FILENO);
   posix_spawn_file_actions_adddup2(&actions, err_pipe[1], STDERR_FILENO);
-  for (int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1]}) posix_spawn_file_actions_addclose(&actions, fd);
+  for (int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1]})
+    posix_spawn_file_actions_addclose(&actions, fd);
   pid_t pid = 0;
   const int spawned = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -86,12 +87,13 @@ std::string expandXacro(const std::string& file, const std::vector<std::string>&
   std::string error;
   const auto xacro = runProcess(command, &error);
   if (!xacro) {
-    throw std::runtime_error(error + "; install xacro (scripts/workspace.sh install) and put it on PATH, or "
-                                     "pass an expanded URDF");
+    throw std::runtime_error(error +
+                             "; install xacro (scripts/workspace.sh install) and put it on PATH, or "
+                             "pass an expanded URDF");
   }
   if (xacro->status != 0) {
-    throw std::runtime_error("xacro " + file + " failed: " +
-                             xacro->errors.substr(0, xacro->errors.find_last_not_of(" \n") + 1));
+    throw std::runtime_error(
+        "xacro " + file + " failed: " + xacro->errors.substr(0, xacro->errors.find_last_not_of(" \n") + 1));
   }
   return xacro->output;
 }

@@ -1,7 +1,6 @@
 // urdf_doctor FILE [name:=value ...]: says what in a URDF or xacro makes the simulation misbehave, and how to
 // fix it. Exit status 0 when clean or warnings only, 1 on errors, 2 when the file cannot be read, expanded or
 // parsed. ROS-free: it needs ROS_PACKAGE_PATH for package:// URIs and the xacro executable for .xacro files.
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -12,6 +11,7 @@
 
 #include "bullet_sim/tools/doctor.h"
 #include "bullet_sim/tools/subprocess.h"
+#include "tools/command_line.h"
 
 namespace bullet_sim {
 namespace {
@@ -45,16 +45,25 @@ DoctorReport examineFile(const std::string& file, const std::vector<std::string>
 }  // namespace bullet_sim
 
 int main(int argc, char** argv) {
-  const std::vector<std::string> words(argv + 1, argv + argc);
-  if (!words.empty() && (words.front() == "-h" || words.front() == "--help")) {
+  using bullet_sim::UsageError;
+  bool help = false;
+  std::vector<std::string> words;  // FILE, then name:=value arguments for xacro
+  const bullet_sim::ToolOption positional{
+      "words", [&](const std::string& word) {
+        if (!words.empty() && word.find(":=") == std::string::npos)
+          throw UsageError("[" + word + "]: xacro arguments are name:=value");
+        words.push_back(word);
+      }};
+  try {
+    bullet_sim::parseCommandLine(argc, argv, {}, &help, &positional);
+    if (!help && words.empty()) throw UsageError("FILE is missing");
+  } catch (const UsageError& error) {
+    std::cerr << "urdf_doctor: " << error.what() << "\n\n" << bullet_sim::kUsage;
+    return 2;
+  }
+  if (help) {
     std::cout << bullet_sim::kUsage;
     return 0;
-  }
-  const bool args_ok = std::all_of(words.begin() + std::min<size_t>(1, words.size()), words.end(),
-                                   [](const std::string& w) { return w.find(":=") != std::string::npos; });
-  if (words.empty() || !args_ok) {
-    std::cerr << bullet_sim::kUsage;
-    return 2;
   }
   const bullet_sim::DoctorReport report =
       bullet_sim::examineFile(words.front(), std::vector<std::string>(words.begin() + 1, words.end()));

@@ -62,10 +62,10 @@ struct JointSpec {
 
 struct ModelSpec {
   std::string name;
-  std::string source;               ///< where the URDF came from, for messages
-  std::string root;                 ///< root link
-  std::vector<LinkSpec> links;      ///< the root first, then parents before children
-  std::vector<JointSpec> joints;    ///< in the order of `links` (joint i + 1 leads to links[i + 1])
+  std::string source;             ///< where the URDF came from, for messages
+  std::string root;               ///< root link
+  std::vector<LinkSpec> links;    ///< the root first, then parents before children
+  std::vector<JointSpec> joints;  ///< in the order of `links` (joint i + 1 leads to links[i + 1])
   /// The plugins bullet_sim simulates, typed: the model's own <gazebo><plugin>s first, then the sensors'.
   std::vector<PluginDeclaration> plugins;
 

@@ -103,7 +103,8 @@ SteeringAngles ackermannAngles(double wheelbase, double steering_track, double c
 
 class AckermannDrive : public DrivePlugin {
  public:
-  AckermannDrive(const PluginDeclaration& declaration, const AckermannConfig& config, const PluginSetup& setup);
+  AckermannDrive(const PluginDeclaration& declaration, const AckermannConfig& config,
+                 const PluginSetup& setup);
 
   void applyCommands(const StepTime& time, RobotBody& body) override;
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;

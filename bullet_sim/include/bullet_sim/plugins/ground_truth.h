@@ -20,7 +20,8 @@ GroundTruthConfig parseGroundTruth(const DeclarationSource& source);
 
 class GroundTruth : public Plugin {
  public:
-  GroundTruth(const PluginDeclaration& declaration, const GroundTruthConfig& config, const PluginSetup& setup);
+  GroundTruth(const PluginDeclaration& declaration, const GroundTruthConfig& config,
+              const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
 

@@ -19,7 +19,8 @@ JointStatesConfig parseJointStates(const DeclarationSource& source);
 
 class JointStates : public Plugin {
  public:
-  JointStates(const PluginDeclaration& declaration, const JointStatesConfig& config, const PluginSetup& setup);
+  JointStates(const PluginDeclaration& declaration, const JointStatesConfig& config,
+              const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
 

@@ -1,5 +1,5 @@
-// What plugins produce and take, in ROS message terms but without ROS: the node's adapter maps each type to its
-// message once.
+// What plugins produce and take, in ROS message terms but without ROS: the node's adapter maps each type to
+// its message once.
 #pragma once
 
 #include <Eigen/Geometry>

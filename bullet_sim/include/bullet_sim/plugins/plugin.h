@@ -8,10 +8,10 @@
 #include <random>
 #include <string>
 
+#include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/ports.h"
 #include "bullet_sim/sensing/ray_caster.h"
-#include "bullet_sim/description/model_spec.h"
 
 namespace bullet_sim {
 

@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "bullet_sim/scene/camera.h"
 #include "bullet_sim/description/mesh.h"
+#include "bullet_sim/scene/camera.h"
 
 namespace bullet_sim {
 

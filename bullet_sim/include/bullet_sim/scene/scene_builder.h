@@ -8,11 +8,11 @@
 #include <memory>
 #include <string>
 
-#include "bullet_sim/plugins/outputs.h"
-#include "bullet_sim/scene/scene.h"
 #include "bullet_sim/description/geometry.h"
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/plugins/outputs.h"
+#include "bullet_sim/scene/scene.h"
 
 namespace bullet_sim {
 

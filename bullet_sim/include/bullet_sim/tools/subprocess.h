@@ -8,7 +8,7 @@
 namespace bullet_sim {
 
 struct ProcessOutput {
-  int status = -1;  ///< exit status, or -1 when the program did not exit normally
+  int status = -1;     ///< exit status, or -1 when the program did not exit normally
   std::string output;  ///< what it printed on stdout
   std::string errors;  ///< and on stderr
 };
