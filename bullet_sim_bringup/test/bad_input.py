@@ -107,6 +107,13 @@ class BadInput(unittest.TestCase):
         self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
         self.assertIn("-timeout must be a number, not [soon]", result.stderr)
 
+    def test_a_file_that_is_not_a_regular_file_fails_the_spawn_promptly(self):
+        # A directory threw an uncaught exception, and /dev/zero was read for ever.
+        for path in ("/tmp", "/dev/zero"):
+            result = self.spawn_model("-file", path)
+            self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
+            self.assertIn("-file [%s] is not a regular file" % path, result.stderr)
+
     def test_bad_descriptions_fail_the_spawn_and_the_simulator_keeps_running(self):
         fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
         malformed = self.spawn_model("-file", os.path.join(fixtures, "fail_malformed.urdf"))

@@ -9,17 +9,138 @@
 #include <std_srvs/Empty.h>
 #include <tf2/LinearMath/Quaternion.h>
 
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "bullet_sim/SpawnModel.h"
 
 namespace {
 
-int fail(const std::string& why) {
-  std::cerr << "spawn_model: " << why << std::endl;
-  return 1;
+constexpr std::uintmax_t kMaxDescriptionBytes = 64u << 20;  // [bytes] a URDF larger than this is a mistake
+
+/// A reason to stop, for stderr and a non-zero exit.
+struct Refusal : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Arguments {
+  std::map<std::string, std::string> values;  ///< -name value, without the dash
+  bool urdf = false, unpause = false, have_z = false;
+  std::vector<std::pair<std::string, std::string>> joints;  ///< -J joint value
+};
+
+Arguments parseFlags(const std::vector<std::string>& args) {
+  Arguments parsed;
+  for (size_t i = 1; i < args.size(); ++i) {
+    const std::string& flag = args[i];
+    if (flag == "-urdf") {
+      parsed.urdf = true;
+    } else if (flag == "-unpause") {
+      parsed.unpause = true;
+    } else if (flag == "-J" && i + 2 < args.size()) {
+      parsed.joints.emplace_back(args[i + 1], args[i + 2]);
+      i += 2;
+    } else if (flag == "-sdf" || flag == "-database" || flag == "-stdin") {
+      throw Refusal(flag + " is not supported: bullet_sim spawns URDF (-urdf with -file or -param)");
+    } else if (flag.size() > 1 && flag[0] == '-' && i + 1 < args.size()) {
+      parsed.values[flag.substr(1)] = args[++i];
+      parsed.have_z |= flag == "-z";
+    } else {
+      throw Refusal("unexpected argument [" + flag +
+                    "]; usage: spawn_model -urdf (-file F | -param P) -model NAME ...");
+    }
+  }
+  if (!parsed.urdf) throw Refusal("give -urdf: bullet_sim spawns URDF models");
+  if (!parsed.values.count("model")) throw Refusal("give -model NAME");
+  return parsed;
+}
+
+/// The text of a -file: a regular file (not a directory, a FIFO or a device) of a sane size.
+std::string readFile(const std::string& path) {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (error) throw Refusal("cannot read -file [" + path + "]: " + error.message());
+  if (!std::filesystem::is_regular_file(status)) throw Refusal("-file [" + path + "] is not a regular file");
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error || size > kMaxDescriptionBytes) {
+    throw Refusal("-file [" + path + "] is " + std::to_string(size) + " bytes, more than the " +
+                  std::to_string(kMaxDescriptionBytes) + " a robot description may have");
+  }
+  std::ifstream in(path);
+  if (!in) throw Refusal("cannot read -file [" + path + "]");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::string readDescription(const Arguments& arguments) {
+  std::string xml;
+  if (arguments.values.count("file")) {
+    xml = readFile(arguments.values.at("file"));
+  } else if (arguments.values.count("param")) {
+    const std::string& param = arguments.values.at("param");
+    if (!ros::param::get(param, xml)) throw Refusal("no parameter [" + param + "]");
+  } else {
+    throw Refusal("give -file FILE or -param PARAM");
+  }
+  if (xml.find_first_not_of(" \t\r\n") == std::string::npos) throw Refusal("the robot description is empty");
+  return xml;
+}
+
+double number(const Arguments& arguments, const std::string& key, double fallback = 0) {
+  const auto found = arguments.values.find(key);
+  if (found == arguments.values.end()) return fallback;
+  try {
+    return std::stod(found->second);
+  } catch (const std::exception&) {
+    throw Refusal("-" + key + " must be a number, not [" + found->second + "]");
+  }
+}
+
+bullet_sim::SpawnModel::Request makeRequest(const Arguments& arguments, const std::string& xml) {
+  bullet_sim::SpawnModel::Request request;
+  request.initial_pose.position.x = number(arguments, "x");
+  request.initial_pose.position.y = number(arguments, "y");
+  request.initial_pose.position.z = number(arguments, "z");
+  tf2::Quaternion q;
+  q.setRPY(number(arguments, "R"), number(arguments, "P"), number(arguments, "Y"));
+  request.initial_pose.orientation.x = q.x();
+  request.initial_pose.orientation.y = q.y();
+  request.initial_pose.orientation.z = q.z();
+  request.initial_pose.orientation.w = q.w();
+  for (const auto& [joint, value] : arguments.joints) {
+    try {
+      request.joint_positions.push_back(std::stod(value));
+    } catch (const std::exception&) {
+      throw Refusal("-J " + joint + " must be followed by a number, not [" + value + "]");
+    }
+    request.joint_names.push_back(joint);
+  }
+  request.model_name = arguments.values.at("model");
+  request.model_xml = xml;
+  const auto ns = arguments.values.find("robot_namespace");
+  request.robot_namespace = ns == arguments.values.end() ? "" : ns->second;
+  request.place_on_ground = !arguments.have_z;
+  return request;
+}
+
+/// Asks the simulator's spawn service, and unpauses it when asked to.
+void spawn(const Arguments& arguments, bullet_sim::SpawnModel& call) {
+  const double timeout = number(arguments, "timeout", 60.0);  // [s] for the simulator's service
+  const auto ns = arguments.values.find("gazebo_namespace");
+  const std::string gazebo = ns == arguments.values.end() ? "/gazebo" : ns->second;
+  if (!ros::service::waitForService(gazebo + "/spawn_urdf", ros::Duration(timeout))) {
+    throw Refusal("no service " + gazebo + "/spawn_urdf after " + std::to_string(timeout) +
+                  " s: is the simulator running?");
+  }
+  if (!ros::service::call(gazebo + "/spawn_urdf", call))
+    throw Refusal("the call to " + gazebo + "/spawn_urdf failed");
+  if (!call.response.success) throw Refusal(call.response.message);
+  ROS_INFO("%s", call.response.message.c_str());
+  std_srvs::Empty empty;
+  if (arguments.unpause && !ros::service::call(gazebo + "/unpause_physics", empty))
+    throw Refusal("could not unpause the simulation");
 }
 
 }  // namespace
@@ -28,94 +149,14 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "spawn_model", ros::init_options::AnonymousName);
   std::vector<std::string> args;
   ros::removeROSArgs(argc, argv, args);
-
-  std::map<std::string, std::string> values;
-  bool urdf = false, unpause = false, have_z = false;
-  std::vector<std::pair<std::string, std::string>> joints;
-  for (size_t i = 1; i < args.size(); ++i) {
-    const std::string& flag = args[i];
-    if (flag == "-urdf") {
-      urdf = true;
-    } else if (flag == "-unpause") {
-      unpause = true;
-    } else if (flag == "-J" && i + 2 < args.size()) {
-      joints.emplace_back(args[i + 1], args[i + 2]);
-      i += 2;
-    } else if (flag == "-sdf" || flag == "-database" || flag == "-stdin") {
-      return fail(flag + " is not supported: bullet_sim spawns URDF (-urdf with -file or -param)");
-    } else if (flag.size() > 1 && flag[0] == '-' && i + 1 < args.size()) {
-      values[flag.substr(1)] = args[++i];
-      have_z |= flag == "-z";
-    } else {
-      return fail("unexpected argument [" + flag +
-                  "]; usage: spawn_model -urdf (-file F | -param P) -model NAME ...");
-    }
-  }
-  if (!urdf) return fail("give -urdf: bullet_sim spawns URDF models");
-  if (!values.count("model")) return fail("give -model NAME");
-
-  std::string xml;
-  if (values.count("file")) {
-    std::ifstream in(values["file"]);
-    if (!in) return fail("cannot read -file [" + values["file"] + "]");
-    xml.assign(std::istreambuf_iterator<char>(in), {});
-  } else if (values.count("param")) {
-    if (!ros::param::get(values["param"], xml)) return fail("no parameter [" + values["param"] + "]");
-  } else {
-    return fail("give -file FILE or -param PARAM");
-  }
-  if (xml.find_first_not_of(" \t\r\n") == std::string::npos) return fail("the robot description is empty");
-
-  const auto number = [&](const char* key) {
-    if (!values.count(key)) return 0.0;
-    try {
-      return std::stod(values[key]);
-    } catch (const std::exception&) {
-      throw std::runtime_error(std::string("-") + key + " must be a number, not [" + values[key] + "]");
-    }
-  };
-  bullet_sim::SpawnModel spawn;
-  double timeout = 60.0;  // [s] for the simulator's service
   try {
-    if (values.count("timeout")) timeout = number("timeout");
-    spawn.request.initial_pose.position.x = number("x");
-    spawn.request.initial_pose.position.y = number("y");
-    spawn.request.initial_pose.position.z = number("z");
-    tf2::Quaternion q;
-    q.setRPY(number("R"), number("P"), number("Y"));
-    spawn.request.initial_pose.orientation.x = q.x();
-    spawn.request.initial_pose.orientation.y = q.y();
-    spawn.request.initial_pose.orientation.z = q.z();
-    spawn.request.initial_pose.orientation.w = q.w();
-  } catch (const std::exception& e) {
-    return fail(e.what());
-  }
-  for (const auto& [joint, value] : joints) {
-    try {
-      spawn.request.joint_positions.push_back(std::stod(value));
-    } catch (const std::exception&) {
-      return fail("-J " + joint + " must be followed by a number, not [" + value + "]");
-    }
-    spawn.request.joint_names.push_back(joint);
-  }
-  spawn.request.model_name = values["model"];
-  spawn.request.model_xml = xml;
-  spawn.request.robot_namespace = values.count("robot_namespace") ? values["robot_namespace"] : "";
-  spawn.request.place_on_ground = !have_z;
-
-  const std::string gazebo = values.count("gazebo_namespace") ? values["gazebo_namespace"] : "/gazebo";
-  if (!ros::service::waitForService(gazebo + "/spawn_urdf", ros::Duration(timeout))) {
-    return fail("no service " + gazebo + "/spawn_urdf after " + std::to_string(timeout) +
-                " s: is the simulator running?");
-  }
-  if (!ros::service::call(gazebo + "/spawn_urdf", spawn))
-    return fail("the call to " + gazebo + "/spawn_urdf failed");
-  if (!spawn.response.success) return fail(spawn.response.message);
-  ROS_INFO("%s", spawn.response.message.c_str());
-  if (unpause) {
-    std_srvs::Empty empty;
-    if (!ros::service::call(gazebo + "/unpause_physics", empty))
-      return fail("could not unpause the simulation");
+    const Arguments arguments = parseFlags(args);
+    bullet_sim::SpawnModel call;
+    call.request = makeRequest(arguments, readDescription(arguments));
+    spawn(arguments, call);
+  } catch (const Refusal& refusal) {
+    std::cerr << "spawn_model: " << refusal.what() << std::endl;
+    return 1;
   }
   return 0;
 }
