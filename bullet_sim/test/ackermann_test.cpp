@@ -23,19 +23,19 @@ using ::testing::Not;
 
 constexpr double kDeg = M_PI / 180;
 
-const std::string kPlugin = "name=\"ackermann_drive\"";
-
 std::string tianracerUrdf() {
   return test::expandXacro("tianracer_description", "urdf/tianracer.urdf.xacro");
 }
 
 /// The Tianracer with its drive asking for `wheel_model`.
 ModelSpec tianracer(const std::string& wheel_model) {
-  std::string urdf = tianracerUrdf();
-  const auto block = urdf.find(kPlugin + ">");
-  if (block == std::string::npos) throw std::runtime_error("no Ackermann plugin in the Tianracer");
-  urdf.insert(block + kPlugin.size() + 1, "<wheelModel>" + wheel_model + "</wheelModel>");
-  return test::parseQuietly(urdf, "tianracer on " + wheel_model);
+  return test::parseQuietly(test::withWheelModel(tianracerUrdf(), wheel_model),
+                            "tianracer on " + wheel_model);
+}
+
+/// The Tianracer with tags of its drive plugin set.
+std::string tianracerWith(const test::Tags& tags) {
+  return test::withPluginTags(tianracerUrdf(), "ackermann_drive.so", tags);
 }
 
 double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)); }
@@ -262,40 +262,35 @@ std::string loadMessages(const std::string& urdf) {
 }
 
 TEST(AckermannConfig, AJointTypoIsAnErrorWithASuggestion) {
-  const std::string said = loadMessages(
-      test::replaceAfter(tianracerUrdf(), kPlugin, "left_rear_wheel_joint<", "left_rear_wheel_jiont<"));
+  const std::string said = loadMessages(tianracerWith({{"rear_left_joint", "left_rear_wheel_jiont"}}));
   EXPECT_THAT(said,
               HasSubstr("plugin [ackermann_drive] <rear_left_joint> [left_rear_wheel_jiont] is not a joint "
                         "(did you mean [left_rear_wheel_joint]?)"));
 }
 
 TEST(AckermannConfig, GainsAreReadAndIgnoredWithOneWarning) {
-  const std::string said = loadMessages(test::replaceAfter(
-      tianracerUrdf(), kPlugin, "<max_speed>",
-      "<left_steering_pid_gain>1500 0 1</left_steering_pid_gain><right_steering_pid_gain>1500 0 1"
-      "</right_steering_pid_gain><linear_velocity_pid_gain>1000 0 1</linear_velocity_pid_gain><max_speed>"));
+  const std::string said = loadMessages(tianracerWith({{"left_steering_pid_gain", "1500 0 1"},
+                                                       {"right_steering_pid_gain", "1500 0 1"},
+                                                       {"linear_velocity_pid_gain", "1000 0 1"}}));
   EXPECT_THAT(said, HasSubstr("plugin [ackermann_drive] <left_steering_pid_gain>, <right_steering_pid_gain>, "
                               "<linear_velocity_pid_gain>: read and ignored"));
   EXPECT_THAT(said, Not(HasSubstr("is not a tag this plugin knows")));
 }
 
 TEST(AckermannConfig, FiguresThatDisagreeWithTheUrdfAreReported) {
-  const std::string said =
-      loadMessages(test::replaceAfter(tianracerUrdf(), kPlugin, "<wheel_base>", "<wheel_base>1"));
+  const std::string said = loadMessages(tianracerWith({{"wheel_base", "10.26"}}));
   EXPECT_THAT(said, HasSubstr("plugin [ackermann_drive] <wheel_base> 10.26 m disagrees with the URDF"));
 }
 
 TEST(AckermannConfig, UnknownTagsGetOneWarning) {
-  const std::string said = loadMessages(
-      test::replaceAfter(tianracerUrdf(), kPlugin, "<max_speed>", "<max_sped>3</max_sped><max_speed>"));
+  const std::string said = loadMessages(tianracerWith({{"max_sped", "3"}}));
   EXPECT_THAT(said, HasSubstr("plugin [ackermann_drive] <max_sped> is not a tag this plugin knows: ignored"));
 }
 
 TEST(AckermannConfig, TheWheelModelIsContactOrRaycast) {
   for (const std::string model : {"contact", "raycast", "magic"}) {
     SCOPED_TRACE(model);
-    const std::string said = loadMessages(test::replaceAfter(
-        tianracerUrdf(), kPlugin, "<max_speed>", "<wheelModel>" + model + "</wheelModel><max_speed>"));
+    const std::string said = loadMessages(tianracerWith({{"wheelModel", model}}));
     if (model == "magic") {
       EXPECT_THAT(said,
                   HasSubstr("plugin [ackermann_drive] <wheelModel> must be contact or raycast, not [magic]"));

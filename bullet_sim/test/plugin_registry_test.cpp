@@ -1,7 +1,6 @@
 // The plugin registry is open: a plugin defined here, in a test, is registered on a copy of the built-in
 // registry and then parsed, checked, built, stepped and heard through its ports with no edit elsewhere.
 #include <gtest/gtest.h>
-#include <tinyxml2.h>
 
 #include <algorithm>
 #include <cmath>
@@ -65,18 +64,10 @@ PluginRegistry withAltimeter() {
   return registry;
 }
 
-/// The minimal robot with an altimeter block whose tags are `tags` (name -> text).
-std::string robotWithAltimeter(const std::vector<std::pair<std::string, std::string>>& tags) {
-  tinyxml2::XMLDocument document;
-  const std::string minimal = test::readFile(test::fixture("robots/minimal.urdf"));
-  EXPECT_EQ(document.Parse(minimal.c_str()), tinyxml2::XML_SUCCESS);
-  auto* plugin = document.RootElement()->InsertNewChildElement("gazebo")->InsertNewChildElement("plugin");
-  plugin->SetAttribute("name", "altimeter");
-  plugin->SetAttribute("filename", "libtest_altimeter.so");
-  for (const auto& [name, text] : tags) plugin->InsertNewChildElement(name.c_str())->SetText(text.c_str());
-  tinyxml2::XMLPrinter printer;
-  document.Print(&printer);
-  return printer.CStr();
+/// The minimal robot with an altimeter block whose tags are `tags`.
+std::string robotWithAltimeter(const test::Tags& tags) {
+  return test::withPlugin(test::readFile(test::fixture("robots/minimal.urdf")), "altimeter",
+                          "libtest_altimeter.so", tags);
 }
 
 const PluginRegistry& registry() {

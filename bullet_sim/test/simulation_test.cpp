@@ -2,7 +2,6 @@
 // against analytic distances; bit-identical reruns. Stepped in-process, no roscore.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <tinyxml2.h>
 
 #include <algorithm>
 #include <cmath>
@@ -549,23 +548,13 @@ namespace {
 
 /// two_wheeler.urdf with a diff drive that publishes its wheels' tf.
 std::string twoWheelerWithWheelTf() {
-  tinyxml2::XMLDocument document;
-  const std::string urdf = test::readFile(test::fixture("robots/two_wheeler.urdf"));
-  EXPECT_EQ(document.Parse(urdf.c_str()), tinyxml2::XML_SUCCESS);
-  auto* plugin = document.RootElement()->InsertNewChildElement("gazebo")->InsertNewChildElement("plugin");
-  plugin->SetAttribute("name", "drive");
-  plugin->SetAttribute("filename", "libgazebo_ros_diff_drive.so");
-  for (const auto& [tag, text] :
-       std::vector<std::pair<const char*, const char*>>{{"leftJoint", "left_wheel_joint"},
-                                                        {"rightJoint", "right_wheel_joint"},
-                                                        {"wheelSeparation", "0.35"},
-                                                        {"wheelDiameter", "0.1"},
-                                                        {"publishWheelTF", "true"}}) {
-    plugin->InsertNewChildElement(tag)->SetText(text);
-  }
-  tinyxml2::XMLPrinter printer;
-  document.Print(&printer);
-  return printer.CStr();
+  return test::withPlugin(test::readFile(test::fixture("robots/two_wheeler.urdf")), "drive",
+                          "libgazebo_ros_diff_drive.so",
+                          {{"leftJoint", "left_wheel_joint"},
+                           {"rightJoint", "right_wheel_joint"},
+                           {"wheelSeparation", "0.35"},
+                           {"wheelDiameter", "0.1"},
+                           {"publishWheelTF", "true"}});
 }
 
 TEST(Simulation, PublishWheelTfGivesEachWheelInItsParentAtItsJointAngle) {

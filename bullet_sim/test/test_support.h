@@ -2,6 +2,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <tinyxml2.h>
 
 #include <array>
 #include <cstdio>
@@ -53,13 +54,58 @@ inline std::string expandXacro(const std::string& package, const std::string& xa
   return expanded[key] = bullet_sim::expandXacro(packageFile(package, xacro), args);
 }
 
+using Tags = std::vector<std::pair<std::string, std::string>>;  ///< tag name, text
+
+/// Edits a URDF's XML with tinyxml2: `edit` gets its <robot> element.
+template <class Edit>
+std::string editUrdf(const std::string& urdf, Edit edit) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement())
+    throw std::runtime_error("not XML: " + std::string(document.ErrorStr()));
+  edit(*document.RootElement());
+  tinyxml2::XMLPrinter printer;
+  document.Print(&printer);
+  return printer.CStr();
+}
+
+/// `urdf` with one more model plugin, <gazebo><plugin name filename> holding `tags`.
+inline std::string withPlugin(const std::string& urdf, const std::string& name, const std::string& filename,
+                              const Tags& tags) {
+  return editUrdf(urdf, [&](tinyxml2::XMLElement& robot) {
+    auto* plugin = robot.InsertNewChildElement("gazebo")->InsertNewChildElement("plugin");
+    plugin->SetAttribute("name", name.c_str());
+    plugin->SetAttribute("filename", filename.c_str());
+    for (const auto& [tag, text] : tags) plugin->InsertNewChildElement(tag.c_str())->SetText(text.c_str());
+  });
+}
+
+/// `urdf` with the tags of every model plugin whose filename ends with `filename_end` set (or added).
+inline std::string withPluginTags(const std::string& urdf, const std::string& filename_end,
+                                  const Tags& tags) {
+  return editUrdf(urdf, [&](tinyxml2::XMLElement& robot) {
+    int found = 0;
+    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo")) {
+      for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin;
+           plugin = plugin->NextSiblingElement("plugin")) {
+        const std::string filename = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
+        if (filename.size() < filename_end.size() ||
+            filename.compare(filename.size() - filename_end.size(), filename_end.size(), filename_end) != 0)
+          continue;
+        ++found;
+        for (const auto& [tag, text] : tags) {
+          auto* element = plugin->FirstChildElement(tag.c_str());
+          (element ? element : plugin->InsertNewChildElement(tag.c_str()))->SetText(text.c_str());
+        }
+      }
+    }
+    if (found == 0) throw std::runtime_error("no plugin [*" + filename_end + "] to edit");
+  });
+}
+
 /// `urdf` with its drive plugin asking for `wheel_model` ("contact" or "raycast"; "" leaves it as it is).
-inline std::string withWheelModel(std::string urdf, const std::string& wheel_model) {
-  if (wheel_model.empty()) return urdf;
-  const auto at = urdf.find("<commandTopic>");  // every shipped drive plugin has one
-  if (at == std::string::npos)
-    throw std::runtime_error("no drive plugin with a <commandTopic> to set the wheel model");
-  return urdf.insert(at, "<wheelModel>" + wheel_model + "</wheelModel>");
+inline std::string withWheelModel(const std::string& urdf, const std::string& wheel_model) {
+  return wheel_model.empty() ? urdf : withPluginTags(urdf, "_drive.so", {{"wheelModel", wheel_model}});
 }
 
 /// Parses a URDF as the simulator does; a load warning fails the test, since the files tests load are clean
