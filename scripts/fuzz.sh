@@ -17,19 +17,11 @@ DIR=${BULLET_SIM_FUZZ_DIR:-/tmp/bullet_sim_fuzz}
 WS=$DIR/ws
 export PATH=/usr/bin:/usr/local/bin:$PATH
 
-log() { printf '\n== %s\n' "$*"; }
-as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+# shellcheck source=scripts/lib.sh
+source "$REPO/scripts/lib.sh"
 
 "$REPO/scripts/workspace.sh" install  # ROS, the libraries and xacro
-missing=()
-for package in clang-14 libclang-rt-14-dev libfuzzer-14-dev; do
-  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  log "installing ${missing[*]}"
-  as_root apt-get update
-  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
-fi
+install_debian_packages clang-14 libclang-rt-14-dev libfuzzer-14-dev
 
 log "building fuzz_model_spec in $WS"
 mkdir -p "$WS"

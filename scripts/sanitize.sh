@@ -13,19 +13,11 @@ REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 WS=${BULLET_SIM_SANITIZE_WS:-/tmp/bullet_sim_sanitize}
 export PATH=/usr/bin:/usr/local/bin:$PATH
 
-log() { printf '\n== %s\n' "$*"; }
-as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+# shellcheck source=scripts/lib.sh
+source "$REPO/scripts/lib.sh"
 
 "$REPO/scripts/workspace.sh" install  # ROS, the libraries, g++ and xacro
-missing=()
-for package in libasan8 libubsan1; do  # gcc 12's sanitizer runtimes
-  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  log "installing ${missing[*]}"
-  as_root apt-get update
-  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
-fi
+install_debian_packages libasan8 libubsan1  # gcc 12's sanitizer runtimes
 
 sanitizers="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
 log "building the unit tests with $sanitizers in $WS"

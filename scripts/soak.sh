@@ -11,13 +11,9 @@ SIM_SECONDS=${1:-60}
 export PATH=/usr/bin:/usr/local/bin:$PATH
 
 "$REPO/scripts/workspace.sh" build
-if [ -n "${BULLET_SIM_WS:-}" ]; then
-  WS=$BULLET_SIM_WS
-elif [ "$(basename "$REPO")" = src ]; then
-  WS=$(dirname "$REPO")
-else
-  WS=$REPO
-fi
+# shellcheck source=scripts/lib.sh
+source "$REPO/scripts/lib.sh"
+WS=$(workspace_of "$REPO")
 set +u  # catkin's setup.bash reads unset variables
 # shellcheck disable=SC1091
 source "$WS/devel/setup.bash"

@@ -10,13 +10,9 @@
 set -euo pipefail
 
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-if [ -n "${BULLET_SIM_WS:-}" ]; then
-  WS=$BULLET_SIM_WS
-elif [ "$(basename "$REPO")" = src ]; then
-  WS=$(dirname "$REPO")
-else
-  WS=$REPO
-fi
+# shellcheck source=scripts/lib.sh
+source "$REPO/scripts/lib.sh"
+WS=$(workspace_of "$REPO")
 # Debian's ROS tools run on /usr/bin/python3, not on a pyenv or venv interpreter earlier on PATH.
 export PATH=/usr/bin:/usr/local/bin:$PATH
 
@@ -32,19 +28,8 @@ DEBIAN_PACKAGES=(
 )
 XACRO_VERSION=1.13.3
 
-log() { printf '\n== %s\n' "$*"; }
-as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
-
 install_dependencies() {
-  local missing=()
-  for package in "${DEBIAN_PACKAGES[@]}"; do
-    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
-  done
-  if [ ${#missing[@]} -gt 0 ]; then
-    log "installing Debian packages: ${missing[*]}"
-    as_root apt-get update
-    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
-  fi
+  install_debian_packages "${DEBIAN_PACKAGES[@]}"
   if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("xacro"))' 2>/dev/null)" != "$XACRO_VERSION" ]; then
     log "installing xacro $XACRO_VERSION from PyPI into /usr/bin/python3"
     as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "xacro==$XACRO_VERSION"
