@@ -5,7 +5,9 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/tools/doctor.h"
 #include "test_support.h"
@@ -36,125 +38,140 @@ size_t countFindings(const DoctorReport& report, DoctorFinding::Severity severit
 constexpr auto kError = DoctorFinding::Severity::kError;
 constexpr auto kWarning = DoctorFinding::Severity::kWarning;
 
-TEST(DoctorSeed000, FootprintOffsetSinksTheChairAndGivesTheHeight) {
-  const DoctorReport report = examine("000_footprint_offset.urdf");
-  EXPECT_EQ(report.exitCode(), 1) << report.text();
-  EXPECT_EQ(countFindings(report, kError,
-                          {"joint [base_footprint_joint]",
-                           "link [front_left_link]) is 0.072836 m below [base_footprint]",
-                           "set its <origin> z to 0.60406 (now 0.53122)"}),
-            1u)
-      << report.text();
+/// A finding that must be in the report exactly once: its severity, and parts of its message.
+struct Finding {
+  DoctorFinding::Severity severity;
+  std::vector<std::string> parts;
+};
+
+/// One fixture per defect of a seed's file (test/fixtures/doctor/), and what urdf_doctor must say of it.
+struct SeedDefect {
+  std::string name;  ///< names the test case
+  std::string fixture;
+  int exit_code;                  ///< 0 clean or warnings only, 1 errors, 2 unreadable
+  std::optional<size_t> errors;   ///< how many errors in all, where the others must not come
+  std::vector<Finding> findings;  ///< each exactly once
+};
+
+class DoctorSeed : public ::testing::TestWithParam<SeedDefect> {};
+
+TEST_P(DoctorSeed, IsReportedWithItsElementReasonAndFix) {
+  const SeedDefect& defect = GetParam();
+  const DoctorReport report = examine(defect.fixture);
+  EXPECT_EQ(report.exitCode(), defect.exit_code) << report.text();
+  if (defect.errors) {
+    EXPECT_EQ(report.errors(), *defect.errors) << report.text();
+  }
+  for (const Finding& finding : defect.findings) {
+    const auto matches = [&](const DoctorFinding& found) {
+      return found.severity == finding.severity &&
+             std::all_of(finding.parts.begin(), finding.parts.end(), [&](const std::string& part) {
+               return found.message.find(part) != std::string::npos;
+             });
+    };
+    EXPECT_EQ(std::count_if(report.findings.begin(), report.findings.end(), matches), 1)
+        << finding.parts.front() << "\n"
+        << report.text();
+  }
 }
 
-TEST(DoctorSeed000, ReversedRightWheelAxisSpinsTheChair) {
-  const DoctorReport report = examine("000_reversed_right_axis.urdf");
-  EXPECT_EQ(report.exitCode(), 1) << report.text();
-  EXPECT_EQ(countFindings(report, kError,
-                          {"joint [front_right_joint]: turns about 0 -1 0",
-                           "joint [front_left_joint] turns about 0 1 0", "spins in place",
-                           "Fix: write <axis xyz=\"0 1 0\"/>"}),
-            1u)
-      << report.text();
-  EXPECT_EQ(report.errors(), 1u) << "the left wheel is right: " << report.text();
-}
+const SeedDefect kSeedDefects[] = {
+    {"Seed000FootprintOffsetSinksTheChairAndGivesTheHeight",
+     "000_footprint_offset.urdf",
+     1,
+     std::nullopt,
+     {{kError,
+       {"joint [base_footprint_joint]", "link [front_left_link]) is 0.072836 m below [base_footprint]",
+        "set its <origin> z to 0.60406 (now 0.53122)"}}}},
+    {"Seed000ReversedRightWheelAxisSpinsTheChair",
+     "000_reversed_right_axis.urdf",
+     1,
+     1,  // the left one is right
+     {{kError,
+       {"joint [front_right_joint]: turns about 0 -1 0", "joint [front_left_joint] turns about 0 1 0",
+        "spins in place", "Fix: write <axis xyz=\"0 1 0\"/>"}}}},
+    {"Seed000RevoluteLimitsOf180LookLikeDegrees",
+     "000_caster_limits_in_degrees.urdf",
+     1,
+     1,  // its zero limits are on a joint nothing drives
+     {{kError,
+       {"joint [wheel_rear_right_joint] <limit>", "lower -180 and upper 180", "look like degrees",
+        "make the joint continuous"}}}},
+    {"Seed000LaserLinkReferenceAndFrameNameSuggestLaserCapitalL",
+     "000_laser_link_reference.urdf",
+     1,
+     std::nullopt,
+     {{kError, {"<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"}},
+      {kError,
+       {"line 24: plugin [gazebo_rplidar] <frameName>laser_link</frameName>: names no link",
+        "did you mean [laser_Link]?"}}}},
+    {"Seed000UnexpandedMacroCallAndWhatItLeftOutAreBothReported",
+     "000_unexpanded_macro.urdf",
+     1,
+     std::nullopt,
+     {{kError, {"line 12: <mbot_base/> is not a URDF element", "write <xacro:mbot_base/>"}},
+      {kError, {"urdfdom rejected the model", "parent link [base_link]"}}}},
+    {"Seed000LidarOfSevenKilogramsIsDenserThanAnyMaterial",
+     "000_lidar_mass.urdf",
+     1,
+     std::nullopt,
+     {{kError,
+       {"link [laser_Link] <inertial>: mass 6.8618 kg", "denser than any material",
+        "a misplaced decimal point?"}}}},
+    {"Seed001WheelCollisionRepeatingTheJointOriginIsFarFromItsVisual",
+     "001_wheel_collision_origin.urdf",
+     1,
+     std::nullopt,
+     {{kError,
+       {"link [left_front_wheel] <collision>", "0.11587 m from its visual",
+        "repeats the origin of joint [left_front_wheel_joint]",
+        "give the collision the visual's <origin> (xyz 0 0 0)"}}}},
+    {"Seed001UnitInertiaOnALightWheelIsAnError",
+     "001_wheel_inertia.urdf",
+     1,
+     std::nullopt,
+     {{kError,
+       {"link [left_front_wheel] <inertial>: principal moments 1 1 1 kg m^2",
+        "times off those of its collision shapes at 0.1 kg", "like a flywheel"}}}},
+    {"Seed001CylinderCollisionUnderABoxVisualIsAWarning",
+     "001_head_collision_shape.urdf",
+     0,
+     std::nullopt,
+     {{kWarning,
+       {"link [head] <collision>: it is a cylinder while its visual is a box",
+        "use the visual's geometry"}}}},
+    {"Seed001LostClosingTagIsAParseErrorWithLineColumnAndCause",
+     "001_lost_closing_tags.urdf",
+     2,
+     std::nullopt,
+     {{kError,
+       {"line 6 column 5: <inertial> is closed by another element's closing tag, or not at all",
+        "such as `inertial>`, is read as text", "close it with </inertial>"}}}},
+    {"Seed002NonBreakingSpaceInATagIsAParseErrorWithLineAndColumn",
+     "002_non_breaking_space.urdf",
+     2,
+     std::nullopt,
+     {{kError,
+       {"line 6 column 14: XML cannot be parsed", "non-breaking space (U+00A0",
+        "replace it with a plain space"}}}},
+    {"Seed003BothReversedRightWheelsOfTheSkidSteerAreReported",
+     "003_reversed_right_axes.urdf",
+     1,
+     2,
+     {{kError, {"joint [yq_Joint]: turns about 0 -1 0", "plugin [skid_steer_drive_controller]"}},
+      {kError, {"joint [yh_Joint]: turns about 0 -1 0", "plugin [skid_steer_drive_controller]"}}}},
+    {"Seed003ZeroEffortAndVelocityOnThePanTiltItDrives",
+     "003_zero_limits.urdf",
+     1,
+     4,  // the loader's refusal, and the doctor's detail, for each joint
+     {{kError, {"joint [jq1_Joint] <limit>", "effort and velocity are 0, yet a plugin drives it"}},
+      {kError, {"joint [jq2_Joint] <limit>", "effort and velocity are 0, yet a plugin drives it"}},
+      {kError, {"plugin [pan_tilt] joint [jq1_Joint] has no effort limit"}},
+      {kError, {"plugin [pan_tilt] joint [jq2_Joint] has no effort limit"}}}},
+};
 
-TEST(DoctorSeed000, RevoluteLimitsOf180LookLikeDegrees) {
-  const DoctorReport report = examine("000_caster_limits_in_degrees.urdf");
-  EXPECT_EQ(countFindings(report, kError,
-                          {"joint [wheel_rear_right_joint] <limit>", "lower -180 and upper 180",
-                           "look like degrees", "make the joint continuous"}),
-            1u)
-      << report.text();
-  EXPECT_EQ(report.errors(), 1u) << "its zero limits are on a joint nothing drives: " << report.text();
-}
-
-TEST(DoctorSeed000, LaserLinkReferenceAndFrameNameSuggestLaserCapitalL) {
-  const DoctorReport report = examine("000_laser_link_reference.urdf");
-  EXPECT_EQ(countFindings(
-                report, kError,
-                {"<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"}),
-            1u)
-      << report.text();
-  EXPECT_EQ(
-      countFindings(report, kError,
-                    {"line 24: plugin [gazebo_rplidar] <frameName>laser_link</frameName>: names no link",
-                     "did you mean [laser_Link]?"}),
-      1u)
-      << report.text();
-}
-
-TEST(DoctorSeed000, UnexpandedMacroCallAndWhatItLeftOutAreBothReported) {
-  const DoctorReport report = examine("000_unexpanded_macro.urdf");
-  EXPECT_EQ(report.exitCode(), 1) << report.text();
-  EXPECT_EQ(countFindings(report, kError,
-                          {"line 12: <mbot_base/> is not a URDF element", "write <xacro:mbot_base/>"}),
-            1u)
-      << report.text();
-  EXPECT_EQ(countFindings(report, kError, {"urdfdom rejected the model", "parent link [base_link]"}), 1u)
-      << report.text();
-}
-
-TEST(DoctorSeed000, LidarOfSevenKilogramsIsDenserThanAnyMaterial) {
-  const DoctorReport report = examine("000_lidar_mass.urdf");
-  EXPECT_EQ(countFindings(report, kError,
-                          {"link [laser_Link] <inertial>: mass 6.8618 kg", "denser than any material",
-                           "a misplaced decimal point?"}),
-            1u)
-      << report.text();
-}
-
-TEST(DoctorSeed001, WheelCollisionRepeatingTheJointOriginIsFarFromItsVisual) {
-  const DoctorReport report = examine("001_wheel_collision_origin.urdf");
-  EXPECT_EQ(report.exitCode(), 1) << report.text();
-  EXPECT_EQ(countFindings(report, kError,
-                          {"link [left_front_wheel] <collision>", "0.11587 m from its visual",
-                           "repeats the origin of joint [left_front_wheel_joint]",
-                           "give the collision the visual's <origin> (xyz 0 0 0)"}),
-            1u)
-      << report.text();
-}
-
-TEST(DoctorSeed001, UnitInertiaOnALightWheelIsAnError) {
-  const DoctorReport report = examine("001_wheel_inertia.urdf");
-  EXPECT_EQ(countFindings(report, kError,
-                          {"link [left_front_wheel] <inertial>: principal moments 1 1 1 kg m^2",
-                           "times off those of its collision shapes at 0.1 kg", "like a flywheel"}),
-            1u)
-      << report.text();
-}
-
-TEST(DoctorSeed001, CylinderCollisionUnderABoxVisualIsAWarning) {
-  const DoctorReport report = examine("001_head_collision_shape.urdf");
-  EXPECT_EQ(report.exitCode(), 0) << report.text();
-  EXPECT_EQ(countFindings(report, kWarning,
-                          {"link [head] <collision>: it is a cylinder while its visual is a box",
-                           "use the visual's geometry"}),
-            1u)
-      << report.text();
-}
-
-TEST(DoctorSeed001, LostClosingTagIsAParseErrorWithLineColumnAndCause) {
-  const DoctorReport report = examine("001_lost_closing_tags.urdf");
-  EXPECT_EQ(report.exitCode(), 2) << report.text();
-  EXPECT_EQ(
-      countFindings(report, kError,
-                    {"line 6 column 5: <inertial> is closed by another element's closing tag, or not at all",
-                     "such as `inertial>`, is read as text", "close it with </inertial>"}),
-      1u)
-      << report.text();
-}
-
-TEST(DoctorSeed002, NonBreakingSpaceInATagIsAParseErrorWithLineAndColumn) {
-  const DoctorReport report = examine("002_non_breaking_space.urdf");
-  EXPECT_FALSE(report.readable);
-  EXPECT_EQ(report.exitCode(), 2);
-  EXPECT_EQ(countFindings(report, kError,
-                          {"line 6 column 14: XML cannot be parsed", "non-breaking space (U+00A0",
-                           "replace it with a plain space"}),
-            1u)
-      << report.text();
-}
+INSTANTIATE_TEST_SUITE_P(Fixtures, DoctorSeed, ::testing::ValuesIn(kSeedDefects),
+                         [](const ::testing::TestParamInfo<SeedDefect>& info) { return info.param.name; });
 
 TEST(DoctorSeed002, NonBreakingSpaceBetweenElementsIsAWarningWithLineAndColumn) {
   const std::string urdf = readFile(fixture("robots/minimal.urdf"));
@@ -164,30 +181,6 @@ TEST(DoctorSeed002, NonBreakingSpaceBetweenElementsIsAWarningWithLineAndColumn) 
   EXPECT_EQ(report.exitCode(), 0) << report.text();
   EXPECT_EQ(countFindings(report, kWarning, {"line 4 column 3: holds a non-breaking space (U+00A0"}), 1u)
       << report.text();
-}
-
-TEST(DoctorSeed003, BothReversedRightWheelsOfTheSkidSteerAreReported) {
-  const DoctorReport report = examine("003_reversed_right_axes.urdf");
-  EXPECT_EQ(report.errors(), 2u) << report.text();
-  for (const char* joint : {"joint [yq_Joint]: turns about 0 -1 0", "joint [yh_Joint]: turns about 0 -1 0"})
-    EXPECT_EQ(countFindings(report, kError, {joint, "plugin [skid_steer_drive_controller]"}), 1u)
-        << report.text();
-}
-
-TEST(DoctorSeed003, ZeroEffortAndVelocityOnThePanTiltItDrives) {
-  const DoctorReport report = examine("003_zero_limits.urdf");
-  EXPECT_EQ(report.errors(), 4u) << report.text();  // the loader's refusal, and the doctor's detail
-  for (const char* joint : {"jq1_Joint", "jq2_Joint"}) {
-    const std::string name = joint;
-    EXPECT_EQ(
-        countFindings(report, kError,
-                      {"joint [" + name + "] <limit>", "effort and velocity are 0, yet a plugin drives it"}),
-        1u)
-        << report.text();
-    EXPECT_EQ(countFindings(report, kError, {"plugin [pan_tilt] joint [" + name + "] has no effort limit"}),
-              1u)
-        << report.text();
-  }
 }
 
 TEST(Doctor, ATextWithoutAnyElementIsUnreadable) {  // found by scripts/fuzz.sh
