@@ -13,7 +13,7 @@ namespace bullet_sim {
 namespace {
 
 /// libtest_altimeter.so: publishes a link's pose as odometry at updateRate [Hz]; a Twist's linear.z sets an
-/// offset [m] added to the height it reports.
+/// offset [m] added to the height it reports, and its calibrate service takes the offset away.
 struct AltimeterConfig : PluginConfig {
   std::string link;
   std::string topic = "altitude";
@@ -39,6 +39,10 @@ class Altimeter : public Plugin {
     addInput<Twist>("set_offset", [this](const Twist& twist, double) -> std::string {
       if (!std::isfinite(twist.linear.z())) return "an offset that is not finite";
       offset_ = twist.linear.z();
+      return "";
+    });
+    addService<EmptyRequest>("calibrate", [this](const EmptyRequest&) -> std::string {
+      offset_ = 0;
       return "";
     });
   }
@@ -141,6 +145,14 @@ TEST(PluginRegistry, TheSimulationBuildsItAndItsOutputFollowsFreeFall) {
   for (int i = 0; i < 10; ++i) simulation.step();
   const double later = heights->latest().stamp;
   EXPECT_NEAR(heights->latest().pose.translation().z(), 110.0 - 9.81 * later * later / 2, 0.01);
+
+  ASSERT_EQ(altimeter.ports().services.size(), 1u);
+  EXPECT_EQ(altimeter.ports().services.front().name, "calibrate");
+  const auto& calibrate = std::get<ServiceHandler<EmptyRequest>>(altimeter.ports().services.front().handler);
+  EXPECT_EQ(calibrate(EmptyRequest{}), "");
+  for (int i = 0; i < 10; ++i) simulation.step();
+  const double calibrated = heights->latest().stamp;
+  EXPECT_NEAR(heights->latest().pose.translation().z(), 10.0 - 9.81 * calibrated * calibrated / 2, 0.01);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <std_srvs/Empty.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
@@ -154,6 +155,23 @@ void RobotAdapter::connect(const Plugin& plugin) {
   const Connection connection{handleFor(plugin.robotNamespace()), frames_};
   for (const auto& port : plugin.ports().inputs) subscribe(connection, port);
   for (const auto& port : plugin.ports().outputs) advertise(connection, port);
+  for (const auto& port : plugin.ports().services) serve(connection, port);
+}
+
+void RobotAdapter::serve(const Connection& plugin, const ServicePort& port) {
+  std::visit(
+      [&](const ServiceHandler<EmptyRequest>& handler) {
+        services_.push_back(
+            plugin.handle.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
+                port.name,
+                [handler, name = robot_name_](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+                  const std::string refused = handler(EmptyRequest{});
+                  if (!refused.empty()) ROS_WARN("[%s] %s", name.c_str(), refused.c_str());
+                  return refused.empty();
+                }));
+      },
+      port.handler);
+  topics_.push_back(services_.back().getService() + " (service)");
 }
 
 template <class Message, class Sample, class Convert>

@@ -1,6 +1,6 @@
-// The ROS face of one spawned robot: for every plugin, a subscription per input and a publisher per output,
-// in the robot's namespace and with its frame prefix. Each output type maps to its message, and each input
-// type to its subscription, in one place. Runs between steps, on the node's thread.
+// The ROS face of one spawned robot: for every plugin, a subscription per input, a publisher per output and a
+// server per service, in the robot's namespace and with its frame prefix. Each output type maps to its
+// message, each input type to its subscription and each request type to its service, in one place. Runs between steps, on the node's thread.
 #pragma once
 
 #include <ros/ros.h>
@@ -50,6 +50,7 @@ class RobotAdapter {
   void connect(const Plugin& plugin);
   void advertise(const Connection& plugin, const OutputPort& port);
   void subscribe(const Connection& plugin, const InputPort& port);
+  void serve(const Connection& plugin, const ServicePort& port);
   template <class Message, class Sample, class Convert>
   void advertiseStream(const Connection& plugin, const std::string& topic, const Stream<Sample>* stream,
                        Convert convert);
@@ -63,6 +64,7 @@ class RobotAdapter {
   std::function<double()> sim_time_;
   std::vector<ros::Publisher> publishers_;
   std::vector<ros::Subscriber> subscribers_;
+  std::vector<ros::ServiceServer> services_;
   std::vector<Output> outputs_;
   std::vector<std::string> topics_;
 };

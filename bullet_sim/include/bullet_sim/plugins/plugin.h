@@ -90,6 +90,10 @@ class Plugin {
   void addInput(const std::string& topic, InputHandler<Input> handler) {
     ports_.inputs.push_back({topic, std::move(handler)});
   }
+  template <class Request>
+  void addService(const std::string& name, ServiceHandler<Request> handler) {
+    ports_.services.push_back({name, std::move(handler)});
+  }
 
  private:
   std::string name_;

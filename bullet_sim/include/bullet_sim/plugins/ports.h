@@ -1,6 +1,6 @@
-// How a plugin talks to the outside: typed, sequenced outputs and typed inputs, each under a topic name. The
-// ROS node maps each output type to its message, and each input type to its subscription, once; a plugin
-// whose types exist needs nothing new in the node.
+// How a plugin talks to the outside: typed, sequenced outputs, typed inputs and typed services, each under a
+// name. The ROS node maps each output type to its message, each input type to its subscription and each
+// request type to its service, once; a plugin whose types exist needs nothing new in the node.
 #pragma once
 
 #include <cstdint>
@@ -51,9 +51,24 @@ struct InputPort {
   InputSink sink;
 };
 
+/// A std_srvs/Empty request: the service does its one thing (hector's calibrate, ...).
+struct EmptyRequest {};
+
+/// Serves a request; returns "" when done, else why not (the node then answers with a failure).
+template <class Request>
+using ServiceHandler = std::function<std::string(const Request& request)>;
+
+using ServiceSink = std::variant<ServiceHandler<EmptyRequest>>;
+
+struct ServicePort {
+  std::string name;  ///< relative to the plugin's namespace
+  ServiceSink handler;
+};
+
 struct PluginPorts {
   std::vector<OutputPort> outputs;
   std::vector<InputPort> inputs;
+  std::vector<ServicePort> services;
 };
 
 }  // namespace bullet_sim
