@@ -198,11 +198,11 @@ void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
   ground_.castStatic(ray_origins_, ray_directions_, reach, ray_hits_);
 }
 
-Eigen::Vector3d RaycastRobot::velocityAt(const Eigen::Vector3d& offset) const {
+inline Eigen::Vector3d RaycastRobot::velocityAt(const Eigen::Vector3d& offset) const {
   return fromBullet(chassis_->getLinearVelocity()) + fromBullet(chassis_->getAngularVelocity()).cross(offset);
 }
 
-double RaycastRobot::inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const {
+inline double RaycastRobot::inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const {
   const Eigen::Vector3d arm = offset.cross(direction);
   return 1 / mass_ + arm.dot(inverse_inertia_ * arm);
 }
