@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <optional>
 #include <sstream>
 
 #include "bullet_sim/description/diagnostics.h"
@@ -21,6 +22,16 @@ std::vector<std::string> keysOf(const std::string& path) {
     if (!key.empty()) keys.push_back(key);
   }
   return keys;
+}
+
+/// The node as a T, or nullopt when it is not one.
+template <class T>
+std::optional<T> converted(const YAML::Node& node) {
+  try {
+    return node.as<T>();
+  } catch (const YAML::Exception&) {
+    return std::nullopt;
+  }
 }
 
 std::string describe(const YAML::Node& node) {
@@ -77,21 +88,15 @@ void ParameterTree::wrongKind(const std::string& path, const std::string& kind) 
 double ParameterTree::number(const std::string& path, double fallback) const {
   const auto found = find(path);
   if (!found) return fallback;
-  try {
-    return found->yaml.as<double>();
-  } catch (const YAML::Exception&) {
-    wrongKind(path, "a number");
-  }
+  if (const auto value = converted<double>(found->yaml)) return *value;
+  wrongKind(path, "a number");
 }
 
 bool ParameterTree::flag(const std::string& path, bool fallback) const {
   const auto found = find(path);
   if (!found) return fallback;
-  try {
-    return found->yaml.as<bool>();
-  } catch (const YAML::Exception&) {
-    wrongKind(path, "true or false");
-  }
+  if (const auto value = converted<bool>(found->yaml)) return *value;
+  wrongKind(path, "true or false");
 }
 
 std::string ParameterTree::text(const std::string& path, const std::string& fallback) const {
@@ -104,22 +109,16 @@ std::string ParameterTree::text(const std::string& path, const std::string& fall
 std::vector<double> ParameterTree::numbers(const std::string& path) const {
   const auto found = find(path);
   if (!found) return {};
-  try {
-    return found->yaml.as<std::vector<double>>();
-  } catch (const YAML::Exception&) {
-    wrongKind(path, "a list of numbers");
-  }
+  if (auto values = converted<std::vector<double>>(found->yaml)) return std::move(*values);
+  wrongKind(path, "a list of numbers");
 }
 
 std::vector<std::string> ParameterTree::texts(const std::string& path) const {
   const auto found = find(path);
   if (!found) return {};
   if (found->yaml.IsScalar()) return {found->yaml.Scalar()};
-  try {
-    return found->yaml.as<std::vector<std::string>>();
-  } catch (const YAML::Exception&) {
-    wrongKind(path, "a name or a list of names");
-  }
+  if (auto values = converted<std::vector<std::string>>(found->yaml)) return std::move(*values);
+  wrongKind(path, "a name or a list of names");
 }
 
 }  // namespace bullet_sim
