@@ -240,47 +240,70 @@ test::CommandResult doctor(const std::string& arguments) {
   return result;
 }
 
-TEST(DoctorTool, ExitsZeroOnAShippedXacro) {
-  const auto result =
-      doctor(test::packageFile("smartcar_description", "urdf/smartcar.urdf.xacro") + " with_lidar:=false");
-  EXPECT_EQ(result.status, 0) << result.output << result.errors;
-  EXPECT_THAT(result.output, HasSubstr("smartcar.urdf.xacro: clean"));
+/// urdf_doctor run as a user would, on a file shipped in `package` (none: `file` as it is), and what it must
+/// say.
+struct ToolRun {
+  std::string name;  ///< names the test case
+  std::string package;
+  std::string file;
+  std::string arguments;  ///< after the file
+  int exit_code;
+  std::vector<std::string> said;  ///< parts of its output
+};
+
+class DoctorTool : public ::testing::TestWithParam<ToolRun> {};
+
+TEST_P(DoctorTool, ExitsWithItsCodeAndSaysWhy) {
+  const ToolRun& run = GetParam();
+  const std::string file = run.package.empty() ? run.file : test::packageFile(run.package, run.file);
+  const auto result = doctor(file + " " + run.arguments);
+  EXPECT_EQ(result.status, run.exit_code) << result.output << result.errors;
+  for (const auto& part : run.said) EXPECT_THAT(result.output, HasSubstr(part));
 }
 
-TEST(DoctorTool, ExitsZeroOnWarningsOnly) {
-  const auto result = doctor(fixture("doctor/001_head_collision_shape.urdf"));
-  EXPECT_EQ(result.status, 0) << result.output;
-  EXPECT_THAT(result.output, HasSubstr("0 errors, 1 warning"));
-}
+const ToolRun kToolRuns[] = {
+    {"ZeroOnAShippedXacro",
+     "smartcar_description",
+     "urdf/smartcar.urdf.xacro",
+     "with_lidar:=false",
+     0,
+     {"smartcar.urdf.xacro: clean"}},
+    {"ZeroOnWarningsOnly",
+     "bullet_sim",
+     "test/fixtures/doctor/001_head_collision_shape.urdf",
+     "",
+     0,
+     {"0 errors, 1 warning"}},
+    {"OneAndEveryProblem",
+     "bullet_sim",
+     "test/fixtures/robots/fail_two_problems.urdf",
+     "",
+     1,
+     {"error: link [base_link] <inertial>: mass -1 kg is not positive", "no_such_mesh.stl", "2 errors"}},
+    {"TwoOnAParseError",
+     "bullet_sim",
+     "test/fixtures/doctor/002_non_breaking_space.urdf",
+     "",
+     2,
+     {"line 6 column 14"}},
+    {"TwoWithXacrosMessageWhenXacroFails",
+     "bullet_sim",
+     "test/fixtures/doctor/fail_xacro.urdf.xacro",
+     "",
+     2,
+     {"fail_xacro.urdf.xacro failed: error: name 'undefined_base_name' is not defined"}},
+    {"TwoOnAFileThatCannotBeRead",
+     "",
+     "/nonexistent/robot.urdf",
+     "",
+     2,
+     {"/nonexistent/robot.urdf: error: cannot read the file"}},
+};
 
-TEST(DoctorTool, ExitsOneAndListsEveryProblem) {
-  const auto result = doctor(fixture("robots/fail_two_problems.urdf"));
-  EXPECT_EQ(result.status, 1) << result.output;
-  EXPECT_THAT(result.output, HasSubstr("error: link [base_link] <inertial>: mass -1 kg is not positive"));
-  EXPECT_THAT(result.output, HasSubstr("no_such_mesh.stl"));
-  EXPECT_THAT(result.output, HasSubstr("2 errors"));
-}
+INSTANTIATE_TEST_SUITE_P(Exits, DoctorTool, ::testing::ValuesIn(kToolRuns),
+                         [](const ::testing::TestParamInfo<ToolRun>& info) { return info.param.name; });
 
-TEST(DoctorTool, ExitsTwoOnAParseError) {
-  const auto result = doctor(fixture("doctor/002_non_breaking_space.urdf"));
-  EXPECT_EQ(result.status, 2) << result.output;
-  EXPECT_THAT(result.output, HasSubstr("line 6 column 14"));
-}
-
-TEST(DoctorTool, ExitsTwoWithXacrosMessageWhenXacroFails) {
-  const auto result = doctor(fixture("doctor/fail_xacro.urdf.xacro"));
-  EXPECT_EQ(result.status, 2) << result.output;
-  EXPECT_THAT(result.output,
-              HasSubstr("fail_xacro.urdf.xacro failed: error: name 'undefined_base_name' is not "
-                        "defined"));
-}
-
-TEST(DoctorTool, ExitsTwoOnAFileThatCannotBeRead) {
-  const auto result = doctor("/nonexistent/robot.urdf");
-  EXPECT_EQ(result.status, 2) << result.output;
-  EXPECT_THAT(result.output, HasSubstr("/nonexistent/robot.urdf: error: cannot read the file"));
-  EXPECT_EQ(doctor("").status, 2) << "no file is a usage error";
-}
+TEST(DoctorToolUsage, NoFileIsAUsageError) { EXPECT_EQ(doctor("").status, 2); }
 
 }  // namespace
 }  // namespace bullet_sim

@@ -376,41 +376,41 @@ TEST(WorldSpec, MeshIsFoundRelativeToTheWorldFileAndScaled) {
   EXPECT_TRUE(max.isApprox(Eigen::Vector3d(2, 3, 4))) << max.transpose();
 }
 
-TEST(WorldSpecErrors, MissingFileIsNamed) {
-  const std::string message = loadError(fixture("no_such.world"));
-  EXPECT_TRUE(contains(message, "no_such.world")) << message;
-  EXPECT_TRUE(contains(message, "no such file")) << message;
+/// A world file that must not load, and parts of the error it must give.
+struct BrokenWorld {
+  std::string name;  ///< names the test case
+  std::string fixture;
+  std::vector<std::string> said;
+};
+
+class WorldSpecErrors : public ::testing::TestWithParam<BrokenWorld> {};
+
+TEST_P(WorldSpecErrors, AreNamedWithTheFileAndTheElement) {
+  const std::string message = loadError(fixture(GetParam().fixture));
+  EXPECT_TRUE(contains(message, GetParam().fixture)) << message;
+  for (const auto& part : GetParam().said) EXPECT_TRUE(contains(message, part)) << part << "\n" << message;
 }
 
-TEST(WorldSpecErrors, MissingMeshNamesTheFileTheElementAndTheMesh) {
-  const std::string message = loadError(fixture("fail_missing_mesh.world"));
-  EXPECT_TRUE(contains(message, "fail_missing_mesh.world")) << message;
-  EXPECT_TRUE(contains(message, "model [statue] link [body] collision [shell]")) << message;
-  EXPECT_TRUE(contains(message, "meshes/does_not_exist.stl")) << message;
-}
+const BrokenWorld kBrokenWorlds[] = {
+    {"MissingFile", "no_such.world", {"no such file"}},
+    {"MissingMeshNamesTheElementAndTheMesh",
+     "fail_missing_mesh.world",
+     {"model [statue] link [body] collision [shell]", "meshes/does_not_exist.stl"}},
+    {"UnknownIncludeNamesTheBuiltInItResembles",
+     "fail_unknown_include.world",
+     {"model://ground_plan]", "did you mean [ground_plane]"}},
+    {"MalformedXmlNamesTheElement",
+     "fail_malformed.world",
+     {"fail_malformed.world:7]", "malformed XML", "name=link"}},
+    {"HeightmapIsUnsupported",
+     "fail_heightmap.world",
+     {"model [hills] link [terrain] collision [ground]", "unsupported geometry [heightmap]"}},
+};
 
-TEST(WorldSpecErrors, UnknownIncludeIsNamedWithTheBuiltInItResembles) {
-  const std::string message = loadError(fixture("fail_unknown_include.world"));
-  EXPECT_TRUE(contains(message, "fail_unknown_include.world")) << message;
-  EXPECT_TRUE(contains(message, "model://ground_plan]")) << message;
-  EXPECT_TRUE(contains(message, "did you mean [ground_plane]")) << message;
-}
+INSTANTIATE_TEST_SUITE_P(Fixtures, WorldSpecErrors, ::testing::ValuesIn(kBrokenWorlds),
+                         [](const ::testing::TestParamInfo<BrokenWorld>& info) { return info.param.name; });
 
-TEST(WorldSpecErrors, MalformedXmlNamesTheFileAndTheElement) {
-  const std::string message = loadError(fixture("fail_malformed.world"));
-  EXPECT_TRUE(contains(message, "fail_malformed.world:7]")) << message;
-  EXPECT_TRUE(contains(message, "malformed XML")) << message;
-  EXPECT_TRUE(contains(message, "name=link")) << message;
-}
-
-TEST(WorldSpecErrors, HeightmapIsUnsupportedAndNamed) {
-  const std::string message = loadError(fixture("fail_heightmap.world"));
-  EXPECT_TRUE(contains(message, "fail_heightmap.world")) << message;
-  EXPECT_TRUE(contains(message, "model [hills] link [terrain] collision [ground]")) << message;
-  EXPECT_TRUE(contains(message, "unsupported geometry [heightmap]")) << message;
-}
-
-TEST(WorldSpecErrors, TwoProblemsAreReportedInOneError) {
+TEST(WorldSpecErrorList, TwoProblemsAreReportedInOneError) {
   try {
     load(fixture("fail_two_problems.world"));
     FAIL() << "fail_two_problems.world loaded";
@@ -425,7 +425,7 @@ TEST(WorldSpecErrors, TwoProblemsAreReportedInOneError) {
   }
 }
 
-TEST(WorldSpecErrors, NonPositiveSizesAreRejected) {
+TEST(WorldSpecErrorList, NonPositiveSizesAreRejected) {
   try {
     parse(R"(<sdf version="1.6"><world name="w"><model name="flat"><static>true</static><link name="l">
       <collision name="c"><geometry><box><size>1 0 1</size></box></geometry></collision>

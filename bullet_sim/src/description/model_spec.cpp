@@ -216,24 +216,18 @@ class ModelParser {
     spec.child = joint.child_link_name;
     spec.origin = toIsometry(joint.parent_to_joint_origin_transform);
     spec.axis = Eigen::Vector3d(joint.axis.x, joint.axis.y, joint.axis.z);
-    switch (joint.type) {
-      case urdf::Joint::FIXED:
-        spec.type = JointSpec::Type::kFixed;
-        break;
-      case urdf::Joint::REVOLUTE:
-        spec.type = JointSpec::Type::kRevolute;
-        break;
-      case urdf::Joint::CONTINUOUS:
-        spec.type = JointSpec::Type::kContinuous;
-        break;
-      case urdf::Joint::PRISMATIC:
-        spec.type = JointSpec::Type::kPrismatic;
-        break;
-      default:
-        diagnostics_.error(
-            "joint [" + joint.name +
-            "]: floating and planar joints are not supported; use fixed, revolute, continuous or "
-            "prismatic");
+    static const std::map<int, JointSpec::Type> kTypes = {
+        {urdf::Joint::FIXED, JointSpec::Type::kFixed},
+        {urdf::Joint::REVOLUTE, JointSpec::Type::kRevolute},
+        {urdf::Joint::CONTINUOUS, JointSpec::Type::kContinuous},
+        {urdf::Joint::PRISMATIC, JointSpec::Type::kPrismatic}};
+    if (const auto type = kTypes.find(joint.type); type != kTypes.end()) {
+      spec.type = type->second;
+    } else {
+      diagnostics_.error(
+          "joint [" + joint.name +
+          "]: floating and planar joints are not supported; use fixed, revolute, continuous or "
+          "prismatic");
     }
     if (spec.moves()) {
       if (spec.axis.norm() < 1e-9) {
