@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bullet_sim/description/gazebo_materials.h"
+#include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/description/world_spec.h"
 
 namespace bullet_sim {
@@ -56,28 +57,11 @@ const WorldModelSpec* findModel(const WorldSpec& world, const std::string& name)
   return nullptr;
 }
 
-/// World-frame bounding box of a box, cylinder (along local z) or sphere placed at `pose`.
-Box3 boundingBox(const Shape& shape, const Eigen::Isometry3d& pose) {
-  Eigen::Vector3d half_extent;
-  const Eigen::Matrix3d rotation = pose.linear();
-  switch (shape.type) {
-    case Shape::Type::kBox:
-      half_extent = rotation.cwiseAbs() * (shape.box_size / 2);
-      break;
-    case Shape::Type::kCylinder:
-      for (int i = 0; i < 3; ++i) {
-        const double axis = std::abs(rotation(i, 2));
-        half_extent[i] = axis * shape.length / 2 + shape.radius * std::sqrt(std::max(0.0, 1 - axis * axis));
-      }
-      break;
-    case Shape::Type::kSphere:
-      half_extent.setConstant(shape.radius);
-      break;
-    default:
-      ADD_FAILURE() << "no bounding box for shape type " << static_cast<int>(shape.type);
-      half_extent.setZero();
-  }
-  return {pose.translation() - half_extent, pose.translation() + half_extent};
+/// World-frame bounding box of a shape placed at `pose` (model_geometry's, checked on its own below).
+Box3 boxOf(const Shape& shape, const Eigen::Isometry3d& pose) {
+  const Eigen::AlignedBox3d box = boundingBox(shape, pose);
+  EXPECT_FALSE(box.isEmpty()) << "no bounding box for shape type " << static_cast<int>(shape.type);
+  return {box.min(), box.max()};
 }
 
 /// Bounding boxes of every collision of the world, except the ground plane.
@@ -86,7 +70,7 @@ std::vector<Box3> obstacleBoxes(const WorldSpec& world) {
   for (const auto& model : world.models) {
     for (const auto& collision : model.collisions) {
       if (collision.shape.type == Shape::Type::kPlane) continue;
-      boxes.push_back(boundingBox(collision.shape, model.pose * collision.origin));
+      boxes.push_back(boxOf(collision.shape, model.pose * collision.origin));
     }
   }
   return boxes;
@@ -130,7 +114,7 @@ TEST(WorldSpec, EmptyWorldHasOnlyTheGroundPlane) {
   EXPECT_EQ(floor.shape.type, Shape::Type::kBox);
   EXPECT_DOUBLE_EQ(floor.shape.box_size.x(), 100);
   EXPECT_DOUBLE_EQ(floor.shape.box_size.y(), 100);
-  EXPECT_NEAR(boundingBox(floor.shape, floor.origin).max.z(), 0, kExact);
+  EXPECT_NEAR(boxOf(floor.shape, floor.origin).max.z(), 0, kExact);
   EXPECT_EQ(floor.material, "Gazebo/Grey");
   EXPECT_TRUE(floor.rgba.isApprox(*gazeboMaterialColour("Gazebo/Grey")));
 }
@@ -237,7 +221,7 @@ TEST_F(HomeWorld, TwoMetresAroundTheOriginAreFree) {
   for (const auto& model : world_.models) {
     for (const auto& collision : model.collisions) {
       if (collision.shape.type == Shape::Type::kPlane) continue;
-      const Box3 box = boundingBox(collision.shape, model.pose * collision.origin);
+      const Box3 box = boxOf(collision.shape, model.pose * collision.origin);
       EXPECT_GT(footprintDistance(box, 0, 0), 2.0)
           << model.name << " intrudes on the free circle at the origin";
     }
@@ -449,6 +433,37 @@ TEST(GazeboMaterials, KnownNamesHaveTheirColourAndOthersNone) {
     const Eigen::Vector4d rgba = *gazeboMaterialColour(name);
     EXPECT_TRUE((rgba.array() >= 0).all() && (rgba.array() <= 1).all()) << name;
   }
+}
+
+}  // namespace
+}  // namespace bullet_sim
+
+namespace bullet_sim {
+namespace {
+
+TEST(ModelGeometry, BoundingBoxesOfTurnedShapesAreTheirWorldExtents) {
+  Shape box;
+  box.type = Shape::Type::kBox;
+  box.box_size = Eigen::Vector3d(1, 2, 3);
+  Shape cylinder;
+  cylinder.type = Shape::Type::kCylinder;
+  cylinder.radius = 0.5;
+  cylinder.length = 2;
+  Shape sphere;
+  sphere.type = Shape::Type::kSphere;
+  sphere.radius = 1;
+  const Eigen::Isometry3d at(Eigen::Translation3d(1, 2, 3));
+  const auto extent = [&](const Shape& shape, const Eigen::Matrix3d& turn) -> Eigen::Vector3d {
+    const Eigen::AlignedBox3d box = boundingBox(shape, at * Eigen::Isometry3d(turn));
+    return box.max() - box.min();
+  };
+  const Eigen::Matrix3d quarter_z = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d quarter_y = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_TRUE(extent(box, quarter_z).isApprox(Eigen::Vector3d(2, 1, 3)));
+  EXPECT_TRUE(extent(cylinder, quarter_y).isApprox(Eigen::Vector3d(2, 1, 1)));  // lying along x
+  EXPECT_TRUE(extent(sphere, quarter_y).isApprox(Eigen::Vector3d(2, 2, 2)));
+  const Eigen::AlignedBox3d ball = boundingBox(sphere, at);
+  EXPECT_TRUE(ball.min().isApprox(Eigen::Vector3d(0, 1, 2)));
 }
 
 }  // namespace
