@@ -14,12 +14,6 @@ namespace {
 constexpr double kGeometryTolerance = 0.005;  // [m] tag figures vs URDF geometry before we say so
 constexpr double kMinVerticalAxis = 0.9;      // |z| of a steering axis, as a unit vector in the base frame
 
-/// A tag under ROS 2's name, or else under the ROS 1 name our other drives use.
-std::string eitherText(PluginTags& tags, const std::string& ros2, const std::string& ros1,
-                       const std::string& fallback) {
-  return tags.text(ros2, tags.text(ros1, fallback));
-}
-
 std::optional<double> optionalPositive(PluginTags& tags, const std::string& tag) {
   if (!tags.has(tag)) return std::nullopt;
   return tags.positive(tag, 0.0);
@@ -33,14 +27,14 @@ std::string vectorText(const Eigen::Vector3d& v) {
 
 /// The tags, with ROS 2's names; the URDF's figures come later (readGeometry).
 void readAckermannTags(PluginTags& tags, AckermannConfig& config) {
-  config.command_topic = eitherText(tags, "command_topic", "commandTopic", config.command_topic);
-  config.odometry_topic = eitherText(tags, "odometry_topic", "odometryTopic", config.odometry_topic);
-  config.odometry_frame = eitherText(tags, "odometry_frame", "odometryFrame", config.odometry_frame);
-  config.robot_base_frame = eitherText(tags, "robot_base_frame", "robotBaseFrame", config.robot_base_frame);
-  config.update_rate =
-      tags.positive("update_rate", tags.positive("updateRate", config.update_rate, /*allow_zero=*/true),
-                    /*allow_zero=*/true);
-  readDriveExtras(tags, config);
+  // ROS 2's names first, and the ROS 1 names our other drives use.
+  readDriveHead(tags,
+                {{"command_topic", "commandTopic"},
+                 {"odometry_topic", "odometryTopic"},
+                 {"odometry_frame", "odometryFrame"},
+                 {"robot_base_frame", "robotBaseFrame"},
+                 {"update_rate", "updateRate"}},
+                config);
 
   config.front_left_joint = tags.text("front_left_joint", config.front_left_joint);
   config.front_right_joint = tags.text("front_right_joint", config.front_right_joint);

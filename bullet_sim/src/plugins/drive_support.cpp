@@ -5,7 +5,24 @@
 
 namespace bullet_sim {
 
-void readDriveExtras(PluginTags& tags, DriveConfigHead& head) {
+namespace {
+
+/// The text of the first of `names` present, or `fallback`; every one of them counts as read.
+std::string firstText(PluginTags& tags, const std::vector<std::string>& names, const std::string& fallback) {
+  std::string value = fallback;
+  for (auto name = names.rbegin(); name != names.rend(); ++name) value = tags.text(*name, value);
+  return value;
+}
+
+}  // namespace
+
+void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead& head) {
+  head.command_topic = firstText(tags, names.command_topic, head.command_topic);
+  head.odometry_topic = firstText(tags, names.odometry_topic, head.odometry_topic);
+  head.odometry_frame = firstText(tags, names.odometry_frame, head.odometry_frame);
+  head.robot_base_frame = firstText(tags, names.robot_base_frame, head.robot_base_frame);
+  for (auto name = names.update_rate.rbegin(); name != names.update_rate.rend(); ++name)
+    head.update_rate = tags.positive(*name, head.update_rate, /*allow_zero=*/true);
   head.robot_namespace = tags.text("robotNamespace", "");
   head.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
   head.wheel_model = tags.text("wheelModel", head.wheel_model);

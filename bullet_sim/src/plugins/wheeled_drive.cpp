@@ -13,14 +13,9 @@ namespace {
 constexpr double kGeometryTolerance = 0.005;  // [m] plugin figures vs URDF geometry before we say so
 
 void readCommon(PluginTags& tags, DriveConfig& config) {
-  config.command_topic = tags.text("commandTopic", config.command_topic);
-  config.odometry_topic = tags.text("odometryTopic", config.odometry_topic);
-  config.odometry_frame = tags.text("odometryFrame", config.odometry_frame);
-  config.robot_base_frame = tags.text("robotBaseFrame", config.robot_base_frame);
+  readDriveHead(tags, DriveTagNames{}, config);
   config.wheel_separation = tags.positive("wheelSeparation", config.wheel_separation);
   config.wheel_diameter = tags.positive("wheelDiameter", config.wheel_diameter);
-  config.update_rate = tags.positive("updateRate", config.update_rate, /*allow_zero=*/true);
-  readDriveExtras(tags, config);
 }
 
 std::string vectorText(const Eigen::Vector3d& v) {

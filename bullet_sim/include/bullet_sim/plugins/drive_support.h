@@ -5,6 +5,7 @@
 #include <array>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/plugins/plugin.h"
 
@@ -24,8 +25,19 @@ struct DriveConfigHead : PluginConfig {
   std::array<double, 36> twist_covariance{};
 };
 
-/// Reads what every drive reads under the same names: robotNamespace, and our commandTimeout and wheelModel.
-void readDriveExtras(PluginTags& tags, DriveConfigHead& head);
+/// The tag names a drive reads its head's fields under; where several are given, the first present wins (the
+/// Ackermann drive takes ROS 2's names, and ROS 1's too).
+struct DriveTagNames {
+  std::vector<std::string> command_topic{"commandTopic"};
+  std::vector<std::string> odometry_topic{"odometryTopic"};
+  std::vector<std::string> odometry_frame{"odometryFrame"};
+  std::vector<std::string> robot_base_frame{"robotBaseFrame"};
+  std::vector<std::string> update_rate{"updateRate"};
+};
+
+/// Reads the head: its topics, frames and update rate under `names`, then robotNamespace and our
+/// commandTimeout and wheelModel, which every drive spells alike.
+void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead& head);
 
 /// A pose or twist covariance that knows x, y and yaw, and nothing (1e12) of z, roll and pitch.
 std::array<double, 36> planarCovariance(double x, double y, double yaw);
