@@ -1,7 +1,7 @@
 # Fails the configure step when a file includes a header of a layer above its own. The layers, from the
 # bottom: description, sensing, physics, plugins, simulation, scene (building), render, tools, ros. The
-# renderer knows only the plain Scene: besides its own headers it may include scene/scene.h and
-# scene/camera.h.
+# renderer knows only the plain Scene: besides its own headers it may include scene/scene.h,
+# scene/camera.h, scene/image.h and scene/scene_renderer.h (the interface it implements).
 set(BULLET_SIM_LAYERS description sensing physics plugins simulation scene render tools ros)
 
 # The layer of a source or header path: its folder under include/bullet_sim or src, or "simulation".
@@ -36,7 +36,7 @@ function(layer_check)
       if(used_rank GREATER rank)
         message(FATAL_ERROR "layer ${layer} must not include a layer above it: ${path} has ${line}")
       endif()
-      if(layer STREQUAL "render" AND NOT used STREQUAL "render" AND NOT header MATCHES "^scene/(scene|camera)\\.h$")
+      if(layer STREQUAL "render" AND NOT used STREQUAL "render" AND NOT header MATCHES "^scene/(scene|camera|image|scene_renderer)\\.h$")
         message(FATAL_ERROR "the renderer knows only the plain Scene: ${path} has ${line}")
       endif()
     endforeach()

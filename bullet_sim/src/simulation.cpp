@@ -103,6 +103,7 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     if (!model.collisions.empty()) rays_.addBody(model.collisions, model.pose, /*is_static=*/true);
   }
   rays_.commit();
+  if (options_.images) images_ = options_.images(*this);
 }
 
 Simulation::~Simulation() = default;
@@ -162,8 +163,8 @@ void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
   try {
     for (const auto& declaration : robot.body().spec().plugins) {
       const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
-      const PluginSetup setup{robot.body(), robot.name(), options_.seed, world_.gravity,
-                              part >= 0 ? robot.ray_bodies_[part] : kNoBody};
+      const PluginSetup setup{robot.body(),    robot.name(), options_.seed, world_.gravity,
+                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get()};
       robot.plugins_.push_back(options_.plugins->create(declaration, setup));
     }
   } catch (const std::exception& e) {

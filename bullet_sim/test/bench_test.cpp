@@ -83,11 +83,22 @@ TEST(Bench, AppliesTheWheelModelAndLidarOptionsToTheRobot) {
   EXPECT_THAT(result.output, HasSubstr("\"pose_error_steady_m\": null"));
 }
 
+TEST(Bench, ACameraRendersAtItsRateAndAnUnwantedOneRendersNothing) {
+  const test::CommandResult result =
+      test::run(bench(scenario() + " --camera 64x48@20 --depth --duration 0.5 --repeat 1"));
+  ASSERT_EQ(result.status, 0) << result.errors;
+  const auto numbers = numbersIn(result.output, {"rtf_camera", "rtf_camera_idle", "camera_frames_per_run"});
+  // 0.5 s of settling and 0.5 s of driving at 20 Hz.
+  EXPECT_EQ(numbers.at("camera_frames_per_run"), 20);
+  EXPECT_THAT(result.output, HasSubstr("\"camera_idle_frames_per_run\": 0"));
+}
+
 TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
   for (const std::string args :
        {"", "--world home.world", "--robot x.urdf --bogus 1", "--robot x.urdf --cmd 0.5",
         "--robot x.urdf --lidar 1800x", "--robot x.urdf --repeat 0", "--robot x.urdf --wheel-model tank",
-        "--robot x.urdf --step -1", "--robot x.urdf --render 640"}) {
+        "--robot x.urdf --step -1", "--robot x.urdf --render 640", "--robot x.urdf --depth",
+        "--robot x.urdf --camera 640x480", "--robot x.urdf --camera 640x480@0"}) {
     SCOPED_TRACE(args);
     const test::CommandResult result = test::run(bench(args));
     EXPECT_EQ(result.status, 2);

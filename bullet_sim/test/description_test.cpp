@@ -17,6 +17,7 @@
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/plugins/ackermann_drive.h"
 #include "bullet_sim/plugins/imu.h"
+#include "bullet_sim/plugins/pinhole_camera.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
@@ -194,8 +195,9 @@ TEST_P(Description, SensorFrameNamesExist) {
     if (!plugin.sensor) continue;
     const auto* lidar = plugin.configAs<RayLidarConfig>();
     const auto* imu = plugin.configAs<ImuConfig>();
-    ASSERT_TRUE(lidar || imu) << plugin.where() << " is neither a lidar nor an IMU";
-    const std::string& frame = lidar ? lidar->frame : imu->frame;
+    const auto* camera = plugin.configAs<PinholeCameraConfig>();
+    ASSERT_TRUE(lidar || imu || camera) << plugin.where() << " is not a lidar, an IMU or a camera";
+    const std::string& frame = lidar ? lidar->frame : imu ? imu->frame : camera->frame;
     EXPECT_TRUE(model_.link(frame)) << plugin.where() << " <frameName>" << frame;
   }
 }

@@ -10,6 +10,7 @@
 
 #include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/recording.h"
 #include "bullet_sim/scene/robot_snapshot.h"
@@ -460,6 +461,24 @@ TEST(RenderModel, WritesAPngOfTheRequestedSize) {
   std::remove(out.c_str());
   EXPECT_EQ(image.width, 320);
   EXPECT_EQ(image.height, 200);
+}
+
+TEST(RenderModel, CameraViewsAreTheCamerasOwnImageAtItsSize) {
+  const std::string out = temporaryPath(".png");
+  const std::string robot = "--urdf '" + test::fixture("robots/depth_camera_box.urdf") + "' --world home.world";
+  test::CommandResult result = test::run(std::string(RENDER_MODEL) + " " + robot +
+                                         " --pose -2,0,0 --view depth:depth_camera --out " + out);
+  ASSERT_EQ(result.status, 0) << result.errors;
+  const Image depth = readPng(out);
+  std::remove(out.c_str());
+  EXPECT_EQ(depth.width, 640);
+  EXPECT_EQ(depth.height, 480);
+  // The floor just below the view centre is nearer than the far wall above it: brighter in a depth picture.
+  EXPECT_GT(rgbAt(depth, 320, 470)[0], rgbAt(depth, 320, 100)[0]);
+
+  result = test::run(std::string(RENDER_MODEL) + " " + robot + " --view camera:nope --out " + out);
+  EXPECT_EQ(result.status, 1);
+  EXPECT_THAT(result.errors, HasSubstr("no robot has a camera [nope]; the cameras are: [depth_camera]"));
 }
 
 TEST(RenderModel, BadArgumentsPrintTheUsageAndExitWith2) {

@@ -2,6 +2,7 @@
 // every robot's plugins around the physics. ROS-free; time is a count of steps, never a clock.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -27,11 +28,19 @@ struct SpawnPose {
   std::map<std::string, double> joints;  ///< initial joint positions (spawn_model -J) [rad] or [m]; others 0
 };
 
+class Simulation;
+
+/// Makes the image source that a simulation's cameras render through; it may keep the simulation to draw.
+using ImageSourceFactory = std::function<std::unique_ptr<ImageSource>(const Simulation& simulation)>;
+
 struct SimulationOptions {
   PhysicsOptions physics;
   uint64_t seed = 0;  ///< seeds every sensor's noise; the same inputs and seed give a bit-identical run
   /// Builds the robots' plugins: the registry their models were parsed with. It must outlive the simulation.
   const PluginRegistry* plugins = &PluginRegistry::builtin();
+  /// Gives cameras their images (scene/simulation_images.h over a renderer). Without it, cameras publish
+  /// nothing: the node always gives one, and tools that draw no camera image need none.
+  ImageSourceFactory images;
 };
 
 /// A spawned robot: its physics and its plugins.
@@ -106,6 +115,7 @@ class Simulation {
   SimulationOptions options_;
   std::unique_ptr<PhysicsWorld> physics_;
   RayCaster rays_;
+  std::unique_ptr<ImageSource> images_;         ///< outlives the robots' cameras
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   uint64_t steps_ = 0;
 };

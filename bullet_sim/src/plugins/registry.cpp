@@ -8,6 +8,7 @@
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/joint_states.h"
+#include "bullet_sim/plugins/pinhole_camera.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 
@@ -16,6 +17,7 @@ namespace bullet_sim {
 namespace {
 
 const std::vector<std::string> kRaySensors = {"ray", "gpu_ray"};
+const std::vector<std::string> kCameraSensors = {"camera", "wideanglecamera"};
 
 PluginRegistry makeBuiltin() {
   PluginRegistry registry;
@@ -33,6 +35,9 @@ PluginRegistry makeBuiltin() {
            pluginType<RayLidar>("libgazebo_ros_velodyne_laser.so", kRaySensors, parseRayLidar),
            pluginType<RayLidar>("libgazebo_ros_velodyne_gpu_laser.so", kRaySensors, parseRayLidar),
            pluginType<RayLidar>("libgazebo_ros_block_laser.so", kRaySensors, parseRayLidar),
+           pluginType<PinholeCamera>("libgazebo_ros_camera.so", kCameraSensors, parseCamera),
+           pluginType<PinholeCamera>("libgazebo_ros_openni_kinect.so", {"depth"}, parseDepthCamera),
+           pluginType<PinholeCamera>("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera),
        }) {
     registry.add(std::move(type));
   }

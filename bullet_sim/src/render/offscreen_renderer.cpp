@@ -5,7 +5,9 @@
 #include <GL/glext.h>
 #include <GL/osmesa.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -105,7 +107,7 @@ class OffscreenRenderer::Context {
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
 
-  Image render(const Scene& scene, int width, int height) {
+  Image render(const Scene& scene, int width, int height, std::vector<float>* depth) {
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
       throw std::invalid_argument("OffscreenRenderer: cannot render " + std::to_string(width) + "x" +
                                   std::to_string(height) + " pixels; each side must be 1 to " +
@@ -154,6 +156,7 @@ class OffscreenRenderer::Context {
     glEnable(GL_DEPTH_TEST);
 
     glFinish();
+    if (depth) readDepth(scene.camera, width, height, *depth);
     forgetDeadMeshes();
     return Image{width, height, pixels_};
   }
@@ -181,6 +184,22 @@ class OffscreenRenderer::Context {
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glEnableClientState(GL_VERTEX_ARRAY);
     initialised_ = true;
+  }
+
+  /// The depth buffer as distances along the view axis [m], rows top first; +inf where nothing was drawn.
+  static void readDepth(const Camera& camera, int width, int height, std::vector<float>& depth) {
+    depth.resize(static_cast<size_t>(width) * height);
+    glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+    for (float& value : depth) {
+      // [0, 1]; 1 is the far plane, where nothing was drawn
+      value = value >= 1 ? std::numeric_limits<float>::infinity() : static_cast<float>(camera.viewDepth(value));
+    }
+    // OpenGL reads the bottom row first.
+    for (int row = 0; row < height / 2; ++row) {
+      std::swap_ranges(depth.begin() + static_cast<long>(row) * width,
+                       depth.begin() + static_cast<long>(row + 1) * width,
+                       depth.begin() + static_cast<long>(height - 1 - row) * width);
+    }
   }
 
   /// Call with the view matrix loaded: GL fixes the light's direction in eye coordinates then.
@@ -281,9 +300,9 @@ OffscreenRenderer::~OffscreenRenderer() = default;
 OffscreenRenderer::OffscreenRenderer(OffscreenRenderer&&) noexcept = default;
 OffscreenRenderer& OffscreenRenderer::operator=(OffscreenRenderer&&) noexcept = default;
 
-Image OffscreenRenderer::render(const Scene& scene, int width, int height) {
+Image OffscreenRenderer::render(const Scene& scene, int width, int height, std::vector<float>* depth) {
   if (!context_) throw std::logic_error("OffscreenRenderer::render: this renderer was moved from");
-  return context_->render(scene, width, height);
+  return context_->render(scene, width, height, depth);
 }
 
 }  // namespace bullet_sim

@@ -1,7 +1,11 @@
 #include "robot_adapter.h"
 
+#include <camera_info_manager/camera_info_manager.h>
 #include <geometry_msgs/Twist.h>
+#include <image_transport/image_transport.h>
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
@@ -123,6 +127,42 @@ sensor_msgs::Imu toMessage(const ImuSample& sample, const FramePrefix& frames) {
   return message;
 }
 
+sensor_msgs::Image toMessage(const CameraImage& image, const FramePrefix& frames) {
+  sensor_msgs::Image message;
+  message.header = header(image.stamp, frames(image.frame_id));
+  message.width = image.width;
+  message.height = image.height;
+  message.encoding = image.encoding;
+  message.is_bigendian = false;
+  message.step = image.step;
+  message.data = image.data;
+  return message;
+}
+
+/// gazebo_ros_openni_kinect's layout: x y z (float32) and rgb (packed in a float32), width x height.
+sensor_msgs::PointCloud2 toMessage(const ColouredCloud& cloud, const FramePrefix& frames) {
+  sensor_msgs::PointCloud2 message;
+  message.header = header(cloud.stamp, frames(cloud.frame_id));
+  sensor_msgs::PointCloud2Modifier fields(message);
+  fields.setPointCloud2FieldsByString(2, "xyz", "rgb");
+  fields.resize(cloud.points.size());
+  message.width = cloud.width;
+  message.height = cloud.height;
+  message.row_step = message.point_step * message.width;
+  sensor_msgs::PointCloud2Iterator<float> x(message, "x");
+  sensor_msgs::PointCloud2Iterator<uint8_t> rgb(message, "rgb");
+  for (size_t i = 0; i < cloud.points.size(); ++i, ++x, ++rgb) {
+    x[0] = cloud.points[i].x();
+    x[1] = cloud.points[i].y();
+    x[2] = cloud.points[i].z();
+    rgb[0] = cloud.rgb[i][2];  // PCL's packed rgb: blue in the lowest byte
+    rgb[1] = cloud.rgb[i][1];
+    rgb[2] = cloud.rgb[i][0];
+  }
+  message.is_dense = cloud.is_dense;
+  return message;
+}
+
 }  // namespace
 
 std::string FramePrefix::operator()(const std::string& frame) const {
@@ -175,15 +215,60 @@ void RobotAdapter::serve(const Connection& plugin, const ServicePort& port) {
 }
 
 template <class Message, class Sample, class Convert>
-void RobotAdapter::advertiseStream(const Connection& plugin, const std::string& topic,
+void RobotAdapter::advertiseStream(const Connection& plugin, const OutputPort& port,
                                    const Stream<Sample>* stream, Convert convert) {
-  ros::Publisher publisher = plugin.handle.advertise<Message>(topic, 10);
+  ros::Publisher publisher = plugin.handle.advertise<Message>(port.topic, 10);
   publishers_.push_back(publisher);
   topics_.push_back(publisher.getTopic());
   outputs_.push_back({[stream] { return stream->count(); },
                       [publisher, stream, convert, frames = plugin.frames] {
                         publisher.publish(convert(stream->latest(), frames));
-                      }});
+                      },
+                      0, port.demand, [publisher] { return publisher.getNumSubscribers(); }});
+}
+
+void RobotAdapter::advertiseImages(const Connection& plugin, const OutputPort& port,
+                                   const Stream<CameraImage>* stream) {
+  image_transport::ImageTransport transport(plugin.handle);
+  image_transport::Publisher publisher = transport.advertise(port.topic, 2);
+  image_publishers_.push_back(publisher);
+  topics_.push_back(publisher.getTopic());
+  outputs_.push_back({[stream] { return stream->count(); },
+                      [publisher, stream, frames = plugin.frames] {
+                        publisher.publish(toMessage(stream->latest(), frames));
+                      },
+                      0, port.demand, [publisher] { return publisher.getNumSubscribers(); }});
+}
+
+void RobotAdapter::advertiseCameraInfo(const Connection& plugin, const OutputPort& port,
+                                       const Stream<CameraInfo>* stream) {
+  // One camera_info_manager per camera, as gazebo_ros_camera_utils has: its set_camera_info service changes
+  // what every camera_info topic of the camera publishes.
+  const CameraInfo& initial = stream->latest();
+  const ros::NodeHandle camera_handle(plugin.handle, initial.camera_name);
+  auto& manager = info_managers_[camera_handle.getNamespace()];
+  if (!manager) {
+    manager = std::make_shared<camera_info_manager::CameraInfoManager>(camera_handle, initial.camera_name);
+    sensor_msgs::CameraInfo info;
+    info.width = initial.width;
+    info.height = initial.height;
+    info.distortion_model = initial.distortion_model;
+    info.D.assign(initial.D.begin(), initial.D.end());
+    std::copy(initial.K.begin(), initial.K.end(), info.K.begin());
+    std::copy(initial.R.begin(), initial.R.end(), info.R.begin());
+    std::copy(initial.P.begin(), initial.P.end(), info.P.begin());
+    manager->setCameraInfo(info);
+  }
+  ros::Publisher publisher = plugin.handle.advertise<sensor_msgs::CameraInfo>(port.topic, 2);
+  publishers_.push_back(publisher);
+  topics_.push_back(publisher.getTopic());
+  outputs_.push_back({[stream] { return stream->count(); },
+                      [publisher, stream, manager, frames = plugin.frames] {
+                        sensor_msgs::CameraInfo info = manager->getCameraInfo();
+                        info.header = header(stream->latest().stamp, frames(stream->latest().frame_id));
+                        publisher.publish(info);
+                      },
+                      0, port.demand, [publisher] { return publisher.getNumSubscribers(); }});
 }
 
 void RobotAdapter::broadcast(const Stream<TransformSample>* stream, const FramePrefix& frames) {
@@ -200,7 +285,6 @@ void RobotAdapter::broadcast(const Stream<TransformSample>* stream, const FrameP
 }
 
 void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
-  const auto& topic = port.topic;
   const auto convert = [](const auto& sample, const FramePrefix& frames) {
     return toMessage(sample, frames);
   };
@@ -209,9 +293,13 @@ void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
         using Sample = std::decay_t<decltype(stream->latest())>;
         if constexpr (std::is_same_v<Sample, TransformSample>) {
           broadcast(stream, plugin.frames);
+        } else if constexpr (std::is_same_v<Sample, CameraImage>) {
+          advertiseImages(plugin, port, stream);
+        } else if constexpr (std::is_same_v<Sample, CameraInfo>) {
+          advertiseCameraInfo(plugin, port, stream);
         } else {
           using Message = decltype(toMessage(stream->latest(), plugin.frames));
-          advertiseStream<Message>(plugin, topic, stream, convert);
+          advertiseStream<Message>(plugin, port, stream, convert);
         }
       },
       port.stream);
@@ -258,6 +346,7 @@ void RobotAdapter::publish() {
       output.seen = count;
       output.publish();
     }
+    if (output.demand) output.demand->wanted = output.subscribers() > 0;
   }
 }
 

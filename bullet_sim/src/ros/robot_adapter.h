@@ -3,14 +3,21 @@
 // message, each input type to its subscription and each request type to its service, in one place. Runs between steps, on the node's thread.
 #pragma once
 
+#include <image_transport/publisher.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <functional>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bullet_sim/simulation.h"
+
+namespace camera_info_manager {
+class CameraInfoManager;
+}
 
 namespace bullet_sim {
 
@@ -33,7 +40,8 @@ class RobotAdapter {
   RobotAdapter(Robot& robot, const std::string& robot_namespace, tf2_ros::TransformBroadcaster& tf,
                std::function<double()> sim_time);
 
-  /// Publishes what the plugins produced since the last call.
+  /// Publishes what the plugins produced since the last call, and tells each plugin whether its on-demand
+  /// outputs (camera images) have subscribers now.
   void publish();
 
   /// The topics this robot advertises and subscribes, for the log.
@@ -44,6 +52,8 @@ class RobotAdapter {
     std::function<uint64_t()> count;  ///< changes when the plugin has a new sample
     std::function<void()> publish;
     uint64_t seen = 0;
+    Demand* demand = nullptr;  ///< the plugin's, set from the subscriber count
+    std::function<uint32_t()> subscribers;
   };
   struct Connection;  ///< what connect() needs of one plugin
 
@@ -52,8 +62,12 @@ class RobotAdapter {
   void subscribe(const Connection& plugin, const InputPort& port);
   void serve(const Connection& plugin, const ServicePort& port);
   template <class Message, class Sample, class Convert>
-  void advertiseStream(const Connection& plugin, const std::string& topic, const Stream<Sample>* stream,
+  void advertiseStream(const Connection& plugin, const OutputPort& port, const Stream<Sample>* stream,
                        Convert convert);
+  /// Images go through image_transport (raw only: Debian has no compressed transport).
+  void advertiseImages(const Connection& plugin, const OutputPort& port, const Stream<CameraImage>* stream);
+  /// camera_info comes from the camera's camera_info_manager, which serves set_camera_info.
+  void advertiseCameraInfo(const Connection& plugin, const OutputPort& port, const Stream<CameraInfo>* stream);
   void broadcast(const Stream<TransformSample>* stream, const FramePrefix& frames);
   ros::NodeHandle handleFor(const std::string& plugin_namespace) const;
 
@@ -63,6 +77,9 @@ class RobotAdapter {
   tf2_ros::TransformBroadcaster& tf_;
   std::function<double()> sim_time_;
   std::vector<ros::Publisher> publishers_;
+  std::vector<image_transport::Publisher> image_publishers_;
+  /// By the camera's namespace.
+  std::map<std::string, std::shared_ptr<camera_info_manager::CameraInfoManager>> info_managers_;
   std::vector<ros::Subscriber> subscribers_;
   std::vector<ros::ServiceServer> services_;
   std::vector<Output> outputs_;

@@ -70,6 +70,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
     ROS_INFO(
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
+  options.images = imagesFrom([this]() -> SceneRenderer& { return renderer(); });
   simulation_ = std::make_unique<Simulation>(loadWorldParam(private_), options);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
   recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
@@ -120,7 +121,7 @@ void SimulatorNode::step() {
 void SimulatorNode::afterStep() {
   if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
-    if (!writeSnapshot(snapshot_dir_ / *frame, View::kChase, 640, 480, &error)) {
+    if (!writeSnapshot(snapshot_dir_ / *frame, [this] { return drawView(View::kChase, 640, 480); }, &error)) {
       ROS_WARN_THROTTLE(10, "~snapshot_period: %s", error.c_str());
     }
   }
@@ -209,8 +210,12 @@ bool SimulatorNode::snapshot(Snapshot::Request& request, Snapshot::Response& res
     ROS_WARN("~snapshot refused: %s", why.c_str());
     return true;
   };
-  const auto view = parseView(request.view.empty() ? "chase" : request.view);
-  if (!view) return refuse("unknown view [" + request.view + "]: use chase, top or front");
+  const std::string view_name = request.view.empty() ? "chase" : request.view;
+  const auto view = parseView(view_name);
+  const auto camera = parseCameraView(view_name);
+  if (!view && !camera) {
+    return refuse("unknown view [" + request.view + "]: use chase, top, front, camera:NAME or depth:NAME");
+  }
   const int width = request.width == 0 ? 640 : static_cast<int>(std::min<uint32_t>(request.width, 1u << 30));
   const int height =
       request.height == 0 ? 480 : static_cast<int>(std::min<uint32_t>(request.height, 1u << 30));
@@ -225,25 +230,35 @@ bool SimulatorNode::snapshot(Snapshot::Request& request, Snapshot::Response& res
   }
   std::string error;
   const std::filesystem::path path = snapshot_dir_ / file;
-  if (!writeSnapshot(path, *view, width, height, &error)) return refuse(error);
+  const auto draw = [&] {
+    return camera ? cameraImage(*simulation_, *camera, renderer()) : drawView(*view, width, height);
+  };
+  if (!writeSnapshot(path, draw, &error)) return refuse(error);
   response.success = true;
   response.path = path.string();
   response.message = "wrote " + response.path;
   return true;
 }
 
-bool SimulatorNode::writeSnapshot(const std::filesystem::path& path, View view, int width, int height,
+Image SimulatorNode::drawView(View view, int width, int height) {
+  return renderer().render(simulationScene(*simulation_, view, "", recording_->trails()), width, height);
+}
+
+bool SimulatorNode::writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw,
                                   std::string* error) {
   try {
     std::filesystem::create_directories(path.parent_path());
-    if (!renderer_) renderer_ = std::make_unique<OffscreenRenderer>();
-    const Image image =
-        renderer_->render(simulationScene(*simulation_, view, "", recording_->trails()), width, height);
+    const Image image = draw();
     return writePng(path.string(), image, error);
   } catch (const std::exception& e) {
     *error = e.what();
     return false;
   }
+}
+
+SceneRenderer& SimulatorNode::renderer() {
+  if (!renderer_) renderer_ = std::make_unique<OffscreenRenderer>();
+  return *renderer_;
 }
 
 }  // namespace bullet_sim

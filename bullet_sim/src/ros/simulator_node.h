@@ -23,7 +23,9 @@
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/camera.h"
 #include "bullet_sim/scene/recording.h"
+#include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene.h"
+#include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation.h"
 #include "robot_adapter.h"
 
@@ -46,13 +48,17 @@ class SimulatorNode {
   bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool snapshot(Snapshot::Request& request, Snapshot::Response& response);
 
-  /// Renders the simulation from `view` into a PNG at `path`; false with `error` when it cannot.
-  bool writeSnapshot(const std::filesystem::path& path, View view, int width, int height, std::string* error);
+  /// Writes what `draw` renders into a PNG at `path`; false with `error` when it cannot.
+  bool writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw, std::string* error);
+  /// The simulation from `view`, with the trails.
+  Image drawView(View view, int width, int height);
   /// Extends each robot's trail and writes the periodic frame when one is due.
   void afterStep();
 
   void step();
   void publishClock();
+  /// The renderer of snapshots and cameras, created when first used.
+  SceneRenderer& renderer();
   /// Sim time and wall time are matched from now on (after a pause, a reset or a late step).
   void anchorPacing();
 
@@ -71,7 +77,7 @@ class SimulatorNode {
   ros::WallTime wall_anchor_;
   double sim_anchor_ = 0;
 
-  std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot
+  std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot or camera frame
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
 };

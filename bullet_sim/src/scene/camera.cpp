@@ -6,7 +6,6 @@ namespace bullet_sim {
 
 namespace {
 
-constexpr double kFarClip = 500;  // [m]: well past the 100 m ground plane seen edge-on
 // The plan camera floats this high [m] and sees everything within this distance of z = 0.
 constexpr double kTopDownHeight = 1000;
 constexpr double kViewFov = 45 * M_PI / 180;
@@ -89,13 +88,20 @@ Eigen::Matrix4d Camera::projectionMatrix(double aspect) const {
     return matrix;
   }
   const double focal = 1 / std::tan(vertical_fov / 2);
-  const double near = near_clip, far = std::max(kFarClip, 2 * near_clip);
+  const double near = near_clip, far = std::max(far_clip, 2 * near_clip);
   matrix(0, 0) = focal / aspect;
   matrix(1, 1) = focal;
   matrix(2, 2) = (far + near) / (near - far);
   matrix(2, 3) = 2 * far * near / (near - far);
   matrix(3, 2) = -1;
   return matrix;
+}
+
+double Camera::viewDepth(double window) const {
+  if (projection == Projection::kOrthographic) return window * 2 * kTopDownHeight;
+  const double near = near_clip, far = std::max(far_clip, 2 * near_clip);
+  const double ndc = 2 * window - 1;
+  return 2 * far * near / ((far + near) - ndc * (far - near));
 }
 
 std::optional<Eigen::Vector2d> Camera::project(const Eigen::Vector3d& point, int width, int height) const {

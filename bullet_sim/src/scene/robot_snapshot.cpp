@@ -5,8 +5,10 @@
 #include <map>
 #include <sstream>
 
+#include "bullet_sim/plugins/pinhole_camera.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/scene/scene_builder.h"
+#include "bullet_sim/scene/simulation_images.h"
 
 namespace bullet_sim {
 
@@ -76,6 +78,78 @@ Scene simulationScene(const Simulation& simulation, View view, const std::string
   scene.polylines = trails;
   scene.camera = viewCamera(view, focus_pose, focus_bounds, worldBounds(simulation.world()));
   return scene;
+}
+
+std::optional<CameraView> parseCameraView(const std::string& name) {
+  for (const auto& [prefix, depth] : {std::pair<std::string, bool>{"camera:", false}, {"depth:", true}}) {
+    if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size()) return CameraView{name.substr(prefix.size()), depth};
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+/// The robot's camera of that sensor or camera name, and its body; nullptr and the names there are if none.
+std::pair<const PinholeCamera*, const RobotBody*> findCamera(const Simulation& simulation, const std::string& name,
+                                                             std::string* names) {
+  for (const std::string& robot_name : simulation.robotNames()) {
+    const Robot& robot = *simulation.robot(robot_name);
+    for (const PinholeCamera* camera : robot.pluginsOf<PinholeCamera>()) {
+      if (camera->name() == name || camera->config().camera_name == name) return {camera, &robot.body()};
+      *names += (names->empty() ? "" : ", ") + camera->name();
+    }
+  }
+  return {nullptr, nullptr};
+}
+
+/// Depth as grey: white at the near clip, black at `far` and where nothing is seen.
+Image depthPicture(const RenderedImage& rendered, double near, double far) {
+  Image image{rendered.width, rendered.height, std::vector<uint8_t>(rendered.depth.size() * 4, 255)};
+  for (size_t p = 0; p < rendered.depth.size(); ++p) {
+    const double depth = rendered.depth[p];
+    const double share = std::isfinite(depth) ? std::clamp((far - depth) / (far - near), 0.0, 1.0) : 0.0;
+    for (size_t c = 0; c < 3; ++c) image.rgba[p * 4 + c] = static_cast<uint8_t>(std::lround(255 * share));
+  }
+  return image;
+}
+
+}  // namespace
+
+Image cameraImage(const Simulation& simulation, const CameraView& view, SceneRenderer& renderer) {
+  std::string names;
+  const auto [camera, body] = findCamera(simulation, view.camera, &names);
+  if (!camera) {
+    throw std::invalid_argument("no robot has a camera [" + view.camera + "]; the cameras are: [" + names + "]");
+  }
+  const PinholeCameraConfig& config = camera->config();
+  if (view.depth && !config.depth) {
+    throw std::invalid_argument("camera [" + view.camera + "] has no depth: it is not a depth sensor");
+  }
+  ImageRequest request;
+  request.pose = camera->worldPose(*body);
+  request.width = config.width;
+  request.height = config.height;
+  request.horizontal_fov = config.horizontal_fov;
+  request.near_clip = config.near_clip;
+  request.far_clip = config.far_clip;
+  request.depth = view.depth;
+  SimulationImages images(simulation, [&renderer]() -> SceneRenderer& { return renderer; });
+  const RenderedImage rendered = images.render(request);
+  if (view.depth) return depthPicture(rendered, config.near_clip, std::min(config.far_clip, config.cloud_cutoff_max));
+  Image image{rendered.width, rendered.height, std::vector<uint8_t>(rendered.rgb.size() / 3 * 4, 255)};
+  for (size_t p = 0; p < rendered.rgb.size() / 3; ++p) {
+    for (size_t c = 0; c < 3; ++c) image.rgba[p * 4 + c] = rendered.rgb[p * 3 + c];
+  }
+  return image;
+}
+
+Image snapshotCamera(WorldSpec world, ModelSpec model, const SpawnPose& pose, const CameraView& view,
+                     SceneRenderer& renderer, std::vector<std::string>* warnings) {
+  Simulation simulation(std::move(world));
+  const std::string name = model.name;
+  simulation.spawn(name, std::move(model), pose, warnings);
+  for (long step = 0; step < std::lround(kSnapshotMaxSimTime / simulation.stepSize()); ++step) simulation.step();
+  return cameraImage(simulation, view, renderer);
 }
 
 }  // namespace bullet_sim

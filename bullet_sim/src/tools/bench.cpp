@@ -22,11 +22,14 @@
 #include <tuple>
 #include <vector>
 
+#include "bullet_sim/plugins/pinhole_camera.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
+#include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene_builder.h"
+#include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation.h"
 #include "tools/command_line.h"
 
@@ -39,7 +42,7 @@ constexpr char kUsage[] =
     "usage: bench --robot FILE.urdf|FILE.xacro [--world FILE] [--pose x,y,yaw]\n"
     "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
-    "             [--obstacles N] [--repeat K]\n"
+    "             [--obstacles N] [--repeat K] [--camera WxH@HZ [--depth]]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
     "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
@@ -54,6 +57,9 @@ constexpr char kUsage[] =
     "  pose_error_m            where the drive axle ends, against the unicycle that follows the\n"
     "                          command exactly from the settled axle; pose_error_steady_m: that\n"
     "                          unicycle started after the first second of driving\n"
+    "  rtf_camera              with --camera: with its lidars and a camera that renders at HZ\n"
+    "  rtf_camera_idle         without lidars, with a camera nobody wants (it renders nothing);\n"
+    "                          camera_idle_cost_pct: its cost against rtf_physics\n"
     "with the inputs, every run's figures (medians are reported) and the load warnings.\n"
     "\n"
     "--wheel-model sets <wheelModel> in the robot's drive plugin. --lidar replaces the scan of the\n"
@@ -61,6 +67,9 @@ constexpr char kUsage[] =
     "none) and, with CHANNELS > 1, that many channels from -15 to +15 degrees, published as a\n"
     "velodyne plugin would. --lidar-rate sets their update rate [Hz]. --obstacles adds N static\n"
     "0.1 x 0.1 x 1 m posts at random (seeded) places at least 1.5 m from the commanded path.\n"
+    "--camera adds a 60 degree camera of WxH pixels at HZ on the robot's root link, 0.3 m ahead and\n"
+    "1 m up, looking ahead (libgazebo_ros_camera.so); with --depth, a depth camera with its depth\n"
+    "image and organized cloud (libgazebo_ros_openni_kinect.so).\n"
     "A relative --world is looked up in bullet_sim/worlds, then bullet_sim_bringup/worlds, then\n"
     "the working directory.\n"
     "Defaults: --world empty.world --pose 0,0,0 --step 0.001 --duration 10 --cmd 0.5,0.3\n"
@@ -94,6 +103,13 @@ struct Options {
   int render_width = 640, render_height = 480;
   int obstacles = 0;
   int repeat = 3;
+  struct Camera {
+    int width = 640, height = 480;
+    double rate = 30;  ///< [Hz]
+    bool depth = false;
+  };
+  std::optional<Camera> camera;
+  bool depth = false;  ///< --depth, for the camera
   bool help = false;
 };
 
@@ -137,6 +153,14 @@ void parseLidar(const std::string& value, Options& options) {
   options.lidar_channels = parseCount(count, "--lidar", 1, 1024);
 }
 
+Options::Camera parseCamera(const std::string& value) {
+  const auto [size, rate] = pairOf(value, '@', "--camera", "WxH@HZ, e.g. 640x480@30");
+  Options::Camera camera;
+  std::tie(camera.width, camera.height) = parseSize(size, "--camera", 16384);
+  camera.rate = parseBounded(rate, "--camera", 0, 1000, "Hz");
+  return camera;
+}
+
 Options parseArguments(int argc, char** argv) {
   Options options;
   using Value = const std::string&;
@@ -171,9 +195,14 @@ Options parseArguments(int argc, char** argv) {
           std::tie(options.render_width, options.render_height) = parseSize(value, "--render", 4096);
         }},
        {"--obstacles", [&](Value value) { options.obstacles = parseCount(value, "--obstacles", 0, 100000); }},
-       {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }}},
+       {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }},
+       {"--camera", [&](Value value) { options.camera = parseCamera(value); }},
+       {"--depth", [&](Value) { options.depth = true; }, false, /*flag=*/true}},
       &options.help);
-  if (!options.help && options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
+  if (options.help) return options;
+  if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
+  if (options.depth && !options.camera) throw UsageError("--depth needs --camera WxH@HZ");
+  if (options.camera) options.camera->depth = options.depth;
   return options;
 }
 
@@ -335,6 +364,39 @@ ModelSpec withoutLidars(ModelSpec model) {
   return model;
 }
 
+/// `model` with --camera's camera on its root link, 0.3 m ahead and 1 m up, looking along the link's x.
+ModelSpec withCamera(ModelSpec model, const Options::Camera& camera) {
+  SensorDeclaration sensor;
+  sensor.name = "bench_camera";
+  sensor.type = camera.depth ? "depth" : "camera";
+  sensor.link = model.root;
+  sensor.pose = Eigen::Translation3d(0.3, 0, 1.0);
+  sensor.update_rate = camera.rate;
+  auto config = std::make_shared<PinholeCameraConfig>();
+  config->link = config->frame = model.root;
+  config->pose = sensor.pose;
+  config->update_rate = camera.rate;
+  config->width = camera.width;
+  config->height = camera.height;
+  config->near_clip = 0.05;
+  config->far_clip = 50;
+  config->depth = camera.depth;
+  config->camera_name = "bench_camera";
+  PluginDeclaration declaration;
+  declaration.name = "bench_camera_controller";
+  declaration.filename = camera.depth ? "libgazebo_ros_openni_kinect.so" : "libgazebo_ros_camera.so";
+  declaration.sensor = sensor;
+  declaration.config = config;
+  model.plugins.push_back(declaration);
+  return model;
+}
+
+/// The renderer every camera run of this process draws with.
+SceneRenderer& benchRenderer() {
+  static OffscreenRenderer renderer;
+  return renderer;
+}
+
 struct Planar {
   double x = 0, y = 0, yaw = 0;  ///< [m], [m], [rad]
 };
@@ -430,18 +492,27 @@ struct DriveRun {
   double startup_s = NAN;      ///< process age at the end of the first step
   double startup_cpu_s = NAN;  ///< CPU time used by then
   double wall_s = 0;           ///< of the driving, the settling left out
+  uint64_t camera_frames = 0;  ///< rendered while driving
   std::string wheel_model;
   Planar settled, after_spin_up, end;  ///< of the drive axle
 };
 
+/// Cameras render only when `cameras_wanted`, as when someone subscribes to them.
 DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options& options,
-                   std::vector<std::string>& warnings) {
+                   std::vector<std::string>& warnings, bool cameras_wanted = true) {
   DriveRun run;
   SimulationOptions simulation_options;
   simulation_options.physics.step_size = options.step;
+  simulation_options.images = imagesFrom(benchRenderer);
   Simulation simulation(world, simulation_options);
   Robot& robot = simulation.spawn(model.name, model, options.pose, &warnings);
   WheeledDrive& drive = driveOf(robot, model.source);
+  const std::vector<PinholeCamera*> cameras = robot.pluginsOf<PinholeCamera>();
+  for (const PinholeCamera* camera : cameras) {
+    for (const OutputPort& port : camera->ports().outputs) {
+      if (port.demand) port.demand->wanted = cameras_wanted;
+    }
+  }
   run.wheel_model = drive.config().wheel_model;
 
   simulation.step();
@@ -461,6 +532,7 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
   }
   run.wall_s = secondsSince(start);
   run.end = axlePose(robot, drive);
+  for (const PinholeCamera* camera : cameras) run.camera_frames += camera->frameCount();
   return run;
 }
 
@@ -581,7 +653,7 @@ double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x,
 /// Everything bench measures, for the report.
 struct Figures {
   std::string world_file;
-  std::vector<DriveRun> lidar_runs, physics_runs;
+  std::vector<DriveRun> lidar_runs, physics_runs, camera_runs, idle_camera_runs;
   std::vector<LidarRays> lidars;
   std::vector<double> rays_per_s;
   double peak_rss_before_render_mb = 0;
@@ -600,6 +672,10 @@ Figures drive(const Options& options, const ModelSpec& model, const WorldSpec& w
   for (int i = 0; i < options.repeat; ++i) {
     if (has_lidars) figures.lidar_runs.push_back(driveOnce(world, model, options, warnings));
     figures.physics_runs.push_back(driveOnce(world, model_without_lidars, options, warnings));
+    if (!options.camera) continue;
+    figures.camera_runs.push_back(driveOnce(world, withCamera(model, *options.camera), options, warnings));
+    figures.idle_camera_runs.push_back(
+        driveOnce(world, withCamera(model_without_lidars, *options.camera), options, warnings, false));
   }
   return figures;
 }
@@ -634,17 +710,35 @@ Figures measure(const Options& options) {
   return figures;
 }
 
+std::vector<double> realTimeFactors(const Options& options, const std::vector<DriveRun>& runs) {
+  std::vector<double> factors;
+  for (const DriveRun& run : runs) factors.push_back(options.duration / run.wall_s);
+  return factors;
+}
+
+/// --camera's figures: RTF while it renders and while nobody wants it, and what the idle camera costs.
+void reportCamera(Json& json, const Options& options, const Figures& figures) {
+  const Options::Camera& camera = *options.camera;
+  json["camera"] = {{"size", {camera.width, camera.height}}, {"rate_hz", camera.rate}, {"depth", camera.depth}};
+  const double rtf = median(realTimeFactors(options, figures.camera_runs));
+  const double idle = median(realTimeFactors(options, figures.idle_camera_runs));
+  const double physics = median(realTimeFactors(options, figures.physics_runs));
+  json["rtf_camera"] = figure(rtf);
+  json["rtf_camera_idle"] = figure(idle);
+  json["camera_idle_cost_pct"] = figure(100 * (physics / idle - 1));
+  json["camera_frames_per_run"] = figures.camera_runs.front().camera_frames;
+  json["camera_idle_frames_per_run"] = figures.idle_camera_runs.front().camera_frames;
+  json["rtf_camera_runs"] = figureList(realTimeFactors(options, figures.camera_runs));
+  json["rtf_camera_idle_runs"] = figureList(realTimeFactors(options, figures.idle_camera_runs));
+}
+
 /// The inputs, then the figures (medians of the runs), then every run's figures and the warnings.
 Json report(const Options& options, const Figures& figures) {
   const bool has_lidars = !figures.lidar_runs.empty();
   const DriveRun& first = has_lidars ? figures.lidar_runs.front() : figures.physics_runs.front();
   const DriveRun& drive =
       figures.physics_runs.front();  // every run follows the same path: it is deterministic
-  const auto rtf = [&](const std::vector<DriveRun>& runs) {
-    std::vector<double> factors;
-    for (const DriveRun& run : runs) factors.push_back(options.duration / run.wall_s);
-    return factors;
-  };
+  const auto rtf = [&](const std::vector<DriveRun>& runs) { return realTimeFactors(options, runs); };
   size_t rays_per_scan = 0;
   for (const auto& lidar : figures.lidars) rays_per_scan += lidar.directions.size();
   const Planar ideal = unicycle(drive.settled, options.v, options.w, options.duration);
@@ -671,6 +765,7 @@ Json report(const Options& options, const Figures& figures) {
   json["rtf_physics"] = figure(median(rtf(figures.physics_runs)));
   json["rtf_lidar"] = figure(median(rtf(figures.lidar_runs)));
   json["rays_per_s"] = figure(median(figures.rays_per_s));
+  if (options.camera) reportCamera(json, options, figures);
   json["render_ms"] = figure(median(render.render_ms));
   json["png_ms"] = figure(median(render.png_ms));
   json["startup_s"] = first.startup_s;

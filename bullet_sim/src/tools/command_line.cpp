@@ -20,7 +20,12 @@ void parseCommandLine(int argc, char** argv, const std::vector<ToolOption>& opti
   app.set_help_flag();  // the tool prints its own usage
   app.add_flag("-h,--help", *help);
   std::vector<std::vector<std::string>> values(options.size());
+  std::vector<bool> flags(options.size(), false);
   for (size_t i = 0; i < options.size(); ++i) {
+    if (options[i].flag) {
+      app.add_flag_callback(options[i].name, [&flags, i] { flags[i] = true; });
+      continue;
+    }
     CLI::Option* option = app.add_option(options[i].name, values[i]);
     if (!options[i].repeatable) option->expected(1);
   }
@@ -33,6 +38,7 @@ void parseCommandLine(int argc, char** argv, const std::vector<ToolOption>& opti
   }
   if (*help) return;
   for (size_t i = 0; i < options.size(); ++i) {
+    if (flags[i]) options[i].take("");
     for (const auto& value : values[i]) options[i].take(value);
   }
   for (const auto& word : words) positional->take(word);

@@ -29,6 +29,7 @@ struct ToolOption {
   std::string name;
   std::function<void(const std::string& value)> take;
   bool repeatable = false;
+  bool flag = false;  ///< takes no value: `take` gets "" once when it is given
 };
 
 /// Parses a tool's command line with CLI11: each option's values go to its `take`, in the order of

@@ -82,6 +82,44 @@ struct ImuSample {
   double linear_acceleration_variance = 0;
 };
 
+/// sensor_msgs/Image: a camera's colour image or a depth image, as its ROS encoding lays it out.
+struct CameraImage {
+  double stamp = 0;
+  std::string frame_id;
+  int width = 0;  ///< [px]
+  int height = 0;
+  std::string encoding;  ///< rgb8, bgr8, mono8, 32FC1 (depth [m]) or 16UC1 (depth [mm])
+  int step = 0;          ///< bytes per row
+  std::vector<uint8_t> data;  ///< rows top first; multi-byte values in the machine's (little-endian) order
+};
+
+/// sensor_msgs/CameraInfo, with the ROS field names. `camera_name` is where the node's camera_info_manager
+/// lives (its set_camera_info service), relative to the plugin's namespace.
+struct CameraInfo {
+  double stamp = 0;
+  std::string frame_id;
+  std::string camera_name;
+  int width = 0;
+  int height = 0;
+  std::string distortion_model = "plumb_bob";
+  std::array<double, 5> D{};  ///< k1, k2, t1, t2, k3
+  std::array<double, 9> K{};
+  std::array<double, 9> R{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::array<double, 12> P{};
+};
+
+/// An organized sensor_msgs/PointCloud2 (x y z rgb) of width x height points, rows top first, in the optical
+/// convention (z along the view, x right, y down); NaN where the depth is outside the cloud's cut-offs.
+struct ColouredCloud {
+  double stamp = 0;
+  std::string frame_id;
+  int width = 0;
+  int height = 0;
+  std::vector<Eigen::Vector3f> points;        ///< [m]
+  std::vector<std::array<uint8_t, 3>> rgb;  ///< per point
+  bool is_dense = true;                       ///< false when any point is NaN
+};
+
 /// geometry_msgs/Twist, an input: a velocity command.
 struct Twist {
   Eigen::Vector3d linear = Eigen::Vector3d::Zero();   ///< [m/s]

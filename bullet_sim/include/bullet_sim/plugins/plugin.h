@@ -10,6 +10,7 @@
 
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/physics/robot_body.h"
+#include "bullet_sim/plugins/image_source.h"
 #include "bullet_sim/plugins/ports.h"
 #include "bullet_sim/sensing/ray_caster.h"
 
@@ -45,6 +46,8 @@ struct PluginSetup {
   uint64_t seed = 0;  ///< the simulation's; each plugin mixes in its robot's name and its own
   Eigen::Vector3d gravity{0, 0, -9.81};
   BodyId own_ray_body = kNoBody;  ///< the ray-caster body of the part a sensor sits on, which it skips
+  /// Renders the world for cameras; nullptr when the simulation has no renderer (cameras then warn).
+  ImageSource* images = nullptr;
 };
 
 /// What every plugin has: its name and namespace, the head of its messages, an update timer at its config's
@@ -83,8 +86,8 @@ class Plugin {
   Eigen::Vector3d gaussian3(double stddev);
 
   template <class Sample>
-  void addOutput(const std::string& topic, const Stream<Sample>& stream) {
-    ports_.outputs.push_back({topic, &stream});
+  void addOutput(const std::string& topic, const Stream<Sample>& stream, Demand* demand = nullptr) {
+    ports_.outputs.push_back({topic, &stream, demand});
   }
   template <class Input>
   void addInput(const std::string& topic, InputHandler<Input> handler) {

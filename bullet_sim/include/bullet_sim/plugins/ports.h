@@ -33,11 +33,19 @@ class Stream {
 using OutputStream =
     std::variant<const Stream<Odometry>*, const Stream<TransformSample>*, const Stream<JointStateSample>*,
                  const Stream<LaserScan>*, const Stream<PointCloud>*, const Stream<LegacyPointCloud>*,
-                 const Stream<ImuSample>*>;
+                 const Stream<ImuSample>*, const Stream<CameraImage>*, const Stream<CameraInfo>*,
+                 const Stream<ColouredCloud>*>;
+
+/// Whether anyone listens to an output. The node sets it from the topic's subscribers before each step; a
+/// plugin skips work (a camera's rendering) that nobody wants. Without a node, everything is wanted.
+struct Demand {
+  bool wanted = true;
+};
 
 struct OutputPort {
   std::string topic;  ///< relative to the plugin's namespace; "" for transforms, which go to /tf
   OutputStream stream;
+  Demand* demand = nullptr;  ///< the plugin's, for outputs it computes only on demand
 };
 
 /// Takes an input at `sim_time` [s]; returns "" when taken, else why it was refused (the node warns).

@@ -23,6 +23,7 @@ struct Camera {
   /// [m] along the view axis: nothing nearer is drawn. Views around a robot put it just in front of the
   /// robot, so that a wall between the camera and the robot is cut away instead of hiding it.
   double near_clip = 0.05;
+  double far_clip = 500;  ///< [m] along the view axis: nothing farther is drawn (well past the 100 m ground)
 
   // Orthographic, looking down -z with +x to the right and +y up in the image.
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< world x, y at the image centre [m]
@@ -39,6 +40,8 @@ struct Camera {
   Eigen::Matrix4d viewMatrix() const;
   /// Eye coordinates to clip coordinates for an image of `aspect` = width / height.
   Eigen::Matrix4d projectionMatrix(double aspect) const;
+  /// The distance along the view axis [m] of a depth buffer value in [0, 1] (OpenGL's default depth range).
+  double viewDepth(double window) const;
   /// Where a world point appears in a width x height image: (column, row) in pixels from the image's top-left
   /// corner, so pixel (c, r) covers [c, c + 1) x [r, r + 1). Nullopt for a point behind a perspective camera.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& point, int width, int height) const;

@@ -2,11 +2,14 @@
 // draws. Links the simulator core (Bullet) and the renderer's scene; ROS-free.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bullet_sim/scene/camera.h"
+#include "bullet_sim/scene/image.h"
 #include "bullet_sim/scene/scene.h"
+#include "bullet_sim/scene/scene_renderer.h"
 #include "bullet_sim/simulation.h"
 
 namespace bullet_sim {
@@ -29,5 +32,23 @@ constexpr double kSnapshotMaxSimTime = 1.0;  ///< [s]
 /// `focus` (the first robot when it names none). Lidars that have not scanned yet add no hits.
 Scene simulationScene(const Simulation& simulation, View view, const std::string& focus = "",
                       const std::vector<Polyline>& trails = {});
+
+/// A view through a robot's camera: "camera:NAME" (its image) or "depth:NAME" (its depth, grey: white near,
+/// black at the far end of its range or where nothing is seen). NAME is the <sensor> name or the cameraName.
+struct CameraView {
+  std::string camera;
+  bool depth = false;
+};
+
+/// The camera view a name asks for; nullopt when the name is not "camera:NAME" or "depth:NAME".
+std::optional<CameraView> parseCameraView(const std::string& name);
+
+/// What the camera of `view` sees now, at its own size. Throws std::invalid_argument naming the cameras there
+/// are when no robot has that camera, or when a depth view asks a camera without depth.
+Image cameraImage(const Simulation& simulation, const CameraView& view, SceneRenderer& renderer);
+
+/// snapshotRobot for a camera view: the robot settles for kSnapshotMaxSimTime, then its camera draws.
+Image snapshotCamera(WorldSpec world, ModelSpec model, const SpawnPose& pose, const CameraView& view,
+                     SceneRenderer& renderer, std::vector<std::string>* warnings);
 
 }  // namespace bullet_sim
