@@ -17,4 +17,8 @@ render --xacro "$(rospack find tianracer_description)/urdf/tianracer.urdf.xacro"
   --view chase --size 640x480 --out "$OUT/tianracer.png"
 render --xacro "$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro" --world home.world \
   --view top --size 800x640 --out "$OUT/wheelchair_home_top.png"
+render --xacro "$(rospack find yahboomcar_description)/urdf/yahboomcar.urdf.xacro" --world home.world \
+  --view camera:camera --out "$OUT/yahboomcar_camera.png"
+render --urdf "$REPO/bullet_sim/test/fixtures/robots/depth_camera_box.urdf" --world home.world --pose -2,0,0 \
+  --view depth:depth_camera --out "$OUT/depth_camera.png"
 echo "wrote $(ls "$OUT" | tr '\n' ' ')"
