@@ -33,7 +33,7 @@ class SnapshotService(unittest.TestCase):
     def test_refuses_bad_requests_and_keeps_running(self):
         for request, why in (({"file": "../outside.png"}, "inside ~snapshot_dir"),
                              ({"file": "/tmp/outside.png"}, "inside ~snapshot_dir"),
-                             ({"file": "x.png", "view": "sideways"}, "use chase, top or front"),
+                             ({"file": "x.png", "view": "sideways"}, "use chase, top, front, camera:NAME or depth:NAME"),
                              ({"file": "x.png", "width": 5000}, "above 4096 x 4096")):
             reply = self.snapshot(**request)
             self.assertFalse(reply.success, request)
