@@ -170,6 +170,10 @@ PinholeCameraConfig parseAnyCamera(const DeclarationSource& source, bool depth) 
 
 }  // namespace
 
+bool PinholeCameraConfig::withinCutoffs(double depth) const {
+  return depth > cloud_cutoff && depth < cloud_cutoff_max;
+}
+
 double PinholeCameraConfig::renderedFocalLength() const { return width / (2 * std::tan(horizontal_fov / 2)); }
 
 CameraInfo PinholeCameraConfig::info() const {
@@ -224,10 +228,7 @@ Eigen::Isometry3d PinholeCamera::worldPose(const RobotBody& body) const {
   return body.linkPose(config_.link) * config_.pose;
 }
 
-void PinholeCamera::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
-  if (!timer().due(time)) return;  // frames stay on the update grid whether or not anyone listens
-  const bool want_depth = config_.depth && (depth_demand_.wanted || cloud_demand_.wanted);
-  if (!images_ || !(image_demand_.wanted || want_depth)) return;
+ImageRequest PinholeCamera::imageRequest(const RobotBody& body, bool depth) const {
   ImageRequest request;
   request.pose = worldPose(body);
   request.width = config_.width;
@@ -235,8 +236,15 @@ void PinholeCamera::sense(const StepTime& time, const RobotBody& body, const Ray
   request.horizontal_fov = config_.horizontal_fov;
   request.near_clip = config_.near_clip;
   request.far_clip = config_.far_clip;
-  request.depth = want_depth;
-  RenderedImage rendered = images_->render(request);
+  request.depth = depth;
+  return request;
+}
+
+void PinholeCamera::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
+  if (!timer().due(time)) return;  // frames stay on the update grid whether or not anyone listens
+  const bool want_depth = config_.depth && (depth_demand_.wanted || cloud_demand_.wanted);
+  if (!images_ || !(image_demand_.wanted || want_depth)) return;
+  RenderedImage rendered = images_->render(imageRequest(body, want_depth));
   ++frames_;
   addNoise(rendered);
   publishImage(rendered, time.sim_time);
@@ -297,7 +305,7 @@ void PinholeCamera::publishDepth(const RenderedImage& rendered, double stamp) {
   image.data.resize(rendered.depth.size() * bytes);
   for (size_t p = 0; p < rendered.depth.size(); ++p) {
     const float depth = rendered.depth[p];
-    const bool seen = depth > config_.cloud_cutoff && depth < config_.cloud_cutoff_max;
+    const bool seen = config_.withinCutoffs(depth);
     if (config_.depth_16uc1) {
       const uint16_t millimetres = seen ? static_cast<uint16_t>(std::lround(depth * 1000)) : 0;
       std::memcpy(&image.data[p * 2], &millimetres, 2);
@@ -327,7 +335,7 @@ void PinholeCamera::publishCloud(const RenderedImage& rendered, double stamp) {
     for (int column = 0; column < rendered.width; ++column) {
       const size_t p = static_cast<size_t>(row) * rendered.width + column;
       const double depth = rendered.depth[p];
-      if (depth > config_.cloud_cutoff && depth < config_.cloud_cutoff_max) {
+      if (config_.withinCutoffs(depth)) {
         cloud.points[p] = Eigen::Vector3d(depth * (column - centre_x) / f, depth * (row - centre_y) / f, depth)
                               .cast<float>();
       } else {

@@ -102,15 +102,13 @@ std::pair<const PinholeCamera*, const RobotBody*> findCamera(const Simulation& s
   return {nullptr, nullptr};
 }
 
-/// Depth as grey: white at the near clip, black at `far` and where nothing is seen.
-Image depthPicture(const RenderedImage& rendered, double near, double far) {
-  Image image{rendered.width, rendered.height, std::vector<uint8_t>(rendered.depth.size() * 4, 255)};
-  for (size_t p = 0; p < rendered.depth.size(); ++p) {
-    const double depth = rendered.depth[p];
+/// Depth as grey, over `image`: white at the near clip, black at `far` and where nothing is seen.
+void drawDepth(const std::vector<float>& depths, double near, double far, Image& image) {
+  for (size_t p = 0; p < depths.size(); ++p) {
+    const double depth = depths[p];
     const double share = std::isfinite(depth) ? std::clamp((far - depth) / (far - near), 0.0, 1.0) : 0.0;
     for (size_t c = 0; c < 3; ++c) image.rgba[p * 4 + c] = static_cast<uint8_t>(std::lround(255 * share));
   }
-  return image;
 }
 
 }  // namespace
@@ -125,21 +123,13 @@ Image cameraImage(const Simulation& simulation, const CameraView& view, SceneRen
   if (view.depth && !config.depth) {
     throw std::invalid_argument("camera [" + view.camera + "] has no depth: it is not a depth sensor");
   }
-  ImageRequest request;
-  request.pose = camera->worldPose(*body);
-  request.width = config.width;
-  request.height = config.height;
-  request.horizontal_fov = config.horizontal_fov;
-  request.near_clip = config.near_clip;
-  request.far_clip = config.far_clip;
-  request.depth = view.depth;
+  // Drawn as the camera's image source draws it, without its noise; the renderer's RGBA is the picture.
   SimulationImages images(simulation, [&renderer]() -> SceneRenderer& { return renderer; });
-  const RenderedImage rendered = images.render(request);
-  if (view.depth) return depthPicture(rendered, config.near_clip, std::min(config.far_clip, config.cloud_cutoff_max));
-  Image image{rendered.width, rendered.height, std::vector<uint8_t>(rendered.rgb.size() / 3 * 4, 255)};
-  for (size_t p = 0; p < rendered.rgb.size() / 3; ++p) {
-    for (size_t c = 0; c < 3; ++c) image.rgba[p * 4 + c] = rendered.rgb[p * 3 + c];
-  }
+  const ImageRequest request = camera->imageRequest(*body, view.depth);
+  std::vector<float> depths;
+  Image image = renderer.render(images.sceneFor(request), request.width, request.height,
+                                view.depth ? &depths : nullptr);
+  if (view.depth) drawDepth(depths, config.near_clip, std::min(config.far_clip, config.cloud_cutoff_max), image);
   return image;
 }
 

@@ -11,6 +11,16 @@ namespace {
 
 const Eigen::Vector4d kGazeboBackground{0.7, 0.7, 0.7, 1};  // SDF's default <scene><background>
 
+/// The view camera of an image request: at its pose looking along its x axis, its field of view and clips.
+Camera requestCamera(const ImageRequest& request) {
+  const double aspect = static_cast<double>(request.width) / request.height;
+  const double vertical_fov = 2 * std::atan(std::tan(request.horizontal_fov / 2) / aspect);
+  Camera camera = cameraAt(request.pose, vertical_fov);
+  camera.near_clip = request.near_clip;
+  camera.far_clip = request.far_clip;
+  return camera;
+}
+
 }  // namespace
 
 SimulationImages::SimulationImages(const Simulation& simulation, RendererAccess renderer)
@@ -76,13 +86,5 @@ ImageSourceFactory imagesFrom(RendererAccess renderer) {
   };
 }
 
-Camera requestCamera(const ImageRequest& request) {
-  const double aspect = static_cast<double>(request.width) / request.height;
-  const double vertical_fov = 2 * std::atan(std::tan(request.horizontal_fov / 2) / aspect);
-  Camera camera = cameraAt(request.pose, vertical_fov);
-  camera.near_clip = request.near_clip;
-  camera.far_clip = request.far_clip;
-  return camera;
-}
 
 }  // namespace bullet_sim

@@ -109,7 +109,6 @@ struct Options {
     bool depth = false;
   };
   std::optional<Camera> camera;
-  bool depth = false;  ///< --depth, for the camera
   bool help = false;
 };
 
@@ -197,12 +196,16 @@ Options parseArguments(int argc, char** argv) {
        {"--obstacles", [&](Value value) { options.obstacles = parseCount(value, "--obstacles", 0, 100000); }},
        {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }},
        {"--camera", [&](Value value) { options.camera = parseCamera(value); }},
-       {"--depth", [&](Value) { options.depth = true; }, false, /*flag=*/true}},
+       // Taken after --camera, whatever their order on the command line.
+       {"--depth",
+        [&](Value) {
+          if (!options.camera) throw UsageError("--depth needs --camera WxH@HZ");
+          options.camera->depth = true;
+        },
+        false, /*flag=*/true}},
       &options.help);
   if (options.help) return options;
   if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
-  if (options.depth && !options.camera) throw UsageError("--depth needs --camera WxH@HZ");
-  if (options.camera) options.camera->depth = options.depth;
   return options;
 }
 

@@ -55,6 +55,8 @@ struct PinholeCameraConfig : PluginConfig {
   double cloud_cutoff_max = 5;  ///< [m]: depths at or above it are NaN
   bool depth_16uc1 = false;     ///< depth in 16UC1 millimetres instead of 32FC1 metres
 
+  /// Whether a depth [m] is inside (pointCloudCutoff, pointCloudCutoffMax): kept in the depth image and cloud.
+  bool withinCutoffs(double depth) const;
   /// The focal length [px] the image is rendered with: width / (2 tan(horizontal_fov / 2)).
   double renderedFocalLength() const;
   /// camera_info as gazebo_plugins fills it (K, P from the focal length and centre, D from the tags).
@@ -82,6 +84,8 @@ class PinholeCamera : public Plugin {
   uint64_t frameCount() const { return frames_; }
   /// The camera in the world, at `body`'s current pose.
   Eigen::Isometry3d worldPose(const RobotBody& body) const;
+  /// What it asks its image source for at `body`'s current pose, with or without depth.
+  ImageRequest imageRequest(const RobotBody& body, bool depth) const;
 
  private:
   void publishImage(const RenderedImage& rendered, double stamp);

@@ -54,7 +54,4 @@ class SimulationImages final : public ImageSource {
 /// SimulationOptions::images for a simulation whose cameras draw with `renderer`.
 ImageSourceFactory imagesFrom(RendererAccess renderer);
 
-/// The view camera of an image request: at its pose looking along its x axis, its field of view and clips.
-Camera requestCamera(const ImageRequest& request);
-
 }  // namespace bullet_sim
