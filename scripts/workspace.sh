@@ -45,6 +45,8 @@ build() {
     done
   fi
   mkdir -p "$WS"
+  # The compat/ packages (gazebo_msgs, ...) are built only where the system lacks the real ones.
+  "$REPO/scripts/compat_packages.sh" "$REPO/compat" "$WS"
   log "building $WS"
   catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo
 }
