@@ -1,9 +1,9 @@
 #include "bullet_sim/description/world_spec.h"
 
-#include <stdlib.h>  // mkdtemp
 #include <tinyxml2.h>
 #include <sdf/sdf.hh>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -23,46 +23,6 @@ namespace {
 
 constexpr double kPlaneVisualThickness = 0.001;  // [m] of the box that stands in for a plane visual
 
-struct BuiltinModel {
-  const char* uri;
-  const char* sdf;
-};
-
-// Gazebo classic's ground_plane and sun, as its model database ships them. The sun is a light, not a model.
-constexpr BuiltinModel kBuiltinModels[] = {
-    {"model://ground_plane", R"(<?xml version="1.0"?>
-<sdf version="1.6">
-  <model name="ground_plane">
-    <static>true</static>
-    <link name="link">
-      <collision name="collision">
-        <geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>
-      </collision>
-      <visual name="visual">
-        <cast_shadows>false</cast_shadows>
-        <geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>
-        <material>
-          <script><uri>file://media/materials/scripts/gazebo.material</uri><name>Gazebo/Grey</name></script>
-        </material>
-      </visual>
-    </link>
-  </model>
-</sdf>
-)"},
-    {"model://sun", R"(<?xml version="1.0"?>
-<sdf version="1.6">
-  <light type="directional" name="sun">
-    <cast_shadows>true</cast_shadows>
-    <pose>0 0 10 0 0 0</pose>
-    <diffuse>0.8 0.8 0.8 1</diffuse>
-    <specular>0.2 0.2 0.2 1</specular>
-    <attenuation><range>1000</range><constant>0.9</constant><linear>0.01</linear><quadratic>0.001</quadratic></attenuation>
-    <direction>-0.5 0.1 -0.9</direction>
-  </light>
-</sdf>
-)"},
-};
-
 /// A number as SDF would write it: "0.1", not "0.100000".
 std::string toText(double value) {
   std::ostringstream text;
@@ -74,82 +34,18 @@ std::string toText(const Eigen::Vector3d& v) {
   return toText(v.x()) + " " + toText(v.y()) + " " + toText(v.z());
 }
 
-std::vector<std::string> builtinModelNames() {
-  std::vector<std::string> names;
-  for (const auto& model : kBuiltinModels) names.push_back(fs::path(model.uri).filename().string());
-  return names;
-}
-
-/// sdformat resolves an <include> only to a file on disk, so a built-in model is written, when first
-/// included, to a private temporary directory that lives as long as one parse.
-class BuiltinModelFiles {
- public:
-  BuiltinModelFiles() = default;
-  BuiltinModelFiles(const BuiltinModelFiles&) = delete;
-  BuiltinModelFiles& operator=(const BuiltinModelFiles&) = delete;
-  ~BuiltinModelFiles() {
-    std::error_code ignored;
-    if (!directory_.empty()) fs::remove_all(directory_, ignored);
-  }
-
-  static bool isBuiltin(const std::string& uri) { return builtinSdf(uri) != nullptr; }
-
-  /// Path of the file holding the built-in model `uri`; nullopt with `error` set when it cannot be written.
-  std::optional<std::string> path(const std::string& uri, std::string* error) {
-    if (directory_.empty()) {
-      std::string pattern = (fs::temp_directory_path() / "bullet_sim_models_XXXXXX").string();
-      if (!mkdtemp(pattern.data())) {
-        *error = "cannot create a temporary directory from [" + pattern + "] for the built-in models; set " +
-                 "TMPDIR to a writable directory";
-        return std::nullopt;
-      }
-      directory_ = pattern;
-    }
-    const fs::path file = directory_ / (fs::path(uri).filename().string() + ".sdf");
-    if (!fs::exists(file)) {
-      std::ofstream out(file);
-      out << builtinSdf(uri);
-      if (!out) {
-        *error = "cannot write the built-in model [" + uri + "] to [" + file.string() +
-                 "]; set TMPDIR to a " + "writable directory";
-        return std::nullopt;
-      }
-    }
-    return file.string();
-  }
-
- private:
-  static const char* builtinSdf(const std::string& uri) {
-    for (const auto& model : kBuiltinModels) {
-      if (uri == model.uri) return model.sdf;
-    }
-    return nullptr;
-  }
-
-  fs::path directory_;
-};
-
 bool hasScheme(const std::string& uri, const std::string& scheme) {
   return uri.rfind(scheme + "://", 0) == 0;
 }
 
-/// A path from a package://, file:// or relative URI, relative ones taken from `base_directory`.
+/// A path from a package://, model://, file:// or relative URI, relative ones taken from `base_directory`.
 /// On failure returns nullopt and sets `error` to the reason and the fix.
 std::optional<fs::path> resolveFile(const std::string& uri, const PackageResolver& resolver,
                                     const fs::path& base_directory, std::string* error) {
-  if (hasScheme(uri, "model")) {
-    const std::string name = uri.substr(std::string("model://").size());
-    std::string builtins;
-    for (const auto& builtin : builtinModelNames())
-      builtins += (builtins.empty() ? "[" : ", [") + builtin + "]";
-    *error = "unknown model [" + name + "]" + didYouMean(name, builtinModelNames()) +
-             ": bullet_sim has only the built-in models " + builtins +
-             "; copy the model into the world file, or refer to it by a package:// URI";
-    return std::nullopt;
-  }
-  if (uri.find("://") != std::string::npos && !hasScheme(uri, "package") && !hasScheme(uri, "file")) {
-    *error =
-        "unsupported URI scheme in [" + uri + "]; use package://, file:// or a path relative to the SDF file";
+  if (uri.find("://") != std::string::npos && !hasScheme(uri, "package") && !hasScheme(uri, "file") &&
+      !hasScheme(uri, "model")) {
+    *error = "unsupported URI scheme in [" + uri +
+             "]; use package://, model://, file:// or a path relative to the SDF file";
     return std::nullopt;
   }
   const std::optional<std::string> resolved = resolver.resolve(uri, error);
@@ -446,42 +342,74 @@ class WorldConverter {
   Diagnostics& diagnostics_;
 };
 
-/// Runs `load` (from a file or from text) with the built-in models and `resolver` behind <include>, then
-/// converts the world. `base_directory` is where relative include and mesh paths start.
-WorldSpec parseWith(const std::string& text,
-                    const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
-                    const std::string& source, const fs::path& base_directory,
-                    const PackageResolver& resolver, std::vector<std::string>* warnings) {
-  Diagnostics diagnostics(source);
-  // sdformat 12 reports malformed XML only as "Unable to read file" (the detail goes to stderr), so tinyxml2
-  // checks it first and names the line and the element.
-  tinyxml2::XMLDocument xml;
-  if (xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
-    diagnostics.error("[" + source + ":" + std::to_string(xml.ErrorLineNum()) +
-                      "] malformed XML: " + xml.ErrorStr() + "; fix the XML there");
-    diagnostics.throwIfErrors();
-  }
-  BuiltinModelFiles builtins;
-  std::map<std::string, std::string> unresolved;  // include URI -> why it could not be found
-  sdf::ParserConfig config;
-  config.SetFindCallback([&](const std::string& uri) -> std::string {
-    std::string error;
-    if (BuiltinModelFiles::isBuiltin(uri)) {
-      if (const std::optional<std::string> file = builtins.path(uri, &error)) return *file;
-    } else if (const std::optional<fs::path> file = resolveFile(uri, resolver, base_directory, &error)) {
-      return file->string();
-    }
-    unresolved[uri] = error;
-    return "";  // sdformat then reports the include as unresolved
-  });
+/// libsdformat's find callback for <include> URIs: a model:// include, or any URI that names a folder,
+/// becomes the SDF file that the folder's model.config names; other URIs go through `resolveFile`. It
+/// remembers why a URI could not be found.
+class IncludeFinder {
+ public:
+  IncludeFinder(const PackageResolver& resolver, fs::path base_directory)
+      : resolver_(resolver), base_directory_(std::move(base_directory)) {}
 
-  sdf::Root root;
-  const sdf::Errors errors = load(root, config);
-  // sdformat names the unresolved URI and the line of the include; the reason and the fix are ours.
+  std::string operator()(const std::string& uri) {
+    std::string error;
+    if (hasScheme(uri, "model") && uri.find('/', std::string("model://").size()) == std::string::npos) {
+      const std::string name = uri.substr(std::string("model://").size());
+      const std::optional<std::string> folder = resolver_.gazeboPaths().findModelFile(name, &error);
+      if (!folder) {
+        unknown_models_[uri] = error;
+      } else if (const std::optional<std::string> file = modelSdfFile(*folder, &error)) {
+        return *file;
+      } else {
+        unresolved_[uri] = error;
+      }
+    } else if (const std::optional<fs::path> path = resolveFile(uri, resolver_, base_directory_, &error)) {
+      // A folder is a model folder, whose model.config names the SDF file.
+      std::error_code ec;
+      if (!fs::is_directory(*path, ec)) return path->string();
+      if (const std::optional<std::string> file = modelSdfFile(path->string(), &error)) return *file;
+      unresolved_[uri] = error;
+    } else {
+      unresolved_[uri] = error;
+    }
+    return "";  // sdformat then reports the include as unresolved
+  }
+
+  /// Include URI -> why it could not be found, for models that are on no folder of the model path.
+  const std::map<std::string, std::string>& unknownModels() const { return unknown_models_; }
+  /// Include URI -> why it could not be resolved, for every other include.
+  const std::map<std::string, std::string>& unresolved() const { return unresolved_; }
+
+ private:
+  const PackageResolver& resolver_;
+  const fs::path base_directory_;
+  std::map<std::string, std::string> unknown_models_;
+  std::map<std::string, std::string> unresolved_;
+};
+
+/// Reports libsdformat's errors. An include of an unknown model is skipped, as Gazebo skips it, with one
+/// warning per model (an error when `options.strict_models`); any other unresolved include is an error that
+/// says why.
+void reportLoadErrors(const sdf::Errors& errors, const IncludeFinder& finder, const WorldOptions& options,
+                      Diagnostics& diagnostics) {
+  std::map<std::string, std::string> unresolved = finder.unresolved();
+  std::map<std::string, int> unknown_includes;  // URI -> how many includes name it
+  std::map<std::string, std::string> first_location;
+  const auto mentions = [](const sdf::Error& error, const std::string& uri) {
+    return error.Message().find("[" + uri + "]") != std::string::npos;
+  };
   for (const sdf::Error& error : errors) {
-    std::string message = describe(error, source);
+    const auto unknown = std::find_if(finder.unknownModels().begin(), finder.unknownModels().end(),
+                                      [&](const auto& entry) { return mentions(error, entry.first); });
+    if (unknown != finder.unknownModels().end()) {
+      if (unknown_includes[unknown->first]++ == 0) {
+        first_location[unknown->first] =
+            location(error.FilePath().value_or(""), error.LineNumber(), diagnostics.source());
+      }
+      continue;
+    }
+    std::string message = describe(error, diagnostics.source());
     for (auto it = unresolved.begin(); it != unresolved.end();) {
-      if (error.Message().find("[" + it->first + "]") == std::string::npos) {
+      if (!mentions(error, it->first)) {
         ++it;
         continue;
       }
@@ -491,6 +419,41 @@ WorldSpec parseWith(const std::string& text,
     diagnostics.error(message);
   }
   for (const auto& [uri, reason] : unresolved) diagnostics.error("include [" + uri + "]: " + reason);
+  for (const auto& [uri, count] : unknown_includes) {
+    const std::string& reason = finder.unknownModels().at(uri);
+    if (options.strict_models) {
+      diagnostics.error(first_location[uri] + reason + " (~strict_models is set)");
+    } else {
+      const std::string times = count > 1 ? " (" + std::to_string(count) + " includes)" : "";
+      diagnostics.warning(first_location[uri] + "skipped" + times +
+                          ", the rest of the world loads: " + reason);
+    }
+  }
+}
+
+/// Runs `load` (from a file or from text) with `resolver` behind <include>, then converts the world.
+/// `base_directory` is where relative include and mesh paths start.
+WorldSpec parseWith(const std::string& text,
+                    const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
+                    const std::string& source, const fs::path& base_directory,
+                    const PackageResolver& resolver, std::vector<std::string>* warnings,
+                    const WorldOptions& options) {
+  Diagnostics diagnostics(source);
+  // sdformat 12 reports malformed XML only as "Unable to read file" (the detail goes to stderr), so tinyxml2
+  // checks it first and names the line and the element.
+  tinyxml2::XMLDocument xml;
+  if (xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    diagnostics.error("[" + source + ":" + std::to_string(xml.ErrorLineNum()) +
+                      "] malformed XML: " + xml.ErrorStr() + "; fix the XML there");
+    diagnostics.throwIfErrors();
+  }
+  IncludeFinder finder(resolver, base_directory);
+  sdf::ParserConfig config;
+  config.SetFindCallback(std::ref(finder));
+
+  sdf::Root root;
+  const sdf::Errors errors = load(root, config);
+  reportLoadErrors(errors, finder, options, diagnostics);
 
   WorldSpec spec;
   spec.source = source;
@@ -515,7 +478,7 @@ WorldSpec parseWith(const std::string& text,
 }  // namespace
 
 WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
-                    std::vector<std::string>* warnings) {
+                    std::vector<std::string>* warnings, const WorldOptions& options) {
   std::error_code ec;
   std::ifstream file(path);
   if (!fs::is_regular_file(path, ec) || !file) {
@@ -525,16 +488,16 @@ WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
   const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
   return parseWith(
       text, [&](sdf::Root& root, const sdf::ParserConfig& config) { return root.Load(path, config); }, path,
-      fs::absolute(path, ec).parent_path(), resolver, warnings);
+      fs::absolute(path, ec).parent_path(), resolver, warnings, options);
 }
 
 WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings) {
+                     std::vector<std::string>* warnings, const WorldOptions& options) {
   std::error_code ec;
   return parseWith(
       sdf_text,
       [&](sdf::Root& root, const sdf::ParserConfig& config) { return root.LoadSdfString(sdf_text, config); },
-      source, fs::absolute(source, ec).parent_path(), resolver, warnings);
+      source, fs::absolute(source, ec).parent_path(), resolver, warnings, options);
 }
 
 std::optional<std::string> findWorldFile(const std::string& name, const PackageResolver& resolver,
@@ -544,6 +507,9 @@ std::optional<std::string> findWorldFile(const std::string& name, const PackageR
   if (fs::path(name).is_absolute()) {
     candidates.push_back(name);
   } else {
+    // Gazebo's resource path first: "worlds/x.world" names a file in one of its folders.
+    for (const auto& folder : resolver.gazeboPaths().resourcePath())
+      candidates.push_back(fs::path(folder) / name);
     for (const char* package : {"bullet_sim", "bullet_sim_bringup"}) {
       if (const auto dir = resolver.packageDirectory(package)) {
         candidates.push_back(fs::path(*dir) / "worlds" / name);

@@ -25,12 +25,19 @@ std::filesystem::path defaultSnapshotDir() {
 
 WorldSpec loadWorldParam(const ros::NodeHandle& private_node) {
   const std::string name = private_node.param<std::string>("world", "empty.world");
+  const std::string fallback = private_node.param<std::string>("world_fallback", "");
+  WorldOptions options;
+  options.strict_models = private_node.param("strict_models", false);
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   std::string error;
-  const auto path = findWorldFile(name, resolver, &error);
+  auto path = findWorldFile(name, resolver, &error);
+  if (!path && !fallback.empty()) {
+    ROS_WARN("~world: %s; falling back on %s, as gzserver does", error.c_str(), fallback.c_str());
+    path = findWorldFile(fallback, resolver, &error);
+  }
   if (!path) throw std::runtime_error("~world: " + error);
   std::vector<std::string> warnings;
-  WorldSpec world = loadWorld(*path, resolver, &warnings);
+  WorldSpec world = loadWorld(*path, resolver, &warnings, options);
   for (const auto& warning : warnings) ROS_WARN("%s", warning.c_str());
   ROS_INFO("world %s", path->c_str());
   return world;
@@ -121,7 +128,8 @@ void SimulatorNode::step() {
 void SimulatorNode::afterStep() {
   if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
-    if (!writeSnapshot(snapshot_dir_ / *frame, [this] { return drawView(View::kChase, 640, 480); }, &error)) {
+    if (!writeSnapshot(
+            snapshot_dir_ / *frame, [this] { return drawView(View::kChase, 640, 480); }, &error)) {
       ROS_WARN_THROTTLE(10, "~snapshot_period: %s", error.c_str());
     }
   }

@@ -1,8 +1,10 @@
 // The ROS node `simulator` (named `gazebo` by our launch files): steps the core in sim time, publishes
 // /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
 //
-// Params: ~world [empty.world], ~step_size [1 ms], ~real_time_factor [1; 0 = as fast as possible], ~paused
-// [false],
+// Params: ~world [empty.world], ~world_fallback [none: the world loaded, with a warning, when ~world is not
+//   found, as gzserver falls back on worlds/empty.world], ~strict_models [false: an unknown model:// include
+//   is skipped with a warning; true: an error], ~step_size [1 ms], ~real_time_factor [1; 0 = as fast as
+//   possible], ~paused [false],
 //   ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless),
 //   ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames).
 // Services: ~spawn_urdf, ~delete_model, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics,
@@ -49,7 +51,8 @@ class SimulatorNode {
   bool snapshot(Snapshot::Request& request, Snapshot::Response& response);
 
   /// Writes what `draw` renders into a PNG at `path`; false with `error` when it cannot.
-  bool writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw, std::string* error);
+  bool writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw,
+                     std::string* error);
   /// The simulation from `view`, with the trails.
   Image drawView(View view, int width, int height);
   /// Extends each robot's trail and writes the periodic frame when one is due.

@@ -35,24 +35,33 @@ struct WorldSpec {
   std::vector<WorldModelSpec> models;  ///< in file order, including the ground plane
 };
 
+struct WorldOptions {
+  /// An <include> of a model that is on no folder of the model path is an error. By default it is skipped,
+  /// as Gazebo skips it, with one warning naming the model, the folders searched and how to add a model.
+  bool strict_models = false;
+};
+
 /// Parses a .world file. Throws SpecError naming the file and listing all problems at once (sdformat errors,
 /// missing meshes, unsupported geometry). Warnings (a non-static model made static, ignored elements such as
-/// plugins, joints and sensors) are appended to `warnings` when it is not null.
+/// plugins, joints and sensors, unknown models) are appended to `warnings` when it is not null.
 ///
-/// <include> URIs: model://ground_plane and model://sun are built in (the sun is a light, so it adds no
-/// model); package:// and file:// go through `resolver`; anything else is an error. Mesh URIs may be
-/// package://, file:// or paths relative to the SDF file that holds them.
+/// <include> URIs: model://NAME is the SDF file that the model.config of folder NAME on Gazebo's model path
+/// names (see GazeboPaths: GAZEBO_MODEL_PATH, package exports, the models bullet_sim ships such as
+/// ground_plane and sun, ~/.gazebo/models); package:// and file:// go through `resolver`; anything else is an
+/// error. Mesh URIs may be model://, package://, file:// or paths relative to the SDF file that holds them.
 WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
-                    std::vector<std::string>* warnings);
+                    std::vector<std::string>* warnings, const WorldOptions& options = {});
 
 /// Like loadWorld, for SDF text. `source` names it in messages; relative mesh paths and includes are resolved
 /// against the directory of `source`.
 WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings);
+                     std::vector<std::string>* warnings, const WorldOptions& options = {});
 
-/// The .world file a user means by `name`: an absolute path as it is; otherwise the name is looked up in
-/// bullet_sim/worlds, then bullet_sim_bringup/worlds (Gazebo-style "worlds/x.world" works too), then relative
-/// to the current directory. nullopt, with `error` saying where it looked, when none exists.
+/// The .world file a user means by `name`: an absolute path as it is; otherwise the name is looked up in the
+/// folders of Gazebo's resource path (GAZEBO_RESOURCE_PATH and the packages' gazebo_media_path exports: so
+/// "worlds/x.world" is <folder>/worlds/x.world), then in bullet_sim/worlds, then bullet_sim_bringup/worlds
+/// (Gazebo-style "worlds/x.world" works there too), then relative to the current directory. nullopt, with
+/// `error` saying where it looked, when none exists.
 std::optional<std::string> findWorldFile(const std::string& name, const PackageResolver& resolver,
                                          std::string* error);
 
