@@ -183,6 +183,31 @@ TEST(FindModel, PrintsTheSdfFileOfAModelOrWhereItLooked) {
   EXPECT_EQ(test::run(tool).status, 2) << "usage";
 }
 
+TEST(GazeboPaths, MaterialScriptsFromModelFoldersAndTheResourcePathGiveColours) {
+  std::vector<std::string> warnings;
+  const auto visual = [](const std::string& uri, const std::string& name) {
+    return "<visual name='" + name +
+           "'><geometry><box><size>1 1 1</size></box></geometry><material><script>"
+           "<uri>" +
+           uri + "</uri><name>" + name + "</name></script></material></visual>";
+  };
+  const WorldSpec world =
+      parseWorld("<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'>" +
+                     visual("model://crate/materials/scripts", "Yard/Rust") +
+                     visual("model://crate/materials/scripts", "Yard/DarkRust") +
+                     visual("file://media/materials/scripts/yard.material", "Yard/Grass") +
+                     visual("file://media/materials/scripts/yard.material", "Yard/Nothing") +
+                     "</link></model></world></sdf>",
+                 "inline.world", fixtureResolver(), &warnings);
+  const std::vector<Visual>& visuals = world.models.at(0).visuals;
+  ASSERT_EQ(visuals.size(), 4u);
+  EXPECT_TRUE(visuals[0].rgba.isApprox(Eigen::Vector4d(0.6, 0.3, 0.1, 1))) << "its diffuse colour";
+  EXPECT_TRUE(visuals[1].rgba.isApprox(Eigen::Vector4d(0.6, 0.3, 0.1, 1))) << "inherited from Yard/Rust";
+  EXPECT_TRUE(visuals[2].rgba.isApprox(Eigen::Vector4d(0.1, 0.5, 0.1, 1))) << "its ambient colour";
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(contains(warnings[0], "unknown Gazebo material [Yard/Nothing]")) << warnings[0];
+}
+
 /// A stock model and the extent of its collisions at the origin, from the sizes Gazebo's model publishes.
 struct StockModel {
   std::string name;

@@ -237,12 +237,15 @@ class WorldConverter {
       const std::string script = material->ScriptName();
       if (!script.empty()) {
         result.material = script;
-        if (const std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script)) {
+        std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script);
+        if (!colour) colour = scriptMaterialColour(script, materialScripts(material->Element()));
+        if (colour) {
           result.rgba = *colour;
         } else if (!has_diffuse && !has_ambient) {
           diagnostics_.warning(locate(material->Element()) + where + ": unknown Gazebo material [" + script +
                                "]" + didYouMean(script, gazeboMaterialNames()) +
-                               ", shown grey; give it a <diffuse> colour");
+                               ", shown grey: no script of its <uri>s defines it with a colour; give it a "
+                               "<diffuse> colour");
         }
       }
       if (has_diffuse) {
@@ -252,6 +255,48 @@ class WorldConverter {
       }
     }
     result.rgba[3] *= 1.0 - visual.Transparency();
+  }
+
+  /// The .material files that the <uri>s of a material's <script> name: a file, or the .material files of a
+  /// folder. model:// and package:// URIs go through the resolver; others (file://media/materials/...) are
+  /// looked up in the resource path's folders, then beside the SDF file.
+  std::vector<std::string> materialScripts(const sdf::ElementPtr& material) const {
+    std::vector<std::string> files;
+    const sdf::ElementPtr script = material->HasElement("script") ? material->GetElement("script") : nullptr;
+    for (const auto& uri : children(script, "uri")) {
+      std::string text = uri->Get<std::string>();
+      std::vector<fs::path> candidates;
+      if (hasScheme(text, "model") || hasScheme(text, "package")) {
+        std::string ignored;
+        if (const auto resolved = resolver_.resolve(text, &ignored)) candidates.emplace_back(*resolved);
+      } else {
+        if (hasScheme(text, "file")) text = text.substr(std::string("file://").size());
+        for (const auto& folder : resolver_.gazeboPaths().resourcePath())
+          candidates.push_back(fs::path(folder) / text);
+        candidates.push_back(base_directory_ / text);
+      }
+      appendScripts(candidates, files);
+    }
+    return files;
+  }
+
+  /// Appends the first of `candidates` that exists: a file, or the .material files of a folder (sorted).
+  static void appendScripts(const std::vector<fs::path>& candidates, std::vector<std::string>& files) {
+    std::error_code ec;
+    for (const auto& candidate : candidates) {
+      if (fs::is_regular_file(candidate, ec)) {
+        files.push_back(candidate.string());
+        return;
+      }
+      if (!fs::is_directory(candidate, ec)) continue;
+      std::vector<std::string> scripts;
+      for (fs::directory_iterator it(candidate, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->path().extension() == ".material") scripts.push_back(it->path().string());
+      }
+      std::sort(scripts.begin(), scripts.end());
+      files.insert(files.end(), scripts.begin(), scripts.end());
+      return;
+    }
   }
 
   std::optional<Shape> toShape(const sdf::Geometry& geometry, const std::string& where) {
