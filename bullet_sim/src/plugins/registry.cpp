@@ -9,6 +9,7 @@
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/joint_states.h"
 #include "bullet_sim/plugins/pinhole_camera.h"
+#include "bullet_sim/plugins/range_sensor.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 
@@ -38,6 +39,7 @@ PluginRegistry makeBuiltin() {
            pluginType<PinholeCamera>("libgazebo_ros_camera.so", kCameraSensors, parseCamera),
            pluginType<PinholeCamera>("libgazebo_ros_openni_kinect.so", {"depth"}, parseDepthCamera),
            pluginType<PinholeCamera>("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera),
+           pluginType<RangeSensor>("libgazebo_ros_range.so", {"ray"}, parseRange),
        }) {
     registry.add(std::move(type));
   }
