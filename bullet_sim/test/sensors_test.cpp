@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "bullet_sim/plugins/hector_imu.h"
 #include "bullet_sim/plugins/range_sensor.h"
 #include "bullet_sim/simulation.h"
 #include "test_support.h"
@@ -14,7 +15,9 @@
 namespace bullet_sim {
 namespace {
 
+using ::testing::Contains;
 using ::testing::HasSubstr;
+using ::testing::IsSupersetOf;
 
 const std::string kFixture = "test/fixtures/robots/multi_sensor_robot.urdf.xacro";
 
@@ -38,10 +41,47 @@ std::string withSensorPluginTags(const std::string& urdf, const std::string& sen
   });
 }
 
+/// The load warnings hector's plugins always give: their services and topics of hector's own types.
+const std::vector<std::string> kHectorWarnings = {"need hector's own types, which Debian lacks: left out"};
+
+/// Parses `urdf`; a load warning that contains none of `expected` fails the test.
+ModelSpec parseExpecting(const std::string& urdf, const std::string& source,
+                         const std::vector<std::string>& expected = kHectorWarnings) {
+  std::vector<std::string> warnings;
+  ModelSpec model = parseModel(urdf, source, PackageResolver::fromEnvironment(), &warnings);
+  for (const auto& warning : warnings) {
+    const bool known = std::any_of(expected.begin(), expected.end(), [&](const std::string& part) {
+      return warning.find(part) != std::string::npos;
+    });
+    if (!known) ADD_FAILURE() << source << ": unexpected load warning: " << warning;
+  }
+  return model;
+}
+
+/// The load warnings of `urdf` (which must load).
+std::vector<std::string> loadWarnings(const std::string& urdf) {
+  std::vector<std::string> warnings;
+  parseModel(urdf, "robot", PackageResolver::fromEnvironment(), &warnings);
+  return warnings;
+}
+
+/// The load errors of `urdf`.
+std::vector<std::string> loadErrors(const std::string& urdf) {
+  try {
+    parseModel(urdf, "robot", PackageResolver::fromEnvironment());
+  } catch (const SpecError& error) {
+    return error.problems();
+  }
+  return {};
+}
+
+std::string multiSensorUrdf(const std::string& drive = "planar") {
+  return test::expandXacro("bullet_sim", kFixture, {"drive:=" + drive});
+}
+
 /// The multi-sensor robot, with planar move or force-based move.
 ModelSpec multiSensorRobot(const std::string& drive = "planar") {
-  return test::parseQuietly(test::expandXacro("bullet_sim", kFixture, {"drive:=" + drive}),
-                            "multi_sensor_robot");
+  return parseExpecting(multiSensorUrdf(drive), "multi_sensor_robot");
 }
 
 template <class T>
@@ -120,11 +160,10 @@ TEST(Range, ANarrowBeamAndAWideConeReadTheNearestHitOfTheirRays) {
 }
 
 TEST(Range, NoiseIsSeededAndCentredOnTheTruth) {
-  const std::string urdf = withSensorPluginTags(test::expandXacro("bullet_sim", kFixture, {"drive:=planar"}),
-                                                "ir", {{"gaussianNoise", "0.01"}});
+  const std::string urdf = withSensorPluginTags(multiSensorUrdf(), "ir", {{"gaussianNoise", "0.01"}});
   const auto readings = [&](uint64_t seed) {
     Simulation simulation(test::shippedWorld("test_room.world"), {.seed = seed});
-    Robot& robot = simulation.spawn("robot", test::parseQuietly(urdf, "noisy"), {.x = 0.78});
+    Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "noisy"), {.x = 0.78});
     RangeSensor& ir = pluginNamed<RangeSensor>(robot, "ir");
     std::vector<double> ranges;
     while (ranges.size() < 200) {
@@ -142,6 +181,157 @@ TEST(Range, NoiseIsSeededAndCentredOnTheTruth) {
   for (double range : first) square += (range - mean) * (range - mean) / (first.size() - 1);
   EXPECT_NEAR(mean, 2.0, 3 * 0.01 / std::sqrt(200.0));
   EXPECT_NEAR(std::sqrt(square), 0.01, 0.002);
+}
+
+// hector's IMU.
+
+constexpr double kGravity = 9.81;
+const std::string kImuPlugin = "libhector_gazebo_ros_imu.so";
+
+/// The multi-sensor robot's IMU with every error model off but the tags in `tags`.
+std::string idealImu(const test::Tags& tags = {}) {
+  test::Tags all = {{"accelDrift", "0 0 0"}, {"accelGaussianNoise", "0 0 0"}, {"rateDrift", "0 0 0"},
+                    {"rateGaussianNoise", "0 0 0"}, {"yawDrift", "0"}, {"yawGaussianNoise", "0"}};
+  all.insert(all.end(), tags.begin(), tags.end());
+  return test::withPluginTags(multiSensorUrdf(), kImuPlugin, all);
+}
+
+/// The samples of `imu` over `seconds` of sim time.
+std::vector<ImuSample> imuSamples(Simulation& simulation, const HectorImu& imu, double seconds) {
+  std::vector<ImuSample> samples;
+  const double end = simulation.time() + seconds;
+  while (simulation.time() < end - 1e-9) {
+    const uint64_t count = imu.sampleCount();
+    simulation.step();
+    if (imu.sampleCount() != count) samples.push_back(imu.sample());
+  }
+  return samples;
+}
+
+TEST(HectorImu, AtRestReadsGravityUpAndNoRotationWithinItsNoise) {
+  Simulation simulation(test::shippedWorld("empty.world"), {.seed = 3});
+  Robot& robot = simulation.spawn("robot", multiSensorRobot(), {.x = 1, .yaw = 0.7});
+  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  for (int i = 0; i < 500; ++i) simulation.step();  // settled
+  const std::vector<ImuSample> samples = imuSamples(simulation, imu, 4.0);
+  ASSERT_EQ(samples.size(), 200u) << "50 Hz";
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero(), rate = Eigen::Vector3d::Zero();
+  for (const auto& sample : samples) {
+    accel += sample.linear_acceleration / samples.size();
+    rate += sample.angular_velocity / samples.size();
+  }
+  // The drift starts at N(0, 0.005^2) per axis: 4 sigma of it, and of the white noise's mean.
+  const double bound = 4 * 0.005 + 4 * 0.005 / std::sqrt(200.0);
+  EXPECT_NEAR(accel.x(), 0, bound);
+  EXPECT_NEAR(accel.y(), 0, bound);
+  EXPECT_NEAR(accel.z(), kGravity, bound);
+  EXPECT_LT(rate.norm(), 2 * bound);
+  EXPECT_GT((samples[0].angular_velocity - samples[1].angular_velocity).norm(), 0) << "the noise is on";
+  const ImuSample& last = samples.back();
+  EXPECT_EQ(last.frame_id, "imu_link");
+  EXPECT_DOUBLE_EQ(last.angular_velocity_variance.x(), 0.005 * 0.005);
+  EXPECT_DOUBLE_EQ(last.linear_acceleration_variance.z(), 0.005 * 0.005);
+  EXPECT_NEAR(last.orientation_variance.x(), 0.005 * 0.005 / (kGravity * kGravity), 1e-15);
+  EXPECT_DOUBLE_EQ(last.orientation_variance.z(), 0.005 * 0.005);
+}
+
+TEST(HectorImu, WithoutErrorsMatchesTheGroundTruth) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  Robot& robot = simulation.spawn("robot", parseExpecting(idealImu(), "ideal"), {.x = 1, .yaw = 0.7});
+  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  for (int i = 0; i < 500; ++i) simulation.step();
+  for (const ImuSample& sample : imuSamples(simulation, imu, 1.0)) {
+    const Eigen::Quaterniond truth(robot.body().linkPose("imu_link").linear());
+    EXPECT_LT(sample.orientation.angularDistance(truth), 1e-9);
+    EXPECT_LT((sample.linear_acceleration - Eigen::Vector3d(0, 0, kGravity)).norm(), 1e-3);
+    EXPECT_LT(sample.angular_velocity.norm(), 1e-3);
+  }
+  EXPECT_NEAR(Eigen::AngleAxisd(imu.sample().orientation).angle(), 0.7, 1e-3) << "yaw 0.7 at spawn";
+}
+
+TEST(HectorImu, OffsetsShowInTheReadingAndTheBiasTopic) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  const std::string urdf = idealImu({{"rateOffset", "0.1 0 0"}, {"accelOffset", "0 0.2 0"}});
+  Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "offsets"), {});
+  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  for (int i = 0; i < 500; ++i) simulation.step();
+  EXPECT_NEAR(imu.sample().angular_velocity.x(), 0.1, 1e-3);
+  EXPECT_NEAR(imu.sample().linear_acceleration.y(), 0.2, 1e-3);
+  EXPECT_TRUE(imu.bias().angular_velocity.isApprox(Eigen::Vector3d(0.1, 0, 0)));
+  EXPECT_TRUE(imu.bias().linear_acceleration.isApprox(Eigen::Vector3d(0, 0.2, 0)));
+  // The accelerometer's bias tilts the orientation as hector's pseudo-AHRS does: 0.2 m/s^2 to the left rolls
+  // it by about 0.2 / g.
+  EXPECT_NEAR(Eigen::AngleAxisd(imu.bias().orientation).angle(), 0.2 / kGravity, 1e-4);
+}
+
+TEST(HectorImu, CalibrateZeroesTheRateDrift) {
+  Simulation simulation(test::shippedWorld("empty.world"), {.seed = 5});
+  const std::string urdf = idealImu({{"rateDrift", "0.1 0.1 0.1"}});
+  Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "drift"), {});
+  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  for (int i = 0; i < 100; ++i) simulation.step();
+  EXPECT_GT(imu.bias().angular_velocity.norm(), 0.01) << "drawn from N(0, 0.1^2) per axis";
+  const auto& ports = imu.ports().services;
+  ASSERT_EQ(ports.size(), 1u);
+  EXPECT_EQ(ports[0].name, "imu/data/calibrate");
+  EXPECT_EQ(std::get<ServiceHandler<EmptyRequest>>(ports[0].handler)(EmptyRequest{}), "");
+  simulation.step();
+  for (int i = 0; i < 20; ++i) simulation.step();
+  EXPECT_LT(imu.bias().angular_velocity.norm(), 1e-3) << "the drift restarts from zero";
+}
+
+TEST(HectorImu, TheSameSeedGivesTheSameReadings) {
+  const auto run = [](uint64_t seed) {
+    Simulation simulation(test::shippedWorld("empty.world"), {.seed = seed});
+    Robot& robot = simulation.spawn("robot", multiSensorRobot(), {});
+    std::vector<double> readings;
+    for (const ImuSample& sample : imuSamples(simulation, *robot.pluginsOf<HectorImu>().at(0), 0.5)) {
+      readings.push_back(sample.linear_acceleration.x());
+      readings.push_back(sample.orientation.z());
+    }
+    simulation.resetSimulation();
+    const ImuSample after_reset = imuSamples(simulation, *robot.pluginsOf<HectorImu>().at(0), 0.5).back();
+    EXPECT_EQ(after_reset.linear_acceleration.x(), readings[readings.size() - 2])
+        << "a reset replays the run";
+    return readings;
+  };
+  EXPECT_EQ(run(11), run(11));
+  EXPECT_NE(run(11), run(12));
+}
+
+TEST(HectorImu, LoadMessages) {
+  const std::string husky_style = test::withPluginTags(
+      idealImu(), kImuPlugin, {{"headingDrift", "0.01"}, {"headingGaussianNoise", "0.02"}});
+  const std::vector<std::string> warnings = loadWarnings(husky_style);
+  EXPECT_THAT(warnings, Contains(HasSubstr("<headingDrift> is hector's old name of <yawDrift>, which today's "
+                                           "hector ignores: ignored, since <yawDrift> is given")));
+  const std::string without_yaw = test::editUrdf(husky_style, [](tinyxml2::XMLElement& robot) {
+    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo")) {
+      if (auto* plugin = gazebo->FirstChildElement("plugin")) {
+        plugin->DeleteChild(plugin->FirstChildElement("yawDrift"));
+        plugin->DeleteChild(plugin->FirstChildElement("yawGaussianNoise"));
+      }
+    }
+  });
+  EXPECT_THAT(loadWarnings(without_yaw),
+              Contains(HasSubstr("<headingGaussianNoise> is hector's old name of <yawGaussianNoise>, which "
+                                 "today's hector ignores: read as <yawGaussianNoise>")));
+  const ModelSpec model = parseModel(without_yaw, "robot", PackageResolver::fromEnvironment());
+  for (const auto& plugin : model.plugins) {
+    if (const auto* config = plugin.configAs<HectorImuConfig>()) {
+      EXPECT_DOUBLE_EQ(config->yaw.drift.x(), 0.01);
+      EXPECT_DOUBLE_EQ(config->yaw.gaussian_noise.x(), 0.02);
+    }
+  }
+  EXPECT_THAT(warnings, Contains(HasSubstr("hector's [imu/data/set_accel_bias] and [imu/data/set_rate_bias] "
+                                           "services and its dynamic_reconfigure servers need hector's own "
+                                           "types, which Debian lacks: left out")));
+  const std::string bad =
+      test::withPluginTags(idealImu(), kImuPlugin, {{"accelDrift", "0.1 0.1"}, {"bodyName", "imu_lnk"}});
+  EXPECT_THAT(loadErrors(bad),
+              IsSupersetOf({HasSubstr("<accelDrift> must be three numbers (x y z), not [0.1 0.1]"),
+                            HasSubstr("<bodyName> [imu_lnk] is not a link (did you mean [imu_link]?)")}));
 }
 
 }  // namespace

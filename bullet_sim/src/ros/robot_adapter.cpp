@@ -123,10 +123,10 @@ sensor_msgs::Imu toMessage(const ImuSample& sample, const FramePrefix& frames) {
   message.orientation = tf2::toMsg(sample.orientation);
   tf2::toMsg(sample.angular_velocity, message.angular_velocity);
   tf2::toMsg(sample.linear_acceleration, message.linear_acceleration);
-  for (int i : {0, 4, 8}) {
-    message.orientation_covariance[i] = sample.orientation_variance;
-    message.angular_velocity_covariance[i] = sample.angular_velocity_variance;
-    message.linear_acceleration_covariance[i] = sample.linear_acceleration_variance;
+  for (int i = 0; i < 3; ++i) {
+    message.orientation_covariance[4 * i] = sample.orientation_variance[i];
+    message.angular_velocity_covariance[4 * i] = sample.angular_velocity_variance[i];
+    message.linear_acceleration_covariance[4 * i] = sample.linear_acceleration_variance[i];
   }
   return message;
 }

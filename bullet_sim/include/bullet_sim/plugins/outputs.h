@@ -77,9 +77,10 @@ struct ImuSample {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< of the frame in the world
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();       ///< [rad/s] in the frame
   Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();  ///< [m/s^2] in the frame, gravity included
-  double orientation_variance = 0;
-  double angular_velocity_variance = 0;
-  double linear_acceleration_variance = 0;
+  /// The covariances' diagonals (x, y, z).
+  Eigen::Vector3d orientation_variance = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity_variance = Eigen::Vector3d::Zero();
+  Eigen::Vector3d linear_acceleration_variance = Eigen::Vector3d::Zero();
 };
 
 /// sensor_msgs/Image: a camera's colour image or a depth image, as its ROS encoding lays it out.
