@@ -164,7 +164,8 @@ void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
     for (const auto& declaration : robot.body().spec().plugins) {
       const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
       const PluginSetup setup{robot.body(),    robot.name(), options_.seed, world_.gravity,
-                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get()};
+                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get(),
+                              world_.spherical_coordinates};
       robot.plugins_.push_back(options_.plugins->create(declaration, setup));
     }
   } catch (const std::exception& e) {

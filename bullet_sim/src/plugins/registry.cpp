@@ -5,6 +5,7 @@
 
 #include "bullet_sim/plugins/ackermann_drive.h"
 #include "bullet_sim/plugins/ground_truth.h"
+#include "bullet_sim/plugins/hector_gps.h"
 #include "bullet_sim/plugins/hector_imu.h"
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/joint_position.h"
@@ -42,6 +43,7 @@ PluginRegistry makeBuiltin() {
            pluginType<PinholeCamera>("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera),
            pluginType<RangeSensor>("libgazebo_ros_range.so", {"ray"}, parseRange),
            pluginType<HectorImu>("libhector_gazebo_ros_imu.so", {}, parseHectorImu),
+           pluginType<HectorGps>("libhector_gazebo_ros_gps.so", {}, parseHectorGps),
        }) {
     registry.add(std::move(type));
   }
