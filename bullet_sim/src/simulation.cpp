@@ -128,9 +128,9 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   diagnostics.throwIfErrors();
   std::unique_ptr<PhysicsRobot> body;
   if (wheelModelOf(model) == "raycast") {
-    body = std::make_unique<RaycastRobot>(std::move(model), physics_->bullet(), rays_, root);
+    body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);
   } else {
-    body = std::make_unique<MultiBodyRobot>(std::move(model), physics_->bullet(), root);
+    body = std::make_unique<MultiBodyRobot>(std::move(model), name, physics_->bullet(), root);
   }
   auto robot = std::make_unique<Robot>(name, std::move(body), root);
   for (const auto& [joint, position] : pose.joints) {

@@ -6,10 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
+#include "bullet_sim/description/gazebo_names.h"
+#include "bullet_sim/plugins/bumper.h"
 #include "bullet_sim/plugins/hector_gps.h"
 #include "bullet_sim/plugins/hector_imu.h"
 #include "bullet_sim/plugins/range_sensor.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/simulation.h"
 #include "test_support.h"
 
@@ -461,6 +465,154 @@ TEST(HectorGps, LoadMessages) {
               IsSupersetOf({HasSubstr("<bodyName> [gps_lnk] is not a link (did you mean [gps_link]?)"),
                             HasSubstr("<velocityDrift> must be three numbers (x y z), not [1]"),
                             HasSubstr("<referenceLatitude> must lie strictly between -90 and 90 deg")}));
+}
+
+// Bumpers.
+
+TEST(GazeboNames, LumpedCollisionsAreNamedAsSdformatNamesThem) {
+  const ModelSpec robot = multiSensorRobot();
+  EXPECT_EQ(gazeboLink(robot, "bumper_link"), "base_footprint");
+  std::vector<std::string> names;
+  for (const GazeboCollision& collision : gazeboCollisions(robot)) {
+    EXPECT_EQ(collision.gazebo_link, "base_footprint");
+    names.push_back(collision.name);
+  }
+  // base_link's box, then base_link's fixed children by joint name.
+  EXPECT_EQ(names, (std::vector<std::string>{"base_footprint_fixed_joint_lump__base_link_collision",
+                                             "base_footprint_fixed_joint_lump__bumper_link_collision_1",
+                                             "base_footprint_fixed_joint_lump__caster_fl_collision_2",
+                                             "base_footprint_fixed_joint_lump__caster_fr_collision_3",
+                                             "base_footprint_fixed_joint_lump__caster_rl_collision_4",
+                                             "base_footprint_fixed_joint_lump__caster_rr_collision_5"}));
+  EXPECT_EQ(unlumpedCollisionNames(robot, "bumper_link"), std::vector<std::string>{"bumper_link_collision"});
+}
+
+TEST(GazeboNames, NamedMovingAndPreservedLinksKeepTheirOwn) {
+  // A named collision on a link of its own, a second collision, and a fixed joint kept by preserveFixedJoint.
+  std::string urdf = test::readFile(test::fixture("robots/two_wheeler.urdf"));
+  urdf = test::replaceAfter(urdf, "<link name=\"left_wheel\">", "<collision>", "<collision name=\"tyre\">");
+  urdf = test::replaceAfter(urdf, "<link name=\"base_link\">", "</link>",
+                            "<collision><geometry><sphere radius=\"0.01\"/></geometry></collision></link>");
+  urdf = test::replaceAfter(urdf, "</robot>", "</robot>",
+                            "<gazebo reference=\"caster_joint\"><preserveFixedJoint>true</preserveFixedJoint>"
+                            "</gazebo></robot>");
+  const ModelSpec robot = test::parseQuietly(urdf, "two_wheeler");
+  std::map<std::string, std::string> names;
+  for (const GazeboCollision& collision : gazeboCollisions(robot)) {
+    const std::string key = collision.link + "/" + std::to_string(collision.index);
+    names[key] = collision.gazebo_link + "::" + collision.name;
+  }
+  EXPECT_EQ(names["base_link/0"], "base_footprint::base_footprint_fixed_joint_lump__base_link_collision");
+  EXPECT_EQ(names["base_link/1"], "base_footprint::base_footprint_fixed_joint_lump__base_link_collision_1");
+  EXPECT_EQ(names["caster/0"], "caster::caster_collision");
+  // sdformat adds the lump prefix to a name that does not start with its link's, lumped or not.
+  EXPECT_EQ(names["left_wheel/0"], "left_wheel::left_wheel_fixed_joint_lump__tyre_collision");
+  EXPECT_EQ(names["right_wheel/0"], "right_wheel::right_wheel_collision");
+}
+
+constexpr char kBumperLink[] = R"(
+  <joint name="bumper_joint" type="fixed">
+    <parent link="base_link"/><child link="bumper_link"/><origin xyz="0.21 0 0.05"/>
+  </joint>
+  <link name="bumper_link">
+    <collision><geometry><box size="0.02 0.3 0.06"/></geometry></collision>
+  </link>
+  <gazebo reference="bumper_link">
+    <sensor type="contact" name="bumper">
+      <update_rate>50</update_rate>
+      <contact><collision>COLLISION</collision></contact>
+      <plugin name="bumper_plugin" filename="libgazebo_ros_bumper.so">
+        <bumperTopicName>bumper</bumperTopicName>
+      </plugin>
+    </sensor>
+  </gazebo>
+</robot>)";
+
+/// two_wheeler.urdf with a diff drive, a bumper plate 0.22 m ahead of base_footprint and a contact sensor
+/// watching `collision`.
+std::string bumperCar(const std::string& collision, const std::string& wheel_model) {
+  std::string bumper = kBumperLink;
+  bumper.replace(bumper.find("COLLISION"), 9, collision);
+  std::string urdf = test::readFile(test::fixture("robots/two_wheeler.urdf"));
+  urdf.replace(urdf.find("</robot>"), 8, bumper);
+  return test::withPlugin(urdf, "drive", "libgazebo_ros_diff_drive.so",
+                          {{"leftJoint", "left_wheel_joint"},
+                           {"rightJoint", "right_wheel_joint"},
+                           {"wheelSeparation", "0.35"},
+                           {"wheelDiameter", "0.1"},
+                           {"wheelModel", wheel_model}});
+}
+
+constexpr char kLumpedBumper[] = "base_footprint_fixed_joint_lump__bumper_link_collision_1";
+
+TEST(Bumper, ARobotDrivenIntoAWallReportsItsBumperTouchingItAndNothingBefore) {
+  for (const std::string& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    Simulation simulation(test::shippedWorld("test_room.world"));
+    Robot& robot = simulation.spawn("car", test::parseQuietly(bumperCar(kLumpedBumper, wheel_model), "car"),
+                                    {.x = 2.0});
+    const Bumper& bumper = *robot.pluginsOf<Bumper>().at(0);
+    WheeledDrive& drive = *robot.pluginsOf<WheeledDrive>().at(0);
+    const auto front = [&] { return robot.body().linkPose("bumper_link").translation().x() + 0.01; };
+    uint64_t seen = 0;
+    int empty_updates = 0;
+    while (front() < 3.0 - 1e-3) {
+      ASSERT_LT(simulation.time(), 10.0) << "the car never reached the wall";
+      drive.setCommand(0.3, 0, simulation.time());
+      simulation.step();
+      if (bumper.contactsCount() == seen) continue;
+      seen = bumper.contactsCount();
+      EXPECT_THAT(bumper.contacts().states, testing::IsEmpty())
+          << "the plate is " << 3.0 - front() << " m off";
+      ++empty_updates;
+    }
+    EXPECT_GT(empty_updates, 50) << "a bumper publishes every update, empty while nothing touches";
+    ASSERT_TRUE(test::stepUntil(
+        simulation, [&] { return !bumper.contacts().states.empty(); }, 1.0, "the bumper's contact"));
+    for (int i = 0; i < 200; ++i) {
+      drive.setCommand(0.3, 0, simulation.time());
+      simulation.step();
+    }
+    const ContactsSample& contacts = bumper.contacts();
+    EXPECT_EQ(contacts.frame_id, "world");
+    ASSERT_EQ(contacts.states.size(), 1u) << "the wheels and the caster on the ground are other collisions";
+    const ContactsSample::State& state = contacts.states[0];
+    EXPECT_EQ(state.collision1, std::string("car::base_footprint::") + kLumpedBumper);
+    EXPECT_EQ(state.collision2, "room::wall_east::collision");
+    ASSERT_FALSE(state.positions.empty());
+    for (size_t i = 0; i < state.positions.size(); ++i) {
+      EXPECT_NEAR(state.positions[i].x(), 3.0, 0.005);
+      EXPECT_LT((state.normals[i] - Eigen::Vector3d(-1, 0, 0)).norm(), 1e-6);
+    }
+    EXPECT_LT(state.total_wrench.force.x(), -1.0) << "the wall pushes the car back";
+    EXPECT_THAT(state.info, HasSubstr("my geom:car::base_footprint::" + std::string(kLumpedBumper)));
+  }
+}
+
+TEST(Bumper, ACollisionNamedAsBeforeLumpingIsWatchedWithAWarning) {
+  const std::string urdf = bumperCar("bumper_link_collision", "contact");
+  EXPECT_THAT(loadWarnings(urdf),
+              Contains(HasSubstr("<contact><collision> [bumper_link_collision] is the name of link "
+                                 "[bumper_link]'s collision before Gazebo lumps that link into "
+                                 "[base_footprint]; there it is [" +
+                                 std::string(kLumpedBumper) + "], and Gazebo's bumper, finding no "
+                                 "[bumper_link_collision], reports nothing: bullet_sim watches [" +
+                                 std::string(kLumpedBumper) + "]")));
+  const ModelSpec model = parseModel(urdf, "car", PackageResolver::fromEnvironment());
+  for (const auto& plugin : model.plugins) {
+    if (const auto* bumper = plugin.configAs<BumperConfig>()) {
+      ASSERT_EQ(bumper->collisions.size(), 1u);
+      EXPECT_EQ(bumper->collisions[0].name, kLumpedBumper);
+    }
+  }
+}
+
+TEST(Bumper, ACollisionNamingNothingIsAWarningWithASuggestion) {
+  EXPECT_THAT(loadWarnings(bumperCar("base_footprint_fixed_joint_lump__bumper_link_collision_2", "contact")),
+              Contains(HasSubstr("<contact><collision> "
+                                 "[base_footprint_fixed_joint_lump__bumper_link_collision_2] is no collision "
+                                 "of link [base_footprint] as Gazebo names them (did you mean [" +
+                                 std::string(kLumpedBumper) + "]?): it reports nothing, as in Gazebo")));
 }
 
 }  // namespace

@@ -290,6 +290,7 @@ class WorldConverter {
         result.origin =
             in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
         result.shape = std::move(*shape);
+        result.name = scope + "::" + link.Name() + "::" + collision.Name();
         spec.collisions.push_back(std::move(result));
       }
       for (uint64_t v = 0; v < link.VisualCount(); ++v) {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "bullet_sim/plugins/ackermann_drive.h"
+#include "bullet_sim/plugins/bumper.h"
 #include "bullet_sim/plugins/ground_truth.h"
 #include "bullet_sim/plugins/hector_gps.h"
 #include "bullet_sim/plugins/hector_imu.h"
@@ -44,6 +45,7 @@ PluginRegistry makeBuiltin() {
            pluginType<RangeSensor>("libgazebo_ros_range.so", {"ray"}, parseRange),
            pluginType<HectorImu>("libhector_gazebo_ros_imu.so", {}, parseHectorImu),
            pluginType<HectorGps>("libhector_gazebo_ros_gps.so", {}, parseHectorGps),
+           pluginType<Bumper>("libgazebo_ros_bumper.so", {"contact"}, parseBumper),
        }) {
     registry.add(std::move(type));
   }
