@@ -15,100 +15,24 @@
 #include "bullet_sim/plugins/range_sensor.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/simulation.h"
+#include "multi_sensor_robot.h"
 #include "test_support.h"
 
 namespace bullet_sim {
 namespace {
 
+using test::loadErrors;
+using test::loadWarnings;
+using test::multiSensorRobot;
+using test::multiSensorUrdf;
+using test::parseExpecting;
+using test::pluginNamed;
+using test::withoutPluginTags;
+using test::withSensorPluginTags;
+
 using ::testing::Contains;
 using ::testing::HasSubstr;
 using ::testing::IsSupersetOf;
-
-const std::string kFixture = "test/fixtures/robots/multi_sensor_robot.urdf.xacro";
-
-/// `urdf` with the tags of the plugin of sensor `sensor` set (or added).
-std::string withSensorPluginTags(const std::string& urdf, const std::string& sensor, const test::Tags& tags) {
-  return test::editUrdf(urdf, [&](tinyxml2::XMLElement& robot) {
-    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
-         gazebo = gazebo->NextSiblingElement("gazebo")) {
-      for (auto* element = gazebo->FirstChildElement("sensor"); element;
-           element = element->NextSiblingElement("sensor")) {
-        if (sensor != element->Attribute("name")) continue;
-        auto* plugin = element->FirstChildElement("plugin");
-        for (const auto& [tag, text] : tags) {
-          auto* child = plugin->FirstChildElement(tag.c_str());
-          (child ? child : plugin->InsertNewChildElement(tag.c_str()))->SetText(text.c_str());
-        }
-        return;
-      }
-    }
-    throw std::runtime_error("no sensor [" + sensor + "]");
-  });
-}
-
-/// `urdf` without the tags `tags` of its model plugin `filename`.
-std::string withoutPluginTags(const std::string& urdf, const std::string& filename,
-                              const std::vector<std::string>& tags) {
-  return test::editUrdf(urdf, [&](tinyxml2::XMLElement& robot) {
-    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
-         gazebo = gazebo->NextSiblingElement("gazebo")) {
-      auto* plugin = gazebo->FirstChildElement("plugin");
-      if (!plugin || filename != plugin->Attribute("filename")) continue;
-      for (const auto& tag : tags) plugin->DeleteChild(plugin->FirstChildElement(tag.c_str()));
-    }
-  });
-}
-
-/// The load warnings hector's plugins always give: their services and topics of hector's own types.
-const std::vector<std::string> kHectorWarnings = {"need hector's own types, which Debian lacks: left out"};
-
-/// Parses `urdf`; a load warning that contains none of `expected` fails the test.
-ModelSpec parseExpecting(const std::string& urdf, const std::string& source,
-                         const std::vector<std::string>& expected = kHectorWarnings) {
-  std::vector<std::string> warnings;
-  ModelSpec model = parseModel(urdf, source, PackageResolver::fromEnvironment(), &warnings);
-  for (const auto& warning : warnings) {
-    const bool known = std::any_of(expected.begin(), expected.end(), [&](const std::string& part) {
-      return warning.find(part) != std::string::npos;
-    });
-    if (!known) ADD_FAILURE() << source << ": unexpected load warning: " << warning;
-  }
-  return model;
-}
-
-/// The load warnings of `urdf` (which must load).
-std::vector<std::string> loadWarnings(const std::string& urdf) {
-  std::vector<std::string> warnings;
-  parseModel(urdf, "robot", PackageResolver::fromEnvironment(), &warnings);
-  return warnings;
-}
-
-/// The load errors of `urdf`.
-std::vector<std::string> loadErrors(const std::string& urdf) {
-  try {
-    parseModel(urdf, "robot", PackageResolver::fromEnvironment());
-  } catch (const SpecError& error) {
-    return error.problems();
-  }
-  return {};
-}
-
-std::string multiSensorUrdf(const std::string& drive = "planar") {
-  return test::expandXacro("bullet_sim", kFixture, {"drive:=" + drive});
-}
-
-/// The multi-sensor robot, with planar move or force-based move.
-ModelSpec multiSensorRobot(const std::string& drive = "planar") {
-  return parseExpecting(multiSensorUrdf(drive), "multi_sensor_robot");
-}
-
-template <class T>
-T& pluginNamed(const Robot& robot, const std::string& name) {
-  for (T* plugin : robot.pluginsOf<T>()) {
-    if (plugin->name() == name) return *plugin;
-  }
-  throw std::runtime_error("no plugin [" + name + "]");
-}
 
 // Where the rangers sit on the robot (base_footprint frame) [m].
 constexpr double kRangerAhead = 0.22;
