@@ -125,6 +125,28 @@ TEST(Range, NoiseIsSeededAndCentredOnTheTruth) {
   EXPECT_NEAR(std::sqrt(square), 0.01, 0.002);
 }
 
+TEST(Range, LoadMessages) {
+  const std::string noisy_rays = test::editUrdf(multiSensorUrdf(), [](tinyxml2::XMLElement& robot) {
+    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo")) {
+      auto* sensor = gazebo->FirstChildElement("sensor");
+      if (!sensor || std::string("ir") != sensor->Attribute("name")) continue;
+      auto* noise = sensor->FirstChildElement("ray")->InsertNewChildElement("noise");
+      noise->InsertNewChildElement("type")->SetText("gaussian");
+      noise->InsertNewChildElement("stddev")->SetText("0.01");
+    }
+  });
+  const std::string urdf = withSensorPluginTags(noisy_rays, "sonar", {{"radiation", "sonic"}});
+  EXPECT_THAT(loadWarnings(urdf),
+              IsSupersetOf({HasSubstr("sensor [ir] on link [ir_link] <ray><noise> does not reach "
+                                      "libgazebo_ros_range.so's range (Gazebo's plugin reads the rays before the "
+                                      "sensor's noise): ignored; use the plugin's <gaussianNoise>"),
+                            HasSubstr("<radiation> must be ultrasound or infrared, not [sonic]: infrared is used, "
+                                      "as Gazebo does")}));
+  EXPECT_THAT(loadErrors(withSensorPluginTags(multiSensorUrdf(), "ir", {{"frameName", "ir_lnk"}})),
+              Contains(HasSubstr("<frameName> [ir_lnk] is not a link (did you mean [ir_link]?)")));
+}
+
 // hector's IMU.
 
 constexpr double kGravity = 9.81;
