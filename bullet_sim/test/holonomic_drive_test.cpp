@@ -19,20 +19,13 @@ namespace {
 
 using ::testing::Contains;
 using ::testing::HasSubstr;
+using test::angleDifference;
 using test::multiSensorRobot;
 using test::multiSensorUrdf;
 using test::parseExpecting;
+using test::Planar;
+using test::planar;
 
-struct Planar {
-  double x, y, yaw;
-};
-
-Planar planar(const Eigen::Isometry3d& pose) {
-  return {pose.translation().x(), pose.translation().y(),
-          std::atan2(pose.linear()(1, 0), pose.linear()(0, 0))};
-}
-
-double angleDifference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
 
 /// Where a body starting at `start` ends after `seconds` at the body-frame velocity (vx, vy) [m/s] turning
 /// at w [rad/s] (w != 0).

@@ -23,11 +23,7 @@ HectorGpsConfig parseHectorGps(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   HectorGpsConfig config;
   config.robot_namespace = tags.text("robotNamespace", "");
-  config.link = tags.text("bodyName", source.model.root);
-  if (!source.model.link(config.link)) {
-    source.diagnostics.error(tags.where() + " <bodyName> [" + config.link + "] is not a link" +
-                             didYouMean(config.link, source.model.linkNames()));
-  }
+  config.link = readHectorBody(tags, source.model);
   config.frame = tags.text("frameId", config.frame);
   config.fix_topic = tags.text("topicName", config.fix_topic);
   config.velocity_topic = tags.text("velocityTopicName", config.velocity_topic);

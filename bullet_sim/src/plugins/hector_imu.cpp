@@ -6,13 +6,6 @@ namespace bullet_sim {
 
 namespace {
 
-void checkLink(const std::string& tag, const std::string& link, const DeclarationSource& source) {
-  if (!source.model.link(link)) {
-    source.diagnostics.error(source.tags.where() + " <" + tag + "> [" + link + "] is not a link" +
-                             didYouMean(link, source.model.linkNames()));
-  }
-}
-
 /// Husky's headingDrift and headingGaussianNoise: hector's old names for the yaw model's tags.
 void readHeadingTags(PluginTags& tags, SensorErrorConfig& yaw) {
   const char* const old_names[] = {"headingDrift", "headingGaussianNoise"};
@@ -37,10 +30,12 @@ HectorImuConfig parseHectorImu(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   HectorImuConfig config;
   config.robot_namespace = tags.text("robotNamespace", "");
-  config.link = tags.text("bodyName", source.model.root);
-  checkLink("bodyName", config.link, source);
+  config.link = readHectorBody(tags, source.model);
   config.frame = tags.text("frameId", config.link);
-  if (config.frame != config.link) checkLink("frameId", config.frame, source);
+  if (!source.model.link(config.frame)) {
+    source.diagnostics.error(tags.where() + " <frameId> [" + config.frame + "] is not a link" +
+                             didYouMean(config.frame, source.model.linkNames()));
+  }
   config.topic = tags.text("topicName", config.topic);
   config.bias_topic = tags.text("biasTopicName", config.topic.empty() ? "" : config.topic + "/bias");
   config.service = tags.text("serviceName", config.topic + "/calibrate");

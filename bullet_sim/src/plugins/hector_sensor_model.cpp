@@ -58,6 +58,15 @@ SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, b
   return config;
 }
 
+std::string readHectorBody(PluginTags& tags, const ModelSpec& model) {
+  const std::string link = tags.text("bodyName", model.root);
+  if (!model.link(link)) {
+    tags.diagnostics().error(tags.where() + " <bodyName> [" + link + "] is not a link" +
+                             didYouMean(link, model.linkNames()));
+  }
+  return link;
+}
+
 double readHectorUpdateRate(PluginTags& tags, double fallback) {
   double rate = tags.positive("updateRate", fallback, /*allow_zero=*/true);
   if (tags.has("updatePeriod")) {

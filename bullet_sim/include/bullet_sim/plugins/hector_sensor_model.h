@@ -13,6 +13,7 @@
 #include <random>
 #include <string>
 
+#include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/plugin_tags.h"
 
 namespace bullet_sim {
@@ -32,6 +33,10 @@ SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, b
 /// An "x y z" tag (Gazebo reads vectors and roll-pitch-yaw so); `fallback` when it is absent, and an error
 /// naming the tag when it is not three numbers.
 Eigen::Vector3d readVector3(PluginTags& tags, const std::string& tag, const Eigen::Vector3d& fallback);
+
+/// hector's body: <bodyName>, the root link when absent (Gazebo's canonical link); an error names a tag that
+/// names no link.
+std::string readHectorBody(PluginTags& tags, const ModelSpec& model);
 
 /// hector's update timer: updateRate [Hz] or updatePeriod [s]; `fallback` [Hz] when neither is given.
 double readHectorUpdateRate(PluginTags& tags, double fallback);
