@@ -43,6 +43,7 @@ class MultiBodyRobot : public PhysicsRobot {
   double jointEffort(int joint) const override;
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
+  void setJointEffort(int joint, double effort) override;
   Eigen::Isometry3d linkPose(const std::string& link) const override;
   Eigen::Vector3d linkLinearVelocity(const std::string& link) const override;
   Eigen::Vector3d linkAngularVelocity(const std::string& link) const override;
@@ -63,6 +64,8 @@ class MultiBodyRobot : public PhysicsRobot {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
+    double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step
+    double applied_effort = 0;               ///< and in the last one
   };
 
   void buildParts();

@@ -39,6 +39,9 @@ class RobotBody {
   virtual void setJointVelocity(int joint, double velocity, double max_effort) = 0;
   /// Holds a joint at `position` with at most `max_effort`.
   virtual void setJointPosition(int joint, double position, double max_effort) = 0;
+  /// Pushes a joint with `effort` [N m] or [N] for the next step, instead of any velocity or position it was
+  /// held at; its URDF friction still acts (Gazebo's SetForce).
+  virtual void setJointEffort(int joint, double effort) = 0;
 
   /// World pose of any link, including links merged into a part by fixed joints.
   virtual Eigen::Isometry3d linkPose(const std::string& link) const = 0;
