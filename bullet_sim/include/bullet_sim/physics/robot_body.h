@@ -12,8 +12,8 @@
 
 namespace bullet_sim {
 
-/// The wheel-ground model of a robot whose drive plugin has no <wheelModel> tag: "raycast" or "contact".
-/// A robot without a drive plugin always uses "contact".
+/// The wheel-ground model of a robot whose drive plugin (or ros_control plugin, for its wheels) has no
+/// <wheelModel> tag: "raycast" or "contact". A robot without wheels driven by either uses "contact".
 constexpr const char* kDefaultWheelModel = "raycast";
 
 /// A rigid part of the robot: links merged by fixed joints. Sensors see parts through their collisions.
