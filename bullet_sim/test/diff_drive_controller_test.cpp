@@ -135,6 +135,8 @@ class IdealBody : public RobotBody {
   void setJointVelocity(int joint, double velocity, double) override { velocities_.at(joint) = velocity; }
   void setJointPosition(int joint, double position, double) override { positions_.at(joint) = position; }
   void setJointEffort(int joint, double effort) override { velocities_.at(joint) = effort; }
+  void setRootVelocity(const Eigen::Vector3d&, const Eigen::Vector3d&) override {}
+  void applyLinkWrench(const std::string&, const Eigen::Vector3d&, const Eigen::Vector3d&) override {}
   Eigen::Isometry3d linkPose(const std::string&) const override { return Eigen::Isometry3d::Identity(); }
   Eigen::Vector3d linkLinearVelocity(const std::string&) const override { return Eigen::Vector3d::Zero(); }
   Eigen::Vector3d linkAngularVelocity(const std::string&) const override { return Eigen::Vector3d::Zero(); }

@@ -289,6 +289,31 @@ void MultiBodyRobot::setJointEffort(int joint, double effort) {
   target.pending_effort += effort;
 }
 
+// As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.
+void MultiBodyRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+  const Eigen::Vector3d origin = linkPose(spec_.root).translation();
+  const Eigen::Vector3d com = part_poses_[0] * frames_[0].part_to_bullet.translation();
+  body_->setBaseVel(toBullet(linear + angular.cross(com - origin)));
+  body_->setBaseOmega(toBullet(angular));
+  for (const auto& joint : joints_) body_->setJointVel(joint.bullet_link, 0);
+}
+
+void MultiBodyRobot::applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                                     const Eigen::Vector3d& torque) {
+  const int part = partOf(link);
+  if (part < 0) throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
+  // Bullet takes forces at a part's centre of mass: the force moved there brings its moment about it.
+  const Eigen::Vector3d com = part_poses_[part] * frames_[part].part_to_bullet.translation();
+  const Eigen::Vector3d moment = torque + (linkPose(link).translation() - com).cross(force);
+  if (part == 0) {
+    body_->addBaseForce(toBullet(force));
+    body_->addBaseTorque(toBullet(moment));
+  } else {
+    body_->addLinkForce(part - 1, toBullet(force));
+    body_->addLinkTorque(part - 1, toBullet(moment));
+  }
+}
+
 Eigen::Isometry3d MultiBodyRobot::linkPose(const std::string& link) const {
   const int part = partOf(link);
   if (part < 0) throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");

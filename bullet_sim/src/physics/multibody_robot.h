@@ -44,6 +44,9 @@ class MultiBodyRobot : public PhysicsRobot {
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
   void setJointEffort(int joint, double effort) override;
+  void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
+  void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                       const Eigen::Vector3d& torque) override;
   Eigen::Isometry3d linkPose(const std::string& link) const override;
   Eigen::Vector3d linkLinearVelocity(const std::string& link) const override;
   Eigen::Vector3d linkAngularVelocity(const std::string& link) const override;

@@ -328,6 +328,21 @@ void RaycastRobot::setJointEffort(int joint, double effort) {
   wheel.pushed = true;
 }
 
+// As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.
+void RaycastRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+  const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  chassis_->setLinearVelocity(toBullet(linear + angular.cross(com - root_pose_.translation())));
+  chassis_->setAngularVelocity(toBullet(angular));
+  for (auto& joint : joints_) joint.velocity = 0;
+}
+
+void RaycastRobot::applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                                   const Eigen::Vector3d& torque) {
+  const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  chassis_->applyForce(toBullet(force), toBullet(linkPose(link).translation() - com));
+  chassis_->applyTorque(toBullet(torque));
+}
+
 Eigen::Isometry3d RaycastRobot::linkPose(const std::string& link) const {
   const auto found = link_index_.find(link);
   if (found == link_index_.end())

@@ -49,6 +49,9 @@ class RaycastRobot : public PhysicsRobot {
   void setJointPosition(int joint, double position, double max_effort) override;
   /// Pushes a wheel's spin; a kinematic joint has no dynamics to push, so it stays where it is.
   void setJointEffort(int joint, double effort) override;
+  void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
+  void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                       const Eigen::Vector3d& torque) override;
   Eigen::Isometry3d linkPose(const std::string& link) const override;
   Eigen::Vector3d linkLinearVelocity(const std::string& link) const override;
   Eigen::Vector3d linkAngularVelocity(const std::string& link) const override;

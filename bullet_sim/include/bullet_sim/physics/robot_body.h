@@ -43,6 +43,11 @@ class RobotBody {
   /// held at; its URDF friction still acts (Gazebo's SetForce).
   virtual void setJointEffort(int joint, double effort) = 0;
 
+  /// Sets the root link's world-frame velocity [m/s] and angular velocity [rad/s] (Gazebo's Model::SetLinearVel / SetAngularVel).
+  virtual void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) = 0;
+  /// Adds a force [N] and a torque [N m], in world axes, at the origin of `link`, for the coming step only.
+  virtual void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) = 0;
+
   /// World pose of any link, including links merged into a part by fixed joints.
   virtual Eigen::Isometry3d linkPose(const std::string& link) const = 0;
   /// World-frame velocity of a link's origin [m/s] and its angular velocity [rad/s].
