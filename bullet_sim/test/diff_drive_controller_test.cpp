@@ -168,13 +168,7 @@ class RoverController : public ::testing::Test {
     hardware_ = std::make_unique<RobotHardware>(joints, *body_, ParameterTree(), nullptr);
     manager_ = std::make_unique<ControllerManager>(*hardware_, ControllerRegistry::builtin(), parameters_.get(), "/",
                                                    body_->spec());
-    std::vector<std::string> warnings;
-    ASSERT_EQ(manager_->load(kName, &warnings), "");
-    EXPECT_THAT(warnings, ::testing::IsEmpty());
-    SwitchControllerRequest start;
-    start.start = {kName};
-    start.strictness = SwitchControllerRequest::kStrict;
-    ASSERT_EQ(manager_->switchControllers(start, 0, nullptr), "");
+    test::startControllers(*manager_, {kName}, 0);
     controller_ = dynamic_cast<DiffDriveController*>(manager_->find(kName));
     ASSERT_NE(controller_, nullptr);
   }

@@ -45,12 +45,7 @@ class PidArm {
     options.parameters = &parameters_;
     return options;
   }
-  void start(const std::string& controller) {
-    ASSERT_EQ(manager_->load(controller, nullptr), "");
-    SwitchControllerRequest request;
-    request.start = {controller};
-    ASSERT_EQ(manager_->switchControllers(request, simulation_.time(), nullptr), "");
-  }
+  void start(const std::string& controller) { test::startControllers(*manager_, {controller}, simulation_.time()); }
   void command(const std::string& controller, double value) {
     const auto& handler = std::get<InputHandler<Float64Command>>(manager_->find(controller)->ports().inputs.at(0).sink);
     ASSERT_EQ(handler({value}, simulation_.time()), "");

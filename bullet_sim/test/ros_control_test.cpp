@@ -46,11 +46,7 @@ class Rover {
 
   /// Loads and starts `names` as the spawner does (STRICT).
   void spawnControllers(const std::vector<std::string>& names) {
-    for (const auto& name : names) ASSERT_EQ(manager().load(name, nullptr), "") << name;
-    SwitchControllerRequest start;
-    start.start = names;
-    start.strictness = SwitchControllerRequest::kStrict;
-    ASSERT_EQ(manager().switchControllers(start, simulation_.time(), nullptr), "");
+    test::startControllers(manager(), names, simulation_.time());
   }
   DiffDriveController& driveController() {
     return dynamic_cast<DiffDriveController&>(*manager().find("rover_velocity_controller"));
@@ -276,6 +272,14 @@ TEST(RosControl, ControllerManagerLoadsSwitchesListsAndUnloads) {
   EXPECT_THAT(manager.list(), IsEmpty());
 }
 
+TEST(RosControl, EveryParameterOfTheRoversControlYamlIsRead) {
+  Rover rover;
+  std::vector<std::string> warnings;
+  EXPECT_EQ(rover.manager().load("rover_joint_publisher", &warnings), "");
+  EXPECT_EQ(rover.manager().load("rover_velocity_controller", &warnings), "");
+  EXPECT_THAT(warnings, IsEmpty());
+}
+
 TEST(RosControl, TwoControllersCannotClaimOneJoint) {
   Rover rover(controlYaml() + "second_drive:\n  type: diff_drive_controller/DiffDriveController\n"
                               "  left_wheel: front_left_wheel\n  right_wheel: front_right_wheel\n");
@@ -338,10 +342,7 @@ TEST(RosControl, EStopHoldsTheWheelsAndResetZeroesTheOdometry) {
   Robot& robot = simulation.spawn("rover", test::parseQuietly(urdf, "rover"), SpawnPose{});
   RosControl& plugin = *robot.pluginsOf<RosControl>().at(0);
   ASSERT_EQ(plugin.ports().inputs.at(0).topic, "e_stop");
-  ASSERT_EQ(plugin.controllerManager().load("rover_velocity_controller", nullptr), "");
-  SwitchControllerRequest start;
-  start.start = {"rover_velocity_controller"};
-  ASSERT_EQ(plugin.controllerManager().switchControllers(start, 0, nullptr), "");
+  test::startControllers(plugin.controllerManager(), {"rover_velocity_controller"}, 0);
   const auto e_stop = std::get<InputHandler<BoolCommand>>(plugin.ports().inputs.at(0).sink);
   auto& drive = dynamic_cast<DiffDriveController&>(*plugin.controllerManager().find("rover_velocity_controller"));
   const auto cmd_vel = std::get<InputHandler<Twist>>(drive.ports().inputs.at(0).sink);
