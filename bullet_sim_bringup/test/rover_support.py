@@ -84,9 +84,30 @@ def pose2d(message):
 def unicycle(start, linear, angular, seconds):
     """Where a unicycle from `start` (x, y, yaw) ends after `seconds` at `linear` [m/s] and `angular` [rad/s]."""
     x, y, heading = start
+    if abs(angular) < 1e-9:
+        return x + linear * seconds * math.cos(heading), y + linear * seconds * math.sin(heading), heading
     radius = linear / angular
     end = heading + angular * seconds
     return x + radius * (math.sin(end) - math.sin(heading)), y - radius * (math.cos(end) - math.cos(heading)), end
+
+
+def unicycle_of(commands, start, begin, end):
+    """Where a unicycle from `start` at `begin` [s] is at `end` [s], following `commands` (TwistStamped, in time
+    order), each held until the next."""
+    pose = start
+    held = None
+    t = begin
+    for command in commands:
+        stamp = command.header.stamp.to_sec()
+        if stamp > t and held is not None:
+            pose = unicycle(pose, held.twist.linear.x, held.twist.angular.z, min(stamp, end) - t)
+            t = min(stamp, end)
+        if stamp >= end:
+            break
+        held = command
+    if held is not None and t < end:
+        pose = unicycle(pose, held.twist.linear.x, held.twist.angular.z, end - t)
+    return pose
 
 
 def angle_between(a, b):
