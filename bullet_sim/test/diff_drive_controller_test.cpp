@@ -137,6 +137,7 @@ class IdealBody : public RobotBody {
   void setJointEffort(int joint, double effort) override { velocities_.at(joint) = effort; }
   void setRootVelocity(const Eigen::Vector3d&, const Eigen::Vector3d&) override {}
   void applyLinkWrench(const std::string&, const Eigen::Vector3d&, const Eigen::Vector3d&) override {}
+  std::vector<CollisionContact> contacts(const CollisionSource&) const override { return {}; }
   Eigen::Isometry3d linkPose(const std::string&) const override { return Eigen::Isometry3d::Identity(); }
   Eigen::Vector3d linkLinearVelocity(const std::string&) const override { return Eigen::Vector3d::Zero(); }
   Eigen::Vector3d linkAngularVelocity(const std::string&) const override { return Eigen::Vector3d::Zero(); }

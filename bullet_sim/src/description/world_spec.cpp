@@ -219,6 +219,11 @@ class WorldConverter {
                            toText(spec.max_step_size) + "] must be positive; Gazebo's default is 0.001");
       }
     }
+    if (const ignition::math::SphericalCoordinates* earth = world.SphericalCoordinates()) {
+      spec.spherical_coordinates =
+          SphericalCoordinates{earth->LatitudeReference().Degree(), earth->LongitudeReference().Degree(),
+                               earth->ElevationReference(), earth->HeadingOffset().Radian()};
+    }
     for (const auto& plugin : children(world.Element(), "plugin")) {
       diagnostics_.warning(locate(plugin) + "world plugin [" + plugin->Get<std::string>("name") + "] (" +
                            plugin->Get<std::string>("filename") +
@@ -285,6 +290,7 @@ class WorldConverter {
         result.origin =
             in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
         result.shape = std::move(*shape);
+        result.name = scope + "::" + link.Name() + "::" + collision.Name();
         spec.collisions.push_back(std::move(result));
       }
       for (uint64_t v = 0; v < link.VisualCount(); ++v) {

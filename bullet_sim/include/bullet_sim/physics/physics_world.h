@@ -12,6 +12,7 @@ class btMultiBodyDynamicsWorld;
 namespace bullet_sim {
 
 class BulletShapes;
+struct CollisionNames;
 
 struct PhysicsOptions {
   double step_size = 0.001;  ///< [s] every step advances exactly this much
@@ -40,6 +41,7 @@ class PhysicsWorld {
   std::unique_ptr<btMultiBodyDynamicsWorld> world_;
   std::unique_ptr<BulletShapes> shapes_;
   std::vector<std::unique_ptr<btCollisionObject>> statics_;
+  std::vector<std::unique_ptr<CollisionNames>> static_names_;  ///< per static object, for contacts
 };
 
 }  // namespace bullet_sim

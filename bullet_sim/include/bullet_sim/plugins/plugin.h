@@ -11,6 +11,7 @@
 
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/image_source.h"
 #include "bullet_sim/plugins/ports.h"
@@ -52,6 +53,8 @@ struct PluginSetup {
   BodyId own_ray_body = kNoBody;  ///< the ray-caster body of the part a sensor sits on, which it skips
   /// Renders the world for cameras; nullptr when the simulation has no renderer (cameras then warn).
   ImageSource* images = nullptr;
+  /// The world's <spherical_coordinates>, for GPS receivers; nullopt when it gives none.
+  std::optional<SphericalCoordinates> spherical_coordinates;
   /// spawn_model's -robot_namespace (slashes around it do not count): when given (even "/", the root), it
   /// replaces every plugin's <robotNamespace>, as gazebo_ros's spawn_model does.
   std::optional<std::string> robot_namespace;
