@@ -100,7 +100,8 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     : world_(std::move(world)), options_(options) {
   physics_ = std::make_unique<PhysicsWorld>(world_, options_.physics);
   for (const auto& model : world_.models) {
-    if (!model.collisions.empty()) rays_.addBody(model.collisions, model.pose, /*is_static=*/true);
+    world_models_.push_back(
+        {model.pose, model.collisions.empty() ? kNoBody : rays_.addBody(model.collisions, model.pose, true)});
   }
   rays_.commit();
   if (options_.images) images_ = options_.images(*this);
@@ -163,7 +164,7 @@ void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
   try {
     for (const auto& declaration : robot.body().spec().plugins) {
       const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
-      const PluginSetup setup{robot.body(),    robot.name(), options_.seed, world_.gravity,
+      const PluginSetup setup{robot.body(),    robot.name(), options_.seed, physics_->gravity(),
                               part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get()};
       robot.plugins_.push_back(options_.plugins->create(declaration, setup));
     }
@@ -187,6 +188,7 @@ bool Simulation::remove(const std::string& name) {
     if (body != kNoBody) rays_.removeBody(body);
   }
   rays_.commit();
+  clearScheduled(name);
   robots_.erase(found);
   return true;
 }
@@ -212,8 +214,8 @@ std::vector<std::string> Simulation::robotNames() const {
 }
 
 void Simulation::step() {
-  const StepTime time{static_cast<double>(steps_ + 1) * options_.physics.step_size,
-                      options_.physics.step_size};
+  const StepTime time{timeAfter(steps_ + 1), options_.physics.step_size};
+  applyScheduled();
   bool rays_due = false;
   for (auto& robot : robots_) {
     for (auto& plugin : robot->plugins_) {
@@ -241,6 +243,10 @@ void Simulation::refreshRays() {
 }
 
 void Simulation::resetWorld() {
+  for (size_t i = 0; i < world_models_.size(); ++i) {
+    const Eigen::Isometry3d& in_file = world_.models[i].pose;
+    if (world_models_[i].pose.matrix() != in_file.matrix()) moveWorldModel(i, in_file);
+  }
   for (auto& robot : robots_) {
     robot->body_->reset(robot->spawn_pose_, robot->spawn_joints_);
     for (auto& plugin : robot->plugins_) plugin->reset();
@@ -250,7 +256,8 @@ void Simulation::resetWorld() {
 
 void Simulation::resetSimulation() {
   resetWorld();
-  steps_ = 0;
+  steps_ = steps_at_base_ = 0;
+  time_base_ = 0;
 }
 
 }  // namespace bullet_sim

@@ -211,14 +211,7 @@ class WorldConverter {
   void convert(const sdf::World& world, WorldSpec& spec) {
     spec.name = world.Name();
     spec.gravity = toEigen(world.Gravity());
-    if (const sdf::Physics* physics = world.PhysicsDefault()) {
-      spec.max_step_size = physics->MaxStepSize();
-      spec.real_time_factor = physics->RealTimeFactor();
-      if (!(spec.max_step_size > 0)) {
-        diagnostics_.error(locate(physics->Element()) + "physics [" + physics->Name() + "]: max_step_size [" +
-                           toText(spec.max_step_size) + "] must be positive; Gazebo's default is 0.001");
-      }
-    }
+    if (const sdf::Physics* physics = world.PhysicsDefault()) convertPhysics(*physics, spec);
     for (const auto& plugin : children(world.Element(), "plugin")) {
       diagnostics_.warning(locate(plugin) + "world plugin [" + plugin->Get<std::string>("name") + "] (" +
                            plugin->Get<std::string>("filename") +
@@ -234,6 +227,45 @@ class WorldConverter {
   }
 
  private:
+  /// The step and the pace. Gazebo paces its steps by <real_time_update_rate> alone (0: as fast as possible);
+  /// without one, <real_time_factor> sets the pace.
+  void convertPhysics(const sdf::Physics& physics, WorldSpec& spec) {
+    const std::string at = locate(physics.Element()) + "physics [" + physics.Name() + "]: ";
+    spec.max_step_size = physics.MaxStepSize();
+    spec.real_time_factor = physics.RealTimeFactor();
+    if (!(spec.max_step_size > 0 && std::isfinite(spec.max_step_size))) {
+      diagnostics_.error(at + "max_step_size [" + toText(spec.max_step_size) +
+                         "] must be positive; Gazebo's default is 0.001");
+      return;
+    }
+    if (!(spec.real_time_factor >= 0 && std::isfinite(spec.real_time_factor))) {
+      diagnostics_.error(at + "real_time_factor [" + toText(spec.real_time_factor) +
+                         "] must be >= 0; Gazebo's default is 1");
+      return;
+    }
+    const sdf::ElementPtr element = physics.Element();
+    // sdformat fills in the required elements a file leaves out, so only a written one counts.
+    const sdf::ElementPtr written = element ? element->FindElement("real_time_update_rate") : nullptr;
+    if (!written || !written->GetExplicitlySetInFile()) {
+      spec.real_time_update_rate = spec.real_time_factor / spec.max_step_size;
+      return;
+    }
+    const double rate = written->Get<double>();
+    if (!(rate >= 0 && std::isfinite(rate))) {
+      diagnostics_.error(at + "real_time_update_rate [" + toText(rate) +
+                         "] must be >= 0 (0 runs as fast as possible); Gazebo's default is 1000");
+      return;
+    }
+    spec.real_time_update_rate = rate;
+    if (std::abs(rate * spec.max_step_size - spec.real_time_factor) > 1e-6 * spec.real_time_factor) {
+      diagnostics_.warning(at + "real_time_factor [" + toText(spec.real_time_factor) +
+                           "] disagrees with real_time_update_rate [" + toText(rate) + "] x max_step_size [" +
+                           toText(spec.max_step_size) + "]: as in Gazebo, the update rate sets the pace (" +
+                           (rate > 0 ? toText(rate * spec.max_step_size) + " x real time)"
+                                     : "as fast as possible)"));
+    }
+  }
+
   /// "[file:line] " of an element, for messages.
   std::string locate(const sdf::ElementPtr& element) const {
     return location(element, diagnostics_.source());
@@ -253,7 +285,7 @@ class WorldConverter {
     return spec;
   }
 
-  /// Adds the collisions and visuals of `model` (the top-level model or one nested in it, placed at
+  /// Adds the links, collisions and visuals of `model` (the top-level model or one nested in it, placed at
   /// `in_top_model`) to `spec`. `scope` is its name for messages, e.g. "house::door".
   void addContents(const sdf::Model& model, const Eigen::Isometry3d& in_top_model, const std::string& scope,
                    WorldModelSpec& spec) {
@@ -272,6 +304,9 @@ class WorldConverter {
     for (uint64_t l = 0; l < model.LinkCount(); ++l) {
       const sdf::Link& link = *model.LinkByIndex(l);
       const std::string owner = "model [" + scope + "] link [" + link.Name() + "]";
+      WorldLinkSpec& placed = spec.links.emplace_back();
+      placed.name = (scope == spec.name ? "" : scope.substr(spec.name.size() + 2) + "::") + link.Name();
+      placed.pose = in_top_model * resolvePose(link.SemanticPose(), "__model__", owner, link.Element());
       for (uint64_t s = 0; s < link.SensorCount(); ++s) {
         diagnostics_.warning(locate(link.Element()) + owner + ": sensor [" + link.SensorByIndex(s)->Name() +
                              "] ignored: world models have no sensors");
@@ -279,6 +314,7 @@ class WorldConverter {
       for (uint64_t c = 0; c < link.CollisionCount(); ++c) {
         const sdf::Collision& collision = *link.CollisionByIndex(c);
         const std::string where = owner + " collision [" + collision.Name() + "]";
+        placed.collisions.push_back(collision.Name());
         std::optional<Shape> shape = toShape(*collision.Geom(), where);
         if (!shape) continue;
         Collision result;

@@ -240,6 +240,28 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositi
   afterStep();
 }
 
+void MultiBodyRobot::teleport(const Eigen::Isometry3d& root_pose) {
+  body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
+  body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
+  afterStep();
+}
+
+void MultiBodyRobot::setJointPositions(const JointPositions& joints) {
+  for (const auto& [joint, position] : joints) {
+    body_->setJointPos(joints_.at(joint).bullet_link, position);
+    body_->setJointVel(joints_.at(joint).bullet_link, 0);
+  }
+  body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
+  afterStep();
+}
+
+void MultiBodyRobot::setStepSize(double step_size) {
+  for (auto& joint : joints_) {
+    if (joint.motor) joint.motor->setMaxAppliedImpulse(joint.motor->getMaxAppliedImpulse() * step_size / dt_);
+  }
+  dt_ = step_size;
+}
+
 int MultiBodyRobot::jointIndex(const std::string& joint) const {
   const auto found = joint_index_.find(joint);
   return found == joint_index_.end() ? -1 : found->second;
@@ -295,6 +317,14 @@ void MultiBodyRobot::applyLinkWrench(const std::string& link, const Eigen::Vecto
     body_->addLinkForce(part - 1, toBullet(force));
     body_->addLinkTorque(part - 1, toBullet(moment));
   }
+}
+
+bool MultiBodyRobot::takesJointEffort(int joint) const {
+  return joint >= 0 && joint < static_cast<int>(joints_.size());
+}
+
+void MultiBodyRobot::applyJointEffort(int joint, double effort) {
+  body_->addJointTorque(joints_.at(joint).bullet_link, effort);
 }
 
 Eigen::Isometry3d MultiBodyRobot::linkPose(const std::string& link) const {

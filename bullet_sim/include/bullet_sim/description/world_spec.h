@@ -14,6 +14,13 @@
 
 namespace bullet_sim {
 
+/// A link of a world model: what the world API names and places (link_states, get_link_state).
+struct WorldLinkSpec {
+  std::string name;  ///< a nested model's links carry its name: "nested::link"
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< link frame in the model frame
+  std::vector<std::string> collisions;                     ///< the names of its collisions
+};
+
 /// One <model> of the world. World models are static obstacles: every link is welded to the model frame.
 struct WorldModelSpec {
   std::string name;  ///< nested models are folded into their top-level model
@@ -24,6 +31,7 @@ struct WorldModelSpec {
   /// Origins in the model frame. A plane visual becomes a thin box of its <size>, top face on the plane,
   /// because a renderer needs a finite extent.
   std::vector<Visual> visuals;
+  std::vector<WorldLinkSpec> links;  ///< nested models' links included
 };
 
 struct WorldSpec {
@@ -31,7 +39,10 @@ struct WorldSpec {
   std::string name;
   Eigen::Vector3d gravity{0, 0, -9.81};  ///< [m/s^2]
   double max_step_size = 0.001;          ///< [s] from <physics>
-  double real_time_factor = 1.0;
+  double real_time_factor = 1.0;         ///< as the file says; real_time_update_rate is what paces the steps
+  /// [steps per wall s] the pace: <real_time_update_rate> (0 = as fast as possible), as Gazebo paces its
+  /// steps, or, in a <physics> without one, real_time_factor / max_step_size.
+  double real_time_update_rate = 1000;
   std::vector<WorldModelSpec> models;  ///< in file order, including the ground plane
 };
 
