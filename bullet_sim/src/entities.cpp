@@ -159,8 +159,8 @@ EntityState Simulation::worldState(const Entity& entity) const {
   return {body.linkPose(link), body.linkLinearVelocity(link), body.linkAngularVelocity(link)};
 }
 
-EntityState Simulation::referenceState(const std::string& reference) const {
-  return isWorldFrame(reference) ? EntityState{} : worldState(findEntity(reference, "reference frame"));
+EntityState Simulation::entityState(const std::string& entity) const {
+  return isWorldFrame(entity) ? EntityState{} : worldState(findEntity(entity, "reference frame"));
 }
 
 std::vector<NamedState> Simulation::modelStates() const {
@@ -189,26 +189,26 @@ std::vector<NamedState> Simulation::linkStates() const {
 
 EntityState Simulation::modelState(const std::string& model, const std::string& reference) const {
   const EntityState state = worldState(findModel(model));
-  return isWorldFrame(reference) ? state : relativeTo(state, referenceState(reference));
+  return isWorldFrame(reference) ? state : relativeTo(state, entityState(reference));
 }
 
 EntityState Simulation::linkState(const std::string& link, const std::string& reference) const {
   const EntityState state = worldState(findLink(link));
-  return isWorldFrame(reference) ? state : relativeTo(state, referenceState(reference));
+  return isWorldFrame(reference) ? state : relativeTo(state, entityState(reference));
 }
 
 std::string Simulation::setModelState(const std::string& model, const EntityState& state,
                                       const std::string& reference) {
   if (!isFinite(state)) throw std::invalid_argument("the state of model [" + model + "] is not finite");
   const Entity entity = findModel(model);
-  return setWorldState(entity, inWorld(state, referenceState(reference)));
+  return setWorldState(entity, inWorld(state, entityState(reference)));
 }
 
 std::string Simulation::setLinkState(const std::string& link, const EntityState& state,
                                      const std::string& reference) {
   if (!isFinite(state)) throw std::invalid_argument("the state of link [" + link + "] is not finite");
   const Entity entity = findLink(link);
-  const EntityState target = inWorld(state, referenceState(reference));
+  const EntityState target = inWorld(state, entityState(reference));
   if (entity.world_model >= 0) {
     const Entity model{nullptr, entity.world_model, ""};
     const Eigen::Isometry3d in_model = worldState(model).pose.inverse() * worldState(entity).pose;
@@ -318,7 +318,8 @@ JointProperties Simulation::jointProperties(const std::string& joint) const {
   const RobotBody& body = robot->body();
   const std::string bare = joint.substr(joint.rfind("::") == std::string::npos ? 0 : joint.rfind("::") + 2);
   const JointSpec& spec = *body.spec().joint(bare);
-  return {spec.type, body.jointPosition(index), body.jointVelocity(index), spec.damping};
+  return {spec.type,   body.jointPosition(index), body.jointVelocity(index),
+          spec.damping, spec.lower,                spec.upper};
 }
 
 void Simulation::setModelConfiguration(const std::string& model,
@@ -346,13 +347,21 @@ void Simulation::setModelConfiguration(const std::string& model,
   refreshRays();
 }
 
+void Simulation::driveJoint(const std::string& joint, double velocity, double max_effort) {
+  if (!std::isfinite(velocity) || !(max_effort >= 0 && std::isfinite(max_effort))) {
+    throw std::invalid_argument("joint [" + joint + "]: the velocity must be finite and the effort >= 0");
+  }
+  const auto [robot, index] = findJoint(joint);
+  robot->body().setJointVelocity(index, velocity, max_effort);
+}
+
 std::string Simulation::applyBodyWrench(const BodyWrench& wrench) {
   if (!wrench.force.allFinite() || !wrench.torque.allFinite() || !wrench.reference_point.allFinite() ||
       !std::isfinite(wrench.schedule.start_time) || std::isnan(wrench.schedule.duration)) {
     throw std::invalid_argument("the wrench on [" + wrench.body + "] is not finite");
   }
   const auto [robot, link] = findBody(wrench.body);
-  const Eigen::Matrix3d axes = referenceState(wrench.reference_frame).pose.linear();
+  const Eigen::Matrix3d axes = entityState(wrench.reference_frame).pose.linear();
   if (wrench.schedule.duration == 0) return "duration 0: nothing is applied, as gazebo_msgs documents";
   const Eigen::Vector3d force = axes * wrench.force;
   const double start = std::max(wrench.schedule.start_time, time());

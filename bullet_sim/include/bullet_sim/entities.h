@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,8 @@ struct JointProperties {
   double position = 0;  ///< [rad] or [m]
   double rate = 0;      ///< [rad/s] or [m/s]
   double damping = 0;   ///< [N m s/rad] or [N s/m]
+  double lower = -std::numeric_limits<double>::infinity();  ///< [rad] or [m]
+  double upper = std::numeric_limits<double>::infinity();
 };
 
 /// A time window of sim time, as Gazebo's api plugin schedules wrenches and efforts.

@@ -116,6 +116,8 @@ class Simulation {
   // std::invalid_argument saying why, and changes nothing; a setter returns a note on what it left out, or
   // "".
 
+  /// Any model or link, in the world frame; "", "world", "map" and "/map" are the world frame itself.
+  EntityState entityState(const std::string& entity) const;
   /// Every model: the world's (static ones included), in file order, then the robots, in spawn order.
   std::vector<std::string> modelNames() const;
   /// Every model's world state under its name, in modelNames() order.
@@ -140,6 +142,9 @@ class Simulation {
   JointProperties jointProperties(const std::string& joint) const;
   /// Sets a robot's joints (others keep theirs) at rest; the root stays. Resets do not keep them.
   void setModelConfiguration(const std::string& model, const std::map<std::string, double>& positions);
+  /// Drives a moving joint towards `velocity` [rad/s or m/s] with at most `max_effort` [N m or N] until
+  /// something else drives it (Gazebo's joint "vel" and "fmax").
+  void driveJoint(const std::string& joint, double velocity, double max_effort);
   /// Schedules a wrench; it is applied, at the link's centre of mass, before every step in its window.
   std::string applyBodyWrench(const BodyWrench& wrench);
   /// Drops every wrench scheduled on `body` (named as in applyBodyWrench).
@@ -189,8 +194,6 @@ class Simulation {
   /// The robot and joint index of a moving joint ("robot::joint" or a bare name).
   std::pair<Robot*, int> findJoint(const std::string& name) const;
   EntityState worldState(const Entity& entity) const;
-  /// The world frame's state for "", "world", "map" and "/map".
-  EntityState referenceState(const std::string& reference) const;
   std::string setWorldState(const Entity& model, const EntityState& state);
 
   WorldSpec world_;
