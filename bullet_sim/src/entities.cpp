@@ -113,6 +113,10 @@ Simulation::Entity Simulation::findLink(const std::string& name) const {
 
 std::pair<Robot*, std::string> Simulation::findBody(const std::string& name) const {
   const Entity entity = findEntity(name, "body");
+  if (entity.robot && entity.robot->body().spec().is_static) {
+    throw std::invalid_argument("body [" + name + "] belongs to static model [" + entity.robot->name() +
+                                "]: it takes no wrench");
+  }
   if (!entity.robot) {
     throw std::invalid_argument("body [" + name + "] belongs to the world's model [" +
                                 world_.models[entity.world_model].name +
@@ -156,7 +160,10 @@ EntityState Simulation::worldState(const Entity& entity) const {
   }
   const RobotBody& body = entity.robot->body();
   const std::string& link = entity.link.empty() ? body.spec().root : entity.link;
-  return {body.linkPose(link), body.linkLinearVelocity(link), body.linkAngularVelocity(link)};
+  // A model's pose is its frame's; its velocities are its root link's, as Gazebo takes its canonical link's.
+  const Eigen::Isometry3d frame =
+      entity.link.empty() ? body.spec().root_in_model.inverse() : Eigen::Isometry3d::Identity();
+  return {body.linkPose(link) * frame, body.linkLinearVelocity(link), body.linkAngularVelocity(link)};
 }
 
 EntityState Simulation::entityState(const std::string& entity) const {
@@ -233,14 +240,19 @@ std::string Simulation::setLinkState(const std::string& link, const EntityState&
 }
 
 std::string Simulation::setWorldState(const Entity& model, const EntityState& state) {
+  const bool still = state.linear.isZero() && state.angular.isZero();
   if (model.robot) {
-    model.robot->body_->teleport(state.pose);
-    model.robot->body_->setRootVelocity(state.linear, state.angular);
+    PhysicsRobot& body = *model.robot->body_;
+    body.teleport(state.pose * body.spec().root_in_model);
+    body.setRootVelocity(state.linear, state.angular);
     refreshRays();
-    return "";
+    if (still || !body.spec().is_static) return "";
+    return "model [" + model.robot->name() +
+           "] is static: it moved, but it does not move by itself, so its "
+           "twist is ignored";
   }
   moveWorldModel(model.world_model, state.pose);
-  if (state.linear.isZero() && state.angular.isZero()) return "";
+  if (still) return "";
   return "the world's model [" + world_.models[model.world_model].name +
          "] is static geometry in bullet_sim: it moved, but it does not move by itself, so its twist is "
          "ignored";
@@ -292,6 +304,7 @@ ModelProperties Simulation::modelProperties(const std::string& model) const {
   for (const JointSpec& joint : body.spec().joints) {
     if (joint.moves()) properties.joint_names.push_back(joint.name);
   }
+  properties.is_static = body.spec().is_static;
   return properties;
 }
 
@@ -318,8 +331,8 @@ JointProperties Simulation::jointProperties(const std::string& joint) const {
   const RobotBody& body = robot->body();
   const std::string bare = joint.substr(joint.rfind("::") == std::string::npos ? 0 : joint.rfind("::") + 2);
   const JointSpec& spec = *body.spec().joint(bare);
-  return {spec.type,   body.jointPosition(index), body.jointVelocity(index),
-          spec.damping, spec.lower,                spec.upper};
+  return {spec.type, body.jointPosition(index), body.jointVelocity(index), spec.damping, spec.lower,
+          spec.upper};
 }
 
 void Simulation::setModelConfiguration(const std::string& model,

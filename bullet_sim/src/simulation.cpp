@@ -81,8 +81,9 @@ bool isCopyInTheWay(const WorldModelSpec& world_model, const ModelSpec& model,
   return robot_box.intersects(copy_box);
 }
 
-/// The wheel-ground model of a robot: its drive's, and contact for a robot with no drive plugin.
+/// The wheel-ground model of a robot: its drive's; contact for a robot with no drive plugin, or a static one.
 std::string wheelModelOf(const ModelSpec& model) {
+  if (model.is_static) return "contact";
   for (const auto& plugin : model.plugins) {
     if (const auto* drive = plugin.configAs<DriveConfigHead>()) return drive->wheel_model;
   }
@@ -127,6 +128,9 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     }
   }
   diagnostics.throwIfErrors();
+  if (model.is_static) {  // a static model is rigid: its joints do not move
+    for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
+  }
   std::unique_ptr<PhysicsRobot> body;
   if (wheelModelOf(model) == "raycast") {
     body = std::make_unique<RaycastRobot>(std::move(model), physics_->bullet(), rays_, root);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "bullet_sim/description/package_resolver.h"
+#include "bullet_sim/description/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace bullet_sim {
@@ -147,6 +148,7 @@ void WorldApi::advertiseServices() {
     services_.push_back(node_.advertiseService(name, method, this));
   };
   serve("spawn_urdf_model", &WorldApi::spawnUrdf);
+  serve("spawn_sdf_model", &WorldApi::spawnSdf);
   serve("delete_model", &WorldApi::deleteModel);
   serve("get_model_state", &WorldApi::getModelState);
   serve("set_model_state", &WorldApi::setModelState);
@@ -198,18 +200,27 @@ void WorldApi::publishStates() {
   }
 }
 
-std::string WorldApi::spawn(const gazebo_msgs::SpawnModel::Request& request, const std::string& format) {
+std::string WorldApi::spawn(const gazebo_msgs::SpawnModel::Request& request, bool sdf_too) {
   const std::string source = "model [" + request.model_name + "]";
   std::vector<std::string> warnings;
   const std::string root = rootElement(request.model_xml);
-  if (format == "URDF" && root != "robot") {
-    throw std::invalid_argument("SpawnModel: " + source + " is not a URDF (its root element is <" + root +
-                                ">, not <robot>): spawn SDF with spawn_sdf_model");
+  const PackageResolver resolver = PackageResolver::fromEnvironment();
+  ModelSpec model;
+  if (root == "robot") {
+    model = parseModel(request.model_xml, source, resolver, &warnings);
+  } else if (root == "sdf" && sdf_too) {
+    model = parseSdfModel(request.model_xml, source, resolver, PluginRegistry::builtin(), &warnings);
+  } else if (root == "sdf") {
+    throw std::invalid_argument("SpawnModel: " + source +
+                                " is SDF, not a URDF: spawn it with spawn_sdf_model");
+  } else {
+    throw std::invalid_argument("SpawnModel: " + source + " is neither a URDF (<robot>) nor SDF (<sdf>): " +
+                                (root.empty() ? "it is not XML" : "its root element is <" + root + ">"));
   }
-  ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings);
-  // Gazebo places the model frame at the initial pose, taken in the reference frame.
-  const Eigen::Isometry3d pose =
-      simulation_.entityState(request.reference_frame).pose * toIsometry(request.initial_pose);
+  // Gazebo places the model frame at the initial pose (composed with the model's own <pose>), taken in the
+  // reference frame; the robot's root link sits in it.
+  const Eigen::Isometry3d pose = simulation_.entityState(request.reference_frame).pose *
+                                 toIsometry(request.initial_pose) * model.placement * model.root_in_model;
   host_.spawnRobot(request.model_name, std::move(model), spawnPoseAt(pose), request.robot_namespace,
                    &warnings);
   return "SpawnModel: spawned " + source + joined(warnings);
@@ -217,8 +228,15 @@ std::string WorldApi::spawn(const gazebo_msgs::SpawnModel::Request& request, con
 
 bool WorldApi::spawnUrdf(gazebo_msgs::SpawnModel::Request& request,
                          gazebo_msgs::SpawnModel::Response& response) {
-  answer(response, [&] { return spawn(request, "URDF"); });
+  answer(response, [&] { return spawn(request, /*sdf_too=*/false); });
   if (!response.success) ROS_ERROR("spawn_urdf_model refused: %s", response.status_message.c_str());
+  return true;
+}
+
+bool WorldApi::spawnSdf(gazebo_msgs::SpawnModel::Request& request,
+                        gazebo_msgs::SpawnModel::Response& response) {
+  answer(response, [&] { return spawn(request, /*sdf_too=*/true); });
+  if (!response.success) ROS_ERROR("spawn_sdf_model refused: %s", response.status_message.c_str());
   return true;
 }
 

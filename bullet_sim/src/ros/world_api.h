@@ -3,7 +3,8 @@
 //
 // Topics: model_states and link_states (published after a step while someone subscribes, at most
 //   ~model_states_rate [sim Hz, default 1000; 0 = every step] each), set_model_state and set_link_state (in).
-// Services: spawn_urdf_model, delete_model, get/set_model_state, get/set_link_state, get_model_properties,
+// Services: spawn_urdf_model, spawn_sdf_model, delete_model, get/set_model_state, get/set_link_state,
+// get_model_properties,
 //   get_world_properties, get_joint_properties, set_joint_properties, get/set_link_properties,
 //   set_model_configuration, apply_body_wrench, clear_body_wrenches, apply_joint_effort, clear_joint_forces,
 //   get/set_physics_properties, and delete_light and get/set_light_properties, which answer that there are no
@@ -67,6 +68,8 @@ class WorldApi {
 
  private:
   bool spawnUrdf(gazebo_msgs::SpawnModel::Request& request, gazebo_msgs::SpawnModel::Response& response);
+  /// SDF, and URDF too, as Gazebo's.
+  bool spawnSdf(gazebo_msgs::SpawnModel::Request& request, gazebo_msgs::SpawnModel::Response& response);
   bool deleteModel(gazebo_msgs::DeleteModel::Request& request, gazebo_msgs::DeleteModel::Response& response);
   bool getModelState(gazebo_msgs::GetModelState::Request& request,
                      gazebo_msgs::GetModelState::Response& response);
@@ -103,8 +106,8 @@ class WorldApi {
   /// The set_model_state and set_link_state topics: like the services, with a warning instead of an answer.
   void onModelState(const gazebo_msgs::ModelState::ConstPtr& state);
   void onLinkState(const gazebo_msgs::LinkState::ConstPtr& state);
-  /// Parses and spawns a request's model: `format` is "URDF" or "SDF".
-  std::string spawn(const gazebo_msgs::SpawnModel::Request& request, const std::string& format);
+  /// Parses and spawns a request's model: a URDF, or with `sdf_too` SDF as well.
+  std::string spawn(const gazebo_msgs::SpawnModel::Request& request, bool sdf_too);
   void advertiseServices();
   void publishStates();
 
