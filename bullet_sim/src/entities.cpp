@@ -7,6 +7,7 @@
 #include <set>
 
 #include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/gazebo_names.h"
 #include "bullet_sim/simulation.h"
 
 namespace bullet_sim {
@@ -290,16 +291,9 @@ ModelProperties Simulation::modelProperties(const std::string& model) const {
     return properties;
   }
   const RobotBody& body = entity.robot->body();
-  for (const RobotPart& part : body.parts()) {
-    properties.body_names.push_back(part.root_link);
-    // As sdformat names a URDF's collisions: merged links' carry "<part>_fixed_joint_lump__<link>".
-    for (const std::string& link : part.links) {
-      const std::string base = link == part.root_link ? link : part.root_link + "_fixed_joint_lump__" + link;
-      const size_t count = body.spec().link(link)->collisions.size();
-      for (size_t i = 0; i < count; ++i) {
-        properties.geom_names.push_back(base + "_collision" + (i ? "_" + std::to_string(i) : ""));
-      }
-    }
+  for (const RobotPart& part : body.parts()) properties.body_names.push_back(part.root_link);
+  for (const GazeboCollision& collision : gazeboCollisions(body.spec())) {
+    properties.geom_names.push_back(collision.name);
   }
   for (const JointSpec& joint : body.spec().joints) {
     if (joint.moves()) properties.joint_names.push_back(joint.name);

@@ -133,9 +133,9 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   }
   std::unique_ptr<PhysicsRobot> body;
   if (wheelModelOf(model) == "raycast") {
-    body = std::make_unique<RaycastRobot>(std::move(model), physics_->bullet(), rays_, root);
+    body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);
   } else {
-    body = std::make_unique<MultiBodyRobot>(std::move(model), physics_->bullet(), root);
+    body = std::make_unique<MultiBodyRobot>(std::move(model), name, physics_->bullet(), root);
   }
   auto robot = std::make_unique<Robot>(name, std::move(body), root);
   for (const auto& [joint, position] : pose.joints) {
@@ -169,7 +169,8 @@ void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
     for (const auto& declaration : robot.body().spec().plugins) {
       const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
       const PluginSetup setup{robot.body(),    robot.name(), options_.seed, physics_->gravity(),
-                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get()};
+                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get(),
+                              world_.spherical_coordinates};
       robot.plugins_.push_back(options_.plugins->create(declaration, setup));
     }
   } catch (const std::exception& e) {

@@ -262,7 +262,7 @@ TEST(Entities, PropertiesAreGazebosForRobotsAndWorldModels) {
   const ModelProperties robot = simulation.modelProperties("robot");
   EXPECT_THAT(robot.body_names, ElementsAre("base_footprint", "left_wheel", "right_wheel"));
   EXPECT_THAT(robot.geom_names, ElementsAre("base_footprint_fixed_joint_lump__base_link_collision",
-                                            "base_footprint_fixed_joint_lump__caster_collision",
+                                            "base_footprint_fixed_joint_lump__caster_collision_1",
                                             "left_wheel_collision", "right_wheel_collision"));
   EXPECT_THAT(robot.joint_names, ElementsAre("left_wheel_joint", "right_wheel_joint"));
   EXPECT_FALSE(robot.is_static);

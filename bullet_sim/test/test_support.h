@@ -5,6 +5,7 @@
 #include <tinyxml2.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -153,6 +154,19 @@ inline std::string replaceAfter(std::string text, const std::string& anchor, con
   if (at != std::string::npos && found != std::string::npos) text.replace(found, from.size(), to);
   return text;
 }
+
+/// A pose on the floor: x [m], y [m] and yaw [rad].
+struct Planar {
+  double x, y, yaw;
+};
+
+inline Planar planar(const Eigen::Isometry3d& pose) {
+  return {pose.translation().x(), pose.translation().y(),
+          std::atan2(pose.linear()(1, 0), pose.linear()(0, 0))};
+}
+
+/// a - b, wrapped into [-pi, pi] [rad].
+inline double angleDifference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
 
 /// Steps until `done()` holds, for at most `max_seconds` of sim time; false, with a test failure naming
 /// `what`, when it never does.

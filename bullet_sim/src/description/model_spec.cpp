@@ -39,16 +39,9 @@ class CapturedConsole : public console_bridge::OutputHandler {
 const std::set<std::string> kIgnoredLinkTags = {
     "maxVel",        "minDepth",  "fdir1",  "dampingFactor", "maxContacts", "laserRetro",
     "velocityDecay", "collision", "visual", "kinematic",     "static",      "enableWireframe"};
-const std::set<std::string> kIgnoredJointTags = {"provideFeedback",
-                                                 "implicitSpringDamper",
-                                                 "cfmDamping",
-                                                 "stopCfm",
-                                                 "stopErp",
-                                                 "springStiffness",
-                                                 "springReference",
-                                                 "fudgeFactor",
-                                                 "disableFixedJointLumping",
-                                                 "preserveFixedJoint"};
+const std::set<std::string> kIgnoredJointTags = {"provideFeedback", "implicitSpringDamper", "cfmDamping",
+                                                 "stopCfm",         "stopErp",              "springStiffness",
+                                                 "springReference", "fudgeFactor"};
 
 /// Line and column of the first U+00A0 (a non-breaking space copied from a web page), if any.
 std::optional<std::pair<int, int>> findNonBreakingSpace(const std::string& text) {
@@ -193,7 +186,7 @@ class ModelParser {
     }
     for (const auto& collision : link.collision_array) {
       if (auto shape = makeShape(*collision->geometry, "link [" + link.name + "] <collision>")) {
-        spec.collisions.push_back({toIsometry(collision->origin), *shape});
+        spec.collisions.push_back({toIsometry(collision->origin), *shape, collision->name});
       }
     }
     for (const auto& visual : link.visual_array) {
@@ -324,11 +317,10 @@ class ModelParser {
                                           [&](const LinkSpec& l) { return l.name == reference; });
                  link != spec.links.end()) {
         readLinkBlock(gazebo, line, *link);
-      } else if (spec.joint(reference)) {
-        for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
-          warnIgnored(line + "<gazebo reference=\"" + reference + "\"> <" + tag->Name() + ">",
-                      kIgnoredJointTags.count(tag->Name()) > 0);
-        }
+      } else if (auto joint = std::find_if(spec.joints.begin(), spec.joints.end(),
+                                           [&](const JointSpec& j) { return j.name == reference; });
+                 joint != spec.joints.end()) {
+        readJointBlock(gazebo, line, *joint);
       } else {
         diagnostics_.error(line + "<gazebo reference=\"" + reference + "\"> names no link or joint" +
                            didYouMean(reference, frames) + "; Gazebo would silently ignore this block");
@@ -395,6 +387,22 @@ class ModelParser {
         makeSensor(tag, link.name, where);
       } else {
         warnIgnored(where + "<" + name + ">", kIgnoredLinkTags.count(name) > 0);
+      }
+    }
+  }
+
+  void readJointBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, JointSpec& joint) {
+    const std::string where = line + "<gazebo reference=\"" + joint.name + "\"> ";
+    for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
+      const std::string name = tag->Name();
+      if (name == "disableFixedJointLumping" || name == "preserveFixedJoint") {
+        if (const auto value = parseBool(tag->GetText())) {
+          joint.lumping_disabled |= *value;
+        } else {
+          diagnostics_.error(where + "<" + name + "> must be true or false");
+        }
+      } else {
+        warnIgnored(where + "<" + name + ">", kIgnoredJointTags.count(name) > 0);
       }
     }
   }

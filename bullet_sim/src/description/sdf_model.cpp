@@ -137,6 +137,7 @@ LinkSpec makeLink(const WorldModelSpec& model, const WorldLinkSpec& link, const 
   for (size_t index : link.collision_indices) {
     Collision collision = model.collisions[index];
     collision.origin = from_model * collision.origin;
+    collision.name = collision.name.substr(collision.name.rfind("::") + 2);  // as a URDF's: the bare name
     spec.collisions.push_back(std::move(collision));
   }
   for (size_t index : link.visual_indices) {

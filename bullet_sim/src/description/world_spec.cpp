@@ -225,6 +225,11 @@ class WorldConverter {
     spec.name = world.Name();
     spec.gravity = toEigen(world.Gravity());
     if (const sdf::Physics* physics = world.PhysicsDefault()) convertPhysics(*physics, spec);
+    if (const ignition::math::SphericalCoordinates* earth = world.SphericalCoordinates()) {
+      spec.spherical_coordinates =
+          SphericalCoordinates{earth->LatitudeReference().Degree(), earth->LongitudeReference().Degree(),
+                               earth->ElevationReference(), earth->HeadingOffset().Radian()};
+    }
     for (const auto& plugin : children(world.Element(), "plugin")) {
       diagnostics_.warning(locate(plugin) + "world plugin [" + plugin->Get<std::string>("name") + "] (" +
                            plugin->Get<std::string>("filename") +
@@ -374,6 +379,7 @@ class WorldConverter {
       result.origin =
           in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
       result.shape = std::move(*shape);
+      result.name = scope + "::" + link.Name() + "::" + collision.Name();
       placed.collision_indices.push_back(spec.collisions.size());
       spec.collisions.push_back(std::move(result));
     }

@@ -32,9 +32,10 @@ struct MultiBodyRobot::Scratch {
   std::vector<btVector3> velocity;
 };
 
-MultiBodyRobot::MultiBodyRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world,
+MultiBodyRobot::MultiBodyRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world,
                                const Eigen::Isometry3d& root_pose)
     : spec_(std::move(spec)),
+      name_(std::move(name)),
       world_(world),
       scratch_(std::make_unique<Scratch>()),
       shapes_(std::make_unique<BulletShapes>()) {
@@ -106,6 +107,10 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   body_->setUseGyroTerm(true);
   body_->setHasSelfCollision(self_collide);
   world_.addMultiBody(body_.get());
+  const std::vector<GazeboCollision> gazebo = gazeboCollisions(spec_);
+  for (int k = 0; k <= links; ++k) {
+    collision_names_.push_back(robotCollisionNames(name_, gazebo, parts_[k].sources));
+  }
   for (int k = 0; k <= links; ++k) addCollider(k);
 
   for (auto& joint : joints_) {
@@ -178,6 +183,7 @@ void MultiBodyRobot::addCollider(int k) {
       world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
     }
   }
+  nameCollisions(*collider, collision_names_[k]);
   if (k == 0) {
     body_->setBaseCollider(collider.get());
   } else {
@@ -377,5 +383,14 @@ int MultiBodyRobot::partOf(const std::string& link) const {
 }
 
 Eigen::Isometry3d MultiBodyRobot::partPose(int part) const { return part_poses_.at(part); }
+
+std::vector<CollisionContact> MultiBodyRobot::contacts(const CollisionSource& source) const {
+  const int part = partOf(source.link);
+  if (part < 0) return {};
+  const auto& sources = parts_[part].sources;
+  const auto found = std::find(sources.begin(), sources.end(), source);
+  if (found == sources.end()) return {};
+  return contactsOf(world_, *colliders_[part], static_cast<int>(found - sources.begin()), dt_);
+}
 
 }  // namespace bullet_sim

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bullet_sim/physics/robot_body.h"
+#include "physics/contacts.h"
 
 class btMultiBody;
 class btMultiBodyDynamicsWorld;
@@ -27,7 +28,9 @@ class MultiBodyRobot : public PhysicsRobot {
  public:
   /// Builds the robot with its root link at `root_pose` and adds it to `world`. Throws SpecError when the
   /// model cannot be simulated (a part without mass); `world` is untouched then.
-  MultiBodyRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, const Eigen::Isometry3d& root_pose);
+  /// `name` is the robot's, as contacts name its collisions (model::link::collision).
+  MultiBodyRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world,
+                 const Eigen::Isometry3d& root_pose);
   ~MultiBodyRobot() override;
   MultiBodyRobot(const MultiBodyRobot&) = delete;
   MultiBodyRobot& operator=(const MultiBodyRobot&) = delete;
@@ -57,6 +60,7 @@ class MultiBodyRobot : public PhysicsRobot {
   const std::vector<RobotPart>& parts() const override { return parts_; }
   int partOf(const std::string& link) const override;
   Eigen::Isometry3d partPose(int part) const override;
+  std::vector<CollisionContact> contacts(const CollisionSource& source) const override;
 
  private:
   struct PartFrames {
@@ -82,6 +86,7 @@ class MultiBodyRobot : public PhysicsRobot {
   btMultiBodyJointMotor* motorFor(Joint& joint);
 
   ModelSpec spec_;
+  std::string name_;
   btMultiBodyDynamicsWorld& world_;
   double dt_ = 0.001;
   std::vector<RobotPart> parts_;
@@ -96,7 +101,8 @@ class MultiBodyRobot : public PhysicsRobot {
   std::unique_ptr<Scratch> scratch_;
   std::unique_ptr<BulletShapes> shapes_;
   std::unique_ptr<btMultiBody> body_;
-  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;
+  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;  ///< per part
+  std::vector<CollisionNames> collision_names_;                      ///< per part, for contacts
   std::vector<std::unique_ptr<btMultiBodyConstraint>> constraints_;
   std::vector<Eigen::Isometry3d> part_poses_;  ///< world pose of each part's frame, after the last step
 };

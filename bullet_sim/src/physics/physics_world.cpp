@@ -4,6 +4,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
 #include "bullet_shapes.h"
+#include "physics/contacts.h"
 #include "physics/multibody_robot.h"
 
 namespace bullet_sim {
@@ -35,6 +36,8 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
       object->setWorldTransform(toBullet(model.pose * collision.origin));
       object->setFriction(1.0);  // Gazebo's default mu
       object->setRestitution(0);
+      static_names_.push_back(std::make_unique<CollisionNames>(CollisionNames{{collision.name}}));
+      nameCollisions(*object, *static_names_.back());
       world_->addCollisionObject(object.get(), kStaticGroup, kRobotGroup);
       statics_.push_back(std::move(object));
     }

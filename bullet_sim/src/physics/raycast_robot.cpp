@@ -44,9 +44,10 @@ std::optional<double> wheelRadius(const LinkSpec& link, const JointSpec& joint) 
 
 }  // namespace
 
-RaycastRobot::RaycastRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, const RayCaster& ground,
-                           const Eigen::Isometry3d& root_pose)
+RaycastRobot::RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world,
+                           const RayCaster& ground, const Eigen::Isometry3d& root_pose)
     : spec_(std::move(spec)),
+      name_(std::move(name)),
       world_(world),
       ground_(ground),
       dt_(world.getSolverInfo().m_timeStep),
@@ -120,17 +121,21 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   for (size_t i = 0; i < spec_.links.size(); ++i) {
     const JointSpec* joint = spec_.parentJoint(spec_.links[i].name);
     if (joint && joint->moves() && joints_[joint_index_.at(joint->name)].wheel >= 0) continue;
-    for (const auto& collision : spec_.links[i].collisions) {
-      if (btCollisionShape* shape = shapes_->make(collision.shape, true)) {
-        compound->addChildShape(toBullet(body_to_root * link_in_root_[i] * collision.origin), shape);
+    const auto& collisions = spec_.links[i].collisions;
+    for (size_t c = 0; c < collisions.size(); ++c) {
+      if (btCollisionShape* shape = shapes_->make(collisions[c].shape, true)) {
+        compound->addChildShape(toBullet(body_to_root * link_in_root_[i] * collisions[c].origin), shape);
+        chassis_sources_.push_back({spec_.links[i].name, static_cast<int>(c)});
       }
     }
   }
+  chassis_names_ = robotCollisionNames(name_, gazeboCollisions(spec_), chassis_sources_);
   btRigidBody::btRigidBodyConstructionInfo info(mass_, nullptr, compound, toBullet(moments));
   info.m_friction = spec_.link(spec_.root)->surface.mu1;
   info.m_restitution = 0;
   chassis_ = std::make_unique<btRigidBody>(info);
   chassis_->setActivationState(DISABLE_DEACTIVATION);
+  nameCollisions(*chassis_, chassis_names_);
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
   world_.addRigidBody(chassis_.get(), kRobotGroup, kStaticGroup | kRobotGroup);
 
@@ -384,6 +389,12 @@ int RaycastRobot::partOf(const std::string& link) const {
 
 Eigen::Isometry3d RaycastRobot::partPose(int part) const {
   return linkPose(layout_.parts.at(part).root_link);
+}
+
+std::vector<CollisionContact> RaycastRobot::contacts(const CollisionSource& source) const {
+  const auto found = std::find(chassis_sources_.begin(), chassis_sources_.end(), source);
+  if (found == chassis_sources_.end()) return {};  // a wheel: its ray is its contact
+  return contactsOf(world_, *chassis_, static_cast<int>(found - chassis_sources_.begin()), dt_);
 }
 
 }  // namespace bullet_sim

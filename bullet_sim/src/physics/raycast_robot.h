@@ -17,6 +17,7 @@
 
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/sensing/ray_caster.h"
+#include "physics/contacts.h"
 #include "physics/robot_parts.h"
 
 class btMultiBodyDynamicsWorld;
@@ -30,7 +31,8 @@ class RaycastRobot : public PhysicsRobot {
  public:
   /// Builds the robot with its root link at `root_pose` and adds its chassis to `world`; wheels find the
   /// ground in `ground`'s static bodies. Throws SpecError when the model cannot be simulated this way.
-  RaycastRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, const RayCaster& ground,
+  /// `name` is the robot's, as contacts name its collisions (model::link::collision).
+  RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world, const RayCaster& ground,
                const Eigen::Isometry3d& root_pose);
   ~RaycastRobot() override;
   RaycastRobot(const RaycastRobot&) = delete;
@@ -61,6 +63,7 @@ class RaycastRobot : public PhysicsRobot {
   const std::vector<RobotPart>& parts() const override { return layout_.parts; }
   int partOf(const std::string& link) const override;
   Eigen::Isometry3d partPose(int part) const override;
+  std::vector<CollisionContact> contacts(const CollisionSource& source) const override;
 
  private:
   struct Joint {
@@ -109,6 +112,7 @@ class RaycastRobot : public PhysicsRobot {
   int linkIndex(const std::string& link) const;
 
   ModelSpec spec_;
+  std::string name_;
   btMultiBodyDynamicsWorld& world_;
   const RayCaster& ground_;
   double dt_;
@@ -131,6 +135,8 @@ class RaycastRobot : public PhysicsRobot {
 
   std::unique_ptr<BulletShapes> shapes_;
   std::unique_ptr<btRigidBody> chassis_;
+  std::vector<CollisionSource> chassis_sources_;  ///< per child shape of the chassis
+  CollisionNames chassis_names_;
   // Per step scratch, kept to avoid allocating.
   std::vector<Eigen::Vector3d> ray_origins_, ray_directions_;
   std::vector<double> ray_hits_;

@@ -4,11 +4,17 @@
 #include <stdexcept>
 
 #include "bullet_sim/plugins/ackermann_drive.h"
+#include "bullet_sim/plugins/bumper.h"
+#include "bullet_sim/plugins/force_based_move.h"
 #include "bullet_sim/plugins/ground_truth.h"
+#include "bullet_sim/plugins/hector_gps.h"
+#include "bullet_sim/plugins/hector_imu.h"
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/joint_states.h"
 #include "bullet_sim/plugins/pinhole_camera.h"
+#include "bullet_sim/plugins/planar_move.h"
+#include "bullet_sim/plugins/range_sensor.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 
@@ -38,6 +44,13 @@ PluginRegistry makeBuiltin() {
            pluginType<PinholeCamera>("libgazebo_ros_camera.so", kCameraSensors, parseCamera),
            pluginType<PinholeCamera>("libgazebo_ros_openni_kinect.so", {"depth"}, parseDepthCamera),
            pluginType<PinholeCamera>("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera),
+           pluginType<RangeSensor>("libgazebo_ros_range.so", {"ray"}, parseRange),
+           pluginType<HectorImu>("libhector_gazebo_ros_imu.so", {}, parseHectorImu),
+           pluginType<HectorGps>("libhector_gazebo_ros_gps.so", {}, parseHectorGps),
+           pluginType<Bumper>("libgazebo_ros_bumper.so", {"contact"}, parseBumper),
+           pluginType<PlanarMove>("libgazebo_ros_planar_move.so", {}, parsePlanarMove),
+           // hector_gazebo_plugins' force-based move:
+           pluginType<ForceBasedMove>("libgazebo_ros_force_based_move.so", {}, parseForceBasedMove),
        }) {
     registry.add(std::move(type));
   }

@@ -1,7 +1,9 @@
 #include "robot_adapter.h"
 
 #include <camera_info_manager/camera_info_manager.h>
+#include <gazebo_msgs/ContactsState.h>
 #include <geometry_msgs/Twist.h>
+#include <geometry_msgs/Vector3Stamped.h>
 #include <image_transport/image_transport.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -9,8 +11,10 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/NavSatFix.h>
 #include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/Range.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_srvs/Empty.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -119,10 +123,10 @@ sensor_msgs::Imu toMessage(const ImuSample& sample, const FramePrefix& frames) {
   message.orientation = tf2::toMsg(sample.orientation);
   tf2::toMsg(sample.angular_velocity, message.angular_velocity);
   tf2::toMsg(sample.linear_acceleration, message.linear_acceleration);
-  for (int i : {0, 4, 8}) {
-    message.orientation_covariance[i] = sample.orientation_variance;
-    message.angular_velocity_covariance[i] = sample.angular_velocity_variance;
-    message.linear_acceleration_covariance[i] = sample.linear_acceleration_variance;
+  for (int i = 0; i < 3; ++i) {
+    message.orientation_covariance[4 * i] = sample.orientation_variance[i];
+    message.angular_velocity_covariance[4 * i] = sample.angular_velocity_variance[i];
+    message.linear_acceleration_covariance[4 * i] = sample.linear_acceleration_variance[i];
   }
   return message;
 }
@@ -160,6 +164,62 @@ sensor_msgs::PointCloud2 toMessage(const ColouredCloud& cloud, const FramePrefix
     rgb[2] = cloud.rgb[i][0];
   }
   message.is_dense = cloud.is_dense;
+  return message;
+}
+
+sensor_msgs::Range toMessage(const RangeSample& sample, const FramePrefix& frames) {
+  sensor_msgs::Range message;
+  message.header = header(sample.stamp, frames(sample.frame_id));
+  message.radiation_type = sample.infrared ? sensor_msgs::Range::INFRARED : sensor_msgs::Range::ULTRASOUND;
+  message.field_of_view = sample.field_of_view;
+  message.min_range = sample.min_range;
+  message.max_range = sample.max_range;
+  message.range = sample.range;
+  return message;
+}
+
+sensor_msgs::NavSatFix toMessage(const NavSatFixSample& fix, const FramePrefix& frames) {
+  sensor_msgs::NavSatFix message;
+  message.header = header(fix.stamp, frames(fix.frame_id));
+  message.status.status = fix.status;
+  message.status.service = fix.service;
+  message.latitude = fix.latitude;
+  message.longitude = fix.longitude;
+  message.altitude = fix.altitude;
+  std::copy(fix.position_covariance.begin(), fix.position_covariance.end(),
+            message.position_covariance.begin());
+  message.position_covariance_type = fix.position_covariance_type;
+  return message;
+}
+
+geometry_msgs::Vector3Stamped toMessage(const Vector3Sample& sample, const FramePrefix& frames) {
+  geometry_msgs::Vector3Stamped message;
+  message.header = header(sample.stamp, frames(sample.frame_id));
+  tf2::toMsg(sample.vector, message.vector);
+  return message;
+}
+
+geometry_msgs::Wrench toMessage(const ContactsSample::Wrench& wrench) {
+  geometry_msgs::Wrench message;
+  tf2::toMsg(wrench.force, message.force);
+  tf2::toMsg(wrench.torque, message.torque);
+  return message;
+}
+
+gazebo_msgs::ContactsState toMessage(const ContactsSample& contacts, const FramePrefix& frames) {
+  gazebo_msgs::ContactsState message;
+  message.header = header(contacts.stamp, frames(contacts.frame_id));
+  for (const auto& state : contacts.states) {
+    gazebo_msgs::ContactState& out = message.states.emplace_back();
+    out.info = state.info;
+    out.collision1_name = state.collision1;
+    out.collision2_name = state.collision2;
+    for (const auto& wrench : state.wrenches) out.wrenches.push_back(toMessage(wrench));
+    out.total_wrench = toMessage(state.total_wrench);
+    for (const auto& position : state.positions) tf2::toMsg(position, out.contact_positions.emplace_back());
+    for (const auto& normal : state.normals) tf2::toMsg(normal, out.contact_normals.emplace_back());
+    out.depths = state.depths;
+  }
   return message;
 }
 

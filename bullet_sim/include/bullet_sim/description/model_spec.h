@@ -56,6 +56,9 @@ struct JointSpec {
   double velocity = 0;  ///< [rad/s] or [m/s]; 0 = no limit given
   double damping = 0;   ///< [N m s/rad]
   double friction = 0;  ///< [N m]
+  /// <disableFixedJointLumping> or <preserveFixedJoint>: Gazebo keeps a fixed joint's child link apart instead
+  /// of lumping it into the parent (which changes the names of its collisions, not its physics).
+  bool lumping_disabled = false;
 
   bool moves() const { return type != Type::kFixed; }
 };

@@ -63,6 +63,15 @@ struct WorldModelSpec {
   std::vector<PluginElement> plugins;  ///< model plugins first, then sensors' in link order
 };
 
+/// A world's <spherical_coordinates>: where its origin lies on the WGS84 ellipsoid, and which way its x axis
+/// points.
+struct SphericalCoordinates {
+  double latitude = 0;   ///< [deg]
+  double longitude = 0;  ///< [deg]
+  double elevation = 0;  ///< [m]
+  double heading = 0;    ///< [rad] of the world's x axis, counter-clockwise from east (SDF's heading_deg)
+};
+
 struct WorldSpec {
   std::string source;  ///< file path (or label of the text), for messages
   std::string name;
@@ -73,6 +82,7 @@ struct WorldSpec {
   /// steps, or, in a <physics> without one, real_time_factor / max_step_size.
   double real_time_update_rate = 1000;
   std::vector<WorldModelSpec> models;  ///< in file order, including the ground plane
+  std::optional<SphericalCoordinates> spherical_coordinates;  ///< nullopt when the world gives none
 };
 
 /// Parses a .world file. Throws SpecError naming the file and listing all problems at once (sdformat errors,

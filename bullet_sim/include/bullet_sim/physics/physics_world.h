@@ -15,6 +15,7 @@ class btMultiBodyDynamicsWorld;
 namespace bullet_sim {
 
 class BulletShapes;
+struct CollisionNames;
 
 struct PhysicsOptions {
   double step_size = 0.001;  ///< [s] every step advances exactly this much
@@ -52,6 +53,7 @@ class PhysicsWorld {
   std::vector<std::unique_ptr<btCollisionObject>> statics_;
   /// Per world model: its collision objects (indices into statics_) and their origins in the model frame.
   std::vector<std::vector<std::pair<size_t, Eigen::Isometry3d>>> model_statics_;
+  std::vector<std::unique_ptr<CollisionNames>> static_names_;  ///< per static object, for contacts
 };
 
 }  // namespace bullet_sim

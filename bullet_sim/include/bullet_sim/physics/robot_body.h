@@ -16,11 +16,33 @@ namespace bullet_sim {
 /// A robot without a drive plugin always uses "contact".
 constexpr const char* kDefaultWheelModel = "raycast";
 
+/// Where a collision comes from: the link that declares it and its index among that link's collisions.
+struct CollisionSource {
+  std::string link;
+  int index = 0;
+  bool operator==(const CollisionSource& other) const { return link == other.link && index == other.index; }
+};
+
 /// A rigid part of the robot: links merged by fixed joints. Sensors see parts through their collisions.
 struct RobotPart {
-  std::string root_link;              ///< the link whose frame is the part's frame
-  std::vector<std::string> links;     ///< every link merged into it
-  std::vector<Collision> collisions;  ///< origins in the part's frame
+  std::string root_link;                ///< the link whose frame is the part's frame
+  std::vector<std::string> links;       ///< every link merged into it
+  std::vector<Collision> collisions;    ///< origins in the part's frame
+  std::vector<CollisionSource> sources;  ///< per collision
+};
+
+/// A point where a robot's collision touches another collision, after a step.
+struct ContactPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< [m] world, on the robot's collision
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   ///< unit, world: the way the contact pushes the robot
+  double depth = 0;                                    ///< [m] of interpenetration
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();     ///< [N] on the robot's collision, world axes
+};
+
+/// What a robot's collision touches: one entry per other collision.
+struct CollisionContact {
+  std::string other;  ///< the other collision as Gazebo names it: model::link::collision
+  std::vector<ContactPoint> points;
 };
 
 class RobotBody {
@@ -61,6 +83,10 @@ class RobotBody {
   /// Index into parts() of the part holding `link`, or -1.
   virtual int partOf(const std::string& link) const = 0;
   virtual Eigen::Isometry3d partPose(int part) const = 0;
+
+  /// What collision `source` touches after the last step; empty for a collision that never meets bodies (a
+  /// `raycast` wheel, whose ray is its contact).
+  virtual std::vector<CollisionContact> contacts(const CollisionSource& source) const = 0;
 };
 
 /// Joint positions by joint index (see RobotBody::jointIndex): [rad] or [m].

@@ -5,10 +5,12 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 
 #include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/image_source.h"
 #include "bullet_sim/plugins/ports.h"
@@ -48,6 +50,8 @@ struct PluginSetup {
   BodyId own_ray_body = kNoBody;  ///< the ray-caster body of the part a sensor sits on, which it skips
   /// Renders the world for cameras; nullptr when the simulation has no renderer (cameras then warn).
   ImageSource* images = nullptr;
+  /// The world's <spherical_coordinates>, for GPS receivers; nullopt when it gives none.
+  std::optional<SphericalCoordinates> spherical_coordinates;
 };
 
 /// What every plugin has: its name and namespace, the head of its messages, an update timer at its config's

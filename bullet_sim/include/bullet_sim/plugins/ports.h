@@ -34,7 +34,8 @@ using OutputStream =
     std::variant<const Stream<Odometry>*, const Stream<TransformSample>*, const Stream<JointStateSample>*,
                  const Stream<LaserScan>*, const Stream<PointCloud>*, const Stream<LegacyPointCloud>*,
                  const Stream<ImuSample>*, const Stream<CameraImage>*, const Stream<CameraInfo>*,
-                 const Stream<ColouredCloud>*>;
+                 const Stream<ColouredCloud>*, const Stream<RangeSample>*, const Stream<NavSatFixSample>*,
+                 const Stream<Vector3Sample>*, const Stream<ContactsSample>*>;
 
 /// Whether anyone listens to an output. The node sets it from the topic's subscribers before each step; a
 /// plugin skips work (a camera's rendering) that nobody wants. Without a node, everything is wanted.
