@@ -136,8 +136,14 @@ WorldApi::WorldApi(ros::NodeHandle private_node, Simulation& simulation, Simulat
     : node_(private_node), simulation_(simulation), host_(host), ode_(gazeboOdeDefaults()) {
   const double rate = node_.param("model_states_rate", kDefaultStatesRate);
   states_period_ = rate > 0 && std::isfinite(rate) ? 1.0 / rate : 0.0;
-  model_states_ = node_.advertise<gazebo_msgs::ModelStates>("model_states", 10);
-  link_states_ = node_.advertise<gazebo_msgs::LinkStates>("link_states", 10);
+  // Subscribers are counted as they come and go, as Gazebo does, so a step without any costs nothing.
+  const auto counting = [](int& count, int change) {
+    return [&count, change](const ros::SingleSubscriberPublisher&) { count += change; };
+  };
+  model_states_ = node_.advertise<gazebo_msgs::ModelStates>("model_states", 10, counting(model_listeners_, 1),
+                                                            counting(model_listeners_, -1));
+  link_states_ = node_.advertise<gazebo_msgs::LinkStates>("link_states", 10, counting(link_listeners_, 1),
+                                                          counting(link_listeners_, -1));
   subscribers_.push_back(node_.subscribe("set_model_state", 10, &WorldApi::onModelState, this));
   subscribers_.push_back(node_.subscribe("set_link_state", 10, &WorldApi::onLinkState, this));
   advertiseServices();
@@ -173,16 +179,16 @@ void WorldApi::advertiseServices() {
 }
 
 void WorldApi::afterStep() {
+  if (model_listeners_ <= 0 && link_listeners_ <= 0) return;
   const double now = simulation_.time();
   if (now < states_due_ - states_period_) states_due_ = 0;  // time went back: a reset
   if (now + 0.5 * simulation_.stepSize() < states_due_) return;
-  if (model_states_.getNumSubscribers() == 0 && link_states_.getNumSubscribers() == 0) return;
   publishStates();
   states_due_ = now + states_period_;
 }
 
 void WorldApi::publishStates() {
-  if (model_states_.getNumSubscribers() > 0) {
+  if (model_listeners_ > 0) {
     gazebo_msgs::ModelStates message;
     for (const NamedState& model : simulation_.modelStates()) {
       message.name.push_back(model.name);
@@ -190,7 +196,7 @@ void WorldApi::publishStates() {
     }
     model_states_.publish(message);
   }
-  if (link_states_.getNumSubscribers() > 0) {
+  if (link_listeners_ > 0) {
     gazebo_msgs::LinkStates message;
     for (const NamedState& link : simulation_.linkStates()) {
       message.name.push_back(link.name);

@@ -118,6 +118,8 @@ class WorldApi {
   std::vector<ros::Subscriber> subscribers_;
   ros::Publisher model_states_;
   ros::Publisher link_states_;
+  int model_listeners_ = 0;  ///< subscribers of model_states, counted by its connect callbacks
+  int link_listeners_ = 0;
   double states_period_ = 0.001;  ///< [sim s] between model_states (and link_states) messages
   double states_due_ = 0;         ///< [sim s] when the next ones may go out
   gazebo_msgs::ODEPhysics ode_;   ///< as last set: reported back, not used
