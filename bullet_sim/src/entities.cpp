@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <sstream>
 
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/gazebo_names.h"
@@ -22,8 +23,36 @@ bool isWorldFrame(const std::string& name) {
 
 std::string scoped(const std::string& model, const std::string& link) { return model + "::" + link; }
 
-bool isFinite(const EntityState& state) {
-  return state.pose.matrix().allFinite() && state.linear.allFinite() && state.angular.allFinite();
+// What a request may ask, far beyond any robot's world: past it, Bullet and the single-precision ray caster
+// lose the model (Embree aborts on a ray cast from infinity).
+constexpr double kMaxDistance = 1e6;      // [m] of a position from the origin, or of an offset
+constexpr double kMaxSpeed = 1e6;         // [m/s], [rad/s]
+constexpr double kMaxLoad = 1e12;         // [N], [N m]: a force, a torque, an effort
+constexpr double kMaxAcceleration = 1e6;  // [m/s^2] of gravity
+constexpr double kMaxStep = 1.0;          // [s]
+
+std::string number(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+/// Throws naming `what` unless `magnitude` is finite and at most `bound` [unit].
+void checkBound(double magnitude, double bound, const std::string& what, const std::string& unit) {
+  if (!std::isfinite(magnitude)) throw std::invalid_argument(what + " is not finite");
+  if (magnitude > bound) {
+    throw std::invalid_argument(what + " [" + number(magnitude) + " " + unit + "] is beyond the " +
+                                number(bound) + " " + unit + " bullet_sim simulates");
+  }
+}
+
+void checkState(const EntityState& state, const std::string& what) {
+  if (!state.pose.matrix().allFinite()) throw std::invalid_argument("the pose of " + what + " is not finite");
+  // Largest components, not lengths, which could overflow.
+  checkBound(state.pose.translation().lpNorm<Eigen::Infinity>(), kMaxDistance, "a coordinate of " + what,
+             "m");
+  checkBound(state.linear.lpNorm<Eigen::Infinity>(), kMaxSpeed, "a velocity of " + what, "m/s");
+  checkBound(state.angular.lpNorm<Eigen::Infinity>(), kMaxSpeed, "an angular velocity of " + what, "rad/s");
 }
 
 /// A world state seen from a frame whose world state is `frame`, as Gazebo computes it: the frame's
@@ -207,16 +236,17 @@ EntityState Simulation::linkState(const std::string& link, const std::string& re
 
 std::string Simulation::setModelState(const std::string& model, const EntityState& state,
                                       const std::string& reference) {
-  if (!isFinite(state)) throw std::invalid_argument("the state of model [" + model + "] is not finite");
   const Entity entity = findModel(model);
-  return setWorldState(entity, inWorld(state, entityState(reference)));
+  const EntityState target = inWorld(state, entityState(reference));
+  checkState(target, "model [" + model + "]");
+  return setWorldState(entity, target);
 }
 
 std::string Simulation::setLinkState(const std::string& link, const EntityState& state,
                                      const std::string& reference) {
-  if (!isFinite(state)) throw std::invalid_argument("the state of link [" + link + "] is not finite");
   const Entity entity = findLink(link);
   const EntityState target = inWorld(state, entityState(reference));
+  checkState(target, "link [" + link + "]");
   if (entity.world_model >= 0) {
     const Entity model{nullptr, entity.world_model, ""};
     const Eigen::Isometry3d in_model = worldState(model).pose.inverse() * worldState(entity).pose;
@@ -343,8 +373,9 @@ void Simulation::setModelConfiguration(const std::string& model,
     if (index < 0) {
       problems += "; [" + joint + "] is not a moving joint of [" + model + "]" +
                   didYouMean(joint, body.spec().jointNames());
-    } else if (!std::isfinite(position)) {
-      problems += "; the position of [" + joint + "] is not a number";
+    } else if (!(std::abs(position) <= kMaxDistance)) {
+      problems += "; the position of [" + joint + "] [" + number(position) + "] is not a number within +-" +
+                  number(kMaxDistance);
     } else {
       joints.emplace_back(index, position);
     }
@@ -355,17 +386,20 @@ void Simulation::setModelConfiguration(const std::string& model,
 }
 
 void Simulation::driveJoint(const std::string& joint, double velocity, double max_effort) {
-  if (!std::isfinite(velocity) || !(max_effort >= 0 && std::isfinite(max_effort))) {
-    throw std::invalid_argument("joint [" + joint + "]: the velocity must be finite and the effort >= 0");
-  }
+  checkBound(std::abs(velocity), kMaxSpeed, "the velocity of joint [" + joint + "]", "rad/s or m/s");
+  if (!(max_effort >= 0)) throw std::invalid_argument("the effort of joint [" + joint + "] must be >= 0");
+  checkBound(max_effort, kMaxLoad, "the effort of joint [" + joint + "]", "N m or N");
   const auto [robot, index] = findJoint(joint);
   robot->body().setJointVelocity(index, velocity, max_effort);
 }
 
 std::string Simulation::applyBodyWrench(const BodyWrench& wrench) {
-  if (!wrench.force.allFinite() || !wrench.torque.allFinite() || !wrench.reference_point.allFinite() ||
-      !std::isfinite(wrench.schedule.start_time) || std::isnan(wrench.schedule.duration)) {
-    throw std::invalid_argument("the wrench on [" + wrench.body + "] is not finite");
+  const std::string on = " on [" + wrench.body + "]";
+  checkBound(wrench.force.lpNorm<Eigen::Infinity>(), kMaxLoad, "the force" + on, "N");
+  checkBound(wrench.torque.lpNorm<Eigen::Infinity>(), kMaxLoad, "the torque" + on, "N m");
+  checkBound(wrench.reference_point.lpNorm<Eigen::Infinity>(), kMaxDistance, "the reference point" + on, "m");
+  if (!std::isfinite(wrench.schedule.start_time) || std::isnan(wrench.schedule.duration)) {
+    throw std::invalid_argument("the start time or the duration of the wrench" + on + " is not a number");
   }
   const auto [robot, link] = findBody(wrench.body);
   const Eigen::Matrix3d axes = entityState(wrench.reference_frame).pose.linear();
@@ -386,9 +420,10 @@ void Simulation::clearBodyWrenches(const std::string& body) {
 }
 
 std::string Simulation::applyJointEffort(const JointEffort& effort) {
-  if (!std::isfinite(effort.effort) || !std::isfinite(effort.schedule.start_time) ||
-      std::isnan(effort.schedule.duration)) {
-    throw std::invalid_argument("the effort on joint [" + effort.joint + "] is not finite");
+  checkBound(std::abs(effort.effort), kMaxLoad, "the effort on joint [" + effort.joint + "]", "N m or N");
+  if (!std::isfinite(effort.schedule.start_time) || std::isnan(effort.schedule.duration)) {
+    throw std::invalid_argument("the start time or the duration of the effort on joint [" + effort.joint +
+                                "] is not a number");
   }
   const auto [robot, index] = findJoint(effort.joint);
   if (!robot->body().takesJointEffort(index)) {
@@ -442,14 +477,15 @@ PhysicsProperties Simulation::physicsProperties() const {
 }
 
 void Simulation::setPhysicsProperties(const PhysicsProperties& properties) {
-  if (!(properties.step_size > 0 && std::isfinite(properties.step_size))) {
-    throw std::invalid_argument("time_step [" + std::to_string(properties.step_size) + "] must be positive");
+  if (!(properties.step_size > 0)) {
+    throw std::invalid_argument("time_step [" + number(properties.step_size) + "] must be positive");
   }
+  checkBound(properties.step_size, kMaxStep, "time_step", "s");
   if (!(properties.max_update_rate >= 0 && std::isfinite(properties.max_update_rate))) {
-    throw std::invalid_argument("max_update_rate [" + std::to_string(properties.max_update_rate) +
+    throw std::invalid_argument("max_update_rate [" + number(properties.max_update_rate) +
                                 "] must be >= 0 (0 runs as fast as possible)");
   }
-  if (!properties.gravity.allFinite()) throw std::invalid_argument("gravity is not finite");
+  checkBound(properties.gravity.lpNorm<Eigen::Infinity>(), kMaxAcceleration, "gravity", "m/s^2");
   if (properties.step_size != stepSize()) {
     time_base_ = time();
     steps_at_base_ = steps_;

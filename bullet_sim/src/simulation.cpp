@@ -117,6 +117,10 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (robot(name))
     diagnostics.error("a robot named [" + name + "] already exists: delete it first, or choose another name");
   const Eigen::Isometry3d root = rootPose(model, pose);
+  if (!root.matrix().allFinite() || !(root.translation().norm() <= 1e6)) {  // as the world API's bound
+    diagnostics.error("the spawn pose [" + std::to_string(root.translation().norm()) +
+                      " m from the origin] is not finite or beyond the 1e6 m bullet_sim simulates");
+  }
   for (const auto& world_model : world_.models) {
     if (world_model.name == name) {
       diagnostics.error("the world already holds a model named [" + name +

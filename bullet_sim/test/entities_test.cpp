@@ -311,5 +311,36 @@ TEST(Entities, PhysicsPropertiesChangeTheStepAndGravityFromTheNextStepOn) {
   EXPECT_DOUBLE_EQ(simulation.time(), 0.004) << "after a reset, time restarts at the first step";
 }
 
+TEST(Entities, RequestsBeyondWhatCanBeSimulatedAreRefusedAndChangeNothing) {
+  Simulation simulation(crateWorld());
+  simulation.spawn("box", fixtureRobot("minimal.urdf"), {.z = 1});
+  const Eigen::Isometry3d before = simulation.modelState("box").pose;
+  EntityState far = at(1e300, 0, 0, 0);
+  EXPECT_THAT(
+      [&] { simulation.setModelState("box", far); },
+      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("a coordinate of model [box] [1e+300 m]")));
+  EXPECT_THAT([&] { simulation.setModelState("crate", at(0, 2e6, 0, 0)); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("beyond the 1e+06 m")));
+  EntityState fast = at(0, 0, 1, 0);
+  fast.linear.x() = NAN;
+  EXPECT_THAT([&] { simulation.setModelState("box", fast); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("not finite")));
+  EXPECT_THAT(
+      [&] {
+        simulation.applyBodyWrench({"box", "", {}, Eigen::Vector3d(1e300, 0, 0), {}, {0, 1}});
+      },
+      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("the force on [box]")));
+  EXPECT_THAT(
+      [&] {
+        simulation.setPhysicsProperties({10, 1000, Eigen::Vector3d(0, 0, -9.81)});
+      },
+      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("time_step [10 s] is beyond")));
+  EXPECT_THAT([&] { simulation.spawn("far", fixtureRobot("minimal.urdf"), {.x = 1e300}); },
+              ::testing::ThrowsMessage<SpecError>(HasSubstr("beyond the 1e6 m")));
+  for (int i = 0; i < 100; ++i) simulation.step();  // nothing was changed, and it runs on
+  EXPECT_NEAR(simulation.modelState("box").pose.translation().x(), before.translation().x(), 1e-9);
+  EXPECT_TRUE(simulation.modelState("crate").pose.translation().isApprox(Eigen::Vector3d(2, 0, 0.5)));
+}
+
 }  // namespace
 }  // namespace bullet_sim

@@ -299,6 +299,26 @@ class WorldApi(unittest.TestCase):
         self.assertFalse(broken.success)
         self.assertIn("joined to nothing", broken.status_message)
 
+    def test_bad_requests_are_refused_with_the_reason_and_the_simulator_runs_on(self):
+        set_state = service("set_model_state", SetModelState)
+        for bad in [pose(float("nan"), 0, 0), pose(1e300, 0, 0)]:
+            answer = set_state(ModelState(ROBOT, bad, Twist(), ""))
+            self.assertFalse(answer.success)
+            self.assertIn("model [%s]" % ROBOT, answer.status_message)
+        wrench = service("apply_body_wrench", ApplyBodyWrench)(ROBOT, "", Point(), Wrench(Vector3(1e300, 0, 0),
+                                                                                          Vector3()),
+                                                               rospy.Time(), rospy.Duration(1))
+        self.assertFalse(wrench.success)
+        physics = service("get_physics_properties", GetPhysicsProperties)()
+        step = service("set_physics_properties", SetPhysicsProperties)(float("inf"), 1000, physics.gravity,
+                                                                       physics.ode_config)
+        self.assertFalse(step.success)
+        publisher = rospy.Publisher("/gazebo/set_model_state", ModelState, queue_size=1, latch=True)
+        publisher.publish(ModelState(ROBOT, pose(float("inf"), 0, 0), Twist(), ""))
+        self.wait_sim(0.5)  # the clock goes on
+        self.assertLess(abs(self.model_state(ROBOT).pose.position.x), 0.05, "the robot is where it was")
+        publisher.unregister()
+
     def test_lights_are_not_simulated_and_say_so(self):
         for name, kind in [("delete_light", DeleteLight), ("get_light_properties", GetLightProperties)]:
             answer = service(name, kind)("sun")
