@@ -449,6 +449,7 @@ void Simulation::clearJointEfforts(const std::string& joint) {
 }
 
 void Simulation::applyScheduled() {
+  if (wrenches_.empty() && efforts_.empty()) return;  // the usual step
   // A window holds the steps that start in [start, end); half a step absorbs rounding in the times.
   const double now = time() + stepSize() / 2;
   eraseIf(wrenches_, [&](const ScheduledWrench& wrench) { return now >= wrench.end; });
