@@ -135,6 +135,7 @@ class ModelParser {
     spec.root = urdf_model->getRoot()->name;
     addTree(*urdf_model, *urdf_model->getRoot(), spec);
     readGazeboExtensions(robot, spec);
+    spec.transmissions = readTransmissions(childrenNamed(*robot, "transmission"), diagnostics_);
     checkMovingLinksHaveMass(spec);
     std::vector<PluginElement> found = std::move(model_plugins_);  // model plugins first, then sensors'
     found.insert(found.end(), sensor_plugins_.begin(), sensor_plugins_.end());
@@ -448,6 +449,13 @@ class ModelParser {
     }
     sensor_plugins_.push_back(
         {readTagNode(*plugin_element), std::move(sensor), readTagNode(*element), where});
+  }
+
+  static std::vector<TagNode> childrenNamed(const tinyxml2::XMLElement& parent, const char* name) {
+    std::vector<TagNode> children;
+    for (auto* child = parent.FirstChildElement(name); child; child = child->NextSiblingElement(name))
+      children.push_back(readTagNode(*child));
+    return children;
   }
 
   void checkMovingLinksHaveMass(const ModelSpec& spec) {
