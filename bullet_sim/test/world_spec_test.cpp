@@ -283,6 +283,36 @@ TEST(WorldSpec, FoldsModelLinkAndCollisionPoses) {
   ASSERT_EQ(crate.visuals.size(), 1u);
   EXPECT_EQ(crate.visuals[0].shape.type, Shape::Type::kSphere);
   EXPECT_TRUE(crate.visuals[0].origin.translation().isApprox(Eigen::Vector3d(1, 0, 0.5)));
+  // The links, for the world API: a nested model's carry its name.
+  ASSERT_EQ(crate.links.size(), 2u);
+  EXPECT_EQ(crate.links[0].name, "body");
+  EXPECT_TRUE(crate.links[0].pose.translation().isApprox(Eigen::Vector3d(1, 0, 0)));
+  EXPECT_EQ(crate.links[0].collisions, std::vector<std::string>{"lid"});
+  EXPECT_EQ(crate.links[1].name, "handle::grip");
+  EXPECT_TRUE(crate.links[1].pose.translation().isApprox(Eigen::Vector3d(0, 1, 0)));
+}
+
+/// A world whose <physics> holds `tags`.
+std::string withPhysics(const std::string& tags) {
+  return R"(<sdf version="1.6"><world name="w"><physics type="ode">)" + tags + "</physics></world></sdf>";
+}
+
+TEST(WorldSpec, PhysicsPacesByTheUpdateRateAndWithoutOneByTheRealTimeFactor) {
+  std::vector<std::string> warnings;
+  WorldSpec world = parse(withPhysics("<max_step_size>0.002</max_step_size><real_time_update_rate>0"
+                                      "</real_time_update_rate><real_time_factor>0</real_time_factor>"),
+                          &warnings);
+  EXPECT_DOUBLE_EQ(world.max_step_size, 0.002);
+  EXPECT_DOUBLE_EQ(world.real_time_update_rate, 0) << "as fast as possible, the RL idiom";
+  EXPECT_TRUE(warnings.empty());
+  world = parse(withPhysics("<max_step_size>0.004</max_step_size><real_time_factor>2</real_time_factor>"));
+  EXPECT_DOUBLE_EQ(world.real_time_update_rate, 500) << "2 x real time in steps of 4 ms";
+  world = parse(withPhysics("<real_time_update_rate>3000</real_time_update_rate>"), &warnings);
+  EXPECT_DOUBLE_EQ(world.real_time_update_rate, 3000);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(contains(warnings[0], "real_time_factor [1] disagrees with real_time_update_rate [3000]"))
+      << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "(3 x real time)")) << warnings[0];
 }
 
 TEST(WorldSpec, ColoursComeFromDiffuseThenAmbientThenTheGazeboScript) {
