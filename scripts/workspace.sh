@@ -25,14 +25,20 @@ DEBIAN_PACKAGES=(
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
   ros-message-generation libtrajectory-msgs-dev
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib
 )
 XACRO_VERSION=1.13.3
+RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
 
 install_dependencies() {
   install_debian_packages "${DEBIAN_PACKAGES[@]}"
   if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("xacro"))' 2>/dev/null)" != "$XACRO_VERSION" ]; then
     log "installing xacro $XACRO_VERSION from PyPI into /usr/bin/python3"
     as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "xacro==$XACRO_VERSION"
+  fi
+  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("ray"))' 2>/dev/null)" != "$RAY_VERSION" ]; then
+    log "installing ray $RAY_VERSION from PyPI into /usr/bin/python3"
+    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "ray==$RAY_VERSION"
   fi
 }
 

@@ -119,6 +119,7 @@ void SimulatorNode::step() {
 }
 
 void SimulatorNode::afterStep() {
+  if (observer_) observer_(*simulation_);
   if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
     if (!writeSnapshot(snapshot_dir_ / *frame, [this] { return drawView(View::kChase, 640, 480); }, &error)) {
@@ -139,6 +140,29 @@ void SimulatorNode::anchorPacing() {
   sim_anchor_ = simulation_->time();
 }
 
+Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const SpawnPose& pose,
+                                 const std::string& robot_namespace, std::vector<std::string>* warnings) {
+  const std::string source = "model [" + name + "]";
+  Robot& robot = simulation_->spawn(name, std::move(model), pose, warnings);
+  std::unique_ptr<RobotAdapter> adapter;
+  try {
+    adapter =
+        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, [this] { return simulation_->time(); });
+  } catch (...) {
+    simulation_->remove(name);
+    throw;
+  }
+  for (const auto& warning : *warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
+  for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
+  adapters_[name] = std::move(adapter);
+  return robot;
+}
+
+void SimulatorNode::setPaused(bool paused) {
+  paused_ = paused;
+  if (!paused_) anchorPacing();
+}
+
 bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
   const std::string source = "model [" + request.model_name + "]";
   try {
@@ -151,12 +175,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];
     }
-    Robot& robot = simulation_->spawn(request.model_name, std::move(model), pose, &warnings);
-    auto adapter = std::make_unique<RobotAdapter>(robot, request.robot_namespace, tf_,
-                                                  [this] { return simulation_->time(); });
-    for (const auto& warning : warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
-    for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
-    adapters_[request.model_name] = std::move(adapter);
+    spawnRobot(request.model_name, std::move(model), pose, request.robot_namespace, &warnings);
     response.success = true;
     response.message = "spawned " + source;
     for (const auto& warning : warnings) response.message += "\n" + warning;
@@ -198,8 +217,7 @@ bool SimulatorNode::pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
 }
 
 bool SimulatorNode::unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-  paused_ = false;
-  anchorPacing();
+  setPaused(false);
   return true;
 }
 

@@ -39,6 +39,14 @@ class SimulatorNode {
   /// Steps until shutdown. Commands and service calls are handled between steps.
   void run();
 
+  /// Adds a robot with its ROS interface under `robot_namespace`, as ~spawn_urdf does. Throws SpecError.
+  Robot& spawnRobot(const std::string& name, ModelSpec model, const SpawnPose& pose,
+                    const std::string& robot_namespace, std::vector<std::string>* warnings);
+  /// For hosts that run the node (the scenario runner): the simulation, a call after every step, and pausing.
+  const Simulation& simulation() const { return *simulation_; }
+  void observeSteps(std::function<void(const Simulation&)> observer) { observer_ = std::move(observer); }
+  void setPaused(bool paused);
+
  private:
   bool spawn(SpawnModel::Request& request, SpawnModel::Response& response);
   bool remove(DeleteModel::Request& request, DeleteModel::Response& response);
@@ -80,6 +88,7 @@ class SimulatorNode {
   std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot or camera frame
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
+  std::function<void(const Simulation&)> observer_;
 };
 
 }  // namespace bullet_sim
