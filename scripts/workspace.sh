@@ -18,7 +18,7 @@ export PATH=/usr/bin:/usr/local/bin:$PATH
 
 DEBIAN_PACKAGES=(
   catkin ros-base-dev libroscpp-dev python3-rostest python3-roslaunch python3-rostopic rosbash
-  libtf2-ros-dev libtf2-eigen-dev python3-tf2-ros tf-tools libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
+  libtf2-ros-dev libtf2-eigen-dev python3-tf2-ros tf-tools libtopic-tools-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-srvs-dev ros-robot-state-publisher joint-state-publisher libimage-transport-dev libcamera-info-manager-dev
   liburdf-dev liburdfdom-dev liburdfdom-tools libtinyxml2-dev libsdformat-dev
   libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev

@@ -3,9 +3,9 @@
 // clock until the user's nodes publish what the scenario waits for, records the run as the in-process runner
 // does, stops after the scenario's duration and writes result.json. Exit status: that of `scenario`.
 #include <ros/ros.h>
+#include <topic_tools/shape_shifter.h>
 
 #include <iostream>
-#include <set>
 
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/tools/scenario_command.h"
@@ -35,18 +35,29 @@ std::vector<std::string> awaitedTopics(const ScenarioSpec& spec, const Simulatio
   return topics;
 }
 
-/// The awaited topics that nobody publishes yet.
-std::vector<std::string> silentTopics(const std::vector<std::string>& awaited) {
-  ros::master::V_TopicInfo published;
-  if (!ros::master::getTopics(published)) return awaited;
-  std::set<std::string> names;
-  for (const auto& topic : published) names.insert(topic.name);
-  std::vector<std::string> silent;
-  for (const auto& topic : awaited) {
-    if (!names.count(topic)) silent.push_back(topic);
+/// Subscriptions to the awaited topics, of any type. roscpp shares one connection per topic within a process,
+/// so a publisher connected here is connected to the simulator's own subscriber too.
+class Readiness {
+ public:
+  explicit Readiness(const std::vector<std::string>& topics) {
+    ros::NodeHandle node;
+    for (const auto& topic : topics) {
+      const boost::function<void(const topic_tools::ShapeShifter::ConstPtr&)> ignore =
+          [](const topic_tools::ShapeShifter::ConstPtr&) {};
+      subscribers_.push_back(node.subscribe<topic_tools::ShapeShifter>(topic, 1, ignore));
+    }
   }
-  return silent;
-}
+  /// The first awaited topic that no publisher is connected to yet; "" when all are.
+  std::string silentTopic() const {
+    for (const auto& subscriber : subscribers_) {
+      if (subscriber.getNumPublishers() == 0) return subscriber.getTopic();
+    }
+    return "";
+  }
+
+ private:
+  std::vector<ros::Subscriber> subscribers_;
+};
 
 /// Sets the node's parameters from the scenario: its world, step, seed and pace, paused until ready.
 void setParameters(const ros::NodeHandle& node, const ScenarioSpec& spec) {
@@ -75,7 +86,7 @@ int host(const ScenarioCommand& command) {
     node.spawnRobot(name, assets.model, spec.spawn[i], assets.robot_names.size() > 1 ? name : "", &warnings);
   }
   ScenarioMonitor monitor(spec, node.simulation(), warnings);
-  const std::vector<std::string> awaited = awaitedTopics(spec, node.simulation());
+  const Readiness readiness(awaitedTopics(spec, node.simulation()));
   const long steps = std::lround(spec.duration / spec.step);
   std::string failure;
   auto stepping = std::chrono::steady_clock::now();
@@ -85,7 +96,7 @@ int host(const ScenarioCommand& command) {
   });
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(spec.launch->ready_timeout);
   ros::WallTimer ready = ros::NodeHandle().createWallTimer(ros::WallDuration(kReadyPoll), [&](const ros::WallTimerEvent&) {
-    const std::vector<std::string> silent = silentTopics(awaited);
+    const std::string silent = readiness.silentTopic();
     if (silent.empty()) {
       timing.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - timing.start).count();
       stepping = std::chrono::steady_clock::now();
@@ -93,7 +104,7 @@ int host(const ScenarioCommand& command) {
       ready.stop();
     } else if (ros::WallTime::now() > deadline) {
       failure = "the launch's nodes were not ready after " + std::to_string(spec.launch->ready_timeout) +
-                " s: nobody publishes [" + silent.front() + "] (drive.launch.wait_for)";
+                " s: nobody publishes [" + silent + "] (drive.launch.wait_for)";
       ros::shutdown();
     }
   });

@@ -104,8 +104,11 @@ pid_t startRoslaunch(const std::string& launch_file, int port, const std::string
   std::vector<std::string> environment;
   for (char** entry = environ; *entry; ++entry) {
     const std::string text = *entry;
-    if (text.rfind("ROS_MASTER_URI=", 0) != 0 && text.rfind("ROS_LOG_DIR=", 0) != 0) environment.push_back(text);
+    const bool replaced = text.rfind("ROS_MASTER_URI=", 0) == 0 || text.rfind("ROS_LOG_DIR=", 0) == 0 ||
+                          text.rfind("ROS_IP=", 0) == 0 || text.rfind("ROS_HOSTNAME=", 0) == 0;
+    if (!replaced) environment.push_back(text);
   }
+  environment.push_back("ROS_HOSTNAME=127.0.0.1");  // the run's traffic stays on this machine
   environment.push_back("ROS_MASTER_URI=http://127.0.0.1:" + std::to_string(port));
   environment.push_back("ROS_LOG_DIR=" + fs::absolute(out).string() + "/ros_log");
   std::vector<std::string> words = {"roslaunch", "-p", std::to_string(port), "--skip-log-check", launch_file};
