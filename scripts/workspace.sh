@@ -25,7 +25,7 @@ DEBIAN_PACKAGES=(
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
   ros-message-generation libtrajectory-msgs-dev
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
-  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
 )
 XACRO_VERSION=1.13.3
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
