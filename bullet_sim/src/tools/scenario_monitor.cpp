@@ -55,6 +55,12 @@ ScenarioMonitor::ScenarioMonitor(const ScenarioSpec& spec, const Simulation& sim
   }
   if (!problems.empty()) throw ScenarioError(SpecError(spec.source, problems).what());
   if (clearance_cap_ > 0) clearance_ = std::make_unique<ClearanceQuery>(simulation.world());
+  // The first row is the spawn, before any step; then one every record_period on the grid of its multiples.
+  for (const auto& name : robots_) {
+    recordPose(simulation, *simulation.robot(name), records_[name]);
+    trajectory_.push_back(records_[name].last);
+  }
+  next_row_ = spec.record_period;
 }
 
 ScenarioMonitor::~ScenarioMonitor() = default;
@@ -63,7 +69,7 @@ void ScenarioMonitor::afterStep(const Simulation& simulation) {
   const double time = simulation.time();
   trails_.afterStep(simulation);
   const bool row = time + kTimeEpsilon >= next_row_;
-  if (row) next_row_ = time + spec_.record_period;
+  if (row) next_row_ += spec_.record_period;
   const bool clearance = clearance_ && time + kTimeEpsilon >= next_clearance_;
   if (clearance) next_clearance_ = time + kClearancePeriod;
   for (const auto& name : robots_) {

@@ -142,7 +142,7 @@ class VideoRecorder {
 
   void afterStep(const Simulation& simulation, const ScenarioMonitor& monitor) {
     if (simulation.time() + 1e-9 < next_) return;
-    next_ += period_;
+    next_ += period_;  // (frames that a step longer than the period skips are not made up)
     const Scene scene = simulationScene(simulation, View::kChase, "", monitor.trails().trails());
     writer_.add(renderer_.render(scene, spec_.video_width, spec_.video_height));
   }
@@ -153,7 +153,7 @@ class VideoRecorder {
   const ScenarioSpec& spec_;
   SceneRenderer& renderer_;
   double period_;
-  double next_ = 0;
+  double next_ = period_;  ///< a frame at every multiple of the period, showing the simulation then
 };
 
 }  // namespace
