@@ -63,7 +63,14 @@ def list_cells(scenario, matrix):
     return json.loads(listed.stdout)
 
 
+LOOPBACK = ("127.0.0.1", "localhost", "::1", "[::1]")
+
+
 def start_ray(args):
+    host = args.address.rsplit(":", 1)[0] if args.address else "127.0.0.1"
+    if host in LOOPBACK:
+        # A cluster of this machine alone: Ray keeps to the loopback address rather than the machine's own IP.
+        os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
     import ray
     options = dict(include_dashboard=False, log_to_driver=False, logging_level="WARNING")
     if args.address:
