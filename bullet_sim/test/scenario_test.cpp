@@ -287,7 +287,10 @@ TEST(ScenarioTool, RunsAMatrixCell) {
   EXPECT_EQ(result["matrix"]["index"], 6);
   EXPECT_EQ(result["matrix"]["values"]["seed"], "3");
   EXPECT_EQ(result["seed"], 3);
-  EXPECT_EQ(runScenario("--matrix " + scenarioFile("drive_matrix.yaml") + " --index 8").status, 2);
+  const auto outside = runScenario("--matrix " + scenarioFile("drive_matrix.yaml") + " --index 8 --out " + (out / "8"));
+  EXPECT_EQ(outside.status, 2);
+  EXPECT_THAT(outside.output, HasSubstr("no cell [8]: it has 8, numbered 0 to 7"));
+  EXPECT_EQ(resultOf(out / "8")["verdict"], "error");
 }
 
 /// The video frames of an MP4 file, as libavformat reads them.

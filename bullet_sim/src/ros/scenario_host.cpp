@@ -74,7 +74,7 @@ int host(const ScenarioCommand& command) {
   const ScenarioSpec spec = commandScenario(command, PackageResolver::fromEnvironment(), &context);
   context.spec = &spec;
   context.launch_log = "launch.log";
-  const std::string out = outputFolder(command, spec);
+  const std::string out = outputFolder(command, &spec);
   RunTiming timing;
   ros::NodeHandle private_node("~");
   setParameters(private_node, spec);

@@ -52,12 +52,12 @@ int run(const ScenarioCommand& command) {
   if (command.list) return listMatrix(command);
   RunContext context;
   std::optional<ScenarioSpec> spec;
-  std::string out = command.out.empty() ? "scenario_out/unnamed" : command.out;
+  std::string out = outputFolder(command, nullptr);
   try {
     const PackageResolver resolver = PackageResolver::fromEnvironment();
     spec = commandScenario(command, resolver, &context);
     context.spec = &*spec;
-    out = outputFolder(command, *spec);
+    out = outputFolder(command, &*spec);
     const Verdict verdict =
         spec->launch ? runLaunch(*spec, command, out) : runTimeline(*spec, context, out, command.video);
     std::ifstream result(out + "/result.json");

@@ -1,6 +1,7 @@
 #include "bullet_sim/tools/scenario_command.h"
 
 #include <cmath>
+#include <filesystem>
 
 #include "tools/command_line.h"
 
@@ -63,8 +64,13 @@ ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolv
   return spec;
 }
 
-std::string outputFolder(const ScenarioCommand& command, const ScenarioSpec& spec) {
-  return command.out.empty() ? "scenario_out/" + spec.name : command.out;
+std::string outputFolder(const ScenarioCommand& command, const ScenarioSpec* spec) {
+  if (!command.out.empty()) return command.out;
+  if (spec) return "scenario_out/" + spec->name;
+  // A scenario that could not be read: named after its file, or its matrix and cell.
+  const std::string file = command.matrix.empty() ? command.file : command.matrix;
+  const std::string stem = std::filesystem::path(file).stem().string();
+  return "scenario_out/" + stem + (command.index ? "_" + std::to_string(*command.index) : "");
 }
 
 }  // namespace bullet_sim

@@ -31,7 +31,8 @@ std::vector<std::string> scenarioArguments(const ScenarioCommand& command);
 /// The scenario the command names, its seed applied, and what result.json says about where it came from.
 ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver, RunContext* context);
 
-/// The folder a run writes to: --out, else scenario_out/<name>.
-std::string outputFolder(const ScenarioCommand& command, const ScenarioSpec& spec);
+/// The folder a run writes to: --out, else scenario_out/<name> (`spec` null: the scenario could not be read,
+/// and the folder is named after its file, or its matrix and cell).
+std::string outputFolder(const ScenarioCommand& command, const ScenarioSpec* spec);
 
 }  // namespace bullet_sim
