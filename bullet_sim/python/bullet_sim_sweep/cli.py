@@ -19,7 +19,8 @@ see the same workspace paths. It shows done, failed and left with an estimate of
 whose Ray worker or node was lost (at most --retries times), and never retries a run that ended: a failed
 check, a scenario that could not run or one that crashed is reported with its exit code and log.
 It writes OUT/results.csv and OUT/results.json (a row per cell: its axis values, status, every check's value
-and every metric) and OUT/summary.png (pass/fail per cell, the distribution of each metric).
+and every metric), OUT/summary.png (pass/fail per cell, the distribution of each metric) and OUT/sweep.json
+(the counts and the runs per minute).
 Exit status: 0 every run passed, 1 a check failed, 2 a run could not run, crashed or timed out."""
 
 
@@ -149,12 +150,19 @@ def main(argv=None):
     report.write_summary(rows, listing["axes"], "%s: %d runs" % (listing["name"], len(rows)),
                          os.path.join(out, "summary.png"))
     statuses = [row["status"] for row in rows]
-    minutes = (finished - ray_ready) / 60
+    seconds = finished - ray_ready
+    summary = {"matrix": os.path.abspath(args.matrix), "runs": len(rows), "passed": statuses.count("pass"),
+               "failed": statuses.count("fail"), "other": len(rows) - statuses.count("pass") - statuses.count("fail"),
+               "ray_start_s": ray_ready - started, "runs_s": seconds,
+               "runs_per_min": 60 * len(rows) / seconds if seconds > 0 else None,
+               "address": args.address, "cpus": args.cpus}
+    with open(os.path.join(out, "sweep.json"), "w") as file:
+        json.dump(summary, file, indent=2)
+        file.write("\n")
     print("sweep %s: %d runs, %d passed, %d failed, %d could not run or crashed, in %.1f s (%.0f runs/min; "
-          "Ray started in %.1f s); %s" % (listing["name"], len(rows), statuses.count("pass"), statuses.count("fail"),
-                                          len(rows) - statuses.count("pass") - statuses.count("fail"),
-                                          finished - ray_ready, len(rows) / minutes if minutes > 0 else 0,
-                                          ray_ready - started, os.path.join(out, "results.csv")))
+          "Ray started in %.1f s); %s" % (listing["name"], len(rows), summary["passed"], summary["failed"],
+                                          summary["other"], seconds, summary["runs_per_min"] or 0,
+                                          summary["ray_start_s"], os.path.join(out, "results.csv")))
     for row in rows:
         if row["status"] not in ("pass", "fail"):
             print("  cell %d: %s (exit code %s): %s" % (row["index"], row["status"], row["exit_code"],

@@ -98,9 +98,9 @@ std::string launchFile(const ScenarioSpec& spec, const std::vector<std::string>&
   return printer.CStr();
 }
 
-/// Starts roslaunch in a session of its own (so SIGINT reaches it as Ctrl-C would, and nothing else), with its
-/// output in `log`.
-pid_t startRoslaunch(const std::string& launch_file, int port, const std::string& log, const std::string& out) {
+/// This process's environment for the run's processes: its own master, its logs in the run's folder, and its
+/// traffic on this machine.
+std::vector<std::string> runEnvironment(int port, const std::string& out) {
   std::vector<std::string> environment;
   for (char** entry = environ; *entry; ++entry) {
     const std::string text = *entry;
@@ -108,10 +108,15 @@ pid_t startRoslaunch(const std::string& launch_file, int port, const std::string
                           text.rfind("ROS_IP=", 0) == 0 || text.rfind("ROS_HOSTNAME=", 0) == 0;
     if (!replaced) environment.push_back(text);
   }
-  environment.push_back("ROS_HOSTNAME=127.0.0.1");  // the run's traffic stays on this machine
   environment.push_back("ROS_MASTER_URI=http://127.0.0.1:" + std::to_string(port));
   environment.push_back("ROS_LOG_DIR=" + fs::absolute(out).string() + "/ros_log");
-  std::vector<std::string> words = {"roslaunch", "-p", std::to_string(port), "--skip-log-check", launch_file};
+  environment.push_back("ROS_HOSTNAME=127.0.0.1");
+  return environment;
+}
+
+/// Starts `words` in a session of its own (so SIGINT reaches it as Ctrl-C would, and nothing else), its output
+/// appended to `log`.
+pid_t startInSession(std::vector<std::string> words, std::vector<std::string> environment, const std::string& log) {
   std::vector<char*> argv, envp;
   for (auto& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
@@ -119,18 +124,26 @@ pid_t startRoslaunch(const std::string& launch_file, int port, const std::string
   envp.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  // Signals as a terminal gives them: a caller that blocks or ignores SIGINT (a Ray worker blocks it) would
+  // otherwise pass that on to roslaunch and every node, which then stop only at roslaunch's SIGTERM, 15 s late.
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSID);
+  sigset_t none, defaults;
+  sigemptyset(&none);
+  sigemptyset(&defaults);
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) sigaddset(&defaults, signal_number);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  posix_spawnattr_setsigdefault(&attributes, &defaults);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSID | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, "roslaunch", &actions, &attributes, argv.data(), envp.data());
+  const int spawned = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   if (spawned != 0) {
-    throw std::runtime_error(std::string("cannot run roslaunch: ") + std::strerror(spawned) +
+    throw std::runtime_error("cannot run " + words.front() + ": " + std::strerror(spawned) +
                              "; install ROS (scripts/workspace.sh install) and source devel/setup.bash");
   }
   return pid;
@@ -221,7 +234,13 @@ Verdict runLaunch(const ScenarioSpec& spec, const ScenarioCommand& command, cons
   std::ofstream(launch_file) << launchFile(spec, assets.robot_names, urdf_file, scenarioArguments(host));
 
   prctl(PR_SET_CHILD_SUBREAPER, 1);  // the nodes roslaunch leaves behind become ours to end
-  const pid_t roslaunch = startRoslaunch(launch_file, freePort(), (fs::path(out) / "launch.log").string(), out);
+  // roslaunch starts the master on the free port, as rostest does.
+  const int port = freePort();
+  const std::string log = (fs::path(out) / "launch.log").string();
+  fs::remove(log);
+  const pid_t roslaunch =
+      startInSession({"roslaunch", "-p", std::to_string(port), "--skip-log-check", launch_file},
+                     runEnvironment(port, out), log);
   const double pace = spec.launch->real_time_factor > 0 ? spec.launch->real_time_factor : 1;
   const double limit = spec.launch->ready_timeout + spec.duration / pace + kStartAndStop;
   const bool finished = waitFor(roslaunch, limit);
