@@ -89,8 +89,12 @@ def write_summary(rows, axes, title, path):
     flat = [ax for line in grid for ax in line]
     _grid(flat[0], rows, axes)
     for ax, column in zip(flat[1:], columns):
-        values = _numbers(rows, column)
-        ax.hist(values, bins=min(20, max(1, len(set(values)))), color="#1f77b4")
+        # Stacked by status: which values the passing runs had, and which the others.
+        groups = [(s, _numbers([r for r in rows if r["status"] == s], column)) for s in COLOURS]
+        groups = [(s, values) for s, values in groups if values]
+        every = [v for _, values in groups for v in values]
+        ax.hist([values for _, values in groups], bins=min(20, max(1, len(set(every)))), stacked=True,
+                color=[COLOURS[s] for s, _ in groups], label=[s for s, _ in groups])
         ax.set_title(column.replace("metric:", ""), fontsize=9)
         ax.tick_params(labelsize=7)
     for ax in flat[1 + len(columns):]:
