@@ -7,6 +7,7 @@
 
 #include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/plugins/drive_support.h"
+#include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
 #include "physics/multibody_robot.h"
 #include "physics/raycast_robot.h"
 
@@ -81,10 +82,18 @@ bool isCopyInTheWay(const WorldModelSpec& world_model, const ModelSpec& model,
   return robot_box.intersects(copy_box);
 }
 
-/// The wheel-ground model of a robot: its drive's, and contact for a robot with no drive plugin.
-std::string wheelModelOf(const ModelSpec& model) {
+/// The wheel-ground model of a robot named `name`: its drive's, else by ros_control's rule, else contact.
+std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
+                         const ParameterSource* parameters, Diagnostics& diagnostics) {
   for (const auto& plugin : model.plugins) {
     if (const auto* drive = plugin.configAs<DriveConfigHead>()) return drive->wheel_model;
+  }
+  for (const auto& plugin : model.plugins) {
+    const auto* control = plugin.configAs<RosControlConfig>();
+    if (!control) continue;
+    const std::string ns = rosControlNamespace(*control, name, pose.robot_namespace);
+    const ParameterTree robot_parameters = parameters ? parameters->fetch("/" + ns) : ParameterTree();
+    return rosControlWheelModel(*control, model, robot_parameters, diagnostics);
   }
   return "contact";
 }
@@ -125,9 +134,10 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
                         world_model.name + "] from the .world file, or spawn the robot elsewhere");
     }
   }
+  const std::string wheel_model = wheelModelOf(model, name, pose, options_.parameters, diagnostics);
   diagnostics.throwIfErrors();
   std::unique_ptr<PhysicsRobot> body;
-  if (wheelModelOf(model) == "raycast") {
+  if (wheel_model == "raycast") {
     body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);
   } else {
     body = std::make_unique<MultiBodyRobot>(std::move(model), name, physics_->bullet(), root);
@@ -146,14 +156,14 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   }
   diagnostics.throwIfErrors();
   robot->body().reset(root, robot->spawn_joints_);
-  equip(*robot, diagnostics);
+  equip(*robot, pose.robot_namespace, diagnostics);
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   robots_.push_back(std::move(robot));
   return *robots_.back();
 }
 
-void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
+void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics) {
   const auto& parts = robot.body().parts();
   for (size_t k = 0; k < parts.size(); ++k) {
     robot.ray_bodies_.push_back(parts[k].collisions.empty()
@@ -165,7 +175,8 @@ void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
       const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
       const PluginSetup setup{robot.body(),    robot.name(), options_.seed, world_.gravity,
                               part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get(),
-                              world_.spherical_coordinates};
+                              world_.spherical_coordinates, robot_namespace, options_.parameters,
+                              options_.controllers, &diagnostics};
       robot.plugins_.push_back(options_.plugins->create(declaration, setup));
     }
   } catch (const std::exception& e) {

@@ -238,7 +238,8 @@ TEST(HectorImu, CalibrateZeroesTheRateDrift) {
   const auto& ports = imu.ports().services;
   ASSERT_EQ(ports.size(), 1u);
   EXPECT_EQ(ports[0].name, "imu/data/calibrate");
-  EXPECT_EQ(std::get<ServiceHandler<EmptyRequest>>(ports[0].handler)(EmptyRequest{}), "");
+  EmptyRequest::Reply reply;
+  EXPECT_EQ(std::get<ServiceHandler<EmptyRequest>>(ports[0].handler)(EmptyRequest{}, reply), "");
   simulation.step();
   for (int i = 0; i < 20; ++i) simulation.step();
   EXPECT_LT(imu.bias().angular_velocity.norm(), 1e-3) << "the drift restarts from zero";

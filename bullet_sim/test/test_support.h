@@ -16,6 +16,7 @@
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/plugins/ros_control/controller_manager.h"
 #include "bullet_sim/simulation.h"
 #include "bullet_sim/tools/subprocess.h"
 
@@ -181,6 +182,16 @@ bool stepUntil(Simulation& simulation, Done done, double max_seconds, const std:
     simulation.step();
   }
   return true;
+}
+
+/// Loads `names` on `manager` and starts them at `time` [s] in one STRICT switch, as controller_manager's spawner
+/// does; fails the test when either is refused.
+inline void startControllers(ControllerManager& manager, const std::vector<std::string>& names, double time) {
+  for (const auto& name : names) ASSERT_EQ(manager.load(name, nullptr), "") << name;
+  SwitchControllerRequest start;
+  start.start = names;
+  start.strictness = SwitchControllerRequest::kStrict;
+  ASSERT_EQ(manager.switchControllers(start, time, nullptr), "");
 }
 
 }  // namespace bullet_sim::test

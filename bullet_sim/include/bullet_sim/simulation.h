@@ -26,6 +26,8 @@ struct SpawnPose {
   std::optional<double> z;               ///< [m]
   double roll = 0, pitch = 0;            ///< [rad]
   std::map<std::string, double> joints;  ///< initial joint positions (spawn_model -J) [rad] or [m]; others 0
+  /// spawn_model -robot_namespace: when given (even "", the root), it replaces every plugin's <robotNamespace>.
+  std::optional<std::string> robot_namespace;
 };
 
 class Simulation;
@@ -38,6 +40,11 @@ struct SimulationOptions {
   uint64_t seed = 0;  ///< seeds every sensor's noise; the same inputs and seed give a bit-identical run
   /// Builds the robots' plugins: the registry their models were parsed with. It must outlive the simulation.
   const PluginRegistry* plugins = &PluginRegistry::builtin();
+  /// The controller types ros_control loads by name. It must outlive the simulation.
+  const ControllerRegistry* controllers = &ControllerRegistry::builtin();
+  /// The parameters plugins read at run time (ros_control's): the parameter server in the node, a tree in
+  /// tools and tests; nullptr for none. It must outlive the simulation.
+  const ParameterSource* parameters = nullptr;
   /// Gives cameras their images (scene/simulation_images.h over a renderer). Without it, cameras publish
   /// nothing: the node always gives one, and tools that draw no camera image need none.
   ImageSourceFactory images;
@@ -109,7 +116,7 @@ class Simulation {
  private:
   void refreshRays();
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
-  void equip(Robot& robot, Diagnostics& diagnostics);
+  void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
 
   WorldSpec world_;
   SimulationOptions options_;

@@ -135,6 +135,7 @@ class ModelParser {
     spec.root = urdf_model->getRoot()->name;
     addTree(*urdf_model, *urdf_model->getRoot(), spec);
     readGazeboExtensions(robot, spec);
+    spec.transmissions = readTransmissions(childrenNamed(*robot, "transmission"), diagnostics_);
     checkMovingLinksHaveMass(spec);
     declarePlugins(spec);
     return spec;
@@ -476,6 +477,13 @@ class ModelParser {
         if (declaration.config) spec.plugins.push_back(std::move(declaration));
       }
     }
+  }
+
+  static std::vector<TagNode> childrenNamed(const tinyxml2::XMLElement& parent, const char* name) {
+    std::vector<TagNode> children;
+    for (auto* child = parent.FirstChildElement(name); child; child = child->NextSiblingElement(name))
+      children.push_back(toTagNode(*child));
+    return children;
   }
 
   static TagNode toTagNode(const tinyxml2::XMLElement& element) {

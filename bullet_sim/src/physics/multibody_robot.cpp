@@ -218,6 +218,10 @@ void MultiBodyRobot::beforeStep() {
 }
 
 void MultiBodyRobot::afterStep() {
+  for (auto& joint : joints_) {
+    joint.applied_effort = joint.pending_effort;
+    joint.pending_effort = 0;
+  }
   body_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
   for (size_t k = 0; k < parts_.size(); ++k) {
     const btTransform pose =
@@ -233,6 +237,7 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositi
   for (auto& joint : joints_) {
     body_->setJointPos(joint.bullet_link, 0);
     body_->setJointVel(joint.bullet_link, 0);
+    joint.pending_effort = joint.applied_effort = 0;
     if (joint.motor) {
       joint.motor->setVelocityTarget(0, kVelocityGain);
       joint.motor->setPositionTarget(0, 0);
@@ -260,8 +265,9 @@ double MultiBodyRobot::jointVelocity(int joint) const {
 }
 
 double MultiBodyRobot::jointEffort(int joint) const {
-  auto* motor = joints_.at(joint).motor;  // Bullet's getter is not const
-  return motor ? motor->getAppliedImpulse(0) / dt_ : 0.0;
+  const Joint& state = joints_.at(joint);
+  auto* motor = state.motor;  // Bullet's getter is not const
+  return state.applied_effort + (motor ? motor->getAppliedImpulse(0) / dt_ : 0.0);
 }
 
 void MultiBodyRobot::setJointVelocity(int joint, double velocity, double max_effort) {
@@ -276,6 +282,17 @@ void MultiBodyRobot::setJointPosition(int joint, double position, double max_eff
   motor->setPositionTarget(position, kHoldPositionGain);
   motor->setVelocityTarget(0, kHoldVelocityGain);
   motor->setMaxAppliedImpulse(max_effort * dt_);
+}
+
+void MultiBodyRobot::setJointEffort(int joint, double effort) {
+  Joint& target = joints_.at(joint);
+  if (target.motor) {  // back to what the motor does unasked: hold zero velocity with the joint's friction
+    target.motor->setPositionTarget(0, 0);
+    target.motor->setVelocityTarget(0, kVelocityGain);
+    target.motor->setMaxAppliedImpulse(target.spec->friction * dt_);
+  }
+  body_->addJointTorque(target.bullet_link, effort);
+  target.pending_effort += effort;
 }
 
 // As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.

@@ -46,6 +46,7 @@ class MultiBodyRobot : public PhysicsRobot {
   double jointEffort(int joint) const override;
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
+  void setJointEffort(int joint, double effort) override;
   void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
   void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
                        const Eigen::Vector3d& torque) override;
@@ -70,6 +71,8 @@ class MultiBodyRobot : public PhysicsRobot {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
+    double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step
+    double applied_effort = 0;               ///< and in the last one
   };
 
   void buildParts();

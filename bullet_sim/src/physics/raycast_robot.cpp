@@ -240,8 +240,9 @@ void RaycastRobot::driveWheel(size_t w) {
   Joint& joint = joints_[wheel.joint];
   const double budget = wheel.max_torque * dt_;
   if (wheel.max_torque > 0) {
-    const double total = std::clamp(
-        contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia, -budget, budget);
+    const double wanted = wheel.pushed ? std::copysign(budget, wheel.spin_target)
+                                       : contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia;
+    const double total = std::clamp(wanted, -budget, budget);
     joint.velocity += (total - contact.motor_impulse) / wheel.inertia;
     contact.motor_impulse = total;
   }
@@ -280,7 +281,10 @@ void RaycastRobot::afterStep() {
 void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
   for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = 0;
   for (const auto& [joint, position] : joints) joints_.at(joint).position = position;
-  for (auto& wheel : wheels_) wheel.spin_target = wheel.max_torque = 0;
+  for (auto& wheel : wheels_) {
+    wheel.spin_target = wheel.max_torque = 0;
+    wheel.pushed = false;
+  }
   hubs_stale_ = frames_stale_ = true;
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
   chassis_->setLinearVelocity(btVector3(0, 0, 0));
@@ -299,6 +303,7 @@ void RaycastRobot::setJointVelocity(int joint, double velocity, double max_effor
   if (target.wheel >= 0) {
     wheels_[target.wheel].spin_target = velocity;
     wheels_[target.wheel].max_torque = max_effort;
+    wheels_[target.wheel].pushed = false;
   } else {
     target.velocity = velocity;
   }
@@ -314,6 +319,18 @@ void RaycastRobot::setJointPosition(int joint, double position, double) {
   if (held != target.position) hubs_stale_ = frames_stale_ = true;
   target.position = held;
   target.velocity = 0;
+}
+
+void RaycastRobot::setJointEffort(int joint, double effort) {
+  Joint& target = joints_.at(joint);
+  if (target.wheel < 0) {
+    target.velocity = 0;
+    return;
+  }
+  Wheel& wheel = wheels_[target.wheel];
+  wheel.spin_target = effort;  // only its sign counts
+  wheel.max_torque = std::abs(effort);
+  wheel.pushed = true;
 }
 
 // As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.

@@ -49,6 +49,8 @@ class RaycastRobot : public PhysicsRobot {
   double jointEffort(int joint) const override { return joints_.at(joint).effort; }
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
+  /// Pushes a wheel's spin; a kinematic joint has no dynamics to push, so it stays where it is.
+  void setJointEffort(int joint, double effort) override;
   void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
   void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
                        const Eigen::Vector3d& torque) override;
@@ -78,6 +80,7 @@ class RaycastRobot : public PhysicsRobot {
     bool caster;             ///< on a swivel: load only
     double spin_target = 0;  ///< [rad/s]
     double max_torque = 0;   ///< [N m]; 0 = free
+    bool pushed = false;     ///< max_torque pushes the spin towards the sign of spin_target, whatever its speed
   };
 
   /// A wheel's contact with the ground in one step, and the impulses solved for it.

@@ -71,6 +71,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
   options.images = imagesFrom([this]() -> SceneRenderer& { return renderer(); });
+  options.parameters = &parameters_;
   simulation_ = std::make_unique<Simulation>(loadWorldParam(private_), options);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
   recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
@@ -92,6 +93,7 @@ void SimulatorNode::run() {
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (ros::ok()) {
     queue.callAvailable();  // commands and service calls land between steps
+    refreshPorts();         // a controller loaded while paused is heard at once
     if (paused_) {
       publishClock();
       queue.callAvailable(clock_period_);
@@ -126,6 +128,10 @@ void SimulatorNode::afterStep() {
       ROS_WARN_THROTTLE(10, "~snapshot_period: %s", error.c_str());
     }
   }
+}
+
+void SimulatorNode::refreshPorts() {
+  for (auto& [name, adapter] : adapters_) adapter->refreshPorts();
 }
 
 void SimulatorNode::publishClock() {
@@ -172,6 +178,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     }
     ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings);
     SpawnPose pose = toSpawnPose(request.initial_pose, request.place_on_ground);
+    if (!request.robot_namespace.empty()) pose.robot_namespace = request.robot_namespace;
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];
     }

@@ -28,6 +28,7 @@
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation.h"
 #include "robot_adapter.h"
+#include "ros_parameters.h"
 
 namespace bullet_sim {
 
@@ -70,8 +71,12 @@ class SimulatorNode {
   /// Sim time and wall time are matched from now on (after a pause, a reset or a late step).
   void anchorPacing();
 
+  /// Connects and drops the ports that came and went (ros_control's controllers) since the last call.
+  void refreshPorts();
+
   ros::NodeHandle node_;
   ros::NodeHandle private_;
+  RosParameters parameters_;  ///< what plugins read at run time; outlives the simulation
   std::unique_ptr<Simulation> simulation_;
   std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
   tf2_ros::TransformBroadcaster tf_;

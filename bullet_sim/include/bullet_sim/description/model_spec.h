@@ -13,6 +13,7 @@
 #include "bullet_sim/description/geometry.h"
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/plugin_declaration.h"
+#include "bullet_sim/description/transmission.h"
 
 namespace bullet_sim {
 
@@ -71,6 +72,8 @@ struct ModelSpec {
   std::vector<JointSpec> joints;  ///< in the order of `links` (joint i + 1 leads to links[i + 1])
   /// The plugins bullet_sim simulates, typed: the model's own <gazebo><plugin>s first, then the sensors'.
   std::vector<PluginDeclaration> plugins;
+  /// The <transmission>s ros_control would load (for libgazebo_ros_control.so), in the file's order.
+  std::vector<TransmissionSpec> transmissions;
 
   const LinkSpec* link(const std::string& name) const;
   const JointSpec* joint(const std::string& name) const;

@@ -12,8 +12,8 @@
 
 namespace bullet_sim {
 
-/// The wheel-ground model of a robot whose drive plugin has no <wheelModel> tag: "raycast" or "contact".
-/// A robot without a drive plugin always uses "contact".
+/// The wheel-ground model of a robot whose drive plugin (or ros_control plugin, for its wheels) has no
+/// <wheelModel> tag: "raycast" or "contact". A robot without wheels driven by either uses "contact".
 constexpr const char* kDefaultWheelModel = "raycast";
 
 /// Where a collision comes from: the link that declares it and its index among that link's collisions.
@@ -61,6 +61,9 @@ class RobotBody {
   virtual void setJointVelocity(int joint, double velocity, double max_effort) = 0;
   /// Holds a joint at `position` with at most `max_effort`.
   virtual void setJointPosition(int joint, double position, double max_effort) = 0;
+  /// Pushes a joint with `effort` [N m] or [N] for the next step, instead of any velocity or position it was
+  /// held at; its URDF friction still acts (Gazebo's SetForce).
+  virtual void setJointEffort(int joint, double effort) = 0;
 
   /// Sets the root link's world-frame velocity [m/s] and angular velocity [rad/s] (Gazebo's Model::SetLinearVel / SetAngularVel).
   virtual void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) = 0;

@@ -121,6 +121,19 @@ struct ColouredCloud {
   bool is_dense = true;                       ///< false when any point is NaN
 };
 
+/// control_msgs/JointControllerState: what a PID joint controller aims at, sees and commands, with its gains.
+struct JointControllerState {
+  double stamp = 0;
+  double set_point = 0;          ///< [rad], [m], [rad/s] or [m/s]: what the controller aims at
+  double process_value = 0;      ///< what it measures
+  double process_value_dot = 0;  ///< its time derivative (0 where the controller does not fill it)
+  double error = 0;              ///< set_point - process_value
+  double time_step = 0;          ///< [s] since the previous update
+  double command = 0;            ///< [N m] or [N]
+  double p = 0, i = 0, d = 0, i_clamp = 0;
+  bool antiwindup = false;
+};
+
 /// sensor_msgs/Range: the nearest hit of a ranger's rays.
 struct RangeSample {
   double stamp = 0;
@@ -179,10 +192,32 @@ struct Twist {
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();  ///< [rad/s]
 };
 
+/// geometry_msgs/TwistStamped: a velocity command as a controller applies it.
+struct StampedTwist {
+  double stamp = 0;
+  std::string frame_id;
+  Twist twist;
+};
+
 /// An input: positions for named joints (the first point of a trajectory_msgs/JointTrajectory).
 struct JointTargets {
   std::vector<std::string> names;
   std::vector<double> positions;  ///< [rad] or [m]
+};
+
+/// std_msgs/Float64, an input: one command (a joint controller's position, velocity or effort).
+struct Float64Command {
+  double data = 0;
+};
+
+/// std_msgs/Float64MultiArray, an input: one command per joint of a group controller (its layout is not read).
+struct Float64ArrayCommand {
+  std::vector<double> data;
+};
+
+/// std_msgs/Bool, an input (ros_control's emergency stop).
+struct BoolCommand {
+  bool data = false;
 };
 
 }  // namespace bullet_sim
