@@ -86,12 +86,16 @@ int host(const ScenarioCommand& command) {
     node.spawnRobot(name, assets.model, spec.spawn[i], assets.robot_names.size() > 1 ? name : "", &warnings);
   }
   ScenarioMonitor monitor(spec, node.simulation(), warnings);
+  OffscreenRenderer renderer;
+  std::unique_ptr<ScenarioVideo> video;
+  if (command.video) video = std::make_unique<ScenarioVideo>(out + "/video.mp4", spec, renderer);
   const Readiness readiness(awaitedTopics(spec, node.simulation()));
   const long steps = std::lround(spec.duration / spec.step);
   std::string failure;
   auto stepping = std::chrono::steady_clock::now();
   node.observeSteps([&](const Simulation& simulation) {
     monitor.afterStep(simulation);
+    if (video) video->afterStep(simulation, monitor);
     if (static_cast<long>(simulation.steps()) >= steps) ros::shutdown();
   });
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(spec.launch->ready_timeout);
@@ -114,9 +118,9 @@ int host(const ScenarioCommand& command) {
     std::cerr << "scenario_host: " << failure << std::endl;
     return static_cast<int>(Verdict::kError);
   }
+  if (video) video->finish();
   timing.stepping = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping).count();
   timing.sim_time = node.simulation().time();
-  OffscreenRenderer renderer;
   return static_cast<int>(writeOutputs(out, context, monitor, node.simulation(), renderer, timing));
 }
 

@@ -131,32 +131,22 @@ void TimelineDriver::beforeStep(const Simulation& simulation) {
   }
 }
 
-namespace {
+ScenarioVideo::ScenarioVideo(const std::string& path, const ScenarioSpec& spec, SceneRenderer& renderer)
+    : writer_(std::make_unique<VideoWriter>(path, spec.video_width, spec.video_height,
+                                            static_cast<int>(std::lround(spec.video_fps)))),
+      width_(spec.video_width), height_(spec.video_height), renderer_(renderer),
+      period_(1.0 / std::lround(spec.video_fps)), next_(period_) {}
 
-/// The video of a run: the chase view of the first robot, with the trails, every 1/fps of sim time.
-class VideoRecorder {
- public:
-  VideoRecorder(const std::string& path, const ScenarioSpec& spec, SceneRenderer& renderer)
-      : writer_(path, spec.video_width, spec.video_height, static_cast<int>(std::lround(spec.video_fps))),
-        spec_(spec), renderer_(renderer), period_(1.0 / std::lround(spec.video_fps)) {}
+ScenarioVideo::~ScenarioVideo() = default;
 
-  void afterStep(const Simulation& simulation, const ScenarioMonitor& monitor) {
-    if (simulation.time() + 1e-9 < next_) return;
-    next_ += period_;  // (frames that a step longer than the period skips are not made up)
-    const Scene scene = simulationScene(simulation, View::kChase, "", monitor.trails().trails());
-    writer_.add(renderer_.render(scene, spec_.video_width, spec_.video_height));
-  }
-  void finish() { writer_.finish(); }
+void ScenarioVideo::afterStep(const Simulation& simulation, const ScenarioMonitor& monitor) {
+  if (simulation.time() + 1e-9 < next_) return;
+  next_ += period_;  // (frames that a step longer than the period skips are not made up)
+  const Scene scene = simulationScene(simulation, View::kChase, "", monitor.trails().trails());
+  writer_->add(renderer_.render(scene, width_, height_));
+}
 
- private:
-  VideoWriter writer_;
-  const ScenarioSpec& spec_;
-  SceneRenderer& renderer_;
-  double period_;
-  double next_ = period_;  ///< a frame at every multiple of the period, showing the simulation then
-};
-
-}  // namespace
+void ScenarioVideo::finish() { writer_->finish(); }
 
 Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const std::string& out, bool video) {
   RunTiming timing;
@@ -174,8 +164,8 @@ Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const s
   TimelineDriver driver(spec, simulation);
   std::error_code ec;
   fs::create_directories(out, ec);
-  std::unique_ptr<VideoRecorder> recorder;
-  if (video) recorder = std::make_unique<VideoRecorder>((fs::path(out) / "video.mp4").string(), spec, renderer);
+  std::unique_ptr<ScenarioVideo> recorder;
+  if (video) recorder = std::make_unique<ScenarioVideo>((fs::path(out) / "video.mp4").string(), spec, renderer);
   timing.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - timing.start).count();
 
   const auto stepping = std::chrono::steady_clock::now();

@@ -54,6 +54,26 @@ class TimelineDriver {
   long steps_per_resend_ = 100;
 };
 
+class VideoWriter;
+
+/// A run's video.mp4: the chase view of the first robot with the trails, a frame at every multiple of
+/// 1 / video.fps of sim time showing the simulation then.
+class ScenarioVideo {
+ public:
+  /// Throws std::runtime_error when the file cannot be written.
+  ScenarioVideo(const std::string& path, const ScenarioSpec& spec, SceneRenderer& renderer);
+  ~ScenarioVideo();
+  void afterStep(const Simulation& simulation, const ScenarioMonitor& monitor);
+  void finish();
+
+ private:
+  std::unique_ptr<VideoWriter> writer_;
+  int width_, height_;
+  SceneRenderer& renderer_;
+  double period_;  ///< [s]
+  double next_;    ///< [s]
+};
+
 /// Where a run's time went [s of wall time].
 struct RunTiming {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
