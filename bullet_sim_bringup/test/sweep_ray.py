@@ -58,6 +58,37 @@ def stop_cluster(marker):
             time.sleep(0.1)
 
 
+# A stand-in for `scenario` that loses its Ray worker on cell 0's first attempt and crashes on cell 1 (each
+# attempt is counted in a file); every other call is the real scenario's.
+FLAKY_SCENARIO = """#!/usr/bin/env python3
+import os, signal, sys
+arguments = sys.argv[1:]
+if "--index" in arguments:
+    index = int(arguments[arguments.index("--index") + 1])
+    with open(os.path.join(%(folder)r, "attempts_%%d" %% index), "a") as file:
+        file.write("x")
+    with open(os.path.join(%(folder)r, "attempts_%%d" %% index)) as file:
+        attempts = len(file.read())
+    if index == 0 and attempts == 1:
+        os.kill(os.getppid(), signal.SIGKILL)  # the Ray worker running this task (taskset exec'd into us)
+        sys.exit(0)
+    if index == 1:
+        print("crashing on purpose", flush=True)
+        os.kill(os.getpid(), signal.SIGSEGV)
+os.execv(%(real)r, [%(real)r] + arguments)
+"""
+
+
+def write_flaky_scenario(folder):
+    real = subprocess.run(["catkin_find", "--first-only", "bullet_sim", "scenario"], capture_output=True,
+                          text=True, check=True).stdout.strip()
+    path = os.path.join(folder, "flaky_scenario")
+    with open(path, "w") as file:
+        file.write(FLAKY_SCENARIO % {"folder": folder, "real": real})
+    os.chmod(path, 0o755)
+    return path
+
+
 def without_timing(result):
     return {key: value for key, value in result.items() if key != "timing"}
 
@@ -83,6 +114,10 @@ class SweepOnRay(unittest.TestCase):
             sweep = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", "127.0.0.1:%d" % ports[0],
                                     "--out", out, "--no-progress"], env=env, capture_output=True, text=True,
                                    timeout=120)
+            flaky = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", "127.0.0.1:%d" % ports[0],
+                                    "--out", os.path.join(folder, "flaky"), "--no-progress", "--scenario",
+                                    write_flaky_scenario(folder)], env=env, capture_output=True, text=True,
+                                   timeout=120)
         finally:
             stop_cluster(temp_dir)
         self.assertEqual(processes_with(temp_dir), [])
@@ -95,6 +130,7 @@ class SweepOnRay(unittest.TestCase):
         self.assertTrue(os.path.getsize(os.path.join(out, "summary.png")) > 0)
         with open(os.path.join(out, "results.json")) as file:
             self.assertEqual(len(json.load(file)), 8)
+        self.check_retries(folder, flaky)
         for index in range(8):
             alone = os.path.join(folder, "alone", str(index))
             run = subprocess.run(["rosrun", "bullet_sim", "scenario", "--matrix", MATRIX, "--index", str(index),
@@ -104,6 +140,21 @@ class SweepOnRay(unittest.TestCase):
                 expected = without_timing(json.load(file))
             with open(os.path.join(out, "cells", "%04d" % index, "result.json")) as file:
                 self.assertEqual(without_timing(json.load(file)), expected)
+
+    def check_retries(self, folder, flaky):
+        """A lost worker's run ran again and counts; a crash ran once and is reported with its code and log."""
+        self.assertEqual(flaky.returncode, 2, flaky.stdout + flaky.stderr)
+        with open(os.path.join(folder, "attempts_0")) as file:
+            self.assertEqual(file.read(), "xx")
+        with open(os.path.join(folder, "attempts_1")) as file:
+            self.assertEqual(file.read(), "x")
+        with open(os.path.join(folder, "flaky", "results.json")) as file:
+            rows = json.load(file)
+        self.assertEqual(rows[0]["status"], "fail")  # v = 0.4 m/s: its checks, as without the lost worker
+        self.assertEqual(rows[1]["status"], "crash")
+        self.assertEqual(rows[1]["exit_code"], -11)  # SIGSEGV
+        self.assertIn("crashing on purpose", rows[1]["log_tail"])
+        self.assertIn("cell 1: crash (exit code -11)", flaky.stderr)
 
 
 if __name__ == "__main__":
