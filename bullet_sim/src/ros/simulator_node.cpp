@@ -132,6 +132,7 @@ void SimulatorNode::step() {
 }
 
 void SimulatorNode::afterStep() {
+  if (observer_) observer_(*simulation_);
   if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
     if (!writeSnapshot(
@@ -187,6 +188,11 @@ void SimulatorNode::physicsChanged() {
   anchorPacing();
 }
 
+void SimulatorNode::setPaused(bool paused) {
+  paused_ = paused;
+  if (!paused_) anchorPacing();
+}
+
 bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
   const std::string source = "model [" + request.model_name + "]";
   try {
@@ -232,8 +238,7 @@ bool SimulatorNode::pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
 }
 
 bool SimulatorNode::unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-  paused_ = false;
-  anchorPacing();
+  setPaused(false);
   return true;
 }
 

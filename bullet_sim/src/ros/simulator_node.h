@@ -42,11 +42,16 @@ class SimulatorNode final : public SimulationHost {
   /// Steps until shutdown. Commands and service calls are handled between steps.
   void run();
 
+  /// Adds a robot with its ROS interface under `robot_namespace`, as ~spawn_urdf does. Throws SpecError.
   Robot& spawnRobot(const std::string& name, ModelSpec model, const SpawnPose& pose,
                     const std::string& robot_namespace, std::vector<std::string>* warnings) override;
   bool deleteRobot(const std::string& name) override;
   bool paused() const override { return paused_; }
   void physicsChanged() override;
+  /// For hosts that run the node (the scenario runner): the simulation, a call after every step, and pausing.
+  const Simulation& simulation() const { return *simulation_; }
+  void observeSteps(std::function<void(const Simulation&)> observer) { observer_ = std::move(observer); }
+  void setPaused(bool paused);
 
  private:
   bool spawn(SpawnModel::Request& request, SpawnModel::Response& response);
@@ -94,6 +99,7 @@ class SimulatorNode final : public SimulationHost {
   std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot or camera frame
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
+  std::function<void(const Simulation&)> observer_;
 };
 
 }  // namespace bullet_sim
