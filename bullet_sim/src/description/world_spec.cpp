@@ -15,6 +15,7 @@
 
 #include "bullet_sim/description/gazebo_materials.h"
 #include "bullet_sim/description/mesh.h"
+#include "description/tag_node_xml.h"
 
 namespace bullet_sim {
 namespace fs = std::filesystem;
