@@ -137,6 +137,8 @@ class IdealBody : public RobotBody {
   void setJointEffort(int joint, double effort) override { velocities_.at(joint) = effort; }
   void setRootVelocity(const Eigen::Vector3d&, const Eigen::Vector3d&) override {}
   void applyLinkWrench(const std::string&, const Eigen::Vector3d&, const Eigen::Vector3d&) override {}
+  bool takesJointEffort(int) const override { return false; }
+  void applyJointEffort(int, double) override {}
   std::vector<CollisionContact> contacts(const CollisionSource&) const override { return {}; }
   Eigen::Isometry3d linkPose(const std::string&) const override { return Eigen::Isometry3d::Identity(); }
   Eigen::Vector3d linkLinearVelocity(const std::string&) const override { return Eigen::Vector3d::Zero(); }

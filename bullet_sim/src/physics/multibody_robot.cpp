@@ -66,6 +66,11 @@ void MultiBodyRobot::buildParts() {
     std::vector<std::pair<std::string, Eigen::Isometry3d>> placed;
     for (const auto& name : parts_[k].links) placed.emplace_back(name, frames.link_in_part.at(name));
     const MassProperties mass = combineInertia(spec_, placed);
+    if (mass.mass <= 0 && spec_.is_static) {
+      frames.mass = 1;  // a static model's base is fixed: its mass does not matter, but Bullet wants one
+      frames.principal_inertia = Eigen::Vector3d::Ones();
+      continue;
+    }
     if (mass.mass <= 0) {
       diagnostics.error("links [" + parts_[k].root_link +
                         "] and those fixed to it have no mass: give one an <inertial>");
@@ -91,7 +96,7 @@ void MultiBodyRobot::buildParts() {
 void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   const int links = static_cast<int>(parts_.size()) - 1;
   body_ = std::make_unique<btMultiBody>(links, frames_[0].mass, toBullet(frames_[0].principal_inertia),
-                                        /*fixedBase=*/false, /*canSleep=*/false);
+                                        /*fixedBase=*/spec_.is_static, /*canSleep=*/false);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   bool self_collide = false;
   for (const auto& link : spec_.links) self_collide |= link.self_collide;
@@ -171,7 +176,12 @@ void MultiBodyRobot::addCollider(int k) {
       // Gazebo's defaults: a rigid contact (kp 1e12 N/m) with kd 1 N s/m.
       collider->setContactStiffnessAndDamping(surface.kp.value_or(1e12), surface.kd.value_or(1.0));
     }
-    world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
+    // A static model is static geometry: it meets the robots, not the world's other static geometry.
+    if (spec_.is_static) {
+      world_.addCollisionObject(collider.get(), kStaticGroup, kRobotGroup);
+    } else {
+      world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
+    }
   }
   nameCollisions(*collider, collision_names_[k]);
   if (k == 0) {
@@ -251,6 +261,28 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositi
   afterStep();
 }
 
+void MultiBodyRobot::teleport(const Eigen::Isometry3d& root_pose) {
+  body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
+  body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
+  afterStep();
+}
+
+void MultiBodyRobot::setJointPositions(const JointPositions& joints) {
+  for (const auto& [joint, position] : joints) {
+    body_->setJointPos(joints_.at(joint).bullet_link, position);
+    body_->setJointVel(joints_.at(joint).bullet_link, 0);
+  }
+  body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
+  afterStep();
+}
+
+void MultiBodyRobot::setStepSize(double step_size) {
+  for (auto& joint : joints_) {
+    if (joint.motor) joint.motor->setMaxAppliedImpulse(joint.motor->getMaxAppliedImpulse() * step_size / dt_);
+  }
+  dt_ = step_size;
+}
+
 int MultiBodyRobot::jointIndex(const std::string& joint) const {
   const auto found = joint_index_.find(joint);
   return found == joint_index_.end() ? -1 : found->second;
@@ -297,6 +329,7 @@ void MultiBodyRobot::setJointEffort(int joint, double effort) {
 
 // As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.
 void MultiBodyRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+  if (spec_.is_static) return;  // a static model never moves by itself
   const Eigen::Vector3d origin = linkPose(spec_.root).translation();
   const Eigen::Vector3d com = part_poses_[0] * frames_[0].part_to_bullet.translation();
   body_->setBaseVel(toBullet(linear + angular.cross(com - origin)));
@@ -318,6 +351,14 @@ void MultiBodyRobot::applyLinkWrench(const std::string& link, const Eigen::Vecto
     body_->addLinkForce(part - 1, toBullet(force));
     body_->addLinkTorque(part - 1, toBullet(moment));
   }
+}
+
+bool MultiBodyRobot::takesJointEffort(int joint) const {
+  return joint >= 0 && joint < static_cast<int>(joints_.size());
+}
+
+void MultiBodyRobot::applyJointEffort(int joint, double effort) {
+  body_->addJointTorque(joints_.at(joint).bullet_link, effort);
 }
 
 Eigen::Isometry3d MultiBodyRobot::linkPose(const std::string& link) const {

@@ -28,7 +28,9 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   // One collision object per shape, not per model: a house's walls as one object would put every robot part
   // next to all of them in the broadphase.
   for (const auto& model : world.models) {
+    auto& placed = model_statics_.emplace_back();
     for (const auto& collision : model.collisions) {
+      placed.emplace_back(statics_.size(), collision.origin);
       auto object = std::make_unique<btCollisionObject>();
       object->setCollisionShape(shapes_->make(collision.shape, /*moving=*/false));
       object->setWorldTransform(toBullet(model.pose * collision.origin));
@@ -47,5 +49,22 @@ PhysicsWorld::~PhysicsWorld() {
 }
 
 void PhysicsWorld::step() { world_->stepSimulation(options_.step_size, 0, options_.step_size); }
+
+void PhysicsWorld::setStepSize(double step_size) {
+  options_.step_size = step_size;
+  world_->getSolverInfo().m_timeStep = step_size;
+}
+
+Eigen::Vector3d PhysicsWorld::gravity() const { return fromBullet(world_->getGravity()); }
+
+void PhysicsWorld::setGravity(const Eigen::Vector3d& gravity) { world_->setGravity(toBullet(gravity)); }
+
+void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {
+  for (const auto& [index, origin] : model_statics_.at(model)) {
+    btCollisionObject& object = *statics_[index];
+    object.setWorldTransform(toBullet(pose * origin));
+    world_->updateSingleAabb(&object);  // the broadphase refreshes only moving objects by itself
+  }
+}
 
 }  // namespace bullet_sim

@@ -180,6 +180,11 @@ void RaycastRobot::beforeStep() {
   for (int r = 0; r < 3; ++r) inverse_inertia_.row(r) = fromBullet(inverse_inertia[r]);
   // The suspension, then the motors and friction together: sequential impulses over the wheels, with each
   // motor's impulse held within torque * dt and each contact's within the friction circle.
+  for (const auto& wheel : wheels_) {  // efforts from outside the drive (the world API's) spin the wheels
+    Joint& joint = joints_[wheel.joint];
+    joint.velocity += joint.external_effort * dt_ / wheel.inertia;
+    joint.external_effort = 0;
+  }
   pressWheels(root);
   for (int pass = 0; pass < kFrictionIterations; ++pass) {
     for (size_t w = 0; w < wheels_.size(); ++w) driveWheel(w);
@@ -279,7 +284,7 @@ void RaycastRobot::afterStep() {
 }
 
 void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
-  for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = 0;
+  for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = joint.external_effort = 0;
   for (const auto& [joint, position] : joints) joints_.at(joint).position = position;
   for (auto& wheel : wheels_) {
     wheel.spin_target = wheel.max_torque = 0;
@@ -292,6 +297,21 @@ void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPosition
   chassis_->clearForces();
   afterStep();
 }
+
+void RaycastRobot::teleport(const Eigen::Isometry3d& root_pose) {
+  chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
+  afterStep();
+}
+
+void RaycastRobot::setJointPositions(const JointPositions& joints) {
+  for (const auto& [joint, position] : joints) {
+    joints_.at(joint).position = position;
+    joints_.at(joint).velocity = 0;
+  }
+  hubs_stale_ = frames_stale_ = true;
+}
+
+void RaycastRobot::setStepSize(double step_size) { dt_ = step_size; }
 
 int RaycastRobot::jointIndex(const std::string& joint) const {
   const auto found = joint_index_.find(joint);
@@ -346,6 +366,14 @@ void RaycastRobot::applyLinkWrench(const std::string& link, const Eigen::Vector3
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
   chassis_->applyForce(toBullet(force), toBullet(linkPose(link).translation() - com));
   chassis_->applyTorque(toBullet(torque));
+}
+
+bool RaycastRobot::takesJointEffort(int joint) const {
+  return joint >= 0 && joint < static_cast<int>(joints_.size()) && joints_[joint].wheel >= 0;
+}
+
+void RaycastRobot::applyJointEffort(int joint, double effort) {
+  if (takesJointEffort(joint)) joints_[joint].external_effort += effort;
 }
 
 Eigen::Isometry3d RaycastRobot::linkPose(const std::string& link) const {

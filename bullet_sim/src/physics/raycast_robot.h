@@ -41,6 +41,9 @@ class RaycastRobot : public PhysicsRobot {
   void beforeStep() override;
   void afterStep() override;
   void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) override;
+  void teleport(const Eigen::Isometry3d& root_pose) override;
+  void setJointPositions(const JointPositions& joints) override;
+  void setStepSize(double step_size) override;
 
   const ModelSpec& spec() const override { return spec_; }
   int jointIndex(const std::string& joint) const override;
@@ -54,6 +57,8 @@ class RaycastRobot : public PhysicsRobot {
   void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
   void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
                        const Eigen::Vector3d& torque) override;
+  bool takesJointEffort(int joint) const override;
+  void applyJointEffort(int joint, double effort) override;
   Eigen::Isometry3d linkPose(const std::string& link) const override;
   Eigen::Vector3d linkLinearVelocity(const std::string& link) const override;
   Eigen::Vector3d linkAngularVelocity(const std::string& link) const override;
@@ -71,6 +76,7 @@ class RaycastRobot : public PhysicsRobot {
     double position = 0;  ///< [rad] or [m]
     double velocity = 0;  ///< [rad/s] or [m/s]; a kinematic joint moves at it
     double effort = 0;    ///< applied by the motor in the last step
+    double external_effort = 0;  ///< applyJointEffort's, for the coming step (wheels only)
   };
   struct Wheel {
     int joint;

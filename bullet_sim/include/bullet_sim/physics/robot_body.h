@@ -69,6 +69,12 @@ class RobotBody {
   virtual void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) = 0;
   /// Adds a force [N] and a torque [N m], in world axes, at the origin of `link`, for the coming step only.
   virtual void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) = 0;
+  /// Whether applyJointEffort moves `joint`: not for a joint the wheel model moves kinematically (raycast:
+  /// every joint but the wheels).
+  virtual bool takesJointEffort(int joint) const = 0;
+  /// Adds an effort [N m] or [N] to a joint for the coming step only (Gazebo's Joint::SetForce); nothing on a
+  /// joint that takes none.
+  virtual void applyJointEffort(int joint, double effort) = 0;
 
   /// World pose of any link, including links merged into a part by fixed joints.
   virtual Eigen::Isometry3d linkPose(const std::string& link) const = 0;
@@ -99,6 +105,12 @@ class PhysicsRobot : public RobotBody {
   /// Puts the robot back at `root_pose`, at rest, with the joints in `joints` (index, position) there and
   /// every other joint at 0.
   virtual void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) = 0;
+  /// Moves the robot rigidly, its root link to `root_pose`; joint positions and all velocities stay.
+  virtual void teleport(const Eigen::Isometry3d& root_pose) = 0;
+  /// Puts the joints in `joints` (index, position) there, at rest; the root and the other joints stay.
+  virtual void setJointPositions(const JointPositions& joints) = 0;
+  /// The world's step is now `step_size` [s]; the motors' limits are impulses per step.
+  virtual void setStepSize(double step_size) = 0;
 };
 
 }  // namespace bullet_sim
