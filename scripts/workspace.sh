@@ -24,6 +24,7 @@ DEBIAN_PACKAGES=(
   libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
   ros-message-generation libtrajectory-msgs-dev libactionlib-msgs-dev python3-actionlib-msgs libstd-msgs-dev
+  libactionlib-dev python3-actionlib
   python3-std-msgs python3-rospy python3-rosparam python3-rosservice
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
