@@ -107,7 +107,8 @@ class OffscreenRenderer::Context {
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
 
-  Image render(const Scene& scene, int width, int height, std::vector<float>* depth) {
+  /// Draws `scene`; the picture is then in `pixels_` (RGBA, top row first) and the depth in GL's buffer.
+  void draw(const Scene& scene, int width, int height) {
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
       throw std::invalid_argument("OffscreenRenderer: cannot render " + std::to_string(width) + "x" +
                                   std::to_string(height) + " pixels; each side must be 1 to " +
@@ -156,9 +157,26 @@ class OffscreenRenderer::Context {
     glEnable(GL_DEPTH_TEST);
 
     glFinish();
-    if (depth) readDepth(scene.camera, width, height, *depth);
     forgetDeadMeshes();
-    return Image{width, height, pixels_};
+  }
+
+  const std::vector<uint8_t>& pixels() const { return pixels_; }
+
+  /// The depth buffer as distances along the view axis [m], rows top first; +inf where nothing was drawn.
+  static void readDepth(const Camera& camera, int width, int height, std::vector<float>& depth) {
+    const size_t pixels = static_cast<size_t>(width) * height;
+    depth.resize(pixels);
+    // GL reads the bottom row first; Mesa's pack inversion (in every Mesa driver) reads the top row first.
+    glPixelStorei(GL_PACK_INVERT_MESA, GL_TRUE);
+    glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+    glPixelStorei(GL_PACK_INVERT_MESA, GL_FALSE);
+    // Camera::viewDepth for the whole buffer: (p + q w) / (r + s w) of each value w in [0, 1]. 1 is the far
+    // plane, where nothing was drawn: there floor(w) = 1 makes the denominator 0 and the depth +inf (as
+    // p + q > 0). One arithmetic expression, so that Eigen converts four values at a time.
+    const Eigen::Vector4f fraction = camera.viewDepthFraction().cast<float>();
+    Eigen::Map<Eigen::ArrayXf> window(depth.data(), static_cast<Eigen::Index>(pixels));
+    window = (fraction[0] + fraction[1] * window) /
+             ((fraction[2] + fraction[3] * window) * (1.0f - window.floor()));
   }
 
  private:
@@ -184,22 +202,6 @@ class OffscreenRenderer::Context {
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glEnableClientState(GL_VERTEX_ARRAY);
     initialised_ = true;
-  }
-
-  /// The depth buffer as distances along the view axis [m], rows top first; +inf where nothing was drawn.
-  static void readDepth(const Camera& camera, int width, int height, std::vector<float>& depth) {
-    depth.resize(static_cast<size_t>(width) * height);
-    glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-    for (float& value : depth) {
-      // [0, 1]; 1 is the far plane, where nothing was drawn
-      value = value >= 1 ? std::numeric_limits<float>::infinity() : static_cast<float>(camera.viewDepth(value));
-    }
-    // OpenGL reads the bottom row first.
-    for (int row = 0; row < height / 2; ++row) {
-      std::swap_ranges(depth.begin() + static_cast<long>(row) * width,
-                       depth.begin() + static_cast<long>(row + 1) * width,
-                       depth.begin() + static_cast<long>(height - 1 - row) * width);
-    }
   }
 
   /// Call with the view matrix loaded: GL fixes the light's direction in eye coordinates then.
@@ -300,9 +302,22 @@ OffscreenRenderer::~OffscreenRenderer() = default;
 OffscreenRenderer::OffscreenRenderer(OffscreenRenderer&&) noexcept = default;
 OffscreenRenderer& OffscreenRenderer::operator=(OffscreenRenderer&&) noexcept = default;
 
+OffscreenRenderer::Context& OffscreenRenderer::drawn(const Scene& scene, int width, int height,
+                                                     std::vector<float>* depth) {
+  if (!context_) throw std::logic_error("OffscreenRenderer: this renderer was moved from");
+  context_->draw(scene, width, height);
+  if (depth) Context::readDepth(scene.camera, width, height, *depth);
+  return *context_;
+}
+
 Image OffscreenRenderer::render(const Scene& scene, int width, int height, std::vector<float>* depth) {
-  if (!context_) throw std::logic_error("OffscreenRenderer::render: this renderer was moved from");
-  return context_->render(scene, width, height, depth);
+  return Image{width, height, drawn(scene, width, height, depth).pixels()};
+}
+
+void OffscreenRenderer::renderRgb(const Scene& scene, int width, int height, std::vector<uint8_t>& rgb,
+                                  std::vector<float>* depth) {
+  const std::vector<uint8_t>& rgba = drawn(scene, width, height, depth).pixels();
+  dropAlpha(rgba.data(), rgba.size() / 4, rgb);
 }
 
 }  // namespace bullet_sim

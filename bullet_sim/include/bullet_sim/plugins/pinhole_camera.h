@@ -19,6 +19,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/plugin.h"
@@ -96,6 +97,8 @@ class PinholeCamera : public Plugin {
 
   PinholeCameraConfig config_;
   ImageSource* images_;
+  RenderedImage frame_;        ///< the last frame rendered; its buffers are reused
+  std::vector<double> ray_x_;  ///< per column, x / z of its ray through the pixel centre
   uint64_t frames_ = 0;
   Demand image_demand_, depth_demand_, cloud_demand_;
   Stream<CameraImage> image_, depth_;
