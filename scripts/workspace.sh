@@ -21,7 +21,7 @@ DEBIAN_PACKAGES=(
   libtf2-ros-dev libtf2-eigen-dev python3-tf2-ros tf-tools libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-srvs-dev ros-robot-state-publisher joint-state-publisher libimage-transport-dev libcamera-info-manager-dev
   liburdf-dev liburdfdom-dev liburdfdom-tools libtinyxml2-dev libsdformat-dev
-  libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev
+  libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev libjpeg-dev
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
   ros-message-generation libtrajectory-msgs-dev
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make

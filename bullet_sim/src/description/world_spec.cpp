@@ -11,6 +11,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "bullet_sim/description/gazebo_materials.h"
@@ -334,19 +335,23 @@ class WorldConverter {
   }
 
   /// Colour precedence as in Gazebo classic: an explicit <diffuse> (else <ambient>) overrides the script's.
+  /// A known script replaces a mesh's own materials; a colour alone tints them.
   void applyMaterial(const sdf::Visual& visual, const std::string& where, Visual& result) {
     if (const sdf::Material* material = visual.Material()) {
       const bool has_diffuse = material->Element()->HasElement("diffuse");
       const bool has_ambient = material->Element()->HasElement("ambient");
+      if (has_diffuse || has_ambient) result.paint = MeshPaint::kTint;
       const std::string script = material->ScriptName();
       if (!script.empty()) {
         result.material = script;
         if (const std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script)) {
           result.rgba = *colour;
-        } else if (!has_diffuse && !has_ambient) {
+          result.paint = MeshPaint::kUniform;
+        } else if (!has_diffuse && !has_ambient && unknown_materials_.insert(script).second) {
           diagnostics_.warning(locate(material->Element()) + where + ": unknown Gazebo material [" + script +
                                "]" + didYouMean(script, gazeboMaterialNames()) +
-                               ", shown grey; give it a <diffuse> colour");
+                               ": a mesh keeps its own colours, other shapes are grey; give the visual a "
+                               "<diffuse> colour (warned once for all visuals that use it)");
         }
       }
       if (has_diffuse) {
@@ -427,12 +432,13 @@ class WorldConverter {
     shape.type = Shape::Type::kMesh;
     shape.mesh_path = fs::absolute(*path).lexically_normal().string();
     shape.mesh_scale = toEigen(mesh.Scale());
-    std::optional<TriangleMesh> triangles = loadMesh(shape.mesh_path, shape.mesh_scale, &error);
-    if (!triangles) {
+    std::vector<std::string> warnings;
+    shape.mesh = meshes_.load(shape.mesh_path, shape.mesh_scale, &error, &warnings);
+    for (const std::string& warning : warnings) diagnostics_.warning(at + ": " + warning);
+    if (!shape.mesh) {
       diagnostics_.error(at + ": " + error + "; check that the file is an STL, DAE or OBJ mesh");
       return std::nullopt;
     }
-    shape.mesh = std::make_shared<const TriangleMesh>(std::move(*triangles));
     return shape;
   }
 
@@ -444,6 +450,8 @@ class WorldConverter {
   const PackageResolver& resolver_;
   const fs::path base_directory_;  // for relative paths in SDF text that has no file
   Diagnostics& diagnostics_;
+  MeshCache meshes_;  // copies of a model share their meshes and textures
+  std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
 };
 
 /// Runs `load` (from a file or from text) with the built-in models and `resolver` behind <include>, then

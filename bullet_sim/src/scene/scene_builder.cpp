@@ -107,6 +107,10 @@ std::shared_ptr<const TriangleMesh> tessellate(const Shape& shape) {
   throw std::invalid_argument("unknown shape type");
 }
 
+SceneMesh visualMesh(const Visual& visual, const Eigen::Isometry3d& frame) {
+  return {tessellate(visual.shape), frame * visual.origin, visual.rgba, visual.paint};
+}
+
 Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
                              const std::map<std::string, Eigen::Isometry3d>& link_poses) {
   Eigen::AlignedBox3d bounds;
@@ -118,7 +122,7 @@ Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
                                   "]; pass the world pose of every link that has visuals");
     }
     for (const Visual& visual : link.visuals) {
-      scene.meshes.push_back({tessellate(visual.shape), pose->second * visual.origin, visual.rgba});
+      scene.meshes.push_back(visualMesh(visual, pose->second));
       bounds.extend(meshBounds(scene.meshes.back()));
     }
   }
@@ -128,7 +132,7 @@ Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
 void addWorld(Scene& scene, const WorldSpec& world) {
   for (const WorldModelSpec& model : world.models) {
     for (const Visual& visual : model.visuals) {
-      scene.meshes.push_back({tessellate(visual.shape), model.pose * visual.origin, visual.rgba});
+      scene.meshes.push_back(visualMesh(visual, model.pose));
     }
   }
 }

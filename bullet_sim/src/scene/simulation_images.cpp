@@ -47,7 +47,7 @@ void SimulationImages::refreshRobots() {
       LinkVisuals& visuals = entry.links.emplace_back();
       visuals.link = link.name;
       for (const Visual& visual : link.visuals) {
-        visuals.meshes.push_back({tessellate(visual.shape), visual.origin, visual.rgba});
+        visuals.meshes.push_back(visualMesh(visual, Eigen::Isometry3d::Identity()));
       }
     }
   }
@@ -60,7 +60,8 @@ const Scene& SimulationImages::sceneFor(const ImageRequest& request) {
     for (const LinkVisuals& link : robot.links) {
       const Eigen::Isometry3d link_pose = robot.body->linkPose(link.link);
       for (const SceneMesh& visual : link.meshes) {
-        scene_.meshes.push_back({visual.mesh, link_pose * visual.pose, visual.rgba});
+        scene_.meshes.push_back(visual);
+        scene_.meshes.back().pose = link_pose * visual.pose;
       }
     }
   }

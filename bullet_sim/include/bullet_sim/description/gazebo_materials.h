@@ -10,8 +10,9 @@
 
 namespace bullet_sim {
 
-/// RGBA in [0, 1] of a Gazebo material such as "Gazebo/Grey", or nullopt for a name not in the table.
-/// Textured materials (Gazebo/Wood, Gazebo/WoodFloor, ...) get their texture's average colour.
+/// RGBA in [0, 1] of a Gazebo material such as "Gazebo/Grey" (every surface material of Gazebo 11's
+/// gazebo.material), or nullopt for a name not in the table. Textured materials (Gazebo/Wood, Gazebo/Grass,
+/// ...) get their texture's average colour; see-through ones (Gazebo/RedTransparent) an alpha below 1.
 std::optional<Eigen::Vector4d> gazeboMaterialColour(const std::string& name);
 
 /// Every name gazeboMaterialColour knows, for "did you mean" hints.
