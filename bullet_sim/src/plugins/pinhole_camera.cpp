@@ -171,10 +171,6 @@ PinholeCameraConfig parseAnyCamera(const DeclarationSource& source, bool depth) 
 
 }  // namespace
 
-bool PinholeCameraConfig::withinCutoffs(double depth) const {
-  return depth > cloud_cutoff && depth < cloud_cutoff_max;
-}
-
 double PinholeCameraConfig::renderedFocalLength() const { return width / (2 * std::tan(horizontal_fov / 2)); }
 
 CameraInfo PinholeCameraConfig::info() const {
@@ -347,28 +343,29 @@ void PinholeCamera::publishCloud(const RenderedImage& rendered, double stamp) {
   cloud.height = rendered.height;
   cloud.points.resize(rendered.depth.size());
   cloud.rgb.resize(rendered.depth.size());
-  cloud.is_dense = true;
+  static_assert(sizeof(cloud.rgb[0]) == 3, "the cloud's colours are packed as the image's");
+  std::memcpy(cloud.rgb.data(), rendered.rgb.data(), rendered.rgb.size());
   // As gazebo_ros_openni_kinect: rays through pixel centres, column i at (i - (width - 1) / 2) / f.
   const double f = config_.renderedFocalLength();
   const double centre_x = 0.5 * (rendered.width - 1), centre_y = 0.5 * (rendered.height - 1);
   ray_x_.resize(rendered.width);
-  for (int column = 0; column < rendered.width; ++column) ray_x_[column] = (column - centre_x) / f;
-  const Eigen::Vector3f nan = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  for (int column = 0; column < rendered.width; ++column) {
+    ray_x_[column] = static_cast<float>((column - centre_x) / f);
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  size_t seen = 0;
   for (int row = 0; row < rendered.height; ++row) {
-    const double ray_y = (row - centre_y) / f;
+    const auto ray_y = static_cast<float>((row - centre_y) / f);
     const size_t first = static_cast<size_t>(row) * rendered.width;
     for (int column = 0; column < rendered.width; ++column) {
-      const size_t p = first + column;
-      const double depth = rendered.depth[p];
-      if (config_.withinCutoffs(depth)) {
-        cloud.points[p] = Eigen::Vector3d(depth * ray_x_[column], depth * ray_y, depth).cast<float>();
-      } else {
-        cloud.points[p] = nan;
-        cloud.is_dense = false;
-      }
-      std::memcpy(cloud.rgb[p].data(), &rendered.rgb[p * 3], 3);
+      const float depth = rendered.depth[first + column];
+      const bool within = config_.withinCutoffs(depth);
+      seen += within;
+      cloud.points[first + column] = within ? Eigen::Vector3f(depth * ray_x_[column], depth * ray_y, depth)
+                                            : Eigen::Vector3f(nan, nan, nan);
     }
   }
+  cloud.is_dense = seen == cloud.points.size();
   cloud_.publish();
 }
 

@@ -85,16 +85,22 @@ TriangleMesh plane(const Eigen::Vector3d& normal) {
   return mesh;
 }
 
+/// A closed shape: its back faces never show.
+std::shared_ptr<const TriangleMesh> closed(TriangleMesh mesh) {
+  mesh.closed = true;
+  return std::make_shared<const TriangleMesh>(std::move(mesh));
+}
+
 }  // namespace
 
 std::shared_ptr<const TriangleMesh> tessellate(const Shape& shape) {
   switch (shape.type) {
     case Shape::Type::kBox:
-      return std::make_shared<const TriangleMesh>(box(shape.box_size));
+      return closed(box(shape.box_size));
     case Shape::Type::kCylinder:
-      return std::make_shared<const TriangleMesh>(cylinder(shape.radius, shape.length));
+      return closed(cylinder(shape.radius, shape.length));
     case Shape::Type::kSphere:
-      return std::make_shared<const TriangleMesh>(sphere(shape.radius));
+      return closed(sphere(shape.radius));
     case Shape::Type::kPlane:
       return std::make_shared<const TriangleMesh>(plane(shape.plane_normal));
     case Shape::Type::kMesh:

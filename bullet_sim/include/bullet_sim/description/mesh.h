@@ -44,6 +44,9 @@ struct TriangleMesh {
   std::vector<MeshMaterial> materials;
   /// Cover the triangles in order when `materials` is not empty.
   std::vector<MeshPart> parts;
+  /// A closed surface wound counter-clockwise seen from outside (the shapes bullet_sim tessellates): its
+  /// triangles' backs never show. Mesh files make no such promise (CAD exports mix windings).
+  bool closed = false;
 };
 
 /// Loads every mesh of a file into one triangle mesh, with `scale` applied per axis, with its texture
