@@ -308,6 +308,20 @@ TEST(Texture, DamagedOversizedAndOddFilesAreRefusedWithTheReason) {
   EXPECT_THAT(error, HasSubstr("is 64 x 64 px"));
 }
 
+TEST(Texture, ACacheDecodesEachFileOnceAndBoundsWhatAllItsTexturesTake) {
+  TemporaryDirectory directory;
+  const std::string first = writePngFile(directory, "first.png", quadrantImage());   // 16 KiB of RGBA
+  const std::string second = writePngFile(directory, "second.png", quadrantImage());
+  TextureCache textures(24 << 10);
+  std::string error;
+  const std::shared_ptr<const Texture> texture = textures.load(first, &error);
+  ASSERT_TRUE(texture) << error;
+  EXPECT_EQ(textures.load(directory.file("./first.png"), &error), texture) << "the same file, decoded once";
+  EXPECT_FALSE(textures.load(second, &error)) << "over the budget";
+  EXPECT_THAT(error, HasSubstr("second.png"));
+  EXPECT_THAT(error, HasSubstr("is not drawn"));
+}
+
 TEST(Mesh, DaeAndObjBringTheirTextureCoordinatesAndTexture) {
   for (const std::string format : {"dae", "obj"}) {
     TemporaryDirectory directory;

@@ -28,24 +28,26 @@ std::vector<fs::path> textureCandidates(const std::string& mesh_path, std::strin
 
 /// An image embedded in the mesh file (glTF, FBX): compressed bytes, or raw BGRA texels.
 std::shared_ptr<const Texture> embeddedTexture(const aiTexture& embedded, const std::string& source,
-                                               std::string* error) {
-  std::optional<Texture> texture;
+                                               TextureCache& textures, std::string* error) {
   if (embedded.mHeight == 0) {  // mWidth bytes of a PNG or JPEG file
-    texture =
-        decodeTexture(reinterpret_cast<const uint8_t*>(embedded.pcData), embedded.mWidth, source, error);
-  } else if (static_cast<int64_t>(embedded.mWidth) * embedded.mHeight > TextureLimits{}.max_pixels) {
-    *error = "image [" + source + "] is too large to draw";
-  } else {
-    texture.emplace();
-    texture->width = static_cast<int>(embedded.mWidth);
-    texture->height = static_cast<int>(embedded.mHeight);
-    texture->source = source;
-    for (unsigned i = 0; i < embedded.mWidth * embedded.mHeight; ++i) {
-      const aiTexel& texel = embedded.pcData[i];
-      texture->rgba.insert(texture->rgba.end(), {texel.r, texel.g, texel.b, texel.a});
-    }
+    return textures.decode(reinterpret_cast<const uint8_t*>(embedded.pcData), embedded.mWidth, source, error);
   }
-  return texture ? std::make_shared<const Texture>(std::move(*texture)) : nullptr;
+  const int64_t pixels = static_cast<int64_t>(embedded.mWidth) * embedded.mHeight;
+  if (pixels > TextureLimits{}.max_pixels) {
+    *error = "image [" + source + "] of " + std::to_string(embedded.mWidth) + " x " +
+             std::to_string(embedded.mHeight) + " px is larger than bullet_sim draws";
+    return nullptr;
+  }
+  Texture texture;
+  texture.width = static_cast<int>(embedded.mWidth);
+  texture.height = static_cast<int>(embedded.mHeight);
+  texture.source = source;
+  texture.rgba.reserve(static_cast<size_t>(pixels) * 4);
+  for (int64_t i = 0; i < pixels; ++i) {
+    const aiTexel& texel = embedded.pcData[i];
+    texture.rgba.insert(texture.rgba.end(), {texel.r, texel.g, texel.b, texel.a});
+  }
+  return textures.adopt(std::move(texture), error);
 }
 
 /// The diffuse (or glTF base colour) texture a material names, loaded; nullptr, with a warning when it names
@@ -61,7 +63,7 @@ std::shared_ptr<const Texture> diffuseTexture(const aiScene& scene, const aiMate
   std::string error;
   std::shared_ptr<const Texture> texture;
   if (const aiTexture* embedded = scene.GetEmbeddedTexture(name.C_Str())) {
-    texture = embeddedTexture(*embedded, mesh_path + " " + name.C_Str(), &error);
+    texture = embeddedTexture(*embedded, mesh_path + " " + name.C_Str(), textures, &error);
   } else {
     const std::vector<fs::path> candidates = textureCandidates(mesh_path, name.C_Str());
     std::error_code ec;

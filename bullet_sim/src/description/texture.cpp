@@ -147,11 +147,30 @@ std::shared_ptr<const Texture> TextureCache::load(const std::string& path, std::
   const auto [entry, added] = textures_.try_emplace(ec ? path : canonical.string());
   if (added) {
     if (std::optional<Texture> texture = loadTexture(path, &entry->second.error)) {
-      entry->second.texture = std::make_shared<const Texture>(std::move(*texture));
+      entry->second.texture = adopt(std::move(*texture), &entry->second.error);
     }
   }
   if (!entry->second.texture && error) *error = entry->second.error;
   return entry->second.texture;
+}
+
+std::shared_ptr<const Texture> TextureCache::decode(const uint8_t* data, size_t size, const std::string& source,
+                                                    std::string* error) {
+  std::optional<Texture> texture = decodeTexture(data, size, source, error);
+  return texture ? adopt(std::move(*texture), error) : nullptr;
+}
+
+std::shared_ptr<const Texture> TextureCache::adopt(Texture texture, std::string* error) {
+  const auto bytes = static_cast<int64_t>(texture.rgba.size());
+  if (bytes > budget_) {
+    if (error) {
+      *error = "image [" + texture.source + "] is not drawn: the textures of one world or robot may take " +
+               std::to_string(kDefaultBudget >> 20) + " MiB at most, and the others took that";
+    }
+    return nullptr;
+  }
+  budget_ -= bytes;
+  return std::make_shared<const Texture>(std::move(texture));
 }
 
 }  // namespace bullet_sim

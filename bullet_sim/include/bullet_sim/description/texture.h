@@ -38,12 +38,22 @@ std::optional<Texture> decodeTexture(const uint8_t* data, size_t size, const std
 std::optional<Texture> loadTexture(const std::string& path, std::string* error,
                                    const TextureLimits& limits = {});
 
-/// Decodes each image file once: every mesh that names the same file shares one Texture.
+/// Decodes each image file once: every mesh that names the same file shares one Texture. It also bounds what
+/// all its textures take together, so that many large images cannot exhaust memory either.
 class TextureCache {
  public:
-  /// The texture in the file at `path`; nullptr with `error` set when it cannot be decoded (a file that
-  /// failed is not read again).
+  static constexpr int64_t kDefaultBudget = int64_t{1} << 30;  ///< [bytes] of decoded RGBA, 1 GiB
+
+  explicit TextureCache(int64_t budget_bytes = kDefaultBudget) : budget_(budget_bytes) {}
+
+  /// The texture in the file at `path`; nullptr with `error` set when it cannot be decoded or would exceed
+  /// the budget (a file that failed is not read again).
   std::shared_ptr<const Texture> load(const std::string& path, std::string* error);
+  /// An image held in memory (embedded in a mesh file), decoded and counted against the budget.
+  std::shared_ptr<const Texture> decode(const uint8_t* data, size_t size, const std::string& source,
+                                        std::string* error);
+  /// A texture decoded elsewhere, counted against the budget; nullptr with `error` set when over it.
+  std::shared_ptr<const Texture> adopt(Texture texture, std::string* error);
 
  private:
   struct Entry {
@@ -51,6 +61,7 @@ class TextureCache {
     std::string error;
   };
   std::map<std::string, Entry> textures_;  ///< by canonical path
+  int64_t budget_;                         ///< [bytes] left
 };
 
 }  // namespace bullet_sim
