@@ -154,8 +154,8 @@ std::shared_ptr<const Texture> TextureCache::load(const std::string& path, std::
   return entry->second.texture;
 }
 
-std::shared_ptr<const Texture> TextureCache::decode(const uint8_t* data, size_t size, const std::string& source,
-                                                    std::string* error) {
+std::shared_ptr<const Texture> TextureCache::decode(const uint8_t* data, size_t size,
+                                                    const std::string& source, std::string* error) {
   std::optional<Texture> texture = decodeTexture(data, size, source, error);
   return texture ? adopt(std::move(*texture), error) : nullptr;
 }
