@@ -1,7 +1,10 @@
 // The Bullet dynamics world: gravity, the fixed step, the solver, and the static geometry of a world spec.
 #pragma once
 
+#include <Eigen/Geometry>
+
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "bullet_sim/description/world_spec.h"
@@ -12,6 +15,7 @@ class btMultiBodyDynamicsWorld;
 namespace bullet_sim {
 
 class BulletShapes;
+struct CollisionNames;
 
 struct PhysicsOptions {
   double step_size = 0.001;  ///< [s] every step advances exactly this much
@@ -31,6 +35,13 @@ class PhysicsWorld {
   void step();
 
   double stepSize() const { return options_.step_size; }
+  /// From the next step on; robots must be told too (PhysicsRobot::setStepSize).
+  void setStepSize(double step_size);
+  Eigen::Vector3d gravity() const;  ///< [m/s^2]
+  void setGravity(const Eigen::Vector3d& gravity);
+  /// Moves the static geometry of the world spec's model `model` (an index into WorldSpec::models) so that
+  /// the model frame is at `pose`.
+  void setModelPose(size_t model, const Eigen::Isometry3d& pose);
   btMultiBodyDynamicsWorld& bullet() { return *world_; }
 
  private:
@@ -40,6 +51,9 @@ class PhysicsWorld {
   std::unique_ptr<btMultiBodyDynamicsWorld> world_;
   std::unique_ptr<BulletShapes> shapes_;
   std::vector<std::unique_ptr<btCollisionObject>> statics_;
+  /// Per world model: its collision objects (indices into statics_) and their origins in the model frame.
+  std::vector<std::vector<std::pair<size_t, Eigen::Isometry3d>>> model_statics_;
+  std::vector<std::unique_ptr<CollisionNames>> static_names_;  ///< per static object, for contacts
 };
 
 }  // namespace bullet_sim
