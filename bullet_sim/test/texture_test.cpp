@@ -482,7 +482,7 @@ TEST(GazeboMaterials, AnUnknownNameIsWarnedAboutOnceNamingIt) {
   EXPECT_TRUE(model.link("a")->visuals.at(0).rgba.isApprox(Eigen::Vector4d(0.7, 0.7, 0, 1)));
   EXPECT_EQ(model.link("a")->visuals.at(0).paint, MeshPaint::kUniform);
   ASSERT_EQ(warnings.size(), 1u) << ::testing::PrintToString(warnings);
-  EXPECT_THAT(warnings[0], HasSubstr("<material>Shop/Floor</material> is not a Gazebo material we know"));
+  EXPECT_THAT(warnings[0], HasSubstr("<material>Shop/Floor</material> is neither a Gazebo material we know"));
 }
 
 }  // namespace

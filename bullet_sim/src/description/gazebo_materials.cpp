@@ -1,6 +1,8 @@
 #include "bullet_sim/description/gazebo_materials.h"
 
+#include <algorithm>
 #include <array>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -181,6 +183,25 @@ std::optional<Eigen::Vector4d> scriptMaterialColour(const std::string& name,
     current = found->second.parent;
   }
   return std::nullopt;
+}
+
+std::vector<std::string> materialScriptsIn(const std::string& folder) {
+  std::vector<std::string> scripts;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->path().extension() == ".material") scripts.push_back(it->path().string());
+  }
+  std::sort(scripts.begin(), scripts.end());
+  return scripts;
+}
+
+std::vector<std::string> resourceMaterialScripts(const std::vector<std::string>& resource_path) {
+  std::vector<std::string> scripts;
+  for (const std::string& folder : resource_path) {
+    const std::vector<std::string> found = materialScriptsIn(folder + "/media/materials/scripts");
+    scripts.insert(scripts.end(), found.begin(), found.end());
+  }
+  return scripts;
 }
 
 std::optional<Eigen::Vector4d> gazeboMaterialColour(const std::string& name) {

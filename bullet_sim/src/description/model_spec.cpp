@@ -405,13 +405,20 @@ class ModelParser {
     }
   }
 
+  /// Gazebo's table, else the material scripts on Gazebo's resource path (read once), as Gazebo finds them.
   void applyMaterial(const std::string& material, const std::string& where, LinkSpec& link) {
-    const auto colour = gazeboMaterialColour(material);
+    std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(material);
+    if (!colour) {
+      if (!resource_scripts_) resource_scripts_ = resourceMaterialScripts(resolver_.gazeboPaths().resourcePath());
+      colour = scriptMaterialColour(material, *resource_scripts_);
+    }
     if (!colour) {
       if (unknown_materials_.insert(material).second) {
         diagnostics_.warning(where + "<material>" + material +
-                             "</material> is not a Gazebo material we know" +
-                             didYouMean(material, gazeboMaterialNames()) + "; the URDF colour is kept");
+                             "</material> is neither a Gazebo material we know" +
+                             didYouMean(material, gazeboMaterialNames()) +
+                             " nor one that a material script on Gazebo's resource path defines with a colour; "
+                             "the URDF colour is kept");
       }
       return;
     }
@@ -480,6 +487,7 @@ class ModelParser {
   const PluginParsers& plugins_;
   MeshCache meshes_;
   std::set<std::string> unknown_materials_;  ///< Gazebo material names warned about, once each
+  std::optional<std::vector<std::string>> resource_scripts_;  ///< see applyMaterial
   std::vector<PluginElement> model_plugins_;
   std::vector<PluginElement> sensor_plugins_;
 };

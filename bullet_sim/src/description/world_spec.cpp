@@ -419,15 +419,16 @@ class WorldConverter {
         result.material = script;
         std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script);
         if (!colour) colour = scriptMaterialColour(script, materialScripts(material->Element()));
+        if (!colour) colour = scriptMaterialColour(script, resourceScripts());
         if (colour) {
           result.rgba = *colour;
           result.paint = MeshPaint::kUniform;
         } else if (!has_diffuse && !has_ambient && unknown_materials_.insert(script).second) {
           diagnostics_.warning(locate(material->Element()) + where + ": unknown Gazebo material [" + script +
                                "]" + didYouMean(script, gazeboMaterialNames()) +
-                               ": no script of its <uri>s defines it with a colour, so a mesh keeps its "
-                               "own colours and other shapes are grey; give the visual a <diffuse> colour "
-                               "(warned once for all visuals that use it)");
+                               ": no script of its <uri>s or of Gazebo's resource path defines it with a "
+                               "colour, so a mesh keeps its own colours and other shapes are grey; give the "
+                               "visual a <diffuse> colour (warned once for all visuals that use it)");
         }
       }
       if (has_diffuse) {
@@ -462,6 +463,12 @@ class WorldConverter {
     return files;
   }
 
+  /// The scripts of Gazebo's resource path, which every visual sees, read from disk once.
+  const std::vector<std::string>& resourceScripts() {
+    if (!resource_scripts_) resource_scripts_ = resourceMaterialScripts(resolver_.gazeboPaths().resourcePath());
+    return *resource_scripts_;
+  }
+
   /// Appends the first of `candidates` that exists: a file, or the .material files of a folder (sorted).
   static void appendScripts(const std::vector<fs::path>& candidates, std::vector<std::string>& files) {
     std::error_code ec;
@@ -471,11 +478,7 @@ class WorldConverter {
         return;
       }
       if (!fs::is_directory(candidate, ec)) continue;
-      std::vector<std::string> scripts;
-      for (fs::directory_iterator it(candidate, ec), end; !ec && it != end; it.increment(ec)) {
-        if (it->path().extension() == ".material") scripts.push_back(it->path().string());
-      }
-      std::sort(scripts.begin(), scripts.end());
+      const std::vector<std::string> scripts = materialScriptsIn(candidate.string());
       files.insert(files.end(), scripts.begin(), scripts.end());
       return;
     }
@@ -570,6 +573,7 @@ class WorldConverter {
   Diagnostics& diagnostics_;
   MeshCache meshes_;  // copies of a model share their meshes and textures
   std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
+  std::optional<std::vector<std::string>> resource_scripts_;  // see resourceScripts
   bool spawning_ = false;  ///< converting a model to spawn, not a world's
 };
 

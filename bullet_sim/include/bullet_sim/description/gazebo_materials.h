@@ -1,5 +1,5 @@
-// Colours of Gazebo classic's named materials (media/materials/scripts/gazebo.material), for visuals that
-// name a material script instead of giving a colour.
+// Colours of Gazebo classic's named materials (media/materials/scripts/gazebo.material) and of the OGRE
+// material scripts a world or package brings, for visuals that name a material instead of giving a colour.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,5 +24,12 @@ std::vector<std::string> gazeboMaterialNames();
 /// file that defines a name wins. Textures are not read.
 std::optional<Eigen::Vector4d> scriptMaterialColour(const std::string& name,
                                                     const std::vector<std::string>& files);
+
+/// The .material files in `folder`, sorted by name; none when it is not a folder.
+std::vector<std::string> materialScriptsIn(const std::string& folder);
+
+/// The material scripts Gazebo loads for every visual, a URDF's included: those in media/materials/scripts
+/// of each folder of `resource_path` (GAZEBO_RESOURCE_PATH, then the packages' gazebo_media_path exports).
+std::vector<std::string> resourceMaterialScripts(const std::vector<std::string>& resource_path);
 
 }  // namespace bullet_sim
