@@ -205,8 +205,11 @@ TEST(GazeboPaths, MaterialScriptsFromModelFoldersAndTheResourcePathGiveColours) 
   EXPECT_TRUE(visuals[0].rgba.isApprox(Eigen::Vector4d(0.6, 0.3, 0.1, 1))) << "its diffuse colour";
   EXPECT_TRUE(visuals[1].rgba.isApprox(Eigen::Vector4d(0.6, 0.3, 0.1, 1))) << "inherited from Yard/Rust";
   EXPECT_TRUE(visuals[2].rgba.isApprox(Eigen::Vector4d(0.1, 0.5, 0.1, 1))) << "its ambient colour";
-  ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_TRUE(contains(warnings[0], "unknown Gazebo material [Yard/Nothing]")) << warnings[0];
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_TRUE(contains(warnings[0], "material [Yard/DarkRust]: its texture [rust.png] was not found"))
+      << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "drawn in its colour")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[1], "unknown Gazebo material [Yard/Nothing]")) << warnings[1];
 }
 
 // Gazebo loads every script in media/materials/scripts of its resource path for every visual: a URDF's
@@ -221,7 +224,8 @@ TEST(GazeboPaths, MaterialScriptsOnTheResourcePathColourUrdfAndSdfVisuals) {
   EXPECT_TRUE(robot.link("a")->visuals.at(0).rgba.isApprox(Eigen::Vector4d(0.1, 0.5, 0.1, 1)));
   EXPECT_EQ(robot.link("a")->visuals.at(0).paint, MeshPaint::kUniform);
   const WorldSpec world = parseWorld(
-      "<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'><visual name='v'>"
+      "<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'><visual "
+      "name='v'>"
       "<geometry><box><size>1 1 1</size></box></geometry><material><script>"
       "<uri>model://crate/materials/scripts</uri><name>Yard/Grass</name></script></material></visual>"
       "</link></model></world></sdf>",

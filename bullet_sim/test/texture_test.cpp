@@ -310,7 +310,7 @@ TEST(Texture, DamagedOversizedAndOddFilesAreRefusedWithTheReason) {
 
 TEST(Texture, ACacheDecodesEachFileOnceAndBoundsWhatAllItsTexturesTake) {
   TemporaryDirectory directory;
-  const std::string first = writePngFile(directory, "first.png", quadrantImage());   // 16 KiB of RGBA
+  const std::string first = writePngFile(directory, "first.png", quadrantImage());  // 16 KiB of RGBA
   const std::string second = writePngFile(directory, "second.png", quadrantImage());
   TextureCache textures(24 << 10);
   std::string error;
@@ -483,6 +483,62 @@ TEST(GazeboMaterials, AnUnknownNameIsWarnedAboutOnceNamingIt) {
   EXPECT_EQ(model.link("a")->visuals.at(0).paint, MeshPaint::kUniform);
   ASSERT_EQ(warnings.size(), 1u) << ::testing::PrintToString(warnings);
   EXPECT_THAT(warnings[0], HasSubstr("<material>Shop/Floor</material> is neither a Gazebo material we know"));
+}
+
+// A material script's texture shows, from afar, as its mean colour times the script's colour: the script's
+// own media folders and those its <uri>s name are searched, and a URDF finds scripts on the resource path.
+TEST(GazeboMaterials, AScriptsTextureGivesItsMeanColourTimesTheScriptsColour) {
+  TemporaryDirectory resource;  // a GAZEBO_RESOURCE_PATH folder
+  fs::create_directories(resource.file("media/materials/scripts"));
+  fs::create_directories(resource.file("media/materials/textures"));
+  fs::create_directories(resource.file("pictures"));
+  writePngFile(resource, "media/materials/textures/quadrants.png", quadrantImage());  // mean (0.5 0.5 0.25)
+  Image blue{2, 2, std::vector<uint8_t>(16, 255)};
+  for (size_t at = 0; at < blue.rgba.size(); at += 4) blue.rgba[at] = blue.rgba[at + 1] = 0;
+  writePngFile(resource, "pictures/blue.png", blue);
+  const auto block = [](const std::string& name, const std::string& pass) {
+    return "material " + name + "\n{\n  technique\n  {\n    pass\n    {\n" + pass + "\n    }\n  }\n}\n";
+  };
+  resource.write("media/materials/scripts/shop.material",
+                 block("Shop/Tiles", "texture_unit { texture quadrants.png }") +
+                     block("Shop/DimTiles", "diffuse 0.5 0.5 0.5 1\ntexture_unit { texture quadrants.png }") +
+                     block("Shop/Blue", "texture_unit { texture blue.png }") +
+                     block("Shop/Lost", "diffuse 0 1 0 1\ntexture_unit { texture gone.png }"));
+  GazeboEnvironment environment;
+  environment.resource_path = {resource.file("")};
+  const PackageResolver resolver({}, environment);
+  int visuals_made = 0;
+  const auto visual = [&](const std::string& name, const std::string& uris) {
+    return "<visual name='v" + std::to_string(visuals_made++) +
+           "'><geometry><box><size>1 1 1</size></box></geometry><material>" + "<script>" + uris + "<name>" +
+           name + "</name></script></material></visual>";
+  };
+  const std::string scripts = "<uri>file://media/materials/scripts/shop.material</uri>";
+  std::vector<std::string> warnings;
+  const WorldSpec world = parseWorld(
+      "<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'>" +
+          visual("Shop/Tiles", scripts) + visual("Shop/DimTiles", scripts) +
+          visual("Shop/Blue", scripts + "<uri>file://" + resource.file("pictures") + "</uri>") +
+          visual("Shop/Lost", scripts) + visual("Shop/Lost", scripts) + "</link></model></world></sdf>",
+      "shop.world", resolver, &warnings);
+  const std::vector<Visual>& visuals = world.models.at(0).visuals;
+  ASSERT_EQ(visuals.size(), 5u);
+  EXPECT_TRUE(visuals[0].rgba.isApprox(Eigen::Vector4d(0.5, 0.5, 0.25, 1))) << visuals[0].rgba.transpose();
+  EXPECT_TRUE(visuals[1].rgba.isApprox(Eigen::Vector4d(0.25, 0.25, 0.125, 1))) << visuals[1].rgba.transpose();
+  EXPECT_TRUE(visuals[2].rgba.isApprox(Eigen::Vector4d(0, 0, 1, 1))) << "found in its <uri>'s folder";
+  EXPECT_TRUE(visuals[3].rgba.isApprox(Eigen::Vector4d(0, 1, 0, 1))) << "its colour, the texture missing";
+  ASSERT_EQ(warnings.size(), 1u) << ::testing::PrintToString(warnings);
+  EXPECT_THAT(warnings[0], HasSubstr("material [Shop/Lost]: its texture [gone.png] was not found"));
+  EXPECT_THAT(warnings[0], HasSubstr("drawn in its colour"));
+  // A URDF's <gazebo reference> material finds the resource path's scripts and textures.
+  warnings.clear();
+  const ModelSpec robot = parseModel(
+      R"(<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0"
+      ixz="0" iyz="0"/></inertial><visual><geometry><box size="1 1 1"/></geometry></visual></link>
+      <gazebo reference="a"><material>Shop/Tiles</material></gazebo></robot>)",
+      "shop.urdf", resolver, &warnings);
+  EXPECT_TRUE(robot.link("a")->visuals.at(0).rgba.isApprox(Eigen::Vector4d(0.5, 0.5, 0.25, 1)));
+  EXPECT_THAT(warnings, ::testing::IsEmpty());
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <utility>
 
+#include "bullet_sim/description/texture.h"
+
 namespace bullet_sim {
 
 namespace {
@@ -105,10 +107,12 @@ constexpr NamedColour kColours[] = {
     {"Gazebo/EditorPlane", {0.7, 0.7, 0.7, 1}},
 };
 
-/// A material block of an OGRE script: its colours and the material it inherits from.
+/// A material block of an OGRE script: its colours, its first texture and the material it inherits from.
 struct ScriptMaterial {
   std::optional<Eigen::Vector4d> diffuse;
   std::optional<Eigen::Vector4d> ambient;
+  std::string texture;  ///< the image file its first texture_unit names, as written
+  std::string script;   ///< the .material file it is in
   std::string parent;
 };
 
@@ -142,12 +146,14 @@ std::optional<Eigen::Vector4d> colourAt(const std::vector<std::string>& words, s
   return rgba;
 }
 
-/// Adds the material blocks of `words` that `materials` does not hold yet.
-void readMaterials(const std::vector<std::string>& words, std::map<std::string, ScriptMaterial>& materials) {
+/// Adds the material blocks of `words`, read from `script`, that `materials` does not hold yet.
+void readMaterials(const std::vector<std::string>& words, const std::string& script,
+                   std::map<std::string, ScriptMaterial>& materials) {
   for (size_t i = 0; i + 1 < words.size(); ++i) {
     if (words[i] != "material") continue;
     const std::string name = words[i + 1];
     ScriptMaterial material;
+    material.script = script;
     size_t at = i + 2;
     if (at + 1 < words.size() && words[at] == ":") {
       material.parent = words[at + 1];
@@ -159,30 +165,92 @@ void readMaterials(const std::vector<std::string>& words, std::map<std::string, 
       if (words[at] == "}" && --depth == 0) break;
       if (words[at] == "diffuse" && !material.diffuse) material.diffuse = colourAt(words, at + 1);
       if (words[at] == "ambient" && !material.ambient) material.ambient = colourAt(words, at + 1);
+      if (words[at] == "texture" && material.texture.empty() && at + 1 < words.size() && words[at + 1] != "}")
+        material.texture = words[at + 1];
     }
     materials.emplace(name, material);
     i = at;
   }
 }
 
-}  // namespace
-
-std::optional<Eigen::Vector4d> scriptMaterialColour(const std::string& name,
-                                                    const std::vector<std::string>& files) {
-  std::map<std::string, ScriptMaterial> materials;
-  for (const auto& file : files) {
-    std::ifstream in(file);
-    readMaterials(scriptWords(in), materials);
-  }
+/// Material `name` with what it inherits filled in (each of its colours and its texture from the nearest
+/// block that has one); nullopt when no block defines it.
+std::optional<ScriptMaterial> resolved(const std::string& name,
+                                       const std::map<std::string, ScriptMaterial>& materials) {
+  std::optional<ScriptMaterial> result;
   std::string current = name;
   for (size_t depth = 0; depth <= materials.size(); ++depth) {  // a cycle of parents ends here
     const auto found = materials.find(current);
-    if (found == materials.end()) return std::nullopt;
-    if (found->second.diffuse) return found->second.diffuse;
-    if (found->second.ambient) return found->second.ambient;
-    current = found->second.parent;
+    if (found == materials.end()) break;
+    const ScriptMaterial& block = found->second;
+    if (!result) result = ScriptMaterial{};
+    if (!result->diffuse) result->diffuse = block.diffuse;
+    if (!result->ambient) result->ambient = block.ambient;
+    if (result->texture.empty() && !block.texture.empty()) {
+      result->texture = block.texture;
+      result->script = block.script;
+    }
+    current = block.parent;
   }
-  return std::nullopt;
+  return result;
+}
+
+/// The mean RGBA of the image `texture` that `script` names: looked for beside the script, in the textures
+/// folder beside its folder (a model's materials/textures), then in `folders`. nullopt with `warning` saying
+/// why when it is not found or cannot be decoded.
+std::optional<Eigen::Vector4d> averageTexture(const std::string& texture, const std::string& script,
+                                              const std::vector<std::string>& folders, std::string* warning) {
+  namespace fs = std::filesystem;
+  const fs::path beside = fs::path(script).parent_path();
+  std::vector<fs::path> candidates = {beside / texture, beside.parent_path() / "textures" / texture};
+  for (const std::string& folder : folders) candidates.push_back(fs::path(folder) / texture);
+  std::error_code ec;
+  const auto found = std::find_if(candidates.begin(), candidates.end(), [&](const fs::path& candidate) {
+    return fs::is_regular_file(candidate, ec);
+  });
+  if (found == candidates.end()) {
+    *warning = "its texture [" + texture + "] was not found beside its script [" + script +
+               "], in a textures folder beside that, in its <uri>s' folders or in the resource path's "
+               "media/materials/textures";
+    return std::nullopt;
+  }
+  std::string error;
+  const std::optional<Texture> image = loadTexture(found->string(), &error);
+  if (!image || image->rgba.empty()) {
+    *warning = "its texture: " + error;
+    return std::nullopt;
+  }
+  Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+  for (size_t at = 0; at < image->rgba.size(); at += 4) {
+    sum += Eigen::Vector4d(image->rgba[at], image->rgba[at + 1], image->rgba[at + 2], image->rgba[at + 3]);
+  }
+  return sum / (255.0 * static_cast<double>(image->rgba.size() / 4));
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector4d> scriptMaterialColour(const std::string& name,
+                                                    const std::vector<std::string>& files,
+                                                    const std::vector<std::string>& texture_folders,
+                                                    std::string* warning) {
+  std::map<std::string, ScriptMaterial> materials;
+  for (const auto& file : files) {
+    std::ifstream in(file);
+    readMaterials(scriptWords(in), file, materials);
+  }
+  const std::optional<ScriptMaterial> material = resolved(name, materials);
+  if (!material) return std::nullopt;
+  const std::optional<Eigen::Vector4d> colour = material->diffuse ? material->diffuse : material->ambient;
+  if (material->texture.empty()) return colour;
+  // The texture multiplies the lit colour, white unless the script gives one.
+  std::string why;
+  const std::optional<Eigen::Vector4d> average =
+      averageTexture(material->texture, material->script, texture_folders, &why);
+  if (!average) {
+    if (warning) *warning = why;
+    return colour;
+  }
+  return colour.value_or(Eigen::Vector4d::Ones()).cwiseProduct(*average);
 }
 
 std::vector<std::string> materialScriptsIn(const std::string& folder) {
@@ -202,6 +270,12 @@ std::vector<std::string> resourceMaterialScripts(const std::vector<std::string>&
     scripts.insert(scripts.end(), found.begin(), found.end());
   }
   return scripts;
+}
+
+std::vector<std::string> resourceTextureFolders(const std::vector<std::string>& resource_path) {
+  std::vector<std::string> folders;
+  for (const std::string& folder : resource_path) folders.push_back(folder + "/media/materials/textures");
+  return folders;
 }
 
 std::optional<Eigen::Vector4d> gazeboMaterialColour(const std::string& name) {

@@ -408,17 +408,24 @@ class ModelParser {
   /// Gazebo's table, else the material scripts on Gazebo's resource path (read once), as Gazebo finds them.
   void applyMaterial(const std::string& material, const std::string& where, LinkSpec& link) {
     std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(material);
+    std::string texture_warning;
     if (!colour) {
-      if (!resource_scripts_) resource_scripts_ = resourceMaterialScripts(resolver_.gazeboPaths().resourcePath());
-      colour = scriptMaterialColour(material, *resource_scripts_);
+      const std::vector<std::string>& resource_path = resolver_.gazeboPaths().resourcePath();
+      if (!resource_scripts_) resource_scripts_ = resourceMaterialScripts(resource_path);
+      colour = scriptMaterialColour(material, *resource_scripts_, resourceTextureFolders(resource_path),
+                                    &texture_warning);
+    }
+    if (!texture_warning.empty() && unknown_materials_.insert(material).second) {
+      diagnostics_.warning(where + "<material>" + material + "</material>: " + texture_warning +
+                           (colour ? "; drawn in its colour" : "; the URDF colour is kept"));
     }
     if (!colour) {
       if (unknown_materials_.insert(material).second) {
-        diagnostics_.warning(where + "<material>" + material +
-                             "</material> is neither a Gazebo material we know" +
-                             didYouMean(material, gazeboMaterialNames()) +
-                             " nor one that a material script on Gazebo's resource path defines with a colour; "
-                             "the URDF colour is kept");
+        diagnostics_.warning(
+            where + "<material>" + material + "</material> is neither a Gazebo material we know" +
+            didYouMean(material, gazeboMaterialNames()) +
+            " nor one that a material script on Gazebo's resource path defines with a colour; "
+            "the URDF colour is kept");
       }
       return;
     }

@@ -418,8 +418,7 @@ class WorldConverter {
       if (!script.empty()) {
         result.material = script;
         std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script);
-        if (!colour) colour = scriptMaterialColour(script, materialScripts(material->Element()));
-        if (!colour) colour = scriptMaterialColour(script, resourceScripts());
+        if (!colour) colour = scriptColour(material->Element(), script, where);
         if (colour) {
           result.rgba = *colour;
           result.paint = MeshPaint::kUniform;
@@ -440,10 +439,34 @@ class WorldConverter {
     result.rgba[3] *= 1.0 - visual.Transparency();
   }
 
+  /// The colour material scripts give `script`: those its <uri>s name, then those of the resource path; its
+  /// texture looked for in its <uri>s' folders, then the resource path's. A texture that cannot be used is
+  /// warned about once per name.
+  std::optional<Eigen::Vector4d> scriptColour(const sdf::ElementPtr& material, const std::string& script,
+                                              const std::string& where) {
+    std::vector<std::string> folders;
+    const std::vector<std::string> scripts = materialScripts(material, folders);
+    const std::vector<std::string> resource = resourceTextureFolders(resolver_.gazeboPaths().resourcePath());
+    folders.insert(folders.end(), resource.begin(), resource.end());
+    std::string warning;
+    std::optional<Eigen::Vector4d> colour = scriptMaterialColour(script, scripts, folders, &warning);
+    if (!colour && warning.empty())
+      colour = scriptMaterialColour(script, resourceScripts(), folders, &warning);
+    if (!warning.empty() && unknown_materials_.insert(script).second) {
+      diagnostics_.warning(
+          locate(material) + where + ": material [" + script + "]: " + warning +
+          (colour ? "; drawn in its colour" : "; a mesh keeps its own colours, other shapes are grey") +
+          " (warned once for all visuals that use it)");
+    }
+    return colour;
+  }
+
   /// The .material files that the <uri>s of a material's <script> name: a file, or the .material files of a
   /// folder. model:// and package:// URIs go through the resolver; others (file://media/materials/...) are
-  /// looked up in the resource path's folders, then beside the SDF file.
-  std::vector<std::string> materialScripts(const sdf::ElementPtr& material) const {
+  /// looked up in the resource path's folders, then beside the SDF file. `folders` gets the folders the
+  /// <uri>s name (a file's own folder), where textures are looked for.
+  std::vector<std::string> materialScripts(const sdf::ElementPtr& material,
+                                           std::vector<std::string>& folders) const {
     std::vector<std::string> files;
     const sdf::ElementPtr script = material->HasElement("script") ? material->GetElement("script") : nullptr;
     for (const auto& uri : children(script, "uri")) {
@@ -458,30 +481,37 @@ class WorldConverter {
           candidates.push_back(fs::path(folder) / text);
         candidates.push_back(base_directory_ / text);
       }
-      appendScripts(candidates, files);
+      if (const std::optional<fs::path> found = appendScripts(candidates, files)) {
+        std::error_code ec;
+        folders.push_back(fs::is_directory(*found, ec) ? found->string() : found->parent_path().string());
+      }
     }
     return files;
   }
 
   /// The scripts of Gazebo's resource path, which every visual sees, read from disk once.
   const std::vector<std::string>& resourceScripts() {
-    if (!resource_scripts_) resource_scripts_ = resourceMaterialScripts(resolver_.gazeboPaths().resourcePath());
+    if (!resource_scripts_)
+      resource_scripts_ = resourceMaterialScripts(resolver_.gazeboPaths().resourcePath());
     return *resource_scripts_;
   }
 
   /// Appends the first of `candidates` that exists: a file, or the .material files of a folder (sorted).
-  static void appendScripts(const std::vector<fs::path>& candidates, std::vector<std::string>& files) {
+  /// Returns it; nullopt when none exists.
+  static std::optional<fs::path> appendScripts(const std::vector<fs::path>& candidates,
+                                               std::vector<std::string>& files) {
     std::error_code ec;
     for (const auto& candidate : candidates) {
       if (fs::is_regular_file(candidate, ec)) {
         files.push_back(candidate.string());
-        return;
+        return candidate;
       }
       if (!fs::is_directory(candidate, ec)) continue;
       const std::vector<std::string> scripts = materialScriptsIn(candidate.string());
       files.insert(files.end(), scripts.begin(), scripts.end());
-      return;
+      return candidate;
     }
+    return std::nullopt;
   }
 
   std::optional<Shape> toShape(const sdf::Geometry& geometry, const std::string& where) {
@@ -571,10 +601,10 @@ class WorldConverter {
   const PackageResolver& resolver_;
   const fs::path base_directory_;  // for relative paths in SDF text that has no file
   Diagnostics& diagnostics_;
-  MeshCache meshes_;  // copies of a model share their meshes and textures
+  MeshCache meshes_;                         // copies of a model share their meshes and textures
   std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
   std::optional<std::vector<std::string>> resource_scripts_;  // see resourceScripts
-  bool spawning_ = false;  ///< converting a model to spawn, not a world's
+  bool spawning_ = false;                                     ///< converting a model to spawn, not a world's
 };
 
 /// libsdformat's find callback for <include> URIs: a model:// include, or any URI that names a folder,

@@ -740,7 +740,8 @@ std::vector<double> realTimeFactors(const Options& options, const std::vector<Dr
 /// --camera's figures: RTF while it renders and while nobody wants it, and what the idle camera costs.
 void reportCamera(Json& json, const Options& options, const Figures& figures) {
   const Options::Camera& camera = *options.camera;
-  json["camera"] = {{"size", {camera.width, camera.height}}, {"rate_hz", camera.rate}, {"depth", camera.depth}};
+  json["camera"] = {
+      {"size", {camera.width, camera.height}}, {"rate_hz", camera.rate}, {"depth", camera.depth}};
   const double rtf = median(realTimeFactors(options, figures.camera_runs));
   const double idle = median(realTimeFactors(options, figures.idle_camera_runs));
   json["rtf_camera"] = figure(rtf);
