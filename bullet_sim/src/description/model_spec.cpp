@@ -409,11 +409,14 @@ class ModelParser {
   void applyMaterial(const std::string& material, const std::string& where, LinkSpec& link) {
     std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(material);
     std::string texture_warning;
-    if (!colour) {
+    if (!colour && script_colours_.count(material)) {
+      colour = script_colours_[material];
+    } else if (!colour) {  // read once for all links that name it
       const std::vector<std::string>& resource_path = resolver_.gazeboPaths().resourcePath();
       if (!resource_scripts_) resource_scripts_ = resourceMaterialScripts(resource_path);
       colour = scriptMaterialColour(material, *resource_scripts_, resourceTextureFolders(resource_path),
                                     &texture_warning);
+      script_colours_[material] = colour;
     }
     if (!texture_warning.empty() && unknown_materials_.insert(material).second) {
       diagnostics_.warning(where + "<material>" + material + "</material>: " + texture_warning +
@@ -494,7 +497,8 @@ class ModelParser {
   const PluginParsers& plugins_;
   MeshCache meshes_;
   std::set<std::string> unknown_materials_;  ///< Gazebo material names warned about, once each
-  std::optional<std::vector<std::string>> resource_scripts_;  ///< see applyMaterial
+  std::optional<std::vector<std::string>> resource_scripts_;              ///< see applyMaterial
+  std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  ///< by material name
   std::vector<PluginElement> model_plugins_;
   std::vector<PluginElement> sensor_plugins_;
 };

@@ -441,11 +441,16 @@ class WorldConverter {
 
   /// The colour material scripts give `script`: those its <uri>s name, then those of the resource path; its
   /// texture looked for in its <uri>s' folders, then the resource path's. A texture that cannot be used is
-  /// warned about once per name.
+  /// warned about once per name. Visuals naming the same scripts share one reading of them and of the
+  /// texture.
   std::optional<Eigen::Vector4d> scriptColour(const sdf::ElementPtr& material, const std::string& script,
                                               const std::string& where) {
     std::vector<std::string> folders;
     const std::vector<std::string> scripts = materialScripts(material, folders);
+    std::string key = script;
+    for (const std::string& file : scripts) key += "\n" + file;
+    const auto cached = script_colours_.find(key);
+    if (cached != script_colours_.end()) return cached->second;
     const std::vector<std::string> resource = resourceTextureFolders(resolver_.gazeboPaths().resourcePath());
     folders.insert(folders.end(), resource.begin(), resource.end());
     std::string warning;
@@ -458,6 +463,7 @@ class WorldConverter {
           (colour ? "; drawn in its colour" : "; a mesh keeps its own colours, other shapes are grey") +
           " (warned once for all visuals that use it)");
     }
+    script_colours_[key] = colour;
     return colour;
   }
 
@@ -603,8 +609,9 @@ class WorldConverter {
   Diagnostics& diagnostics_;
   MeshCache meshes_;                         // copies of a model share their meshes and textures
   std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
-  std::optional<std::vector<std::string>> resource_scripts_;  // see resourceScripts
-  bool spawning_ = false;                                     ///< converting a model to spawn, not a world's
+  std::optional<std::vector<std::string>> resource_scripts_;              // see resourceScripts
+  std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  // see scriptColour
+  bool spawning_ = false;  ///< converting a model to spawn, not a world's
 };
 
 /// libsdformat's find callback for <include> URIs: a model:// include, or any URI that names a folder,
