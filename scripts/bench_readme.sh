@@ -1,10 +1,20 @@
 #!/usr/bin/env bash
 # Runs `rosrun bullet_sim bench` on the wheelchair in home.world and on the bench scenario (bullet_sim/bench:
 # the robot and home our peers measured PyBullet and MuJoCo with), and rewrites the README's "## Performance"
-# section between <!-- bench:begin --> and <!-- bench:end --> (created before "## Tests" when missing).
+# section between <!-- bench:begin --> and <!-- bench:end --> (created before "## Tests" when missing), and
+# its camera table (bench --camera) between <!-- bench-camera:begin --> and <!-- bench-camera:end -->.
 # Run after building, on a machine as quiet as you can make it:
-#   source devel/setup.bash && scripts/bench_readme.sh        # BENCH_REPEAT=5 runs per figure (medians)
+#   source devel/setup.bash && scripts/bench_readme.sh [all|physics|camera]   # default all
+# BENCH_REPEAT=5 runs per figure (medians).
 set -euo pipefail
+SECTIONS=${1:-all}
+case "$SECTIONS" in
+all | physics | camera) ;;
+*)
+  echo "usage: $0 [all|physics|camera]" >&2
+  exit 2
+  ;;
+esac
 export PATH=/usr/bin:/usr/local/bin:$PATH  # Debian's ROS tools and the python3 below
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 REPEAT=${BENCH_REPEAT:-5}
@@ -22,6 +32,29 @@ bench() {
 
 CHAIR=$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro
 ROBOT=(--robot "$SCENARIO/bench_robot.urdf" --world "$SCENARIO/bench_home.world")
+
+# The camera figures of issue 13: the wheelchair in home.world with its lidar on, driving 4 s of the arc (the
+# flat leaves room for that much), a camera on it. The load averages before and after go into the README.
+camera_section() {
+  mkdir -p "$OUT/camera"
+  # How busy the machine is without us: its CPU time over 2 s before the runs (/proc/stat's first line).
+  head -1 /proc/stat >"$OUT/camera/stat_before"
+  sleep 2
+  head -1 /proc/stat >>"$OUT/camera/stat_before"
+  cut -d' ' -f1-3 /proc/loadavg >"$OUT/camera/load_before"
+  local chair=(--robot "$CHAIR" --world home.world --duration 4)
+  bench camera/rgb "${chair[@]}" --camera 640x480@30
+  bench camera/depth "${chair[@]}" --camera 640x480@20 --depth
+  bench camera/rgb_hd "${chair[@]}" --camera 1920x1080@30
+  bench camera/depth_hd "${chair[@]}" --camera 1920x1080@30 --depth
+  cut -d' ' -f1-3 /proc/loadavg >"$OUT/camera/load_after"
+  /usr/bin/python3 "$REPO/scripts/bench_readme_camera.py" "$OUT/camera" "$REPO/README.md" "$REPEAT"
+}
+if [[ $SECTIONS == camera ]]; then
+  camera_section
+  exit 0
+fi
+
 # home.world has a wall 2.5 m north of the origin: 5 s of the arc keeps the chair clear of it.
 bench wheelchair --robot "$CHAIR" --world home.world --duration 5
 bench default "${ROBOT[@]}"
@@ -137,3 +170,5 @@ else:
 open(readme, "w").write(text)
 print("\n".join(lines))
 EOF
+
+if [[ $SECTIONS == all ]]; then camera_section; fi
