@@ -22,12 +22,15 @@ SCENARIO=$REPO/bullet_sim/bench
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 
+# bench NAME ARGS...: runs bench with ARGS (and --repeat REPEAT unless ARGS give one) into $OUT/NAME.json.
 bench() {
   local name=$1
   shift
+  local repeat=(--repeat "$REPEAT")
+  if [[ " $* " == *" --repeat "* ]]; then repeat=(); fi  # bench takes one --repeat
   echo "rosrun bullet_sim bench $*" >"$OUT/$name.command"
   echo "== $name: bench $*" >&2
-  rosrun bullet_sim bench --repeat "$REPEAT" "$@" >"$OUT/$name.json"
+  rosrun bullet_sim bench "${repeat[@]}" "$@" >"$OUT/$name.json"
 }
 
 CHAIR=$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro
@@ -66,7 +69,10 @@ bench obstacles "${ROBOT[@]}" --lidar 1800x16 --obstacles 1000
 for run in $(seq "$REPEAT"); do bench "startup$run" "${ROBOT[@]}" --duration 0.1 --repeat 1; done
 
 /usr/bin/python3 - "$OUT" "$REPO/README.md" "$REPEAT" <<'EOF'
-import datetime, json, os, re, sys, textwrap
+import datetime, json, os, sys, textwrap
+
+sys.path.insert(0, os.path.join(os.path.dirname(sys.argv[2]), "scripts"))
+from readme_section import write_section
 
 out, readme, repeat = sys.argv[1], sys.argv[2], sys.argv[3]
 runs = {name[:-5]: json.load(open(os.path.join(out, name))) for name in os.listdir(out) if name.endswith(".json")}
@@ -161,13 +167,8 @@ lines = [
 if warnings:
     lines += ["", "Load warnings:"] + ["- " + w for w in warnings]
 
-section = "<!-- bench:begin -->\n" + "\n".join(lines) + "\n<!-- bench:end -->"
-text = open(readme).read()  # read right before writing: others edit the README too
-if "<!-- bench:begin -->" in text:
-    text = re.sub(r"<!-- bench:begin -->.*?<!-- bench:end -->", lambda _: section, text, flags=re.S)
-else:
-    text = text.replace("\n## Tests\n", "\n## Performance\n" + section + "\n\n## Tests\n", 1)
-open(readme, "w").write(text)
+write_section(readme, "bench", lines,
+              lambda text, section: text.replace("\n## Tests\n", "\n## Performance\n" + section + "\n\n## Tests\n", 1))
 print("\n".join(lines))
 EOF
 

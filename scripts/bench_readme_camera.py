@@ -7,9 +7,10 @@ usage: bench_readme_camera.py RUNS_DIR README REPEAT"""
 import datetime
 import json
 import os
-import re
 import sys
 import textwrap
+
+from readme_section import write_section
 
 
 def median(values):
@@ -75,13 +76,8 @@ def main():
     if warnings:
         lines += ["", "Load warnings:"] + ["- " + w for w in warnings]
 
-    section = "<!-- bench-camera:begin -->\n" + "\n".join(lines) + "\n<!-- bench-camera:end -->"
-    text = open(readme).read()  # read right before writing: others edit the README too
-    if "<!-- bench-camera:begin -->" in text:
-        text = re.sub(r"<!-- bench-camera:begin -->.*?<!-- bench-camera:end -->", lambda _: section, text, flags=re.S)
-    else:
-        text = text.replace("<!-- bench:end -->\n\n### Cameras\n", "<!-- bench:end -->\n\n### Cameras\n" + section + "\n", 1)
-    open(readme, "w").write(text)
+    heading = "<!-- bench:end -->\n\n### Cameras\n"  # the Performance section's, below its table
+    write_section(readme, "bench-camera", lines, lambda text, section: text.replace(heading, heading + section + "\n", 1))
     print("\n".join(lines))
 
 
