@@ -21,8 +21,8 @@ Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
   root.rotate(Eigen::AngleAxisd(pose.yaw, Eigen::Vector3d::UnitZ()) *
               Eigen::AngleAxisd(pose.pitch, Eigen::Vector3d::UnitY()) *
               Eigen::AngleAxisd(pose.roll, Eigen::Vector3d::UnitX()));
-  if (pose.z) {
-    root.translation().z() = *pose.z;
+  if (pose.z || (hasFixedBase(model) && !model.is_static)) {  // fixed to the world where it is put
+    root.translation().z() = pose.z.value_or(0.0);
     return root;
   }
   double lowest = std::numeric_limits<double>::infinity();
@@ -86,7 +86,7 @@ bool isCopyInTheWay(const WorldModelSpec& world_model, const ModelSpec& model,
 /// ros_control's rule, else contact.
 std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
                          const ParameterSource* parameters, Diagnostics& diagnostics) {
-  if (model.is_static) return "contact";
+  if (hasFixedBase(model)) return "contact";
   for (const auto& plugin : model.plugins) {
     if (const auto* drive = plugin.configAs<DriveConfigHead>()) return drive->wheel_model;
   }
@@ -272,6 +272,7 @@ void Simulation::resetWorld() {
     robot->body_->reset(robot->spawn_pose_, robot->spawn_joints_);
     for (auto& plugin : robot->plugins_) plugin->reset();
   }
+  physics_->forgetContacts();
   refreshRays();
 }
 
