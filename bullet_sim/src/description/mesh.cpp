@@ -1,5 +1,6 @@
 #include "bullet_sim/description/mesh.h"
 
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
@@ -11,6 +12,9 @@ namespace bullet_sim {
 std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vector3d& scale,
                                      std::string* error) {
   Assimp::Importer importer;
+  // COLLADA as RViz, Gazebo, FCL and MoveIt read it: the vertices in the file's axes, scaled by its <unit
+  // meter>, without assimp's turn of a Z_UP file into Y_UP (which stood a Z_UP jersey barrier on its end).
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode) {
