@@ -66,6 +66,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   // next to all of them in the broadphase.
   for (const auto& model : world.models) {
     auto& placed = model_statics_.emplace_back();
+    if (!model.is_static) continue;  // a body: the simulation adds it
     for (const auto& collision : model.collisions) {
       placed.emplace_back(statics_.size(), collision.origin);
       auto object = std::make_unique<btCollisionObject>();

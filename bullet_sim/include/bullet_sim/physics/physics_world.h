@@ -32,6 +32,7 @@ struct PhysicsOptions {
 
 class PhysicsWorld {
  public:
+  /// Adds the static models of `world` as static geometry; its other models are bodies for the caller to add.
   PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options);
   ~PhysicsWorld();
   PhysicsWorld(const PhysicsWorld&) = delete;
