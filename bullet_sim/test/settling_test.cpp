@@ -103,6 +103,20 @@ double creep(const ModelSpec& model) {
 
 // A robot on free wheels is held by friction alone: four wheels on a plane share its weight in ways the
 // solver must settle, and a solve that does not converge pushed the smartcar on at 2 mm/s^2.
+// Clearpath's descriptions write every wheel's friction as attributes; sdformat reads them as the text form.
+TEST(Settling, AttributeFormFrictionReadsAsTheTextForm) {
+  const std::string urdf = test::replaceAfter(
+      freeWheeler(), "</link>", "</robot>",
+      "<gazebo reference='left_wheel'><mu1 value='0.3'/><mu2 value='0.4'/><kp value='1e6'/>"
+      "<kd value='10'/></gazebo></robot>");
+  const ModelSpec model = parse(urdf);  // no warning
+  const SurfaceSpec& surface = model.link("left_wheel")->surface;
+  EXPECT_DOUBLE_EQ(surface.mu1, 0.3);
+  EXPECT_DOUBLE_EQ(surface.mu2, 0.4);
+  EXPECT_DOUBLE_EQ(surface.kp.value_or(0), 1e6);
+  EXPECT_DOUBLE_EQ(surface.kd.value_or(0), 10);
+}
+
 TEST(Settling, FreeWheelsDoNotCreep) {
   EXPECT_LT(creep(parse(freeWheeler())), 1e-3) << "two wheels and a caster ball";
   const std::string smartcar = test::expandXacro("smartcar_description", "urdf/smartcar.urdf.xacro");
