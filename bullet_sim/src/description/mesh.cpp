@@ -144,8 +144,8 @@ std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vecto
                                      std::string* error, TextureCache* textures,
                                      std::vector<std::string>* warnings) {
   Assimp::Importer importer;
-  // Gazebo takes a COLLADA file's coordinates as they are, whatever its <up_axis>; assimp would turn them
-  // to its own y-up convention.
+  // COLLADA as RViz, Gazebo, FCL and MoveIt read it: the vertices in the file's axes, scaled by its <unit
+  // meter>, without assimp's turn of a Z_UP file into Y_UP (which stood a Z_UP jersey barrier on its end).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);

@@ -345,16 +345,17 @@ class ModelParser {
     const std::string where = line + "<gazebo reference=\"" + link.name + "\"> ";
     for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
       const std::string name = tag->Name();
+      // <mu1 value="1"/> reads as <mu1>1</mu1>, as sdformat reads it (Clearpath writes every wheel so).
+      const char* text = tag->GetText() ? tag->GetText() : tag->Attribute("value");
       const auto number = [&](double* out) {
-        if (auto value = parseDouble(tag->GetText())) {
+        if (auto value = parseDouble(text)) {
           *out = *value;
         } else {
-          diagnostics_.error(where + "<" + name + "> must be a number, not [" +
-                             (tag->GetText() ? tag->GetText() : "") + "]");
+          diagnostics_.error(where + "<" + name + "> must be a number, not [" + (text ? text : "") + "]");
         }
       };
       const auto flag = [&](bool* out) {
-        if (auto value = parseBool(tag->GetText())) {
+        if (auto value = parseBool(text)) {
           *out = *value;
         } else {
           diagnostics_.error(where + "<" + name + "> must be true or false");

@@ -202,11 +202,17 @@ class WorldConverter {
     spec.name = model.Name();
     spec.pose = resolvePose(model.SemanticPose(), "", "model [" + model.Name() + "]", model.Element());
     spec.is_static = model.Static();
-    if (!spec.is_static && !spawning_) {
-      diagnostics_.warning(locate(model.Element()) + "model [" + model.Name() +
-                           "] is not static: bullet_sim simulates world models as static obstacles; add "
-                           "<static>true</static> to it");
+    // A world's non-static model is one rigid body; one with joints or several links stays static.
+    if (!spec.is_static && !spawning_ && (model.LinkCount() != 1 || model.ModelCount() > 0)) {
+      spec.is_static = true;
+      diagnostics_.warning(locate(model.Element()) + "model [" + model.Name() + "] is not static, but has " +
+                           std::to_string(model.LinkCount()) + " links and " +
+                           std::to_string(model.ModelCount()) +
+                           " nested models: bullet_sim simulates a world's moving model only as one rigid "
+                           "link, so this one is a static obstacle; spawn it with spawn_sdf_model to "
+                           "simulate its joints");
     }
+    said_static_ = !model.Static() && spec.is_static;
     addContents(model, Eigen::Isometry3d::Identity(), model.Name(), spec);
     return spec;
   }
@@ -221,7 +227,7 @@ class WorldConverter {
       for (uint64_t j = 0; j < model.JointCount(); ++j) {
         addJoint(*model.JointByIndex(j), in_top_model, prefix, spec);
       }
-    } else if (model.JointCount() > 0) {
+    } else if (model.JointCount() > 0 && !said_static_) {
       std::string joints;
       for (uint64_t i = 0; i < model.JointCount(); ++i) {
         joints += (i ? ", [" : "[") + model.JointByIndex(i)->Name() + "]";
@@ -612,6 +618,7 @@ class WorldConverter {
   std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
   std::optional<std::vector<std::string>> resource_scripts_;              // see resourceScripts
   std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  // see scriptColour
+  bool said_static_ = false;  ///< the model being read was made static with a warning, which said why
   bool spawning_ = false;  ///< converting a model to spawn, not a world's
 };
 
