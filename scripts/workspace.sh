@@ -24,7 +24,7 @@ DEBIAN_PACKAGES=(
   libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
   ros-message-generation libtrajectory-msgs-dev
-  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
+  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-yaml python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
 )
 XACRO_VERSION=1.13.3
 

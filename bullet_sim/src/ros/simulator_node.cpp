@@ -23,31 +23,32 @@ std::filesystem::path defaultSnapshotDir() {
   return base / "snapshots";
 }
 
-WorldSpec loadWorldParam(const ros::NodeHandle& private_node) {
+/// The limits, each from its ~limits/<name> when set.
+Limits limitsParam(const ros::NodeHandle& private_node) {
+  Limits limits;
+  for (const std::string& name : Limits::names()) {
+    double value = 0;
+    if (!private_node.getParam("limits/" + name, value)) continue;
+    try {
+      limits.set(name, value);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error("~limits/" + name + ": " + e.what());
+    }
+  }
+  return limits;
+}
+
+WorldSpec loadWorldParam(const ros::NodeHandle& private_node, const Limits& limits) {
   const std::string name = private_node.param<std::string>("world", "empty.world");
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   std::string error;
   const auto path = findWorldFile(name, resolver, &error);
   if (!path) throw std::runtime_error("~world: " + error);
   std::vector<std::string> warnings;
-  WorldSpec world = loadWorld(*path, resolver, &warnings);
+  WorldSpec world = loadWorld(*path, resolver, &warnings, limits);
   for (const auto& warning : warnings) ROS_WARN("%s", warning.c_str());
   ROS_INFO("world %s", path->c_str());
   return world;
-}
-
-SpawnPose toSpawnPose(const geometry_msgs::Pose& pose, bool place_on_ground) {
-  const Eigen::Quaterniond q(pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z);
-  const Eigen::Matrix3d rotation =
-      q.norm() > 0 ? q.normalized().toRotationMatrix() : Eigen::Matrix3d::Identity();
-  SpawnPose spawn;
-  spawn.x = pose.position.x;
-  spawn.y = pose.position.y;
-  spawn.yaw = std::atan2(rotation(1, 0), rotation(0, 0));
-  spawn.pitch = std::asin(-std::clamp(rotation(2, 0), -1.0, 1.0));
-  spawn.roll = std::atan2(rotation(2, 1), rotation(2, 2));
-  if (!place_on_ground) spawn.z = pose.position.z;
-  return spawn;
 }
 
 }  // namespace
@@ -71,7 +72,8 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
   options.images = imagesFrom([this]() -> SceneRenderer& { return renderer(); });
-  simulation_ = std::make_unique<Simulation>(loadWorldParam(private_), options);
+  options.limits = limitsParam(private_);
+  simulation_ = std::make_unique<Simulation>(loadWorldParam(private_, options.limits), options);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
   recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
 
@@ -146,8 +148,16 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     if (request.joint_names.size() != request.joint_positions.size()) {
       throw std::invalid_argument("joint_names and joint_positions differ in length");
     }
-    ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings);
-    SpawnPose pose = toSpawnPose(request.initial_pose, request.place_on_ground);
+    Diagnostics pose_problems(source);
+    const auto& at = request.initial_pose;
+    SpawnPose pose = spawnPoseFrom(
+        Eigen::Vector3d(at.position.x, at.position.y, at.position.z),
+        Eigen::Quaterniond(at.orientation.w, at.orientation.x, at.orientation.y, at.orientation.z),
+        request.place_on_ground, pose_problems);
+    pose_problems.throwIfErrors();
+    warnings = pose_problems.warnings();
+    ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings,
+                                 simulation_->limits());
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];
     }

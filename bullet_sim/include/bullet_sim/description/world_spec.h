@@ -10,6 +10,7 @@
 
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/geometry.h"
+#include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/package_resolver.h"
 
 namespace bullet_sim {
@@ -42,13 +43,14 @@ struct WorldSpec {
 /// <include> URIs: model://ground_plane and model://sun are built in (the sun is a light, so it adds no
 /// model); package:// and file:// go through `resolver`; anything else is an error. Mesh URIs may be
 /// package://, file:// or paths relative to the SDF file that holds them.
+/// Sizes, poses and counts beyond `limits` are errors too.
 WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
-                    std::vector<std::string>* warnings);
+                    std::vector<std::string>* warnings, const Limits& limits = Limits());
 
 /// Like loadWorld, for SDF text. `source` names it in messages; relative mesh paths and includes are resolved
 /// against the directory of `source`.
 WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings);
+                     std::vector<std::string>* warnings, const Limits& limits = Limits());
 
 /// The .world file a user means by `name`: an absolute path as it is; otherwise the name is looked up in
 /// bullet_sim/worlds, then bullet_sim_bringup/worlds (Gazebo-style "worlds/x.world" works too), then relative
