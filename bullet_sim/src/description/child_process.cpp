@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -39,6 +40,7 @@ bool writeAll(int fd, const std::string& data) {
 
 [[noreturn]] void childMain(int fd, const std::function<std::string()>& work, size_t address_space,
                             double seconds) {
+  prctl(PR_SET_PDEATHSIG, SIGKILL);  // an orphan would import on for nobody
   signal(SIGINT, SIG_DFL);
   signal(SIGTERM, SIG_DFL);
   const rlimit no_core{0, 0};

@@ -25,8 +25,8 @@ namespace {
 
 // What a child may map beyond its parent to import one file: assimp's structures take several times the
 // file's size.
-constexpr size_t kImportMemoryBase = size_t{1} << 30;  // [bytes]
-constexpr size_t kImportMemoryPerFileByte = 16;
+constexpr size_t kImportMemoryBase = size_t{2} << 30;  // [bytes]
+constexpr size_t kImportMemoryPerFileByte = 24;
 
 /// A file stream of assimp's own kind, over a file opened here.
 class CheckedStream : public Assimp::DefaultIOStream {

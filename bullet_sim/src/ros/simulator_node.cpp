@@ -1,8 +1,10 @@
 #include "simulator_node.h"
 
+#include <malloc.h>
 #include <ros/callback_queue.h>
 #include <rosgraph_msgs/Clock.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bullet_sim/description/diagnostics.h"
@@ -143,6 +145,7 @@ void SimulatorNode::anchorPacing() {
 
 bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
   const std::string source = "model [" + request.model_name + "]";
+  ROS_INFO("spawning %s", source.c_str());
   try {
     std::vector<std::string> warnings;
     if (request.joint_names.size() != request.joint_positions.size()) {
@@ -174,6 +177,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     response.success = false;
     response.message = e.what();
     ROS_ERROR("spawn refused: %s", e.what());
+    malloc_trim(0);  // what the refused model took goes back to the system
   }
   return true;
 }
@@ -182,6 +186,7 @@ bool SimulatorNode::remove(DeleteModel::Request& request, DeleteModel::Response&
   adapters_.erase(request.model_name);
   recording_->forget(request.model_name);
   response.success = simulation_->remove(request.model_name);
+  malloc_trim(0);  // the robot's memory goes back to the system, not only to malloc
   response.message = response.success ? "deleted model [" + request.model_name + "]"
                                       : "no model [" + request.model_name + "]" +
                                             didYouMean(request.model_name, simulation_->robotNames());
@@ -226,28 +231,58 @@ bool SimulatorNode::snapshot(Snapshot::Request& request, Snapshot::Response& res
   if (!view && !camera) {
     return refuse("unknown view [" + request.view + "]: use chase, top, front, camera:NAME or depth:NAME");
   }
-  const int width = request.width == 0 ? 640 : static_cast<int>(std::min<uint32_t>(request.width, 1u << 30));
-  const int height =
-      request.height == 0 ? 480 : static_cast<int>(std::min<uint32_t>(request.height, 1u << 30));
-  if (width > kMaxSnapshotSide || height > kMaxSnapshotSide) {
-    return refuse("size " + std::to_string(width) + " x " + std::to_string(height) + " is above " +
-                  std::to_string(kMaxSnapshotSide) + " x " + std::to_string(kMaxSnapshotSide));
+  if (request.width > kMaxSnapshotSide || request.height > kMaxSnapshotSide) {
+    return refuse("size " + std::to_string(request.width) + " x " + std::to_string(request.height) +
+                  " is above " + std::to_string(kMaxSnapshotSide) + " x " + std::to_string(kMaxSnapshotSide));
   }
-  const std::filesystem::path file = std::filesystem::path(request.file).lexically_normal();
-  if (request.file.empty() || file.is_absolute() || file.empty() || *file.begin() == "..") {
-    return refuse("file [" + request.file + "] must be a relative path inside ~snapshot_dir [" +
-                  snapshot_dir_.string() + "]");
-  }
+  const int width = request.width == 0 ? 640 : static_cast<int>(request.width);
+  const int height = request.height == 0 ? 480 : static_cast<int>(request.height);
   std::string error;
-  const std::filesystem::path path = snapshot_dir_ / file;
+  const auto path = snapshotPath(request.file, &error);
+  if (!path) return refuse(error);
   const auto draw = [&] {
     return camera ? cameraImage(*simulation_, *camera, renderer()) : drawView(*view, width, height);
   };
-  if (!writeSnapshot(path, draw, &error)) return refuse(error);
+  if (!writeSnapshot(*path, draw, &error)) return refuse(error);
   response.success = true;
-  response.path = path.string();
+  response.path = path->string();
   response.message = "wrote " + response.path;
   return true;
+}
+
+std::optional<std::filesystem::path> SimulatorNode::snapshotPath(const std::string& file,
+                                                                 std::string* error) {
+  namespace fs = std::filesystem;
+  const std::string inside = "must be a relative path inside ~snapshot_dir [" + snapshot_dir_.string() + "]";
+  if (file.find('\0') != std::string::npos) {
+    *error = "file [" + file.substr(0, file.find('\0')) + "\\0...] holds a NUL byte: a file name cannot";
+    return std::nullopt;
+  }
+  const fs::path relative = fs::path(file).lexically_normal();
+  if (file.empty() || relative.is_absolute() || relative.empty() || *relative.begin() == "..") {
+    *error = "file [" + file + "] " + inside;
+    return std::nullopt;
+  }
+  // Symbolic links inside the folder may lead out of it: the real path must stay inside the real folder.
+  std::error_code ec;
+  fs::create_directories(snapshot_dir_, ec);
+  const fs::path folder = fs::canonical(snapshot_dir_, ec);
+  if (ec) {
+    *error = "~snapshot_dir [" + snapshot_dir_.string() + "] cannot be created: " + ec.message();
+    return std::nullopt;
+  }
+  const fs::path real = fs::weakly_canonical(folder / relative, ec);
+  const auto [end, ignored] = std::mismatch(folder.begin(), folder.end(), real.begin(), real.end());
+  bool dangling_link = false;  // weakly_canonical resolves the links that lead somewhere; these do not
+  for (fs::path at = real; !ec && end == folder.end() && at != folder; at = at.parent_path()) {
+    std::error_code missing;  // what does not exist yet is no link
+    dangling_link |= fs::is_symlink(fs::symlink_status(at, missing));
+  }
+  if (ec || end != folder.end() || real == folder || dangling_link) {
+    *error = "file [" + file + "] leads to [" + real.string() + "] through a symbolic link: it " + inside;
+    return std::nullopt;
+  }
+  return real;
 }
 
 Image SimulatorNode::drawView(View view, int width, int height) {

@@ -1,10 +1,11 @@
-// The ROS node `simulator` (named `gazebo` by our launch files): steps the core in sim time, publishes
+// The ROS node `simulator` (registered as `gazebo`, as gzserver is): steps the core in sim time, publishes
 // /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
 //
 // Params: ~world [empty.world], ~step_size [1 ms], ~real_time_factor [1; 0 = as fast as possible], ~paused
 // [false],
 //   ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless),
-//   ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames).
+//   ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames),
+//   ~limits/<name> (description/limits.h: what a model or world may ask for).
 // Services: ~spawn_urdf, ~delete_model, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics,
 //   ~snapshot (a PNG under ~snapshot_dir; rendered between steps, never inside one).
 #pragma once
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "bullet_sim/DeleteModel.h"
 #include "bullet_sim/Snapshot.h"
@@ -48,6 +50,9 @@ class SimulatorNode {
   bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool snapshot(Snapshot::Request& request, Snapshot::Response& response);
 
+  /// The real path of a snapshot file inside ~snapshot_dir, or nullopt with `error` saying why `file` may not
+  /// be written: a NUL byte, an absolute path, a way out with .. or through a symbolic link.
+  std::optional<std::filesystem::path> snapshotPath(const std::string& file, std::string* error);
   /// Writes what `draw` renders into a PNG at `path`; false with `error` when it cannot.
   bool writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw, std::string* error);
   /// The simulation from `view`, with the trails.
