@@ -237,6 +237,7 @@ bool Simulation::remove(const std::string& name) {
   }
   rays_.commit();
   robots_.erase(found);
+  physics_->releaseMemory();
   return true;
 }
 

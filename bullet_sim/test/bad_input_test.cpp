@@ -3,6 +3,7 @@
 // drives on; spawn poses that are not finite or too far; meshes that crash or hang their importer.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <malloc.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/stat.h>
@@ -14,6 +15,7 @@
 
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
+#include "bullet_sim/tools/process_stats.h"
 #include "description/child_process.h"
 #include "test_support.h"
 
@@ -267,10 +269,53 @@ TEST(BadInput, WorldsOfAbsurdSizesPosesOrCountsAreRefused) {
   two_shapes.max_world_shapes = 2;
   const std::string three = boxModel("a", "0 0 0 0 0 0", "1 1 1") + boxModel("b", "2 0 0 0 0 0", "1 1 1") +
                             boxModel("c", "4 0 0 0 0 0", "1 1 1");
-  EXPECT_THAT(worldError(three, two_shapes),
-              HasSubstr("the world has more than 2 collisions and visuals, the "
-                        "limit (max_world_shapes)"));
-  EXPECT_EQ(worldError(three), "");
+  const std::string distinct = boxModel("a", "0 0 0 0 0 0", "1 1 1") + boxModel("b", "2 0 0 0 0 0", "1 1 2") +
+                               boxModel("c", "4 0 0 0 0 0", "1 1 3");
+  for (const std::string& models : {three, distinct}) {  // copies of one model, and three kinds
+    EXPECT_THAT(worldError(models, two_shapes),
+                HasSubstr("the world has more than 2 collisions and visuals, the limit (max_world_shapes)"));
+    EXPECT_EQ(worldError(models), "");
+  }
+}
+
+/// A robot of `boxes` visible boxes in a row on one link, the first ten colliding, with a 1000-beam lidar:
+/// the issue's robot of 800,000 visuals, within the limits.
+std::string heavyRobot(int boxes) {
+  std::string shapes;
+  for (int i = 0; i < boxes; ++i) {
+    const std::string origin = "<origin xyz=\"" + std::to_string(0.01 * i) + " 0 0.05\"/>";
+    const std::string box = "<geometry><box size=\"0.01 0.1 0.1\"/></geometry>";
+    if (i < 10) shapes += "<collision>" + origin + box + "</collision>";
+    shapes += "<visual>" + origin + box + "</visual>";
+  }
+  return R"(<robot name="heavy"><link name="base"><inertial><mass value="10"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)" +
+         shapes +
+         R"(</link><gazebo reference="base"><sensor type="ray" name="lidar"><update_rate>100</update_rate>
+    <pose>0 0 1 0 0 0</pose><ray><scan><horizontal><samples>1000</samples><min_angle>-3</min_angle>
+    <max_angle>3</max_angle></horizontal></scan><range><min>0.1</min><max>10</max></range></ray>
+    <plugin name="lidar_controller" filename="libgazebo_ros_laser.so"/></sensor></gazebo></robot>)";
+}
+
+TEST(Footprint, TheMemoryOfADeletedRobotIsGivenBack) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  simulation.step();
+  Limits limits;
+  limits.max_shapes = 100000;
+  const ModelSpec heavy =
+      parseModel(heavyRobot(60000), "heavy", PackageResolver::fromEnvironment(), nullptr, limits);
+  malloc_trim(0);
+  const double before = currentRssMb();
+  double spawned = 0;
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    simulation.spawn("heavy", heavy, {});
+    for (int i = 0; i < 50; ++i) simulation.step();  // its lidar scans
+    spawned = std::max(spawned, currentRssMb());
+    ASSERT_TRUE(simulation.remove("heavy"));
+    malloc_trim(0);  // as the node does
+  }
+  ASSERT_GT(spawned, before + 10) << "the robot took too little memory for the test to tell";
+  EXPECT_LT(currentRssMb(), 1.1 * before)
+      << "before the first spawn: " << before << " MB, with the robot " << spawned << " MB";
 }
 
 TEST(BadInput, WorkThatCrashesHangsOrExhaustsItsChildEndsOnlyTheChild) {

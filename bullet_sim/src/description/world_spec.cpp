@@ -11,12 +11,14 @@
 #include <functional>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
 
 #include "bullet_sim/description/files.h"
 #include "bullet_sim/description/gazebo_materials.h"
 #include "bullet_sim/description/mesh.h"
+#include "description/world_copies.h"
 
 namespace bullet_sim {
 namespace fs = std::filesystem;
@@ -506,22 +508,40 @@ class WorldConverter {
   size_t triangles_ = 0;  ///< of every mesh shape so far
 };
 
-/// Runs `load` (from a file or from text) with the built-in models and `resolver` behind <include>, then
-/// converts the world. `base_directory` is where relative include and mesh paths start.
-WorldSpec parseWith(const std::string& text,
-                    const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
-                    const std::string& source, const fs::path& base_directory,
-                    const PackageResolver& resolver, std::vector<std::string>* warnings,
-                    const Limits& limits) {
-  Diagnostics diagnostics(source);
-  // sdformat 12 reports malformed XML only as "Unable to read file" (the detail goes to stderr), so tinyxml2
-  // checks it first and names the line and the element.
-  tinyxml2::XMLDocument xml;
-  if (xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
-    diagnostics.error("[" + source + ":" + std::to_string(xml.ErrorLineNum()) +
-                      "] malformed XML: " + xml.ErrorStr() + "; fix the XML there");
-    diagnostics.throwIfErrors();
+/// sdformat's errors as ours; it names an unresolved URI and the line of its include, the reason and the fix
+/// are ours (`unresolved`: URI -> why).
+void reportLoadErrors(const sdf::Errors& errors, std::map<std::string, std::string> unresolved,
+                      const std::string& source, Diagnostics& diagnostics) {
+  for (const sdf::Error& error : errors) {
+    std::string message = describe(error, source);
+    for (auto it = unresolved.begin(); it != unresolved.end();) {
+      if (error.Message().find("[" + it->first + "]") == std::string::npos) {
+        ++it;
+        continue;
+      }
+      message += ": " + it->second;
+      it = unresolved.erase(it);
+    }
+    diagnostics.error(message);
   }
+  for (const auto& [uri, reason] : unresolved) diagnostics.error("include [" + uri + "]: " + reason);
+}
+
+/// One reading of a world: what it holds, and its problems.
+struct Reading {
+  WorldSpec spec;
+  Diagnostics diagnostics;
+};
+
+/// Runs `load` (from a file or from text), or reads `copies->reduced_text` when given, with the built-in
+/// models and `resolver` behind <include>, then converts the world. `base_directory` is where relative
+/// include and mesh paths start.
+Reading readWorld(const WorldCopies* copies,
+                  const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
+                  const std::string& source, const fs::path& base_directory, const PackageResolver& resolver,
+                  const Limits& limits) {
+  Reading reading{WorldSpec(), Diagnostics(source)};
+  Diagnostics& diagnostics = reading.diagnostics;
   BuiltinModelFiles builtins;
   std::map<std::string, std::string> unresolved;  // include URI -> why it could not be found
   sdf::ParserConfig config;
@@ -537,46 +557,53 @@ WorldSpec parseWith(const std::string& text,
   });
 
   sdf::Root root;
-  const sdf::Errors errors = load(root, config);
-  // sdformat names the unresolved URI and the line of the include; the reason and the fix are ours.
-  for (const sdf::Error& error : errors) {
-    std::string message = describe(error, source);
-    for (auto it = unresolved.begin(); it != unresolved.end();) {
-      if (error.Message().find("[" + it->first + "]") == std::string::npos) {
-        ++it;
-        continue;
-      }
-      message += ": " + it->second;
-      it = unresolved.erase(it);
-    }
-    diagnostics.error(message);
-  }
-  for (const auto& [uri, reason] : unresolved) diagnostics.error("include [" + uri + "]: " + reason);
-
-  WorldSpec spec;
-  spec.source = source;
+  const sdf::Errors errors = copies ? root.LoadSdfString(copies->reduced_text, config) : load(root, config);
+  reportLoadErrors(errors, unresolved, source, diagnostics);
+  reading.spec.source = source;
   if (root.WorldCount() == 0) {
     if (errors.empty()) {
       diagnostics.error("no <world> element; a world file holds <sdf version=\"1.6\"><world name=\"...\">");
     }
-  } else {
-    if (root.WorldCount() > 1) {
-      diagnostics.warning("only the first of " + std::to_string(root.WorldCount()) + " worlds, [" +
-                          root.WorldByIndex(0)->Name() + "], is loaded");
-    }
-    WorldConverter(resolver, base_directory, diagnostics, limits).convert(*root.WorldByIndex(0), spec);
+    return reading;
   }
+  if (root.WorldCount() > 1) {
+    diagnostics.warning("only the first of " + std::to_string(root.WorldCount()) + " worlds, [" +
+                        root.WorldByIndex(0)->Name() + "], is loaded");
+  }
+  WorldConverter(resolver, base_directory, diagnostics, limits).convert(*root.WorldByIndex(0), reading.spec);
+  if (copies) addCopies(*copies, limits, reading.spec, diagnostics);
+  return reading;
+}
 
-  if (warnings)
-    warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
-  diagnostics.throwIfErrors();
-  return spec;
+/// Reads a world from `text`, which `load` loads into sdformat (from a file or from the text itself).
+WorldSpec parseWith(const std::string& text,
+                    const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
+                    const std::string& source, const fs::path& base_directory,
+                    const PackageResolver& resolver, std::vector<std::string>* warnings,
+                    const Limits& limits) {
+  // sdformat 12 reports malformed XML only as "Unable to read file" (the detail goes to stderr), so tinyxml2
+  // checks it first and names the line and the element.
+  tinyxml2::XMLDocument xml;
+  if (xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    throw SpecError(source, {"[" + source + ":" + std::to_string(xml.ErrorLineNum()) +
+                             "] malformed XML: " + xml.ErrorStr() + "; fix the XML there"});
+  }
+  // Models that repeat another's contents are read once. Should anything be wrong, the whole file is read
+  // again, so that every problem is reported where it is.
+  const std::optional<WorldCopies> copies = findCopies(xml);
+  Reading reading = readWorld(copies ? &*copies : nullptr, load, source, base_directory, resolver, limits);
+  if (copies && !reading.diagnostics.errors().empty())
+    reading = readWorld(nullptr, load, source, base_directory, resolver, limits);
+  const auto& said = reading.diagnostics.warnings();
+  if (warnings) warnings->insert(warnings->end(), said.begin(), said.end());
+  reading.diagnostics.throwIfErrors();
+  return std::move(reading.spec);
 }
 
 }  // namespace
 
-WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
-                    std::vector<std::string>* warnings, const Limits& limits) {
+WorldSpec loadWorldHere(const std::string& path, const PackageResolver& resolver,
+                        std::vector<std::string>* warnings, const Limits& limits) {
   std::error_code ec;
   if (!fs::exists(path, ec)) {
     throw SpecError(path, {"no such file [" + path + "]; check the path (a relative one starts at [" +
@@ -593,8 +620,9 @@ WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
       fs::absolute(path, ec).parent_path(), resolver, warnings, limits);
 }
 
-WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings, const Limits& limits) {
+WorldSpec parseWorldHere(const std::string& sdf_text, const std::string& source,
+                         const PackageResolver& resolver, std::vector<std::string>* warnings,
+                         const Limits& limits) {
   std::error_code ec;
   if (sdf_text.size() > limits.max_description_bytes) {
     throw SpecError(source,

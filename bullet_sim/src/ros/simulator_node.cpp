@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/render/image.h"
 #include "bullet_sim/scene/robot_snapshot.h"
+#include "bullet_sim/tools/process_stats.h"
 
 namespace bullet_sim {
 
@@ -93,6 +93,8 @@ void SimulatorNode::run() {
   // /clock is never 0: the first step happens even when starting paused.
   step();
   anchorPacing();
+  ROS_INFO("first /clock %.3f s after the process started (%.3f s of CPU), %.0f MB of memory at most so far",
+           processAge().value_or(NAN), cpuSeconds(), peakRssMb());
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (ros::ok()) {
     queue.callAvailable();  // commands and service calls land between steps
@@ -294,16 +296,13 @@ bool SimulatorNode::writeSnapshot(const std::filesystem::path& path, const std::
   try {
     std::filesystem::create_directories(path.parent_path());
     const Image image = draw();
-    return writePng(path.string(), image, error);
+    return render_.writePng(path.string(), image, error);
   } catch (const std::exception& e) {
     *error = e.what();
     return false;
   }
 }
 
-SceneRenderer& SimulatorNode::renderer() {
-  if (!renderer_) renderer_ = std::make_unique<OffscreenRenderer>();
-  return *renderer_;
-}
+SceneRenderer& SimulatorNode::renderer() { return render_.renderer(); }
 
 }  // namespace bullet_sim

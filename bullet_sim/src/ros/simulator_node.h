@@ -22,13 +22,13 @@
 #include "bullet_sim/DeleteModel.h"
 #include "bullet_sim/Snapshot.h"
 #include "bullet_sim/SpawnModel.h"
-#include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/camera.h"
 #include "bullet_sim/scene/recording.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation.h"
+#include "render_library.h"
 #include "robot_adapter.h"
 
 namespace bullet_sim {
@@ -82,7 +82,7 @@ class SimulatorNode {
   ros::WallTime wall_anchor_;
   double sim_anchor_ = 0;
 
-  std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot or camera frame
+  RenderLibrary render_;  ///< loaded at the first snapshot or camera frame
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
 };

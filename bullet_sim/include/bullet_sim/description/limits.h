@@ -27,6 +27,7 @@ struct Limits {
   double max_mass = 1e6;                  ///< [kg] of one link
   double max_inertia = 1e9;               ///< [kg m^2] of one moment or product of inertia
   double mesh_import_seconds = 30;        ///< [s] of wall time for importing one mesh file
+  double world_load_seconds = 120;        ///< [s] of wall time for reading a world (10,000 boxes: 0.3 s)
   // Values Gazebo accepts: beyond them, a warning names the value and the limit is used instead.
   double max_effort = 1e6;  ///< [N m] or [N]: joint effort limits, drive torques
   double max_rate = 1e4;    ///< [Hz]: update rates

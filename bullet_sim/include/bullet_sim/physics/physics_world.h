@@ -7,7 +7,9 @@
 #include "bullet_sim/description/world_spec.h"
 
 class btCollisionObject;
+class btCollisionShape;
 class btMultiBodyDynamicsWorld;
+class btTransform;
 
 namespace bullet_sim {
 
@@ -29,11 +31,17 @@ class PhysicsWorld {
 
   /// Advances exactly one step of options.step_size.
   void step();
+  /// Frees what the solver kept for the contacts of past steps (after a robot is removed: a robot resting on
+  /// 3,000 shapes left 6 MB there).
+  void releaseMemory();
 
   double stepSize() const { return options_.step_size; }
   btMultiBodyDynamicsWorld& bullet() { return *world_; }
 
  private:
+  /// Adds a sleeping static object of `shape` (owned by shapes_) at `pose`.
+  void addStatic(btCollisionShape* shape, const btTransform& pose);
+
   struct Engine;  ///< Bullet's collision configuration, dispatcher, broadphase and solver, in creation order
   PhysicsOptions options_;
   std::unique_ptr<Engine> engine_;
