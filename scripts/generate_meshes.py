@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Generate the robots' visual meshes (binary STL) from the seeds' dimensions.
+"""Generate the robots' visual meshes (binary STL) from the seeds' dimensions, and the meshes of the stock
+models bullet_sim ships (bullet_sim/models) from their published sizes.
 
 We have no CAD files. Wheels take their radius and width from the collision cylinders of the expanded URDF,
 so each figure stays written once, in the xacro; the rest (seat, frame, brackets) are design sizes for
@@ -293,7 +294,16 @@ def tianracer():
     Mesh().add(lidar).write(out(pkg, "laser.stl"))
 
 
+def construction_cone():
+    """Gazebo's construction_cone above its 0.066 m foot: from radius 0.194 m to 0.052 m at 1.082 m."""
+    foot, top = 0.066, 1.082
+    profile = [(0, top), (0, foot), (0.194, foot), (0.052, top)]
+    path = os.path.join(REPO, "bullet_sim", "models", "construction_cone", "meshes", "construction_cone.stl")
+    Mesh().add(revolve(profile)).write(path)
+
+
 if __name__ == "__main__":
+    construction_cone()
     wheelchair()
     smartcar()
     yahboomcar()

@@ -21,4 +21,12 @@ render --xacro "$(rospack find yahboomcar_description)/urdf/yahboomcar.urdf.xacr
   --view camera:camera --out "$OUT/yahboomcar_camera.png"
 render --urdf "$REPO/bullet_sim/test/fixtures/robots/depth_camera_box.urdf" --world home.world --pose -2,0,0 \
   --view depth:depth_camera --out "$OUT/depth_camera.png"
+# A scenario's top view with its trail, and the summary picture of a sweep of its matrix (a local Ray instance).
+SCENARIOS=$REPO/bullet_sim/scenarios
+RUNS=$(mktemp -d)
+rosrun bullet_sim scenario "$SCENARIOS/wheelchair_doorway.yaml" --out "$RUNS/doorway" >/dev/null
+cp "$RUNS/doorway/top.png" "$OUT/scenario_doorway_top.png"
+rosrun bullet_sim sweep "$SCENARIOS/wheelchair_doorway_matrix.yaml" --out "$RUNS/sweep" --no-progress >/dev/null || true
+cp "$RUNS/sweep/summary.png" "$OUT/sweep_summary.png"
+rm -rf "$RUNS"
 echo "wrote $(ls "$OUT" | tr '\n' ' ')"

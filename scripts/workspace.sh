@@ -18,22 +18,29 @@ export PATH=/usr/bin:/usr/local/bin:$PATH
 
 DEBIAN_PACKAGES=(
   catkin ros-base-dev libroscpp-dev python3-rostest python3-roslaunch python3-rostopic rosbash
-  libtf2-ros-dev libtf2-eigen-dev python3-tf2-ros tf-tools libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
+  libtf2-ros-dev libtf2-eigen-dev python3-tf2-ros libtf-dev python3-tf tf-tools libtopic-tools-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-srvs-dev ros-robot-state-publisher joint-state-publisher libimage-transport-dev libcamera-info-manager-dev
   liburdf-dev liburdfdom-dev liburdfdom-tools libtinyxml2-dev libsdformat-dev
   libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
-  ros-message-generation libtrajectory-msgs-dev
-  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-yaml python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
+  ros-message-generation libtrajectory-msgs-dev libactionlib-msgs-dev python3-actionlib-msgs libstd-msgs-dev
+  python3-std-msgs python3-rospy python3-rosparam python3-rosservice
+  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
 )
 XACRO_VERSION=1.13.3
+RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
 
 install_dependencies() {
   install_debian_packages "${DEBIAN_PACKAGES[@]}"
   if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("xacro"))' 2>/dev/null)" != "$XACRO_VERSION" ]; then
     log "installing xacro $XACRO_VERSION from PyPI into /usr/bin/python3"
     as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "xacro==$XACRO_VERSION"
+  fi
+  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("ray"))' 2>/dev/null)" != "$RAY_VERSION" ]; then
+    log "installing ray $RAY_VERSION from PyPI into /usr/bin/python3"
+    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "ray==$RAY_VERSION"
   fi
 }
 

@@ -8,6 +8,7 @@
 
 #include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/plugins/drive_support.h"
+#include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
 #include "physics/multibody_robot.h"
 #include "physics/raycast_robot.h"
 
@@ -98,10 +99,20 @@ void checkSpawnPose(const SpawnPose& pose, const Limits& limits, Diagnostics& di
   }
 }
 
-/// The wheel-ground model of a robot: its drive's, and contact for a robot with no drive plugin.
-std::string wheelModelOf(const ModelSpec& model) {
+/// The wheel-ground model of a robot named `name`: contact for a static one; else its drive's, else by
+/// ros_control's rule, else contact.
+std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
+                         const ParameterSource* parameters, Diagnostics& diagnostics) {
+  if (model.is_static) return "contact";
   for (const auto& plugin : model.plugins) {
     if (const auto* drive = plugin.configAs<DriveConfigHead>()) return drive->wheel_model;
+  }
+  for (const auto& plugin : model.plugins) {
+    const auto* control = plugin.configAs<RosControlConfig>();
+    if (!control) continue;
+    const std::string ns = rosControlNamespace(*control, name, pose.robot_namespace);
+    const ParameterTree robot_parameters = parameters ? parameters->fetch("/" + ns) : ParameterTree();
+    return rosControlWheelModel(*control, model, robot_parameters, diagnostics);
   }
   return "contact";
 }
@@ -147,7 +158,8 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     : world_(std::move(world)), options_(options) {
   physics_ = std::make_unique<PhysicsWorld>(world_, options_.physics);
   for (const auto& model : world_.models) {
-    if (!model.collisions.empty()) rays_.addBody(model.collisions, model.pose, /*is_static=*/true);
+    world_models_.push_back(
+        {model.pose, model.collisions.empty() ? kNoBody : rays_.addBody(model.collisions, model.pose, true)});
   }
   rays_.commit();
   if (options_.images) images_ = options_.images(*this);
@@ -174,12 +186,16 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
                         world_model.name + "] from the .world file, or spawn the robot elsewhere");
     }
   }
+  const std::string wheel_model = wheelModelOf(model, name, pose, options_.parameters, diagnostics);
   diagnostics.throwIfErrors();
+  if (model.is_static) {  // a static model is rigid: its joints do not move
+    for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
+  }
   std::unique_ptr<PhysicsRobot> body;
-  if (wheelModelOf(model) == "raycast") {
-    body = std::make_unique<RaycastRobot>(std::move(model), physics_->bullet(), rays_, root);
+  if (wheel_model == "raycast") {
+    body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);
   } else {
-    body = std::make_unique<MultiBodyRobot>(std::move(model), physics_->bullet(), root);
+    body = std::make_unique<MultiBodyRobot>(std::move(model), name, physics_->bullet(), root);
   }
   auto robot = std::make_unique<Robot>(name, std::move(body), root);
   for (const auto& [joint, position] : pose.joints) {
@@ -195,14 +211,14 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   }
   diagnostics.throwIfErrors();
   robot->body().reset(root, robot->spawn_joints_);
-  equip(*robot, diagnostics);
+  equip(*robot, pose.robot_namespace, diagnostics);
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   robots_.push_back(std::move(robot));
   return *robots_.back();
 }
 
-void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
+void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics) {
   const auto& parts = robot.body().parts();
   for (size_t k = 0; k < parts.size(); ++k) {
     robot.ray_bodies_.push_back(parts[k].collisions.empty()
@@ -212,8 +228,10 @@ void Simulation::equip(Robot& robot, Diagnostics& diagnostics) {
   try {
     for (const auto& declaration : robot.body().spec().plugins) {
       const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
-      const PluginSetup setup{robot.body(),    robot.name(), options_.seed, world_.gravity,
-                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get()};
+      const PluginSetup setup{robot.body(),    robot.name(), options_.seed, physics_->gravity(),
+                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get(),
+                              world_.spherical_coordinates, robot_namespace, options_.parameters,
+                              options_.controllers, &diagnostics};
       robot.plugins_.push_back(options_.plugins->create(declaration, setup));
     }
   } catch (const std::exception& e) {
@@ -236,6 +254,7 @@ bool Simulation::remove(const std::string& name) {
     if (body != kNoBody) rays_.removeBody(body);
   }
   rays_.commit();
+  clearScheduled(name);
   robots_.erase(found);
   physics_->releaseMemory();
   return true;
@@ -262,8 +281,8 @@ std::vector<std::string> Simulation::robotNames() const {
 }
 
 void Simulation::step() {
-  const StepTime time{static_cast<double>(steps_ + 1) * options_.physics.step_size,
-                      options_.physics.step_size};
+  const StepTime time{timeAfter(steps_ + 1), options_.physics.step_size};
+  applyScheduled();
   bool rays_due = false;
   for (auto& robot : robots_) {
     for (auto& plugin : robot->plugins_) {
@@ -291,6 +310,10 @@ void Simulation::refreshRays() {
 }
 
 void Simulation::resetWorld() {
+  for (size_t i = 0; i < world_models_.size(); ++i) {
+    const Eigen::Isometry3d& in_file = world_.models[i].pose;
+    if (world_models_[i].pose.matrix() != in_file.matrix()) moveWorldModel(i, in_file);
+  }
   for (auto& robot : robots_) {
     robot->body_->reset(robot->spawn_pose_, robot->spawn_joints_);
     for (auto& plugin : robot->plugins_) plugin->reset();
@@ -300,7 +323,8 @@ void Simulation::resetWorld() {
 
 void Simulation::resetSimulation() {
   resetWorld();
-  steps_ = 0;
+  steps_ = steps_at_base_ = 0;
+  time_base_ = 0;
 }
 
 }  // namespace bullet_sim

@@ -244,7 +244,7 @@ TEST(BadInput, AbsurdCommandsLeaveTheRobotFinite) {
 std::string worldError(const std::string& models, const Limits& limits = Limits()) {
   try {
     parseWorld("<sdf version=\"1.6\"><world name=\"w\">" + models + "</world></sdf>", "bad.world",
-               PackageResolver::fromEnvironment(), nullptr, limits);
+               PackageResolver::fromEnvironment(), nullptr, WorldOptions{false, limits});
   } catch (const SpecError& e) {
     return e.what();
   }

@@ -1,9 +1,10 @@
 // The compatibility packages under compat/: their interfaces are the originals' (MD5 sums from the originals'
-// definitions, gazebo_msgs 2.9.2 on Noetic), and scripts/compat_packages.sh builds ours only where the system
-// lacks the real package.
+// definitions on Noetic: gazebo_msgs 2.9.2, controller_manager_msgs 0.20.0, control_msgs 1.5.2), and
+// scripts/compat_packages.sh builds ours only where the system lacks the real package.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -42,6 +43,33 @@
 #include <gazebo_msgs/SetPhysicsProperties.h>
 #include <gazebo_msgs/SpawnModel.h>
 #include <gazebo_msgs/WorldState.h>
+
+// Every controller_manager_msgs message and service.
+#include <controller_manager_msgs/ControllerState.h>
+#include <controller_manager_msgs/ControllerStatistics.h>
+#include <controller_manager_msgs/ControllersStatistics.h>
+#include <controller_manager_msgs/HardwareInterfaceResources.h>
+#include <controller_manager_msgs/ListControllerTypes.h>
+#include <controller_manager_msgs/ListControllers.h>
+#include <controller_manager_msgs/LoadController.h>
+#include <controller_manager_msgs/ReloadControllerLibraries.h>
+#include <controller_manager_msgs/SwitchController.h>
+#include <controller_manager_msgs/UnloadController.h>
+
+// Every control_msgs message and service, and the messages of its actions.
+#include <control_msgs/FollowJointTrajectoryAction.h>
+#include <control_msgs/GripperCommand.h>
+#include <control_msgs/GripperCommandAction.h>
+#include <control_msgs/JointControllerState.h>
+#include <control_msgs/JointJog.h>
+#include <control_msgs/JointTolerance.h>
+#include <control_msgs/JointTrajectoryAction.h>
+#include <control_msgs/JointTrajectoryControllerState.h>
+#include <control_msgs/PidState.h>
+#include <control_msgs/PointHeadAction.h>
+#include <control_msgs/QueryCalibrationState.h>
+#include <control_msgs/QueryTrajectoryState.h>
+#include <control_msgs/SingleJointPositionAction.h>
 
 #include "test_support.h"
 
@@ -100,6 +128,44 @@ TEST(GazeboMsgs, ServicesHaveTheOriginalsMd5Sums) {
   EXPECT_EQ(serviceMd5<gazebo_msgs::SpawnModel>(), "9ed9c82c96abe1a00c3e8cdaeee24413");
 }
 
+TEST(ControllerManagerMsgs, MessagesAndServicesHaveTheOriginalsMd5Sums) {
+  // Computed by genmsg from controller_manager_msgs 0.20.0 (ros_control noetic-devel, 633c3746).
+  EXPECT_EQ(md5<controller_manager_msgs::ControllerState>(), "aeb6b261d97793ab74099a3740245272");
+  EXPECT_EQ(md5<controller_manager_msgs::ControllerStatistics>(), "697780c372c8d8597a1436d0e2ad3ba8");
+  EXPECT_EQ(md5<controller_manager_msgs::ControllersStatistics>(), "a154c347736773e3700d1719105df29d");
+  EXPECT_EQ(md5<controller_manager_msgs::HardwareInterfaceResources>(), "f25b55cbf1d1f76e82e5ec9e83f76258");
+  EXPECT_EQ(serviceMd5<controller_manager_msgs::ListControllerTypes>(), "c1d4cd11aefa9f97ba4aeb5b33987f4e");
+  EXPECT_EQ(serviceMd5<controller_manager_msgs::ListControllers>(), "1341feb2e63fa791f855565d0da950d8");
+  EXPECT_EQ(serviceMd5<controller_manager_msgs::LoadController>(), "647e5c54b8d6468952d8d31f1efe96c0");
+  EXPECT_EQ(serviceMd5<controller_manager_msgs::ReloadControllerLibraries>(), "40e8c411fd1797d2e2c486018f846040");
+  EXPECT_EQ(serviceMd5<controller_manager_msgs::SwitchController>(), "b29a7abc673b2c54c14b54e50f8d06a5");
+  EXPECT_EQ(serviceMd5<controller_manager_msgs::UnloadController>(), "647e5c54b8d6468952d8d31f1efe96c0");
+  EXPECT_EQ(controller_manager_msgs::SwitchController::Request::BEST_EFFORT, 1);
+  EXPECT_EQ(controller_manager_msgs::SwitchController::Request::STRICT, 2);
+}
+
+TEST(ControlMsgs, MessagesServicesAndActionsHaveTheOriginalsMd5Sums) {
+  // Computed by genmsg (genaction for the actions) from control_msgs 1.5.2 (kinetic-devel, which Noetic
+  // releases, 36e2e30).
+  EXPECT_EQ(md5<control_msgs::GripperCommand>(), "680acaff79486f017132a7f198d40f08");
+  EXPECT_EQ(md5<control_msgs::JointControllerState>(), "987ad85e4756f3aef7f1e5e7fe0595d1");
+  EXPECT_EQ(md5<control_msgs::JointJog>(), "1685da700c8c2e1254afc92a5fb89c96");
+  EXPECT_EQ(md5<control_msgs::JointTolerance>(), "f544fe9c16cf04547e135dd6063ff5be");
+  EXPECT_EQ(md5<control_msgs::JointTrajectoryControllerState>(), "10817c60c2486ef6b33e97dcd87f4474");
+  EXPECT_EQ(md5<control_msgs::PidState>(), "b138ec00e886c10e73f27e8712252ea6");
+  EXPECT_EQ(md5<control_msgs::FollowJointTrajectoryAction>(), "bc4f9b743838566551c0390c65f1a248");
+  EXPECT_EQ(md5<control_msgs::FollowJointTrajectoryGoal>(), "69636787b6ecbde4d61d711979bc7ecb");
+  EXPECT_EQ(md5<control_msgs::FollowJointTrajectoryResult>(), "493383b18409bfb604b4e26c676401d2");
+  EXPECT_EQ(md5<control_msgs::FollowJointTrajectoryFeedback>(), "10817c60c2486ef6b33e97dcd87f4474");
+  EXPECT_EQ(md5<control_msgs::GripperCommandAction>(), "950b2a6ebe831f5d4f4ceaba3d8be01e");
+  EXPECT_EQ(md5<control_msgs::JointTrajectoryAction>(), "a04ba3ee8f6a2d0985a6aeaf23d9d7ad");
+  EXPECT_EQ(md5<control_msgs::PointHeadAction>(), "7252920f1243de1b741f14f214125371");
+  EXPECT_EQ(md5<control_msgs::SingleJointPositionAction>(), "c4a786b7d53e5d0983decf967a5a779e");
+  EXPECT_EQ(serviceMd5<control_msgs::QueryCalibrationState>(), "28af3beedcb84986b8e470dc5470507d");
+  EXPECT_EQ(serviceMd5<control_msgs::QueryTrajectoryState>(), "ec93cdecbd8062d761aa52b7c90cd44b");
+  EXPECT_EQ(control_msgs::FollowJointTrajectoryResult::GOAL_TOLERANCE_VIOLATED, -5);
+}
+
 // The build removes CATKIN_IGNORE where it builds ours, so `git status` shows it deleted: that deletion must
 // never be committed, or a plain catkin_make would build our stand-ins over the real packages.
 TEST(CompatPackages, EachCommitsItsCatkinIgnore) {
@@ -146,28 +212,54 @@ class CompatPackagesScript : public ::testing::Test {
   std::filesystem::path root_;
 };
 
+/// Every compatibility package the repo ships, by folder name (each folder is named after its package).
+std::vector<std::string> compatPackages() {
+  std::vector<std::string> names;
+  for (const auto& package : std::filesystem::directory_iterator(COMPAT_DIR)) {
+    if (std::filesystem::exists(package.path() / "package.xml")) names.push_back(package.path().filename());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(CompatPackages, AreTheOnesTheDesignNames) {
+  EXPECT_THAT(compatPackages(),
+              ::testing::IsSupersetOf({"control_msgs", "controller_manager", "controller_manager_msgs", "gazebo_msgs",
+                                       "joint_state_controller"}));
+}
+
 TEST_F(CompatPackagesScript, BuildsOursWhereTheSystemLacksTheRealPackage) {
   const auto result = runScript();
   ASSERT_EQ(result.status, 0) << result.errors;
-  EXPECT_FALSE(ignored("gazebo_msgs"));
-  EXPECT_THAT(result.output, HasSubstr("the system has no gazebo_msgs"));
+  for (const auto& name : compatPackages()) {
+    EXPECT_FALSE(ignored(name)) << name;
+    EXPECT_THAT(result.output, HasSubstr("the system has no " + name + ";"));
+  }
 }
 
 TEST_F(CompatPackagesScript, NeverShadowsARealPackage) {
-  addRealPackage("gazebo_msgs");
-  auto result = runScript();
-  ASSERT_EQ(result.status, 0) << result.errors;
-  EXPECT_TRUE(ignored("gazebo_msgs"));
+  for (const auto& name : compatPackages()) {
+    SCOPED_TRACE(name);
+    addRealPackage(name);
+    auto result = runScript();
+    ASSERT_EQ(result.status, 0) << result.errors;
+    EXPECT_TRUE(ignored(name));
+    for (const auto& other : compatPackages()) {
+      if (other == name) continue;
+      EXPECT_FALSE(ignored(other)) << other << " is opted out with " << name;
+    }
 
-  // Opted in first, then the real package appears: ours is opted out again.
-  std::filesystem::remove_all(root_ / "real" / "gazebo_msgs");
-  ASSERT_EQ(runScript().status, 0);
-  ASSERT_FALSE(ignored("gazebo_msgs"));
-  addRealPackage("gazebo_msgs");
-  result = runScript();
-  ASSERT_EQ(result.status, 0) << result.errors;
-  EXPECT_TRUE(ignored("gazebo_msgs"));
-  EXPECT_THAT(result.output, HasSubstr("gazebo_msgs is installed at " + (root_ / "real").string()));
+    // Opted in first, then the real package appears: ours is opted out again.
+    std::filesystem::remove_all(root_ / "real" / name);
+    ASSERT_EQ(runScript().status, 0);
+    ASSERT_FALSE(ignored(name));
+    addRealPackage(name);
+    result = runScript();
+    ASSERT_EQ(result.status, 0) << result.errors;
+    EXPECT_TRUE(ignored(name));
+    EXPECT_THAT(result.output, HasSubstr(name + " is installed at " + (root_ / "real").string()));
+    std::filesystem::remove_all(root_ / "real" / name);
+  }
 }
 
 }  // namespace

@@ -272,5 +272,38 @@ INSTANTIATE_TEST_SUITE_P(
                   1}),
     [](const ::testing::TestParamInfo<RobotCase>& info) { return info.param.label; });
 
+/// The XML of `text` without comments, in tinyxml2's compact form: what a URDF parser sees.
+std::string withoutComments(const std::string& text) {
+  tinyxml2::XMLDocument doc;
+  EXPECT_EQ(doc.Parse(text.c_str()), tinyxml2::XML_SUCCESS) << doc.ErrorStr();
+  std::vector<tinyxml2::XMLNode*> pending = {&doc};
+  while (!pending.empty()) {
+    tinyxml2::XMLNode* node = pending.back();
+    pending.pop_back();
+    for (tinyxml2::XMLNode* child = node->FirstChild(); child;) {
+      tinyxml2::XMLNode* next = child->NextSibling();
+      if (child->ToComment()) {
+        node->DeleteChild(child);
+      } else {
+        pending.push_back(child);
+      }
+      child = next;
+    }
+  }
+  tinyxml2::XMLPrinter printer(nullptr, /*compact=*/true);
+  doc.Print(&printer);
+  return printer.CStr();
+}
+
+// Seed 000's gazebo.launch spawns urdf/smartwheelchair_model.urdf: it must be the xacro's expansion.
+TEST(WheelchairPlainUrdf, IsTheXacroExpandedRunScriptsGenerateUrdfWhenNot) {
+  const std::string expanded =
+      test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
+  const std::string plain =
+      test::readFile(test::packageFile("smartwheelchair_model", "urdf/smartwheelchair_model.urdf"));
+  EXPECT_EQ(withoutComments(plain), withoutComments(expanded))
+      << "smartwheelchair_model.urdf is stale: run scripts/generate_urdf.py and commit it";
+}
+
 }  // namespace
 }  // namespace bullet_sim

@@ -232,7 +232,14 @@ INSTANTIATE_TEST_SUITE_P(
         ShippedRobot{"smartcar_description", "urdf/smartcar.urdf.xacro", {}, {}},
         ShippedRobot{"smartcar_description", "urdf/smartcar.urdf.xacro", {"with_lidar:=false"}, {}},
         ShippedRobot{"yahboomcar_description", "urdf/yahboomcar.urdf.xacro", {}, {}},
-        ShippedRobot{"tianracer_description", "urdf/tianracer.urdf.xacro", {}, {}}));
+        ShippedRobot{"tianracer_description", "urdf/tianracer.urdf.xacro", {}, {}},
+        // The multi-sensor test robot: a bumper's frameName world is a global frame; hector's own-type
+        // services are left out.
+        ShippedRobot{"bullet_sim",
+                     "test/fixtures/robots/multi_sensor_robot.urdf.xacro",
+                     {"drive:=force_based"},
+                     {"[imu/data/set_accel_bias] and [imu/data/set_rate_bias] services",
+                      "[navsat/fix/set_reference_geopose] service"}}));
 
 /// urdf_doctor's exit status and what it prints, run as a user would.
 test::CommandResult doctor(const std::string& arguments) {

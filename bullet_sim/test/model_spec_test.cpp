@@ -104,6 +104,39 @@ TEST(ModelSpec, SpawnRefusesADuplicateName) {
   EXPECT_EQ(simulation.robotNames().size(), 1u);
 }
 
+TEST(ModelSpec, ReadsTransmissionsAsRosControlDoes) {
+  std::vector<std::string> warnings;
+  const ModelSpec model = parseModel(readFile(fixture("robots/transmissions.urdf")), "transmissions.urdf",
+                                     PackageResolver::fromEnvironment(), &warnings);
+  // Both spellings of the interface are kept as written; the two that ros_control skips are not there.
+  ASSERT_EQ(model.transmissions.size(), 3u);
+  const TransmissionSpec& left = model.transmissions[0];
+  EXPECT_EQ(left.name, "left_wheel_trans");
+  EXPECT_EQ(left.type, "transmission_interface/SimpleTransmission");
+  ASSERT_EQ(left.joints.size(), 1u);
+  EXPECT_EQ(left.joints[0].name, "left_wheel_joint");
+  EXPECT_THAT(left.joints[0].hardware_interfaces,
+              ::testing::ElementsAre("hardware_interface/VelocityJointInterface"));
+  ASSERT_EQ(left.actuators.size(), 1u);
+  EXPECT_EQ(left.actuators[0].name, "left_wheel_motor");
+  EXPECT_THAT(model.transmissions[1].joints[0].hardware_interfaces, ::testing::ElementsAre("EffortJointInterface"));
+  EXPECT_DOUBLE_EQ(model.transmissions[1].actuators[0].mechanical_reduction, 30);
+  EXPECT_EQ(model.transmissions[2].name, "odd_trans");
+  EXPECT_DOUBLE_EQ(model.transmissions[2].actuators[0].mechanical_reduction, 1);
+
+  std::string all;
+  for (const auto& warning : warnings) all += warning + "\n";
+  EXPECT_THAT(all, HasSubstr("transmission [untyped_trans] (line 37) has no <type>"));
+  EXPECT_THAT(all, HasSubstr("transmission [old_style_trans] (line 41) joint [right_wheel_joint] has no "
+                             "<hardwareInterface>, which ros_control reads inside <joint>"));
+  EXPECT_THAT(all, HasSubstr("transmission [old_style_trans] (line 41) has no <joint> with a "
+                             "<hardwareInterface>: ros_control skips it"));
+  EXPECT_THAT(all, HasSubstr("actuator [odd_motor] <mechanicalReduction> must be a non-zero number, not "
+                             "[fast]: 1 is used"));
+  EXPECT_THAT(all, HasSubstr("(line 48) <actuator name=\"odd_motor\"> <gearRatio> is not a tag"));
+  EXPECT_EQ(warnings.size(), 5u) << all;
+}
+
 TEST(Diagnostics, SuggestsNearMissesOnly) {
   EXPECT_EQ(closestName("laser_link", {"base_link", "laser_Link"}), "laser_Link");
   EXPECT_EQ(closestName("front_left_jiont", {"front_left_joint", "front_right_joint"}), "front_left_joint");

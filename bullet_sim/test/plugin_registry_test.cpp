@@ -149,7 +149,8 @@ TEST(PluginRegistry, TheSimulationBuildsItAndItsOutputFollowsFreeFall) {
   ASSERT_EQ(altimeter.ports().services.size(), 1u);
   EXPECT_EQ(altimeter.ports().services.front().name, "calibrate");
   const auto& calibrate = std::get<ServiceHandler<EmptyRequest>>(altimeter.ports().services.front().handler);
-  EXPECT_EQ(calibrate(EmptyRequest{}), "");
+  EmptyRequest::Reply reply;
+  EXPECT_EQ(calibrate(EmptyRequest{}, reply), "");
   for (int i = 0; i < 10; ++i) simulation.step();
   const double calibrated = heights->latest().stamp;
   EXPECT_NEAR(heights->latest().pose.translation().z(), 10.0 - 9.81 * calibrated * calibrated / 2, 0.01);

@@ -22,16 +22,9 @@ using ::testing::HasSubstr;
 
 constexpr double kDeg = M_PI / 180;
 
-struct Planar {
-  double x, y, yaw;
-};
-
-Planar planar(const Eigen::Isometry3d& pose) {
-  return {pose.translation().x(), pose.translation().y(),
-          std::atan2(pose.linear()(1, 0), pose.linear()(0, 0))};
-}
-
-double angleDifference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
+using test::angleDifference;
+using test::Planar;
+using test::planar;
 
 /// The unicycle driven by the rim speeds a WheeledDrive commands: each wheel's speed steps towards its target
 /// by at most acceleration * period at every update (every `period` s, the first one period after the start).

@@ -5,6 +5,7 @@
 #include <tinyxml2.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -15,6 +16,7 @@
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/plugins/ros_control/controller_manager.h"
 #include "bullet_sim/simulation.h"
 #include "bullet_sim/tools/subprocess.h"
 
@@ -154,6 +156,19 @@ inline std::string replaceAfter(std::string text, const std::string& anchor, con
   return text;
 }
 
+/// A pose on the floor: x [m], y [m] and yaw [rad].
+struct Planar {
+  double x, y, yaw;
+};
+
+inline Planar planar(const Eigen::Isometry3d& pose) {
+  return {pose.translation().x(), pose.translation().y(),
+          std::atan2(pose.linear()(1, 0), pose.linear()(0, 0))};
+}
+
+/// a - b, wrapped into [-pi, pi] [rad].
+inline double angleDifference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
+
 /// Steps until `done()` holds, for at most `max_seconds` of sim time; false, with a test failure naming
 /// `what`, when it never does.
 template <class Done>
@@ -167,6 +182,16 @@ bool stepUntil(Simulation& simulation, Done done, double max_seconds, const std:
     simulation.step();
   }
   return true;
+}
+
+/// Loads `names` on `manager` and starts them at `time` [s] in one STRICT switch, as controller_manager's spawner
+/// does; fails the test when either is refused.
+inline void startControllers(ControllerManager& manager, const std::vector<std::string>& names, double time) {
+  for (const auto& name : names) ASSERT_EQ(manager.load(name, nullptr), "") << name;
+  SwitchControllerRequest start;
+  start.start = names;
+  start.strictness = SwitchControllerRequest::kStrict;
+  ASSERT_EQ(manager.switchControllers(start, time, nullptr), "");
 }
 
 }  // namespace bullet_sim::test

@@ -285,6 +285,36 @@ TEST(WorldSpec, FoldsModelLinkAndCollisionPoses) {
   ASSERT_EQ(crate.visuals.size(), 1u);
   EXPECT_EQ(crate.visuals[0].shape.type, Shape::Type::kSphere);
   EXPECT_TRUE(crate.visuals[0].origin.translation().isApprox(Eigen::Vector3d(1, 0, 0.5)));
+  // The links, for the world API: a nested model's carry its name.
+  ASSERT_EQ(crate.links.size(), 2u);
+  EXPECT_EQ(crate.links[0].name, "body");
+  EXPECT_TRUE(crate.links[0].pose.translation().isApprox(Eigen::Vector3d(1, 0, 0)));
+  EXPECT_EQ(crate.links[0].collisions, std::vector<std::string>{"lid"});
+  EXPECT_EQ(crate.links[1].name, "handle::grip");
+  EXPECT_TRUE(crate.links[1].pose.translation().isApprox(Eigen::Vector3d(0, 1, 0)));
+}
+
+/// A world whose <physics> holds `tags`.
+std::string withPhysics(const std::string& tags) {
+  return R"(<sdf version="1.6"><world name="w"><physics type="ode">)" + tags + "</physics></world></sdf>";
+}
+
+TEST(WorldSpec, PhysicsPacesByTheUpdateRateAndWithoutOneByTheRealTimeFactor) {
+  std::vector<std::string> warnings;
+  WorldSpec world = parse(withPhysics("<max_step_size>0.002</max_step_size><real_time_update_rate>0"
+                                      "</real_time_update_rate><real_time_factor>0</real_time_factor>"),
+                          &warnings);
+  EXPECT_DOUBLE_EQ(world.max_step_size, 0.002);
+  EXPECT_DOUBLE_EQ(world.real_time_update_rate, 0) << "as fast as possible, the RL idiom";
+  EXPECT_TRUE(warnings.empty());
+  world = parse(withPhysics("<max_step_size>0.004</max_step_size><real_time_factor>2</real_time_factor>"));
+  EXPECT_DOUBLE_EQ(world.real_time_update_rate, 500) << "2 x real time in steps of 4 ms";
+  world = parse(withPhysics("<real_time_update_rate>3000</real_time_update_rate>"), &warnings);
+  EXPECT_DOUBLE_EQ(world.real_time_update_rate, 3000);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(contains(warnings[0], "real_time_factor [1] disagrees with real_time_update_rate [3000]"))
+      << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "(3 x real time)")) << warnings[0];
 }
 
 TEST(WorldSpec, ColoursComeFromDiffuseThenAmbientThenTheGazeboScript) {
@@ -382,9 +412,9 @@ const BrokenWorld kBrokenWorlds[] = {
     {"MissingMeshNamesTheElementAndTheMesh",
      "fail_missing_mesh.world",
      {"model [statue] link [body] collision [shell]", "meshes/does_not_exist.stl"}},
-    {"UnknownIncludeNamesTheBuiltInItResembles",
-     "fail_unknown_include.world",
-     {"model://ground_plan]", "did you mean [ground_plane]"}},
+    {"IncludedFolderWithoutModelConfig",
+     "fail_include_without_model_config.world",
+     {"fail_include_without_model_config.world:6]", "meshes] has no model.config", "<sdf version="}},
     {"MalformedXmlNamesTheElement",
      "fail_malformed.world",
      {"fail_malformed.world:7]", "malformed XML", "name=link"}},
@@ -397,17 +427,44 @@ INSTANTIATE_TEST_SUITE_P(Fixtures, WorldSpecErrors, ::testing::ValuesIn(kBrokenW
                          [](const ::testing::TestParamInfo<BrokenWorld>& info) { return info.param.name; });
 
 TEST(WorldSpecErrorList, TwoProblemsAreReportedInOneError) {
+  // The unknown model is the second problem only when models must all be found.
+  const std::string path = fixture("fail_two_problems.world");
   try {
-    load(fixture("fail_two_problems.world"));
+    loadWorld(path, PackageResolver::fromEnvironment(), nullptr, {.strict_models = true});
     FAIL() << "fail_two_problems.world loaded";
   } catch (const SpecError& error) {
     const std::string message = error.what();
     EXPECT_TRUE(contains(message, "fail_two_problems.world")) << message;
     ASSERT_EQ(error.problems().size(), 2u) << message;
-    EXPECT_TRUE(contains(message, "model://coffee_machine]")) << message;
+    EXPECT_TRUE(contains(message, "unknown model [coffee_machine]")) << message;
     EXPECT_TRUE(
         contains(message, "model [pill] link [body] collision [collision]: unsupported geometry [capsule]"))
         << message;
+  }
+}
+
+TEST(WorldSpec, UnknownModelIsSkippedWithOneWarningAndTheRestLoads) {
+  std::vector<std::string> warnings;
+  const WorldSpec world = load(fixture("unknown_model.world"), &warnings);
+  ASSERT_EQ(world.models.size(), 1u);
+  EXPECT_EQ(world.models[0].name, "shelf");
+  ASSERT_EQ(warnings.size(), 1u) << "one warning for both includes of the model";
+  const std::string& warning = warnings[0];
+  EXPECT_TRUE(contains(warning, "unknown_model.world:7] skipped (2 includes)")) << warning;
+  EXPECT_TRUE(contains(warning, "unknown model [ground_plan] (did you mean [ground_plane]?)")) << warning;
+  EXPECT_TRUE(contains(warning, packageDirectory("bullet_sim") + "/models")) << "names the folders searched";
+  EXPECT_TRUE(contains(warning, "GAZEBO_MODEL_PATH")) << "says how to add a model";
+  EXPECT_TRUE(contains(warning, "gazebo_model_path=")) << warning;
+  EXPECT_FALSE(contains(warning, "model://ground_plan/")) << "names the model, not a path in it";
+
+  try {
+    loadWorld(fixture("unknown_model.world"), PackageResolver::fromEnvironment(), nullptr,
+              {.strict_models = true});
+    FAIL() << "an unknown model loaded with strict_models";
+  } catch (const SpecError& error) {
+    ASSERT_EQ(error.problems().size(), 1u) << error.what();
+    EXPECT_TRUE(contains(error.what(), "unknown model [ground_plan]")) << error.what();
+    EXPECT_TRUE(contains(error.what(), "~strict_models")) << error.what();
   }
 }
 

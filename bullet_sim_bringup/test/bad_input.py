@@ -17,7 +17,8 @@ import rospkg
 import rospy
 import rostest
 import yaml
-from bullet_sim.srv import DeleteModel, SpawnModel, SpawnModelRequest
+from bullet_sim.srv import SpawnModel, SpawnModelRequest
+from gazebo_msgs.srv import DeleteModel
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock

@@ -1,6 +1,9 @@
 #include "bullet_sim/description/gazebo_materials.h"
 
 #include <array>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <utility>
 
 namespace bullet_sim {
@@ -39,7 +42,85 @@ constexpr NamedColour kColours[] = {
     {"Gazebo/PaintedWall", {0.9, 0.89, 0.85, 1}},
 };
 
+/// A material block of an OGRE script: its colours and the material it inherits from.
+struct ScriptMaterial {
+  std::optional<Eigen::Vector4d> diffuse;
+  std::optional<Eigen::Vector4d> ambient;
+  std::string parent;
+};
+
+/// The words of an OGRE script: "//" comments dropped, each brace a word of its own.
+std::vector<std::string> scriptWords(std::istream& in) {
+  std::vector<std::string> words;
+  for (std::string line; std::getline(in, line);) {
+    line = line.substr(0, line.find("//"));
+    std::string spaced;
+    for (char c : line) spaced += (c == '{' || c == '}') ? std::string(" ") + c + " " : std::string(1, c);
+    std::istringstream split(spaced);
+    for (std::string word; split >> word;) words.push_back(word);
+  }
+  return words;
+}
+
+/// "r g b [a]" starting at words[at]; nullopt for anything else (such as "vertexcolour").
+std::optional<Eigen::Vector4d> colourAt(const std::vector<std::string>& words, size_t at) {
+  Eigen::Vector4d rgba(0, 0, 0, 1);
+  for (int i = 0; i < 4; ++i) {
+    try {
+      size_t used = 0;
+      if (at + i >= words.size()) throw std::invalid_argument("end");
+      rgba[i] = std::stod(words[at + i], &used);
+      if (used != words[at + i].size()) throw std::invalid_argument(words[at + i]);
+    } catch (const std::exception&) {
+      if (i < 3) return std::nullopt;
+      break;
+    }
+  }
+  return rgba;
+}
+
+/// Adds the material blocks of `words` that `materials` does not hold yet.
+void readMaterials(const std::vector<std::string>& words, std::map<std::string, ScriptMaterial>& materials) {
+  for (size_t i = 0; i + 1 < words.size(); ++i) {
+    if (words[i] != "material") continue;
+    const std::string name = words[i + 1];
+    ScriptMaterial material;
+    size_t at = i + 2;
+    if (at + 1 < words.size() && words[at] == ":") {
+      material.parent = words[at + 1];
+      at += 2;
+    }
+    if (at >= words.size() || words[at] != "{") continue;
+    for (int depth = 0; at < words.size(); ++at) {
+      if (words[at] == "{") ++depth;
+      if (words[at] == "}" && --depth == 0) break;
+      if (words[at] == "diffuse" && !material.diffuse) material.diffuse = colourAt(words, at + 1);
+      if (words[at] == "ambient" && !material.ambient) material.ambient = colourAt(words, at + 1);
+    }
+    materials.emplace(name, material);
+    i = at;
+  }
+}
+
 }  // namespace
+
+std::optional<Eigen::Vector4d> scriptMaterialColour(const std::string& name,
+                                                    const std::vector<std::string>& files) {
+  std::map<std::string, ScriptMaterial> materials;
+  for (const auto& file : files) {
+    std::ifstream in(file);
+    readMaterials(scriptWords(in), materials);
+  }
+  std::string current = name;
+  for (size_t depth = 0; depth <= materials.size(); ++depth) {  // a cycle of parents ends here
+    const auto found = materials.find(current);
+    if (found == materials.end()) return std::nullopt;
+    if (found->second.diffuse) return found->second.diffuse;
+    if (found->second.ambient) return found->second.ambient;
+    current = found->second.parent;
+  }
+  return std::nullopt;
+}
 
 std::optional<Eigen::Vector4d> gazeboMaterialColour(const std::string& name) {
   for (const auto& colour : kColours) {

@@ -41,16 +41,9 @@ class CapturedConsole : public console_bridge::OutputHandler {
 const std::set<std::string> kIgnoredLinkTags = {
     "maxVel",        "minDepth",  "fdir1",  "dampingFactor", "maxContacts", "laserRetro",
     "velocityDecay", "collision", "visual", "kinematic",     "static",      "enableWireframe"};
-const std::set<std::string> kIgnoredJointTags = {"provideFeedback",
-                                                 "implicitSpringDamper",
-                                                 "cfmDamping",
-                                                 "stopCfm",
-                                                 "stopErp",
-                                                 "springStiffness",
-                                                 "springReference",
-                                                 "fudgeFactor",
-                                                 "disableFixedJointLumping",
-                                                 "preserveFixedJoint"};
+const std::set<std::string> kIgnoredJointTags = {"provideFeedback", "implicitSpringDamper", "cfmDamping",
+                                                 "stopCfm",         "stopErp",              "springStiffness",
+                                                 "springReference", "fudgeFactor"};
 
 /// Line and column of the first U+00A0 (a non-breaking space copied from a web page), if any.
 std::optional<std::pair<int, int>> findNonBreakingSpace(const std::string& text) {
@@ -152,8 +145,11 @@ class ModelParser {
     spec.root = urdf_model->getRoot()->name;
     addTree(*urdf_model, *urdf_model->getRoot(), spec);
     readGazeboExtensions(robot, spec);
+    spec.transmissions = readTransmissions(childrenNamed(*robot, "transmission"), diagnostics_);
     checkMovingLinksHaveMass(spec);
-    declarePlugins(spec);
+    std::vector<PluginElement> found = std::move(model_plugins_);  // model plugins first, then sensors'
+    found.insert(found.end(), sensor_plugins_.begin(), sensor_plugins_.end());
+    declarePlugins(found, plugins_, spec, diagnostics_, limits_);
     return spec;
   }
 
@@ -248,7 +244,7 @@ class ModelParser {
     }
     for (const auto& collision : link.collision_array) {
       if (auto shape = makeShape(*collision->geometry, "link [" + link.name + "] <collision>")) {
-        spec.collisions.push_back({toIsometry(collision->origin), *shape});
+        spec.collisions.push_back({toIsometry(collision->origin), *shape, collision->name});
       }
     }
     for (const auto& visual : link.visual_array) {
@@ -389,16 +385,15 @@ class ModelParser {
       const std::string line = "line " + std::to_string(gazebo->GetLineNum()) + ": ";
       const char* reference = gazebo->Attribute("reference");
       if (!reference) {
-        readModelBlock(gazebo, line);
+        readModelBlock(gazebo, line, spec);
       } else if (auto link = std::find_if(spec.links.begin(), spec.links.end(),
                                           [&](const LinkSpec& l) { return l.name == reference; });
                  link != spec.links.end()) {
         readLinkBlock(gazebo, line, *link);
-      } else if (spec.joint(reference)) {
-        for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
-          warnIgnored(line + "<gazebo reference=\"" + reference + "\"> <" + tag->Name() + ">",
-                      kIgnoredJointTags.count(tag->Name()) > 0);
-        }
+      } else if (auto joint = std::find_if(spec.joints.begin(), spec.joints.end(),
+                                           [&](const JointSpec& j) { return j.name == reference; });
+                 joint != spec.joints.end()) {
+        readJointBlock(gazebo, line, *joint);
       } else {
         diagnostics_.error(line + "<gazebo reference=\"" + reference + "\"> names no link or joint" +
                            didYouMean(reference, frames) + "; Gazebo would silently ignore this block");
@@ -406,10 +401,14 @@ class ModelParser {
     }
   }
 
-  void readModelBlock(const tinyxml2::XMLElement* gazebo, const std::string& line) {
+  void readModelBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, ModelSpec& spec) {
     for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
       if (std::string(tag->Name()) == "plugin") {
-        if (auto plugin = makePlugin(tag, line)) model_plugins_.push_back({std::move(*plugin), tag, nullptr});
+        model_plugins_.push_back({readTagNode(*tag), std::nullopt, std::nullopt, line});
+      } else if (std::string(tag->Name()) == "static") {
+        const auto value = parseBool(tag->GetText());
+        if (!value) diagnostics_.error(line + "<gazebo> <static> must be true or false");
+        spec.is_static = value.value_or(false);
       } else {
         warnIgnored(line + "<gazebo> <" + std::string(tag->Name()) + ">", false);
       }
@@ -466,6 +465,22 @@ class ModelParser {
     }
   }
 
+  void readJointBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, JointSpec& joint) {
+    const std::string where = line + "<gazebo reference=\"" + joint.name + "\"> ";
+    for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
+      const std::string name = tag->Name();
+      if (name == "disableFixedJointLumping" || name == "preserveFixedJoint") {
+        if (const auto value = parseBool(tag->GetText())) {
+          joint.lumping_disabled |= *value;
+        } else {
+          diagnostics_.error(where + "<" + name + "> must be true or false");
+        }
+      } else {
+        warnIgnored(where + "<" + name + ">", kIgnoredJointTags.count(name) > 0);
+      }
+    }
+  }
+
   void applyMaterial(const std::string& material, const std::string& where, LinkSpec& link) {
     const auto colour = gazeboMaterialColour(material);
     if (!colour) {
@@ -477,18 +492,6 @@ class ModelParser {
       visual.rgba = *colour;
       visual.material = material;
     }
-  }
-
-  /// The declaration of a <plugin>, its config still to come; nullopt when it has no filename.
-  std::optional<PluginDeclaration> makePlugin(const tinyxml2::XMLElement* element, const std::string& line) {
-    PluginDeclaration plugin;
-    plugin.name = element->Attribute("name") ? element->Attribute("name") : "";
-    plugin.filename = element->Attribute("filename") ? element->Attribute("filename") : "";
-    if (plugin.filename.empty()) {
-      diagnostics_.error(line + "<plugin name=\"" + plugin.name + "\"> has no filename");
-      return std::nullopt;
-    }
-    return plugin;
   }
 
   void makeSensor(const tinyxml2::XMLElement* element, const std::string& link, const std::string& where) {
@@ -525,46 +528,15 @@ class ModelParser {
                            "] has no <plugin>, so Gazebo publishes nothing from it: ignored");
       return;
     }
-    if (auto plugin = makePlugin(plugin_element, where)) {
-      plugin->sensor = std::move(sensor);
-      sensor_plugins_.push_back({std::move(*plugin), plugin_element, element});
-    }
+    sensor_plugins_.push_back(
+        {readTagNode(*plugin_element), std::move(sensor), readTagNode(*element), where});
   }
 
-  /// Turns every <plugin> into its typed config, once the links and joints it may name are known. Those
-  /// bullet_sim does not simulate are left out, with the parser's warning.
-  void declarePlugins(ModelSpec& spec) {
-    for (auto* found : {&model_plugins_, &sensor_plugins_}) {
-      for (auto& [declaration, plugin_element, sensor_element] : *found) {
-        const TagNode plugin_tags = toTagNode(*plugin_element);
-        const std::optional<TagNode> sensor_tags =
-            sensor_element ? std::optional<TagNode>(toTagNode(*sensor_element)) : std::nullopt;
-        const std::string where = declaration.sensor
-                                      ? declaration.where() + " plugin [" + declaration.name + "]"
-                                      : declaration.where();
-        PluginTags tags(&plugin_tags, where, diagnostics_);
-        const DeclarationSource source{declaration, tags,         sensor_tags ? &*sensor_tags : nullptr,
-                                       spec,        diagnostics_, limits_};
-        declaration.config = plugins_.parse(source);
-        if (declaration.config) spec.plugins.push_back(std::move(declaration));
-      }
-    }
-    plugins_.checkModel(spec, diagnostics_);
-  }
-
-  static TagNode toTagNode(const tinyxml2::XMLElement& element) {
-    TagNode node;
-    node.name = element.Name();
-    node.line = element.GetLineNum();
-    const std::string text = element.GetText() ? element.GetText() : "";
-    const auto first = text.find_first_not_of(" \t\n\r");
-    const auto last = text.find_last_not_of(" \t\n\r");
-    if (first != std::string::npos) node.text = text.substr(first, last - first + 1);
-    for (auto* attribute = element.FirstAttribute(); attribute; attribute = attribute->Next())
-      node.attributes[attribute->Name()] = attribute->Value();
-    for (auto* child = element.FirstChildElement(); child; child = child->NextSiblingElement())
-      node.children.push_back(toTagNode(*child));
-    return node;
+  static std::vector<TagNode> childrenNamed(const tinyxml2::XMLElement& parent, const char* name) {
+    std::vector<TagNode> children;
+    for (auto* child = parent.FirstChildElement(name); child; child = child->NextSiblingElement(name))
+      children.push_back(readTagNode(*child));
+    return children;
   }
 
   void checkMovingLinksHaveMass(const ModelSpec& spec) {
@@ -583,24 +555,39 @@ class ModelParser {
                                        : " is not a Gazebo tag bullet_sim knows: ignored"));
   }
 
-  /// A <plugin> found in the file, with its elements (alive while the document is), awaiting its config.
-  struct FoundPlugin {
-    PluginDeclaration declaration;
-    const tinyxml2::XMLElement* plugin;
-    const tinyxml2::XMLElement* sensor;  ///< nullptr for a model plugin
-  };
-
   Diagnostics& diagnostics_;
   const PackageResolver& resolver_;
   const PluginParsers& plugins_;
   const Limits& limits_;
   std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;
   size_t triangles_ = 0;  ///< of every mesh shape so far
-  std::vector<FoundPlugin> model_plugins_;
-  std::vector<FoundPlugin> sensor_plugins_;
+  std::vector<PluginElement> model_plugins_;
+  std::vector<PluginElement> sensor_plugins_;
 };
 
 }  // namespace
+
+void declarePlugins(const std::vector<PluginElement>& elements, const PluginParsers& plugins,
+                    ModelSpec& model, Diagnostics& diagnostics, const Limits& limits) {
+  for (const PluginElement& element : elements) {
+    PluginDeclaration declaration;
+    declaration.name = element.plugin.attribute("name");
+    declaration.filename = element.plugin.attribute("filename");
+    declaration.sensor = element.sensor;
+    if (declaration.filename.empty()) {
+      diagnostics.error(element.where + "<plugin name=\"" + declaration.name + "\"> has no filename");
+      continue;
+    }
+    const std::string where = declaration.sensor ? declaration.where() + " plugin [" + declaration.name + "]"
+                                                 : declaration.where();
+    PluginTags tags(&element.plugin, where, diagnostics);
+    const DeclarationSource source{declaration, tags, element.sensor_tags ? &*element.sensor_tags : nullptr,
+                                   model, diagnostics, limits};
+    declaration.config = plugins.parse(source);
+    if (declaration.config) model.plugins.push_back(std::move(declaration));
+  }
+  plugins.checkModel(model, diagnostics);
+}
 
 const LinkSpec* ModelSpec::link(const std::string& name) const {
   for (const auto& l : links) {

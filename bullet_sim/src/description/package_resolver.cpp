@@ -2,8 +2,10 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 namespace bullet_sim {
@@ -23,20 +25,30 @@ std::optional<std::string> manifestName(const fs::path& dir) {
 }
 
 // Like rospack: a directory holding package.xml is a package and is not descended into; CATKIN_IGNORE hides
-// one.
-std::optional<std::string> crawl(const fs::path& dir, const std::string& package, int depth) {
+// one. `visit` returns true to stop the crawl.
+bool crawl(const fs::path& dir, int depth, const std::function<bool(const fs::path&)>& visit) {
   std::error_code ec;
-  if (fs::exists(dir / "CATKIN_IGNORE", ec)) return std::nullopt;
-  if (fs::exists(dir / "package.xml", ec)) {
-    if (manifestName(dir) == package) return fs::canonical(dir, ec).string();
-    return std::nullopt;
-  }
-  if (depth == 0) return std::nullopt;
+  if (fs::exists(dir / "CATKIN_IGNORE", ec)) return false;
+  if (fs::exists(dir / "package.xml", ec)) return visit(dir);
+  if (depth == 0) return false;
+  std::vector<fs::path> subdirectories;  // sorted, so that the first package of a name is always the same
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (!it->is_directory(ec) || it->path().filename().string().front() == '.') continue;
-    if (auto found = crawl(it->path(), package, depth - 1)) return found;
+    if (it->is_directory(ec) && it->path().filename().string().front() != '.') subdirectories.push_back(*it);
   }
-  return std::nullopt;
+  std::sort(subdirectories.begin(), subdirectories.end());
+  for (const auto& subdirectory : subdirectories) {
+    if (crawl(subdirectory, depth - 1, visit)) return true;
+  }
+  return false;
+}
+
+/// The models bullet_sim ships: in its package when the search path has it, else in its source tree.
+std::string shippedModels(const std::optional<std::string>& bullet_sim_directory) {
+  std::error_code ec;
+  if (bullet_sim_directory && fs::is_directory(fs::path(*bullet_sim_directory) / "models", ec)) {
+    return (fs::path(*bullet_sim_directory) / "models").string();
+  }
+  return fs::is_directory(BULLET_SIM_SOURCE_MODELS, ec) ? BULLET_SIM_SOURCE_MODELS : "";
 }
 
 }  // namespace
@@ -48,11 +60,11 @@ PackageResolver PackageResolver::fromEnvironment() {
   for (std::string entry; std::getline(entries, entry, ':');) {
     if (!entry.empty()) path.push_back(entry);
   }
-  return PackageResolver(std::move(path));
+  return PackageResolver(std::move(path), GazeboEnvironment::fromEnvironment());
 }
 
-PackageResolver::PackageResolver(std::vector<std::string> search_path)
-    : search_path_(std::move(search_path)) {}
+PackageResolver::PackageResolver(std::vector<std::string> search_path, GazeboEnvironment gazebo)
+    : search_path_(std::move(search_path)), gazebo_environment_(std::move(gazebo)) {}
 
 std::optional<std::string> PackageResolver::packageDirectory(const std::string& package) const {
   auto cached = found_.find(package);
@@ -65,7 +77,10 @@ std::optional<std::string> PackageResolver::packageDirectory(const std::string& 
     if (fs::exists(direct / "package.xml", ec) && manifestName(direct) == package) {
       result = fs::canonical(direct, ec).string();
     } else {
-      result = crawl(root, package, kMaxCrawlDepth);
+      crawl(root, kMaxCrawlDepth, [&](const fs::path& dir) {
+        if (manifestName(dir) == package) result = fs::canonical(dir, ec).string();
+        return result.has_value();
+      });
     }
     if (result) break;
   }
@@ -75,8 +90,16 @@ std::optional<std::string> PackageResolver::packageDirectory(const std::string& 
 
 std::optional<std::string> PackageResolver::resolve(const std::string& uri, std::string* error) const {
   const std::string package_scheme = "package://";
+  const std::string model_scheme = "model://";
   const std::string file_scheme = "file://";
   if (uri.rfind(file_scheme, 0) == 0) return uri.substr(file_scheme.size());
+  if (uri.rfind(model_scheme, 0) == 0) {
+    const std::string relative = fs::path(uri.substr(model_scheme.size())).lexically_normal().string();
+    std::string why;
+    if (auto found = gazeboPaths().findModelFile(relative, &why)) return found;
+    if (error) *error = "cannot resolve [" + uri + "]: " + why;
+    return std::nullopt;
+  }
   if (uri.rfind(package_scheme, 0) != 0) return uri;
 
   const std::string rest = uri.substr(package_scheme.size());
@@ -92,6 +115,27 @@ std::optional<std::string> PackageResolver::resolve(const std::string& uri, std:
         "]; source your workspace's setup.bash, or add the package's parent directory to ROS_PACKAGE_PATH";
   }
   return std::nullopt;
+}
+
+void PackageResolver::forEachPackage(const std::function<void(const std::string& directory)>& visit) const {
+  std::set<std::string> seen;
+  for (const auto& root : search_path_) {
+    crawl(root, kMaxCrawlDepth, [&](const fs::path& dir) {
+      const std::optional<std::string> name = manifestName(dir);
+      std::error_code ec;
+      if (name && seen.insert(*name).second) visit(fs::canonical(dir, ec).string());
+      return false;
+    });
+  }
+}
+
+const GazeboPaths& PackageResolver::gazeboPaths() const {
+  if (!gazebo_paths_) {
+    std::vector<GazeboExports> exports;
+    forEachPackage([&](const std::string& directory) { exports.push_back(readGazeboExports(directory)); });
+    gazebo_paths_.emplace(gazebo_environment_, exports, shippedModels(packageDirectory("bullet_sim")));
+  }
+  return *gazebo_paths_;
 }
 
 }  // namespace bullet_sim

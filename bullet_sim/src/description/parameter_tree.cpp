@@ -34,7 +34,7 @@ std::optional<T> converted(const YAML::Node& node) {
   }
 }
 
-std::string describe(const YAML::Node& node) {
+std::string describeNode(const YAML::Node& node) {
   if (node.IsScalar()) return "[" + node.Scalar() + "]";
   return node.IsSequence() ? "a list" : node.IsMap() ? "a map" : "nothing";
 }
@@ -82,7 +82,12 @@ std::vector<std::string> ParameterTree::keys() const {
 }
 
 void ParameterTree::wrongKind(const std::string& path, const std::string& kind) const {
-  throw SpecError(source_, {prefix_ + path + " must be " + kind + ", not " + describe(find(path)->yaml)});
+  throw SpecError(source_, {prefix_ + path + " must be " + kind + ", not " + describe(path)});
+}
+
+std::string ParameterTree::describe(const std::string& path) const {
+  const auto found = find(path);
+  return found ? describeNode(found->yaml) : "nothing";
 }
 
 double ParameterTree::number(const std::string& path, double fallback) const {
@@ -111,6 +116,18 @@ std::vector<double> ParameterTree::numbers(const std::string& path) const {
   if (!found) return {};
   if (auto values = converted<std::vector<double>>(found->yaml)) return std::move(*values);
   wrongKind(path, "a list of numbers");
+}
+
+std::vector<ParameterTree> ParameterTree::items(const std::string& path) const {
+  const auto found = find(path);
+  if (!found) return {};
+  if (!found->yaml.IsSequence()) wrongKind(path, "a list");
+  std::vector<ParameterTree> items;
+  for (size_t i = 0; i < found->yaml.size(); ++i) {
+    items.push_back(ParameterTree(std::make_shared<const Node>(Node{found->yaml[i]}), source_,
+                                  prefix_ + path + "[" + std::to_string(i) + "]/"));
+  }
+  return items;
 }
 
 std::vector<std::string> ParameterTree::texts(const std::string& path) const {

@@ -1,5 +1,7 @@
 #include "bullet_sim/description/plugin_tags.h"
 
+#include <tinyxml2.h>
+
 #include <cmath>
 #include <sstream>
 
@@ -24,6 +26,21 @@ const TagNode* TagNode::find(std::initializer_list<const char*> path) const {
 std::string TagNode::attribute(const std::string& key) const {
   const auto found = attributes.find(key);
   return found == attributes.end() ? "" : found->second;
+}
+
+TagNode readTagNode(const tinyxml2::XMLElement& element) {
+  TagNode node;
+  node.name = element.Name();
+  node.line = element.GetLineNum();
+  const std::string text = element.GetText() ? element.GetText() : "";
+  const auto first = text.find_first_not_of(" \t\n\r");
+  const auto last = text.find_last_not_of(" \t\n\r");
+  if (first != std::string::npos) node.text = text.substr(first, last - first + 1);
+  for (auto* attribute = element.FirstAttribute(); attribute; attribute = attribute->Next())
+    node.attributes[attribute->Name()] = attribute->Value();
+  for (auto* child = element.FirstChildElement(); child; child = child->NextSiblingElement())
+    node.children.push_back(readTagNode(*child));
+  return node;
 }
 
 PluginTags::PluginTags(const TagNode* element, std::string where, Diagnostics& diagnostics)

@@ -155,7 +155,48 @@ bool withinCount(size_t count, const char* limit_name, const std::string& what, 
   return false;
 }
 
+/// An error naming `what` of joint `joint` unless `value` is a number >= 0, and finite unless `unlimited` may
+/// be infinite (SDF's effort and velocity limits are, when none is given).
+void checkNonNegative(double value, const char* what, const JointSpec& joint, bool unlimited,
+                      Diagnostics& diagnostics) {
+  if (value >= 0 && (unlimited || std::isfinite(value))) return;
+  std::ostringstream message;
+  message << "joint [" << joint.name << "] " << what << " [" << value << "] must be a "
+          << (unlimited ? "number" : "finite number") << " >= 0";
+  diagnostics.error(message.str());
+}
+
 }  // namespace
+
+void checkModelValues(const ModelSpec& model, const Limits& limits, Diagnostics& diagnostics) {
+  size_t moving_joints = 0, shapes = 0;
+  for (const JointSpec& joint : model.joints) moving_joints += joint.moves();
+  for (const LinkSpec& link : model.links) shapes += link.collisions.size() + link.visuals.size();
+  withinCount(model.links.size(), "max_links", "links", limits, diagnostics);
+  withinCount(moving_joints, "max_moving_joints", "moving joints", limits, diagnostics);
+  withinCount(shapes, "max_shapes", "collisions and visuals", limits, diagnostics);
+  for (const LinkSpec& link : model.links) {
+    if (!link.inertial) continue;
+    const std::string where = "link [" + link.name + "] <inertial> ";
+    if (auto problem = boundProblem(link.inertial->mass, limits.max_mass, "max_mass", "kg"))
+      diagnostics.error(where + "mass " + *problem);
+    for (int k = 0; k < 9; ++k) {
+      const double moment = link.inertial->inertia.data()[k];
+      if (auto problem = boundProblem(moment, limits.max_inertia, "max_inertia", "kg m^2")) {
+        diagnostics.error(where + "inertia " + *problem);
+        break;
+      }
+    }
+  }
+  for (const JointSpec& joint : model.joints) {
+    if (std::isnan(joint.lower) || std::isnan(joint.upper))
+      diagnostics.error("joint [" + joint.name + "] <limit> lower or upper is not a number");
+    checkNonNegative(joint.effort, "effort", joint, true, diagnostics);
+    checkNonNegative(joint.velocity, "velocity", joint, true, diagnostics);
+    checkNonNegative(joint.damping, "damping", joint, false, diagnostics);
+    checkNonNegative(joint.friction, "friction", joint, false, diagnostics);
+  }
+}
 
 bool checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics) {
   size_t links = 0, moving_joints = 0, shapes = 0;

@@ -7,6 +7,7 @@
 
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/limits.h"
+#include "bullet_sim/description/model_spec.h"
 
 namespace bullet_sim {
 
@@ -14,5 +15,9 @@ namespace bullet_sim {
 /// and <joint>: a number, finite, sizes positive, lengths, masses and inertias within `limits`. Each problem
 /// is an error naming the element and the text as written. Returns false when there was one.
 bool checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics);
+
+/// The same bounds on a model read as numbers already (an SDF model to spawn, whose shapes and poses its
+/// reader checked): the counts of links, moving joints and shapes, masses, inertias and joint values.
+void checkModelValues(const ModelSpec& model, const Limits& limits, Diagnostics& diagnostics);
 
 }  // namespace bullet_sim

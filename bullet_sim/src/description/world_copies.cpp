@@ -125,6 +125,10 @@ void addCopies(const WorldCopies& copies, const Limits& limits, WorldSpec& world
       continue;
     }
     WorldModelSpec model = world.models[original->second];
+    const std::string scope = model.name + "::";  // of its collisions' Gazebo names
+    for (Collision& collision : model.collisions) {
+      if (collision.name.rfind(scope, 0) == 0) collision.name = copy.name + "::" + collision.name.substr(scope.size());
+    }
     model.name = copy.name;
     model.pose = copy.pose;
     world.models.push_back(std::move(model));

@@ -1,6 +1,5 @@
 #include "bullet_sim/description/world_spec.h"
 
-#include <stdlib.h>  // mkdtemp
 #include <tinyxml2.h>
 #include <sdf/sdf.hh>
 
@@ -27,46 +26,6 @@ namespace {
 
 constexpr double kPlaneVisualThickness = 0.001;  // [m] of the box that stands in for a plane visual
 
-struct BuiltinModel {
-  const char* uri;
-  const char* sdf;
-};
-
-// Gazebo classic's ground_plane and sun, as its model database ships them. The sun is a light, not a model.
-constexpr BuiltinModel kBuiltinModels[] = {
-    {"model://ground_plane", R"(<?xml version="1.0"?>
-<sdf version="1.6">
-  <model name="ground_plane">
-    <static>true</static>
-    <link name="link">
-      <collision name="collision">
-        <geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>
-      </collision>
-      <visual name="visual">
-        <cast_shadows>false</cast_shadows>
-        <geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>
-        <material>
-          <script><uri>file://media/materials/scripts/gazebo.material</uri><name>Gazebo/Grey</name></script>
-        </material>
-      </visual>
-    </link>
-  </model>
-</sdf>
-)"},
-    {"model://sun", R"(<?xml version="1.0"?>
-<sdf version="1.6">
-  <light type="directional" name="sun">
-    <cast_shadows>true</cast_shadows>
-    <pose>0 0 10 0 0 0</pose>
-    <diffuse>0.8 0.8 0.8 1</diffuse>
-    <specular>0.2 0.2 0.2 1</specular>
-    <attenuation><range>1000</range><constant>0.9</constant><linear>0.01</linear><quadratic>0.001</quadratic></attenuation>
-    <direction>-0.5 0.1 -0.9</direction>
-  </light>
-</sdf>
-)"},
-};
-
 /// A number as SDF would write it: "0.1", not "0.100000".
 std::string toText(double value) {
   std::ostringstream text;
@@ -78,82 +37,18 @@ std::string toText(const Eigen::Vector3d& v) {
   return toText(v.x()) + " " + toText(v.y()) + " " + toText(v.z());
 }
 
-std::vector<std::string> builtinModelNames() {
-  std::vector<std::string> names;
-  for (const auto& model : kBuiltinModels) names.push_back(fs::path(model.uri).filename().string());
-  return names;
-}
-
-/// sdformat resolves an <include> only to a file on disk, so a built-in model is written, when first
-/// included, to a private temporary directory that lives as long as one parse.
-class BuiltinModelFiles {
- public:
-  BuiltinModelFiles() = default;
-  BuiltinModelFiles(const BuiltinModelFiles&) = delete;
-  BuiltinModelFiles& operator=(const BuiltinModelFiles&) = delete;
-  ~BuiltinModelFiles() {
-    std::error_code ignored;
-    if (!directory_.empty()) fs::remove_all(directory_, ignored);
-  }
-
-  static bool isBuiltin(const std::string& uri) { return builtinSdf(uri) != nullptr; }
-
-  /// Path of the file holding the built-in model `uri`; nullopt with `error` set when it cannot be written.
-  std::optional<std::string> path(const std::string& uri, std::string* error) {
-    if (directory_.empty()) {
-      std::string pattern = (fs::temp_directory_path() / "bullet_sim_models_XXXXXX").string();
-      if (!mkdtemp(pattern.data())) {
-        *error = "cannot create a temporary directory from [" + pattern + "] for the built-in models; set " +
-                 "TMPDIR to a writable directory";
-        return std::nullopt;
-      }
-      directory_ = pattern;
-    }
-    const fs::path file = directory_ / (fs::path(uri).filename().string() + ".sdf");
-    if (!fs::exists(file)) {
-      std::ofstream out(file);
-      out << builtinSdf(uri);
-      if (!out) {
-        *error = "cannot write the built-in model [" + uri + "] to [" + file.string() +
-                 "]; set TMPDIR to a " + "writable directory";
-        return std::nullopt;
-      }
-    }
-    return file.string();
-  }
-
- private:
-  static const char* builtinSdf(const std::string& uri) {
-    for (const auto& model : kBuiltinModels) {
-      if (uri == model.uri) return model.sdf;
-    }
-    return nullptr;
-  }
-
-  fs::path directory_;
-};
-
 bool hasScheme(const std::string& uri, const std::string& scheme) {
   return uri.rfind(scheme + "://", 0) == 0;
 }
 
-/// A path from a package://, file:// or relative URI, relative ones taken from `base_directory`.
+/// A path from a package://, model://, file:// or relative URI, relative ones taken from `base_directory`.
 /// On failure returns nullopt and sets `error` to the reason and the fix.
 std::optional<fs::path> resolveFile(const std::string& uri, const PackageResolver& resolver,
                                     const fs::path& base_directory, std::string* error) {
-  if (hasScheme(uri, "model")) {
-    const std::string name = uri.substr(std::string("model://").size());
-    std::string builtins;
-    for (const auto& builtin : builtinModelNames())
-      builtins += (builtins.empty() ? "[" : ", [") + builtin + "]";
-    *error = "unknown model [" + name + "]" + didYouMean(name, builtinModelNames()) +
-             ": bullet_sim has only the built-in models " + builtins +
-             "; copy the model into the world file, or refer to it by a package:// URI";
-    return std::nullopt;
-  }
-  if (uri.find("://") != std::string::npos && !hasScheme(uri, "package") && !hasScheme(uri, "file")) {
-    *error =
-        "unsupported URI scheme in [" + uri + "]; use package://, file:// or a path relative to the SDF file";
+  if (uri.find("://") != std::string::npos && !hasScheme(uri, "package") && !hasScheme(uri, "file") &&
+      !hasScheme(uri, "model")) {
+    *error = "unsupported URI scheme in [" + uri +
+             "]; use package://, model://, file:// or a path relative to the SDF file";
     return std::nullopt;
   }
   const std::optional<std::string> resolved = resolver.resolve(uri, error);
@@ -206,7 +101,19 @@ std::vector<sdf::ElementPtr> children(const sdf::ElementPtr& parent, const std::
   return found;
 }
 
-/// Turns sdformat's DOM of one world into a WorldSpec, collecting every problem in `diagnostics`.
+/// An sdformat element, with its children, as a TagNode (through its XML text: sdformat keeps a plugin's own
+/// tags as elements it does not know).
+TagNode tagNodeOf(const sdf::ElementPtr& element) {
+  tinyxml2::XMLDocument document;
+  const std::string xml = element ? element->ToString("") : "";
+  if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return {};
+  TagNode node = readTagNode(*document.RootElement());
+  node.line = element->LineNumber().value_or(0);
+  return node;
+}
+
+/// Turns sdformat's DOM of one world, or of one model to spawn, into specs, collecting every problem in
+/// `diagnostics`.
 class WorldConverter {
  public:
   WorldConverter(const PackageResolver& resolver, fs::path base_directory, Diagnostics& diagnostics,
@@ -224,13 +131,11 @@ class WorldConverter {
                          toText(spec.gravity) + "] is not finite");
       spec.gravity = Eigen::Vector3d(0, 0, -9.81);
     }
-    if (const sdf::Physics* physics = world.PhysicsDefault()) {
-      spec.max_step_size = physics->MaxStepSize();
-      spec.real_time_factor = physics->RealTimeFactor();
-      if (!(spec.max_step_size > 0) || !std::isfinite(spec.max_step_size)) {
-        diagnostics_.error(locate(physics->Element()) + "physics [" + physics->Name() + "]: max_step_size [" +
-                           toText(spec.max_step_size) + "] must be positive; Gazebo's default is 0.001");
-      }
+    if (const sdf::Physics* physics = world.PhysicsDefault()) convertPhysics(*physics, spec);
+    if (const ignition::math::SphericalCoordinates* earth = world.SphericalCoordinates()) {
+      spec.spherical_coordinates =
+          SphericalCoordinates{earth->LatitudeReference().Degree(), earth->LongitudeReference().Degree(),
+                               earth->ElevationReference(), earth->HeadingOffset().Radian()};
     }
     for (const auto& plugin : children(world.Element(), "plugin")) {
       diagnostics_.warning(locate(plugin) + "world plugin [" + plugin->Get<std::string>("name") + "] (" +
@@ -246,7 +151,57 @@ class WorldConverter {
     }
   }
 
+  /// The model of a model file, to spawn: its joints, sensors and plugins are kept (model plugins first), and
+  /// nothing about them is warned of.
+  WorldModelSpec toSpawnSpec(const sdf::Model& model) {
+    spawning_ = true;
+    WorldModelSpec spec = toModelSpec(model);
+    spawning_ = false;
+    std::stable_partition(spec.plugins.begin(), spec.plugins.end(),
+                          [](const PluginElement& plugin) { return !plugin.sensor; });
+    return spec;
+  }
+
  private:
+  /// The step and the pace. Gazebo paces its steps by <real_time_update_rate> alone (0: as fast as possible);
+  /// without one, <real_time_factor> sets the pace.
+  void convertPhysics(const sdf::Physics& physics, WorldSpec& spec) {
+    const std::string at = locate(physics.Element()) + "physics [" + physics.Name() + "]: ";
+    spec.max_step_size = physics.MaxStepSize();
+    spec.real_time_factor = physics.RealTimeFactor();
+    if (!(spec.max_step_size > 0 && std::isfinite(spec.max_step_size))) {
+      diagnostics_.error(at + "max_step_size [" + toText(spec.max_step_size) +
+                         "] must be positive; Gazebo's default is 0.001");
+      return;
+    }
+    if (!(spec.real_time_factor >= 0 && std::isfinite(spec.real_time_factor))) {
+      diagnostics_.error(at + "real_time_factor [" + toText(spec.real_time_factor) +
+                         "] must be >= 0; Gazebo's default is 1");
+      return;
+    }
+    const sdf::ElementPtr element = physics.Element();
+    // sdformat fills in the required elements a file leaves out, so only a written one counts.
+    const sdf::ElementPtr written = element ? element->FindElement("real_time_update_rate") : nullptr;
+    if (!written || !written->GetExplicitlySetInFile()) {
+      spec.real_time_update_rate = spec.real_time_factor / spec.max_step_size;
+      return;
+    }
+    const double rate = written->Get<double>();
+    if (!(rate >= 0 && std::isfinite(rate))) {
+      diagnostics_.error(at + "real_time_update_rate [" + toText(rate) +
+                         "] must be >= 0 (0 runs as fast as possible); Gazebo's default is 1000");
+      return;
+    }
+    spec.real_time_update_rate = rate;
+    if (std::abs(rate * spec.max_step_size - spec.real_time_factor) > 1e-6 * spec.real_time_factor) {
+      diagnostics_.warning(at + "real_time_factor [" + toText(spec.real_time_factor) +
+                           "] disagrees with real_time_update_rate [" + toText(rate) + "] x max_step_size [" +
+                           toText(spec.max_step_size) + "]: as in Gazebo, the update rate sets the pace (" +
+                           (rate > 0 ? toText(rate * spec.max_step_size) + " x real time)"
+                                     : "as fast as possible)"));
+    }
+  }
+
   /// "[file:line] " of an element, for messages.
   std::string locate(const sdf::ElementPtr& element) const {
     return location(element, diagnostics_.source());
@@ -257,7 +212,7 @@ class WorldConverter {
     spec.name = model.Name();
     spec.pose = resolvePose(model.SemanticPose(), "", "model [" + model.Name() + "]", model.Element());
     spec.is_static = model.Static();
-    if (!spec.is_static) {
+    if (!spec.is_static && !spawning_) {
       diagnostics_.warning(locate(model.Element()) + "model [" + model.Name() +
                            "] is not static: bullet_sim simulates world models as static obstacles; add "
                            "<static>true</static> to it");
@@ -266,11 +221,17 @@ class WorldConverter {
     return spec;
   }
 
-  /// Adds the collisions and visuals of `model` (the top-level model or one nested in it, placed at
-  /// `in_top_model`) to `spec`. `scope` is its name for messages, e.g. "house::door".
+  /// Adds the links, collisions and visuals of `model` (the top-level model or one nested in it, placed at
+  /// `in_top_model`) to `spec`, and, for a model to spawn, its joints and plugins. `scope` is its name for
+  /// messages, e.g. "house::door".
   void addContents(const sdf::Model& model, const Eigen::Isometry3d& in_top_model, const std::string& scope,
                    WorldModelSpec& spec) {
-    if (model.JointCount() > 0) {
+    const std::string prefix = scope == spec.name ? "" : scope.substr(spec.name.size() + 2) + "::";
+    if (spawning_) {
+      for (uint64_t j = 0; j < model.JointCount(); ++j) {
+        addJoint(*model.JointByIndex(j), in_top_model, prefix, spec);
+      }
+    } else if (model.JointCount() > 0) {
       std::string joints;
       for (uint64_t i = 0; i < model.JointCount(); ++i) {
         joints += (i ? ", [" : "[") + model.JointByIndex(i)->Name() + "]";
@@ -279,43 +240,15 @@ class WorldConverter {
                            " ignored: world models are rigid, static obstacles");
     }
     for (const auto& plugin : children(model.Element(), "plugin")) {
-      diagnostics_.warning(locate(plugin) + "model [" + scope + "]: plugin [" +
-                           plugin->Get<std::string>("name") + "] ignored: world models run no plugins");
+      if (spawning_) {
+        spec.plugins.push_back({tagNodeOf(plugin), std::nullopt, std::nullopt, locate(plugin)});
+      } else {
+        diagnostics_.warning(locate(plugin) + "model [" + scope + "]: plugin [" +
+                             plugin->Get<std::string>("name") + "] ignored: world models run no plugins");
+      }
     }
     for (uint64_t l = 0; l < model.LinkCount(); ++l) {
-      const sdf::Link& link = *model.LinkByIndex(l);
-      const std::string owner = "model [" + scope + "] link [" + link.Name() + "]";
-      for (uint64_t s = 0; s < link.SensorCount(); ++s) {
-        diagnostics_.warning(locate(link.Element()) + owner + ": sensor [" + link.SensorByIndex(s)->Name() +
-                             "] ignored: world models have no sensors");
-      }
-      if (!withinShapeLimit(link.CollisionCount() + link.VisualCount())) return;
-      for (uint64_t c = 0; c < link.CollisionCount(); ++c) {
-        const sdf::Collision& collision = *link.CollisionByIndex(c);
-        const std::string where = owner + " collision [" + collision.Name() + "]";
-        std::optional<Shape> shape = toShape(*collision.Geom(), where);
-        if (!shape) continue;
-        Collision result;
-        result.origin =
-            in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
-        result.shape = std::move(*shape);
-        spec.collisions.push_back(std::move(result));
-      }
-      for (uint64_t v = 0; v < link.VisualCount(); ++v) {
-        const sdf::Visual& visual = *link.VisualByIndex(v);
-        const std::string where = owner + " visual [" + visual.Name() + "]";
-        std::optional<Shape> shape = toShape(*visual.Geom(), where);
-        if (!shape) continue;
-        Visual result;
-        result.origin =
-            in_top_model * resolvePose(visual.SemanticPose(), "__model__", where, visual.Element());
-        result.shape = std::move(*shape);
-        if (result.shape.type == Shape::Type::kPlane) {
-          standInForPlane(*visual.Geom()->PlaneShape(), result);
-        }
-        applyMaterial(visual, where, result);
-        spec.visuals.push_back(std::move(result));
-      }
+      addLink(*model.LinkByIndex(l), in_top_model, scope, prefix, spec);
     }
     for (uint64_t m = 0; m < model.ModelCount(); ++m) {
       const sdf::Model& nested = *model.ModelByIndex(m);
@@ -325,6 +258,145 @@ class WorldConverter {
           resolvePose(nested.SemanticPose(), "", "model [" + nested_scope + "]", nested.Element());
       addContents(nested, nested_pose, nested_scope, spec);
     }
+  }
+
+  void addLink(const sdf::Link& link, const Eigen::Isometry3d& in_top_model, const std::string& scope,
+               const std::string& prefix, WorldModelSpec& spec) {
+    const std::string owner = "model [" + scope + "] link [" + link.Name() + "]";
+    WorldLinkSpec& placed = spec.links.emplace_back();
+    placed.name = prefix + link.Name();
+    placed.pose = in_top_model * resolvePose(link.SemanticPose(), "__model__", owner, link.Element());
+    readBody(link, placed);
+    for (uint64_t s = 0; s < link.SensorCount(); ++s) {
+      if (spawning_) {
+        addSensor(*link.SensorByIndex(s), placed.name, owner, spec);
+      } else {
+        diagnostics_.warning(locate(link.Element()) + owner + ": sensor [" + link.SensorByIndex(s)->Name() +
+                             "] ignored: world models have no sensors");
+      }
+    }
+    if (!withinShapeLimit(link.CollisionCount() + link.VisualCount())) return;
+    for (uint64_t c = 0; c < link.CollisionCount(); ++c) {
+      const sdf::Collision& collision = *link.CollisionByIndex(c);
+      const std::string where = owner + " collision [" + collision.Name() + "]";
+      placed.collisions.push_back(collision.Name());
+      if (c == 0) placed.surface = surfaceOf(collision);
+      std::optional<Shape> shape = toShape(*collision.Geom(), where);
+      if (!shape) continue;
+      Collision result;
+      result.origin =
+          in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
+      result.shape = std::move(*shape);
+      result.name = scope + "::" + link.Name() + "::" + collision.Name();
+      placed.collision_indices.push_back(spec.collisions.size());
+      spec.collisions.push_back(std::move(result));
+    }
+    for (uint64_t v = 0; v < link.VisualCount(); ++v) {
+      const sdf::Visual& visual = *link.VisualByIndex(v);
+      const std::string where = owner + " visual [" + visual.Name() + "]";
+      std::optional<Shape> shape = toShape(*visual.Geom(), where);
+      if (!shape) continue;
+      Visual result;
+      result.origin = in_top_model * resolvePose(visual.SemanticPose(), "__model__", where, visual.Element());
+      result.shape = std::move(*shape);
+      if (result.shape.type == Shape::Type::kPlane) standInForPlane(*visual.Geom()->PlaneShape(), result);
+      applyMaterial(visual, where, result);
+      placed.visual_indices.push_back(spec.visuals.size());
+      spec.visuals.push_back(std::move(result));
+    }
+  }
+
+  /// A link's <inertial> (SDF's default when it has none: 1 kg, unit moments), <gravity> and <self_collide>.
+  static void readBody(const sdf::Link& link, WorldLinkSpec& placed) {
+    const ignition::math::Inertiald& inertial = link.Inertial();
+    const Eigen::Isometry3d frame = toIsometry(inertial.Pose());
+    const ignition::math::Matrix3d moments = inertial.MassMatrix().Moi();
+    Eigen::Matrix3d tensor;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) tensor(r, c) = moments(r, c);
+    }
+    placed.inertial = InertialSpec{inertial.MassMatrix().Mass(), frame.translation(),
+                                   frame.linear() * tensor * frame.linear().transpose()};
+    if (const sdf::ElementPtr element = link.Element()) {
+      placed.gravity = element->Get<bool>("gravity");
+      placed.self_collide = element->Get<bool>("self_collide");
+    }
+  }
+
+  /// <surface><friction><ode> mu and mu2, Gazebo's defaults (1) where they are not given.
+  static SurfaceSpec surfaceOf(const sdf::Collision& collision) {
+    sdf::ElementPtr ode = collision.Element();
+    for (const char* name : {"surface", "friction", "ode"}) {
+      ode = ode && ode->HasElement(name) ? ode->GetElement(name) : nullptr;
+    }
+    SurfaceSpec surface;
+    if (ode && ode->HasElement("mu")) surface.mu1 = ode->Get<double>("mu");
+    if (ode && ode->HasElement("mu2")) surface.mu2 = ode->Get<double>("mu2");
+    return surface;
+  }
+
+  void addJoint(const sdf::Joint& joint, const Eigen::Isometry3d& in_top_model, const std::string& prefix,
+                WorldModelSpec& spec) {
+    const std::string owner = "model [" + spec.name + "] joint [" + prefix + joint.Name() + "]";
+    static const std::map<sdf::JointType, JointSpec::Type> kTypes = {
+        {sdf::JointType::FIXED, JointSpec::Type::kFixed},
+        {sdf::JointType::REVOLUTE, JointSpec::Type::kRevolute},
+        {sdf::JointType::CONTINUOUS, JointSpec::Type::kContinuous},
+        {sdf::JointType::PRISMATIC, JointSpec::Type::kPrismatic}};
+    const auto type = kTypes.find(joint.Type());
+    if (type == kTypes.end()) {
+      diagnostics_.error(locate(joint.Element()) + owner + ": type [" +
+                         (joint.Element() ? joint.Element()->Get<std::string>("type") : "") +
+                         "] is not supported; use fixed, revolute, continuous or prismatic");
+      return;
+    }
+    WorldJointSpec& placed = spec.joints.emplace_back();
+    placed.name = prefix + joint.Name();
+    placed.type = type->second;
+    placed.parent = joint.ParentLinkName() == "world" ? "world" : prefix + joint.ParentLinkName();
+    placed.child = prefix + joint.ChildLinkName();
+    placed.pose = in_top_model * resolvePose(joint.SemanticPose(), "__model__", owner, joint.Element());
+    const sdf::JointAxis* axis = joint.Axis(0);
+    if (!axis || placed.type == JointSpec::Type::kFixed) return;
+    ignition::math::Vector3d xyz;
+    for (const sdf::Error& error : axis->ResolveXyz(xyz, "__model__")) {
+      diagnostics_.error(locate(joint.Element()) + owner + ": cannot resolve its axis: " + error.Message());
+    }
+    placed.axis = in_top_model.linear() * toEigen(xyz);
+    if (!(placed.axis.norm() > 1e-9)) {
+      diagnostics_.error(locate(joint.Element()) + owner + ": <axis><xyz> is zero: give it a direction");
+    } else {
+      placed.axis.normalize();
+    }
+    // SDF writes "no limit" as +-1e16, and -1 for no effort or velocity limit.
+    constexpr double kNoLimit = 1e16;
+    placed.lower = axis->Lower() <= -kNoLimit ? -std::numeric_limits<double>::infinity() : axis->Lower();
+    placed.upper = axis->Upper() >= kNoLimit ? std::numeric_limits<double>::infinity() : axis->Upper();
+    placed.effort = std::max(0.0, axis->Effort());
+    placed.velocity = std::max(0.0, axis->MaxVelocity());
+    placed.damping = axis->Damping();
+    placed.friction = axis->Friction();
+  }
+
+  /// A sensor of a model to spawn, with its <plugin>: the plugin registry reads both, as for a URDF's.
+  void addSensor(const sdf::Sensor& sensor, const std::string& link, const std::string& owner,
+                 WorldModelSpec& spec) {
+    const std::string where = owner + " sensor [" + sensor.Name() + "]";
+    SensorDeclaration declared;
+    declared.name = sensor.Name();
+    declared.link = link;
+    declared.pose = resolvePose(sensor.SemanticPose(), "", where, sensor.Element());  // in its link's frame
+    declared.update_rate = sensor.UpdateRate();
+    TagNode tags = tagNodeOf(sensor.Element());
+    declared.type = tags.attribute("type");
+    const TagNode* plugin = tags.child("plugin");
+    if (!plugin) {
+      diagnostics_.warning("sensor [" + sensor.Name() + "] on link [" + link +
+                           "] has no <plugin>, so Gazebo publishes nothing from it: ignored");
+      return;
+    }
+    const TagNode plugin_tags = *plugin;
+    spec.plugins.push_back({plugin_tags, declared, std::move(tags), locate(sensor.Element()) + where + " "});
   }
 
   /// The pose of an element relative to frame `relative_to` ("" for its default frame): finite, and
@@ -350,14 +422,17 @@ class WorldConverter {
     return result;
   }
 
-  /// False, after one error, once the world's collisions and visuals would pass max_world_shapes.
+  /// False, after one error, once the collisions and visuals would pass max_world_shapes (of a world) or
+  /// max_shapes (of a model to spawn).
   bool withinShapeLimit(size_t more) {
     shapes_ += more;
-    if (shapes_ <= limits_.max_world_shapes) return true;
+    const size_t limit = spawning_ ? limits_.max_shapes : limits_.max_world_shapes;
+    if (shapes_ <= limit) return true;
     if (!reported_shapes_) {
-      diagnostics_.error("the world has more than " + std::to_string(limits_.max_world_shapes) +
-                         " collisions and visuals, the limit (max_world_shapes): is it generated by mistake? "
-                         "Raise the limit if it is meant");
+      diagnostics_.error(std::string(spawning_ ? "the model" : "the world") + " has more than " +
+                         std::to_string(limit) + " collisions and visuals, the limit (" +
+                         (spawning_ ? "max_shapes" : "max_world_shapes") +
+                         "): is it generated by mistake? Raise the limit if it is meant");
     }
     reported_shapes_ = true;
     return false;
@@ -391,12 +466,15 @@ class WorldConverter {
       const std::string script = material->ScriptName();
       if (!script.empty()) {
         result.material = script;
-        if (const std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script)) {
+        std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script);
+        if (!colour) colour = scriptMaterialColour(script, materialScripts(material->Element()));
+        if (colour) {
           result.rgba = *colour;
         } else if (!has_diffuse && !has_ambient) {
           diagnostics_.warning(locate(material->Element()) + where + ": unknown Gazebo material [" + script +
                                "]" + didYouMean(script, gazeboMaterialNames()) +
-                               ", shown grey; give it a <diffuse> colour");
+                               ", shown grey: no script of its <uri>s defines it with a colour; give it a "
+                               "<diffuse> colour");
         }
       }
       if (has_diffuse) {
@@ -406,6 +484,48 @@ class WorldConverter {
       }
     }
     result.rgba[3] *= 1.0 - visual.Transparency();
+  }
+
+  /// The .material files that the <uri>s of a material's <script> name: a file, or the .material files of a
+  /// folder. model:// and package:// URIs go through the resolver; others (file://media/materials/...) are
+  /// looked up in the resource path's folders, then beside the SDF file.
+  std::vector<std::string> materialScripts(const sdf::ElementPtr& material) const {
+    std::vector<std::string> files;
+    const sdf::ElementPtr script = material->HasElement("script") ? material->GetElement("script") : nullptr;
+    for (const auto& uri : children(script, "uri")) {
+      std::string text = uri->Get<std::string>();
+      std::vector<fs::path> candidates;
+      if (hasScheme(text, "model") || hasScheme(text, "package")) {
+        std::string ignored;
+        if (const auto resolved = resolver_.resolve(text, &ignored)) candidates.emplace_back(*resolved);
+      } else {
+        if (hasScheme(text, "file")) text = text.substr(std::string("file://").size());
+        for (const auto& folder : resolver_.gazeboPaths().resourcePath())
+          candidates.push_back(fs::path(folder) / text);
+        candidates.push_back(base_directory_ / text);
+      }
+      appendScripts(candidates, files);
+    }
+    return files;
+  }
+
+  /// Appends the first of `candidates` that exists: a file, or the .material files of a folder (sorted).
+  static void appendScripts(const std::vector<fs::path>& candidates, std::vector<std::string>& files) {
+    std::error_code ec;
+    for (const auto& candidate : candidates) {
+      if (fs::is_regular_file(candidate, ec)) {
+        files.push_back(candidate.string());
+        return;
+      }
+      if (!fs::is_directory(candidate, ec)) continue;
+      std::vector<std::string> scripts;
+      for (fs::directory_iterator it(candidate, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->path().extension() == ".material") scripts.push_back(it->path().string());
+      }
+      std::sort(scripts.begin(), scripts.end());
+      files.insert(files.end(), scripts.begin(), scripts.end());
+      return;
+    }
   }
 
   std::optional<Shape> toShape(const sdf::Geometry& geometry, const std::string& where) {
@@ -485,7 +605,7 @@ class WorldConverter {
     }
     triangles_ += triangles->triangles.size();
     if (triangles_ > limits_.max_triangles) {
-      diagnostics_.error(at + ": mesh [" + shape.mesh_path + "] brings the world's meshes to " +
+      diagnostics_.error(at + ": mesh [" + shape.mesh_path + "] brings the meshes to " +
                          std::to_string(triangles_) + " triangles, above the limit of " +
                          std::to_string(limits_.max_triangles) + " (max_triangles): simplify the meshes");
       return std::nullopt;
@@ -503,19 +623,80 @@ class WorldConverter {
   const fs::path base_directory_;  // for relative paths in SDF text that has no file
   Diagnostics& diagnostics_;
   const Limits& limits_;
-  size_t shapes_ = 0;  ///< collisions and visuals so far
+  bool spawning_ = false;  ///< converting a model to spawn, not a world's
+  size_t shapes_ = 0;      ///< collisions and visuals so far
   bool reported_shapes_ = false;
   size_t triangles_ = 0;  ///< of every mesh shape so far
 };
 
-/// sdformat's errors as ours; it names an unresolved URI and the line of its include, the reason and the fix
-/// are ours (`unresolved`: URI -> why).
-void reportLoadErrors(const sdf::Errors& errors, std::map<std::string, std::string> unresolved,
-                      const std::string& source, Diagnostics& diagnostics) {
+/// libsdformat's find callback for <include> URIs: a model:// include, or any URI that names a folder,
+/// becomes the SDF file that the folder's model.config names; other URIs go through `resolveFile`. It
+/// remembers why a URI could not be found.
+class IncludeFinder {
+ public:
+  IncludeFinder(const PackageResolver& resolver, fs::path base_directory)
+      : resolver_(resolver), base_directory_(std::move(base_directory)) {}
+
+  std::string operator()(const std::string& uri) {
+    std::string error;
+    if (hasScheme(uri, "model") && uri.find('/', std::string("model://").size()) == std::string::npos) {
+      const std::string name = uri.substr(std::string("model://").size());
+      const std::optional<std::string> folder = resolver_.gazeboPaths().findModelFile(name, &error);
+      if (!folder) {
+        unknown_models_[uri] = error;
+      } else if (const std::optional<std::string> file = modelSdfFile(*folder, &error)) {
+        return *file;
+      } else {
+        unresolved_[uri] = error;
+      }
+    } else if (const std::optional<fs::path> path = resolveFile(uri, resolver_, base_directory_, &error)) {
+      // A folder is a model folder, whose model.config names the SDF file.
+      std::error_code ec;
+      if (!fs::is_directory(*path, ec)) return path->string();
+      if (const std::optional<std::string> file = modelSdfFile(path->string(), &error)) return *file;
+      unresolved_[uri] = error;
+    } else {
+      unresolved_[uri] = error;
+    }
+    return "";  // sdformat then reports the include as unresolved
+  }
+
+  /// Include URI -> why it could not be found, for models that are on no folder of the model path.
+  const std::map<std::string, std::string>& unknownModels() const { return unknown_models_; }
+  /// Include URI -> why it could not be resolved, for every other include.
+  const std::map<std::string, std::string>& unresolved() const { return unresolved_; }
+
+ private:
+  const PackageResolver& resolver_;
+  const fs::path base_directory_;
+  std::map<std::string, std::string> unknown_models_;
+  std::map<std::string, std::string> unresolved_;
+};
+
+/// Reports libsdformat's errors. An include of an unknown model is skipped, as Gazebo skips it, with one
+/// warning per model (an error when `options.strict_models`); any other unresolved include is an error that
+/// says why.
+void reportLoadErrors(const sdf::Errors& errors, const IncludeFinder& finder, const WorldOptions& options,
+                      Diagnostics& diagnostics) {
+  std::map<std::string, std::string> unresolved = finder.unresolved();
+  std::map<std::string, int> unknown_includes;  // URI -> how many includes name it
+  std::map<std::string, std::string> first_location;
+  const auto mentions = [](const sdf::Error& error, const std::string& uri) {
+    return error.Message().find("[" + uri + "]") != std::string::npos;
+  };
   for (const sdf::Error& error : errors) {
-    std::string message = describe(error, source);
+    const auto unknown = std::find_if(finder.unknownModels().begin(), finder.unknownModels().end(),
+                                      [&](const auto& entry) { return mentions(error, entry.first); });
+    if (unknown != finder.unknownModels().end()) {
+      if (unknown_includes[unknown->first]++ == 0) {
+        first_location[unknown->first] =
+            location(error.FilePath().value_or(""), error.LineNumber(), diagnostics.source());
+      }
+      continue;
+    }
+    std::string message = describe(error, diagnostics.source());
     for (auto it = unresolved.begin(); it != unresolved.end();) {
-      if (error.Message().find("[" + it->first + "]") == std::string::npos) {
+      if (!mentions(error, it->first)) {
         ++it;
         continue;
       }
@@ -525,41 +706,52 @@ void reportLoadErrors(const sdf::Errors& errors, std::map<std::string, std::stri
     diagnostics.error(message);
   }
   for (const auto& [uri, reason] : unresolved) diagnostics.error("include [" + uri + "]: " + reason);
+  for (const auto& [uri, count] : unknown_includes) {
+    const std::string& reason = finder.unknownModels().at(uri);
+    if (options.strict_models) {
+      diagnostics.error(first_location[uri] + reason + " (~strict_models is set)");
+    } else {
+      const std::string times = count > 1 ? " (" + std::to_string(count) + " includes)" : "";
+      diagnostics.warning(first_location[uri] + "skipped" + times +
+                          ", the rest of the world loads: " + reason);
+    }
+  }
 }
 
-/// One reading of a world: what it holds, and its problems.
+/// One reading of a world or of a model to spawn: what it holds, and its problems.
 struct Reading {
   WorldSpec spec;
   Diagnostics diagnostics;
 };
 
-/// Runs `load` (from a file or from text), or reads `copies->reduced_text` when given, with the built-in
-/// models and `resolver` behind <include>, then converts the world. `base_directory` is where relative
-/// include and mesh paths start.
-Reading readWorld(const WorldCopies* copies,
-                  const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
-                  const std::string& source, const fs::path& base_directory, const PackageResolver& resolver,
-                  const Limits& limits) {
+using Load = std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>;
+
+/// Runs `load` (from a file or from text), or reads `copies->reduced_text` when given, with `resolver` behind
+/// <include>, then converts the world, or with `model_to_spawn` the one model of a model's SDF.
+/// `base_directory` is where relative include and mesh paths start.
+Reading readWorld(const WorldCopies* copies, const Load& load, const std::string& source,
+                  const fs::path& base_directory, const PackageResolver& resolver, const WorldOptions& options,
+                  bool model_to_spawn) {
   Reading reading{WorldSpec(), Diagnostics(source)};
   Diagnostics& diagnostics = reading.diagnostics;
-  BuiltinModelFiles builtins;
-  std::map<std::string, std::string> unresolved;  // include URI -> why it could not be found
+  IncludeFinder finder(resolver, base_directory);
   sdf::ParserConfig config;
-  config.SetFindCallback([&](const std::string& uri) -> std::string {
-    std::string error;
-    if (BuiltinModelFiles::isBuiltin(uri)) {
-      if (const std::optional<std::string> file = builtins.path(uri, &error)) return *file;
-    } else if (const std::optional<fs::path> file = resolveFile(uri, resolver, base_directory, &error)) {
-      return file->string();
-    }
-    unresolved[uri] = error;
-    return "";  // sdformat then reports the include as unresolved
-  });
+  config.SetFindCallback(std::ref(finder));
 
   sdf::Root root;
   const sdf::Errors errors = copies ? root.LoadSdfString(copies->reduced_text, config) : load(root, config);
-  reportLoadErrors(errors, unresolved, source, diagnostics);
+  reportLoadErrors(errors, finder, options, diagnostics);
   reading.spec.source = source;
+  WorldConverter converter(resolver, base_directory, diagnostics, options.limits);
+  if (model_to_spawn) {
+    if (const sdf::Model* model = root.Model()) {
+      reading.spec.models.push_back(converter.toSpawnSpec(*model));
+    } else if (errors.empty()) {
+      diagnostics.error(
+          "no <model> element; a model to spawn holds <sdf version=\"1.6\"><model name=\"...\">");
+    }
+    return reading;
+  }
   if (root.WorldCount() == 0) {
     if (errors.empty()) {
       diagnostics.error("no <world> element; a world file holds <sdf version=\"1.6\"><world name=\"...\">");
@@ -570,17 +762,17 @@ Reading readWorld(const WorldCopies* copies,
     diagnostics.warning("only the first of " + std::to_string(root.WorldCount()) + " worlds, [" +
                         root.WorldByIndex(0)->Name() + "], is loaded");
   }
-  WorldConverter(resolver, base_directory, diagnostics, limits).convert(*root.WorldByIndex(0), reading.spec);
-  if (copies) addCopies(*copies, limits, reading.spec, diagnostics);
+  converter.convert(*root.WorldByIndex(0), reading.spec);
+  if (copies) addCopies(*copies, options.limits, reading.spec, diagnostics);
   return reading;
 }
 
-/// Reads a world from `text`, which `load` loads into sdformat (from a file or from the text itself).
-WorldSpec parseWith(const std::string& text,
-                    const std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>& load,
-                    const std::string& source, const fs::path& base_directory,
-                    const PackageResolver& resolver, std::vector<std::string>* warnings,
-                    const Limits& limits) {
+/// Reads a world, or a model to spawn, from `text`, which `load` loads into sdformat (from a file or from the
+/// text itself).
+WorldSpec parseWith(const std::string& text, const Load& load, const std::string& source,
+                    const fs::path& base_directory, const PackageResolver& resolver,
+                    std::vector<std::string>* warnings, const WorldOptions& options,
+                    bool model_to_spawn = false) {
   // sdformat 12 reports malformed XML only as "Unable to read file" (the detail goes to stderr), so tinyxml2
   // checks it first and names the line and the element.
   tinyxml2::XMLDocument xml;
@@ -590,20 +782,28 @@ WorldSpec parseWith(const std::string& text,
   }
   // Models that repeat another's contents are read once. Should anything be wrong, the whole file is read
   // again, so that every problem is reported where it is.
-  const std::optional<WorldCopies> copies = findCopies(xml);
-  Reading reading = readWorld(copies ? &*copies : nullptr, load, source, base_directory, resolver, limits);
+  const std::optional<WorldCopies> copies = model_to_spawn ? std::nullopt : findCopies(xml);
+  Reading reading = readWorld(copies ? &*copies : nullptr, load, source, base_directory, resolver, options,
+                              model_to_spawn);
   if (copies && !reading.diagnostics.errors().empty())
-    reading = readWorld(nullptr, load, source, base_directory, resolver, limits);
+    reading = readWorld(nullptr, load, source, base_directory, resolver, options, model_to_spawn);
   const auto& said = reading.diagnostics.warnings();
   if (warnings) warnings->insert(warnings->end(), said.begin(), said.end());
   reading.diagnostics.throwIfErrors();
   return std::move(reading.spec);
 }
 
+void checkSize(const std::string& text, const std::string& source, const Limits& limits) {
+  if (text.size() > limits.max_description_bytes) {
+    throw SpecError(source, {"the SDF is " + std::to_string(text.size()) + " bytes, above the limit of " +
+                             std::to_string(limits.max_description_bytes) + " (max_description_bytes)"});
+  }
+}
+
 }  // namespace
 
 WorldSpec loadWorldHere(const std::string& path, const PackageResolver& resolver,
-                        std::vector<std::string>* warnings, const Limits& limits) {
+                        std::vector<std::string>* warnings, const WorldOptions& options) {
   std::error_code ec;
   if (!fs::exists(path, ec)) {
     throw SpecError(path, {"no such file [" + path + "]; check the path (a relative one starts at [" +
@@ -611,28 +811,39 @@ WorldSpec loadWorldHere(const std::string& path, const PackageResolver& resolver
   }
   std::string text;
   try {
-    text = readRegularFile(path, limits.max_description_bytes, "max_description_bytes");
+    text = readRegularFile(path, options.limits.max_description_bytes, "max_description_bytes");
   } catch (const std::runtime_error& e) {
     throw SpecError(path, {std::string("the world file ") + e.what()});
   }
   return parseWith(
       text, [&](sdf::Root& root, const sdf::ParserConfig& config) { return root.Load(path, config); }, path,
-      fs::absolute(path, ec).parent_path(), resolver, warnings, limits);
+      fs::absolute(path, ec).parent_path(), resolver, warnings, options);
 }
 
 WorldSpec parseWorldHere(const std::string& sdf_text, const std::string& source,
                          const PackageResolver& resolver, std::vector<std::string>* warnings,
-                         const Limits& limits) {
+                         const WorldOptions& options) {
+  checkSize(sdf_text, source, options.limits);
   std::error_code ec;
-  if (sdf_text.size() > limits.max_description_bytes) {
-    throw SpecError(source,
-                    {"the world is " + std::to_string(sdf_text.size()) + " bytes, above the limit of " +
-                     std::to_string(limits.max_description_bytes) + " (max_description_bytes)"});
-  }
   return parseWith(
       sdf_text,
       [&](sdf::Root& root, const sdf::ParserConfig& config) { return root.LoadSdfString(sdf_text, config); },
-      source, fs::absolute(source, ec).parent_path(), resolver, warnings, limits);
+      source, fs::absolute(source, ec).parent_path(), resolver, warnings, options);
+}
+
+WorldModelSpec readSdfModelHere(const std::string& sdf_text, const std::string& source,
+                                const PackageResolver& resolver, std::vector<std::string>* warnings,
+                                const Limits& limits) {
+  checkSize(sdf_text, source, limits);
+  std::error_code ec;
+  WorldOptions options;
+  options.limits = limits;
+  WorldSpec spec = parseWith(
+      sdf_text,
+      [&](sdf::Root& root, const sdf::ParserConfig& config) { return root.LoadSdfString(sdf_text, config); },
+      source, fs::absolute(source, ec).parent_path(), resolver, warnings, options, /*model_to_spawn=*/true);
+  if (spec.models.empty()) throw SpecError(source, {"no <model> could be read"});
+  return std::move(spec.models.front());
 }
 
 std::optional<std::string> findWorldFile(const std::string& name, const PackageResolver& resolver,
@@ -642,6 +853,9 @@ std::optional<std::string> findWorldFile(const std::string& name, const PackageR
   if (fs::path(name).is_absolute()) {
     candidates.push_back(name);
   } else {
+    // Gazebo's resource path first: "worlds/x.world" names a file in one of its folders.
+    for (const auto& folder : resolver.gazeboPaths().resourcePath())
+      candidates.push_back(fs::path(folder) / name);
     for (const char* package : {"bullet_sim", "bullet_sim_bringup"}) {
       if (const auto dir = resolver.packageDirectory(package)) {
         candidates.push_back(fs::path(*dir) / "worlds" / name);

@@ -32,9 +32,10 @@ struct MultiBodyRobot::Scratch {
   std::vector<btVector3> velocity;
 };
 
-MultiBodyRobot::MultiBodyRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world,
+MultiBodyRobot::MultiBodyRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world,
                                const Eigen::Isometry3d& root_pose)
     : spec_(std::move(spec)),
+      name_(std::move(name)),
       world_(world),
       scratch_(std::make_unique<Scratch>()),
       shapes_(std::make_unique<BulletShapes>()) {
@@ -65,6 +66,11 @@ void MultiBodyRobot::buildParts() {
     std::vector<std::pair<std::string, Eigen::Isometry3d>> placed;
     for (const auto& name : parts_[k].links) placed.emplace_back(name, frames.link_in_part.at(name));
     const MassProperties mass = combineInertia(spec_, placed);
+    if (mass.mass <= 0 && spec_.is_static) {
+      frames.mass = 1;  // a static model's base is fixed: its mass does not matter, but Bullet wants one
+      frames.principal_inertia = Eigen::Vector3d::Ones();
+      continue;
+    }
     if (mass.mass <= 0) {
       diagnostics.error("links [" + parts_[k].root_link +
                         "] and those fixed to it have no mass: give one an <inertial>");
@@ -90,7 +96,7 @@ void MultiBodyRobot::buildParts() {
 void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   const int links = static_cast<int>(parts_.size()) - 1;
   body_ = std::make_unique<btMultiBody>(links, frames_[0].mass, toBullet(frames_[0].principal_inertia),
-                                        /*fixedBase=*/false, /*canSleep=*/false);
+                                        /*fixedBase=*/spec_.is_static, /*canSleep=*/false);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   bool self_collide = false;
   for (const auto& link : spec_.links) self_collide |= link.self_collide;
@@ -101,6 +107,10 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   body_->setUseGyroTerm(true);
   body_->setHasSelfCollision(self_collide);
   world_.addMultiBody(body_.get());
+  const std::vector<GazeboCollision> gazebo = gazeboCollisions(spec_);
+  for (int k = 0; k <= links; ++k) {
+    collision_names_.push_back(robotCollisionNames(name_, gazebo, parts_[k].sources));
+  }
   for (int k = 0; k <= links; ++k) addCollider(k);
 
   for (auto& joint : joints_) {
@@ -166,8 +176,14 @@ void MultiBodyRobot::addCollider(int k) {
       // Gazebo's defaults: a rigid contact (kp 1e12 N/m) with kd 1 N s/m.
       collider->setContactStiffnessAndDamping(surface.kp.value_or(1e12), surface.kd.value_or(1.0));
     }
-    world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
+    // A static model is static geometry: it meets the robots, not the world's other static geometry.
+    if (spec_.is_static) {
+      world_.addCollisionObject(collider.get(), kStaticGroup, kRobotGroup);
+    } else {
+      world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
+    }
   }
+  nameCollisions(*collider, collision_names_[k]);
   if (k == 0) {
     body_->setBaseCollider(collider.get());
   } else {
@@ -212,6 +228,10 @@ void MultiBodyRobot::beforeStep() {
 }
 
 void MultiBodyRobot::afterStep() {
+  for (auto& joint : joints_) {
+    joint.applied_effort = joint.pending_effort;
+    joint.pending_effort = 0;
+  }
   body_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
   for (size_t k = 0; k < parts_.size(); ++k) {
     const btTransform pose =
@@ -227,6 +247,7 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositi
   for (auto& joint : joints_) {
     body_->setJointPos(joint.bullet_link, 0);
     body_->setJointVel(joint.bullet_link, 0);
+    joint.pending_effort = joint.applied_effort = 0;
     if (joint.motor) {
       joint.motor->setVelocityTarget(0, kVelocityGain);
       joint.motor->setPositionTarget(0, 0);
@@ -238,6 +259,28 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositi
   body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
   part_poses_.resize(parts_.size());
   afterStep();
+}
+
+void MultiBodyRobot::teleport(const Eigen::Isometry3d& root_pose) {
+  body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
+  body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
+  afterStep();
+}
+
+void MultiBodyRobot::setJointPositions(const JointPositions& joints) {
+  for (const auto& [joint, position] : joints) {
+    body_->setJointPos(joints_.at(joint).bullet_link, position);
+    body_->setJointVel(joints_.at(joint).bullet_link, 0);
+  }
+  body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
+  afterStep();
+}
+
+void MultiBodyRobot::setStepSize(double step_size) {
+  for (auto& joint : joints_) {
+    if (joint.motor) joint.motor->setMaxAppliedImpulse(joint.motor->getMaxAppliedImpulse() * step_size / dt_);
+  }
+  dt_ = step_size;
 }
 
 int MultiBodyRobot::jointIndex(const std::string& joint) const {
@@ -254,8 +297,9 @@ double MultiBodyRobot::jointVelocity(int joint) const {
 }
 
 double MultiBodyRobot::jointEffort(int joint) const {
-  auto* motor = joints_.at(joint).motor;  // Bullet's getter is not const
-  return motor ? motor->getAppliedImpulse(0) / dt_ : 0.0;
+  const Joint& state = joints_.at(joint);
+  auto* motor = state.motor;  // Bullet's getter is not const
+  return state.applied_effort + (motor ? motor->getAppliedImpulse(0) / dt_ : 0.0);
 }
 
 void MultiBodyRobot::setJointVelocity(int joint, double velocity, double max_effort) {
@@ -270,6 +314,51 @@ void MultiBodyRobot::setJointPosition(int joint, double position, double max_eff
   motor->setPositionTarget(position, kHoldPositionGain);
   motor->setVelocityTarget(0, kHoldVelocityGain);
   motor->setMaxAppliedImpulse(max_effort * dt_);
+}
+
+void MultiBodyRobot::setJointEffort(int joint, double effort) {
+  Joint& target = joints_.at(joint);
+  if (target.motor) {  // back to what the motor does unasked: hold zero velocity with the joint's friction
+    target.motor->setPositionTarget(0, 0);
+    target.motor->setVelocityTarget(0, kVelocityGain);
+    target.motor->setMaxAppliedImpulse(target.spec->friction * dt_);
+  }
+  body_->addJointTorque(target.bullet_link, effort);
+  target.pending_effort += effort;
+}
+
+// As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.
+void MultiBodyRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+  if (spec_.is_static) return;  // a static model never moves by itself
+  const Eigen::Vector3d origin = linkPose(spec_.root).translation();
+  const Eigen::Vector3d com = part_poses_[0] * frames_[0].part_to_bullet.translation();
+  body_->setBaseVel(toBullet(linear + angular.cross(com - origin)));
+  body_->setBaseOmega(toBullet(angular));
+  for (const auto& joint : joints_) body_->setJointVel(joint.bullet_link, 0);
+}
+
+void MultiBodyRobot::applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                                     const Eigen::Vector3d& torque) {
+  const int part = partOf(link);
+  if (part < 0) throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
+  // Bullet takes forces at a part's centre of mass: the force moved there brings its moment about it.
+  const Eigen::Vector3d com = part_poses_[part] * frames_[part].part_to_bullet.translation();
+  const Eigen::Vector3d moment = torque + (linkPose(link).translation() - com).cross(force);
+  if (part == 0) {
+    body_->addBaseForce(toBullet(force));
+    body_->addBaseTorque(toBullet(moment));
+  } else {
+    body_->addLinkForce(part - 1, toBullet(force));
+    body_->addLinkTorque(part - 1, toBullet(moment));
+  }
+}
+
+bool MultiBodyRobot::takesJointEffort(int joint) const {
+  return joint >= 0 && joint < static_cast<int>(joints_.size());
+}
+
+void MultiBodyRobot::applyJointEffort(int joint, double effort) {
+  body_->addJointTorque(joints_.at(joint).bullet_link, effort);
 }
 
 Eigen::Isometry3d MultiBodyRobot::linkPose(const std::string& link) const {
@@ -311,5 +400,14 @@ int MultiBodyRobot::partOf(const std::string& link) const {
 }
 
 Eigen::Isometry3d MultiBodyRobot::partPose(int part) const { return part_poses_.at(part); }
+
+std::vector<CollisionContact> MultiBodyRobot::contacts(const CollisionSource& source) const {
+  const int part = partOf(source.link);
+  if (part < 0) return {};
+  const auto& sources = parts_[part].sources;
+  const auto found = std::find(sources.begin(), sources.end(), source);
+  if (found == sources.end()) return {};
+  return contactsOf(world_, *colliders_[part], static_cast<int>(found - sources.begin()), dt_);
+}
 
 }  // namespace bullet_sim

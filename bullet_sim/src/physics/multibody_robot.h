@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bullet_sim/physics/robot_body.h"
+#include "physics/contacts.h"
 
 class btMultiBody;
 class btMultiBodyDynamicsWorld;
@@ -27,7 +28,9 @@ class MultiBodyRobot : public PhysicsRobot {
  public:
   /// Builds the robot with its root link at `root_pose` and adds it to `world`. Throws SpecError when the
   /// model cannot be simulated (a part without mass); `world` is untouched then.
-  MultiBodyRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, const Eigen::Isometry3d& root_pose);
+  /// `name` is the robot's, as contacts name its collisions (model::link::collision).
+  MultiBodyRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world,
+                 const Eigen::Isometry3d& root_pose);
   ~MultiBodyRobot() override;
   MultiBodyRobot(const MultiBodyRobot&) = delete;
   MultiBodyRobot& operator=(const MultiBodyRobot&) = delete;
@@ -35,6 +38,9 @@ class MultiBodyRobot : public PhysicsRobot {
   void beforeStep() override;
   void afterStep() override;
   void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) override;
+  void teleport(const Eigen::Isometry3d& root_pose) override;
+  void setJointPositions(const JointPositions& joints) override;
+  void setStepSize(double step_size) override;
 
   const ModelSpec& spec() const override { return spec_; }
   int jointIndex(const std::string& joint) const override;
@@ -43,12 +49,19 @@ class MultiBodyRobot : public PhysicsRobot {
   double jointEffort(int joint) const override;
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
+  void setJointEffort(int joint, double effort) override;
+  void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
+  void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                       const Eigen::Vector3d& torque) override;
+  bool takesJointEffort(int joint) const override;
+  void applyJointEffort(int joint, double effort) override;
   Eigen::Isometry3d linkPose(const std::string& link) const override;
   Eigen::Vector3d linkLinearVelocity(const std::string& link) const override;
   Eigen::Vector3d linkAngularVelocity(const std::string& link) const override;
   const std::vector<RobotPart>& parts() const override { return parts_; }
   int partOf(const std::string& link) const override;
   Eigen::Isometry3d partPose(int part) const override;
+  std::vector<CollisionContact> contacts(const CollisionSource& source) const override;
 
  private:
   struct PartFrames {
@@ -63,6 +76,8 @@ class MultiBodyRobot : public PhysicsRobot {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
+    double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step
+    double applied_effort = 0;               ///< and in the last one
   };
 
   void buildParts();
@@ -74,6 +89,7 @@ class MultiBodyRobot : public PhysicsRobot {
   btMultiBodyJointMotor* motorFor(Joint& joint);
 
   ModelSpec spec_;
+  std::string name_;
   btMultiBodyDynamicsWorld& world_;
   double dt_ = 0.001;
   std::vector<RobotPart> parts_;
@@ -88,7 +104,8 @@ class MultiBodyRobot : public PhysicsRobot {
   std::unique_ptr<Scratch> scratch_;
   std::unique_ptr<BulletShapes> shapes_;
   std::unique_ptr<btMultiBody> body_;
-  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;
+  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;  ///< per part
+  std::vector<CollisionNames> collision_names_;                      ///< per part, for contacts
   std::vector<std::unique_ptr<btMultiBodyConstraint>> constraints_;
   std::vector<Eigen::Isometry3d> part_poses_;  ///< world pose of each part's frame, after the last step
 };

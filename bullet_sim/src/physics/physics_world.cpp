@@ -3,9 +3,11 @@
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
+#include <algorithm>
 #include <map>
 
 #include "bullet_shapes.h"
+#include "physics/contacts.h"
 #include "physics/multibody_robot.h"
 
 namespace bullet_sim {
@@ -36,26 +38,33 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   // rather than the whole world, lest every robot part overlap one giant object in the broadphase. Planes and
   // triangle meshes stay objects of their own. Static objects sleep: Bullet then leaves their bounds alone.
   world_->setForceUpdateAllAabbs(false);
-  std::map<std::pair<long, long>, btCompoundShape*> cells;
+  std::map<std::pair<long, long>, size_t> cells;  // a cell's compound object, as an index into statics_
   for (const auto& model : world.models) {
+    auto& placed = model_statics_.emplace_back();
     for (const auto& collision : model.collisions) {
-      const Eigen::Isometry3d pose = model.pose * collision.origin;
+      const btTransform pose = toBullet(model.pose * collision.origin);
       btCollisionShape* shape = shapes_->make(collision.shape, /*moving=*/false);
       const Shape::Type type = collision.shape.type;
       if (type == Shape::Type::kPlane || type == Shape::Type::kMesh) {
-        addStatic(shape, toBullet(pose));
+        placed.push_back({addStatic(shape, pose), -1, collision.origin});
+        static_names_.back()->names.push_back(collision.name);
         continue;
       }
-      const Eigen::Vector2d cell = (pose.translation().head<2>() / kStaticCell).array().floor();
-      btCompoundShape*& compound = cells[{static_cast<long>(cell.x()), static_cast<long>(cell.y())}];
-      if (!compound) compound = shapes_->makeCompound();
-      compound->addChildShape(toBullet(pose), shape);
+      const Eigen::Vector2d cell = (fromBullet(pose.getOrigin()).head<2>() / kStaticCell).array().floor();
+      const auto [found, added] =
+          cells.try_emplace({static_cast<long>(cell.x()), static_cast<long>(cell.y())}, statics_.size());
+      if (added) addStatic(shapes_->makeCompound(), btTransform::getIdentity());  // bounds once filled
+      btCollisionObject& object = *statics_[found->second];
+      auto& compound = static_cast<btCompoundShape&>(*object.getCollisionShape());
+      compound.addChildShape(pose, shape);
+      static_names_[found->second]->names.push_back(collision.name);
+      placed.push_back({found->second, compound.getNumChildShapes() - 1, collision.origin});
     }
   }
-  for (const auto& [cell, compound] : cells) addStatic(compound, btTransform::getIdentity());
+  for (const auto& [cell, index] : cells) world_->updateSingleAabb(statics_[index].get());
 }
 
-void PhysicsWorld::addStatic(btCollisionShape* shape, const btTransform& pose) {
+size_t PhysicsWorld::addStatic(btCollisionShape* shape, const btTransform& pose) {
   auto object = std::make_unique<btCollisionObject>();
   object->setCollisionShape(shape);
   object->setWorldTransform(pose);
@@ -63,8 +72,11 @@ void PhysicsWorld::addStatic(btCollisionShape* shape, const btTransform& pose) {
   object->setActivationState(ISLAND_SLEEPING);
   object->setFriction(1.0);  // Gazebo's default mu
   object->setRestitution(0);
+  static_names_.push_back(std::make_unique<CollisionNames>());
+  nameCollisions(*object, *static_names_.back());
   world_->addCollisionObject(object.get(), kStaticGroup, kRobotGroup);
   statics_.push_back(std::move(object));
+  return statics_.size() - 1;
 }
 
 PhysicsWorld::~PhysicsWorld() {
@@ -78,5 +90,33 @@ void PhysicsWorld::releaseMemory() {
 }
 
 void PhysicsWorld::step() { world_->stepSimulation(options_.step_size, 0, options_.step_size); }
+
+void PhysicsWorld::setStepSize(double step_size) {
+  options_.step_size = step_size;
+  world_->getSolverInfo().m_timeStep = step_size;
+}
+
+Eigen::Vector3d PhysicsWorld::gravity() const { return fromBullet(world_->getGravity()); }
+
+void PhysicsWorld::setGravity(const Eigen::Vector3d& gravity) { world_->setGravity(toBullet(gravity)); }
+
+void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {
+  std::vector<btCollisionObject*> moved;
+  for (const auto& placement : model_statics_.at(model)) {
+    btCollisionObject& object = *statics_[placement.object];
+    const btTransform transform = toBullet(pose * placement.origin);
+    if (placement.child < 0) {
+      object.setWorldTransform(transform);
+    } else {  // its cell's bounds are recomputed once below
+      static_cast<btCompoundShape*>(object.getCollisionShape())->updateChildTransform(placement.child, transform,
+                                                                                     false);
+    }
+    if (std::find(moved.begin(), moved.end(), &object) == moved.end()) moved.push_back(&object);
+  }
+  for (btCollisionObject* object : moved) {
+    if (auto* compound = dynamic_cast<btCompoundShape*>(object->getCollisionShape())) compound->recalculateLocalAabb();
+    world_->updateSingleAabb(object);  // the broadphase refreshes only moving objects by itself
+  }
+}
 
 }  // namespace bullet_sim

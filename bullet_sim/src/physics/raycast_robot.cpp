@@ -44,9 +44,10 @@ std::optional<double> wheelRadius(const LinkSpec& link, const JointSpec& joint) 
 
 }  // namespace
 
-RaycastRobot::RaycastRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, const RayCaster& ground,
-                           const Eigen::Isometry3d& root_pose)
+RaycastRobot::RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world,
+                           const RayCaster& ground, const Eigen::Isometry3d& root_pose)
     : spec_(std::move(spec)),
+      name_(std::move(name)),
       world_(world),
       ground_(ground),
       dt_(world.getSolverInfo().m_timeStep),
@@ -120,17 +121,21 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   for (size_t i = 0; i < spec_.links.size(); ++i) {
     const JointSpec* joint = spec_.parentJoint(spec_.links[i].name);
     if (joint && joint->moves() && joints_[joint_index_.at(joint->name)].wheel >= 0) continue;
-    for (const auto& collision : spec_.links[i].collisions) {
-      if (btCollisionShape* shape = shapes_->make(collision.shape, true)) {
-        compound->addChildShape(toBullet(body_to_root * link_in_root_[i] * collision.origin), shape);
+    const auto& collisions = spec_.links[i].collisions;
+    for (size_t c = 0; c < collisions.size(); ++c) {
+      if (btCollisionShape* shape = shapes_->make(collisions[c].shape, true)) {
+        compound->addChildShape(toBullet(body_to_root * link_in_root_[i] * collisions[c].origin), shape);
+        chassis_sources_.push_back({spec_.links[i].name, static_cast<int>(c)});
       }
     }
   }
+  chassis_names_ = robotCollisionNames(name_, gazeboCollisions(spec_), chassis_sources_);
   btRigidBody::btRigidBodyConstructionInfo info(mass_, nullptr, compound, toBullet(moments));
   info.m_friction = spec_.link(spec_.root)->surface.mu1;
   info.m_restitution = 0;
   chassis_ = std::make_unique<btRigidBody>(info);
   chassis_->setActivationState(DISABLE_DEACTIVATION);
+  nameCollisions(*chassis_, chassis_names_);
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
   world_.addRigidBody(chassis_.get(), kRobotGroup, kStaticGroup | kRobotGroup);
 
@@ -175,6 +180,11 @@ void RaycastRobot::beforeStep() {
   for (int r = 0; r < 3; ++r) inverse_inertia_.row(r) = fromBullet(inverse_inertia[r]);
   // The suspension, then the motors and friction together: sequential impulses over the wheels, with each
   // motor's impulse held within torque * dt and each contact's within the friction circle.
+  for (const auto& wheel : wheels_) {  // efforts from outside the drive (the world API's) spin the wheels
+    Joint& joint = joints_[wheel.joint];
+    joint.velocity += joint.external_effort * dt_ / wheel.inertia;
+    joint.external_effort = 0;
+  }
   pressWheels(root);
   for (int pass = 0; pass < kFrictionIterations; ++pass) {
     for (size_t w = 0; w < wheels_.size(); ++w) driveWheel(w);
@@ -235,8 +245,9 @@ void RaycastRobot::driveWheel(size_t w) {
   Joint& joint = joints_[wheel.joint];
   const double budget = wheel.max_torque * dt_;
   if (wheel.max_torque > 0) {
-    const double total = std::clamp(
-        contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia, -budget, budget);
+    const double wanted = wheel.pushed ? std::copysign(budget, wheel.spin_target)
+                                       : contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia;
+    const double total = std::clamp(wanted, -budget, budget);
     joint.velocity += (total - contact.motor_impulse) / wheel.inertia;
     contact.motor_impulse = total;
   }
@@ -273,9 +284,12 @@ void RaycastRobot::afterStep() {
 }
 
 void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
-  for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = 0;
+  for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = joint.external_effort = 0;
   for (const auto& [joint, position] : joints) joints_.at(joint).position = position;
-  for (auto& wheel : wheels_) wheel.spin_target = wheel.max_torque = 0;
+  for (auto& wheel : wheels_) {
+    wheel.spin_target = wheel.max_torque = 0;
+    wheel.pushed = false;
+  }
   hubs_stale_ = frames_stale_ = true;
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
   chassis_->setLinearVelocity(btVector3(0, 0, 0));
@@ -283,6 +297,21 @@ void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPosition
   chassis_->clearForces();
   afterStep();
 }
+
+void RaycastRobot::teleport(const Eigen::Isometry3d& root_pose) {
+  chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
+  afterStep();
+}
+
+void RaycastRobot::setJointPositions(const JointPositions& joints) {
+  for (const auto& [joint, position] : joints) {
+    joints_.at(joint).position = position;
+    joints_.at(joint).velocity = 0;
+  }
+  hubs_stale_ = frames_stale_ = true;
+}
+
+void RaycastRobot::setStepSize(double step_size) { dt_ = step_size; }
 
 int RaycastRobot::jointIndex(const std::string& joint) const {
   const auto found = joint_index_.find(joint);
@@ -294,6 +323,7 @@ void RaycastRobot::setJointVelocity(int joint, double velocity, double max_effor
   if (target.wheel >= 0) {
     wheels_[target.wheel].spin_target = velocity;
     wheels_[target.wheel].max_torque = max_effort;
+    wheels_[target.wheel].pushed = false;
   } else {
     target.velocity = velocity;
   }
@@ -309,6 +339,41 @@ void RaycastRobot::setJointPosition(int joint, double position, double) {
   if (held != target.position) hubs_stale_ = frames_stale_ = true;
   target.position = held;
   target.velocity = 0;
+}
+
+void RaycastRobot::setJointEffort(int joint, double effort) {
+  Joint& target = joints_.at(joint);
+  if (target.wheel < 0) {
+    target.velocity = 0;
+    return;
+  }
+  Wheel& wheel = wheels_[target.wheel];
+  wheel.spin_target = effort;  // only its sign counts
+  wheel.max_torque = std::abs(effort);
+  wheel.pushed = true;
+}
+
+// As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.
+void RaycastRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+  const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  chassis_->setLinearVelocity(toBullet(linear + angular.cross(com - root_pose_.translation())));
+  chassis_->setAngularVelocity(toBullet(angular));
+  for (auto& joint : joints_) joint.velocity = 0;
+}
+
+void RaycastRobot::applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                                   const Eigen::Vector3d& torque) {
+  const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  chassis_->applyForce(toBullet(force), toBullet(linkPose(link).translation() - com));
+  chassis_->applyTorque(toBullet(torque));
+}
+
+bool RaycastRobot::takesJointEffort(int joint) const {
+  return joint >= 0 && joint < static_cast<int>(joints_.size()) && joints_[joint].wheel >= 0;
+}
+
+void RaycastRobot::applyJointEffort(int joint, double effort) {
+  if (takesJointEffort(joint)) joints_[joint].external_effort += effort;
 }
 
 Eigen::Isometry3d RaycastRobot::linkPose(const std::string& link) const {
@@ -341,6 +406,12 @@ int RaycastRobot::partOf(const std::string& link) const {
 
 Eigen::Isometry3d RaycastRobot::partPose(int part) const {
   return linkPose(layout_.parts.at(part).root_link);
+}
+
+std::vector<CollisionContact> RaycastRobot::contacts(const CollisionSource& source) const {
+  const auto found = std::find(chassis_sources_.begin(), chassis_sources_.end(), source);
+  if (found == chassis_sources_.end()) return {};  // a wheel: its ray is its contact
+  return contactsOf(world_, *chassis_, static_cast<int>(found - chassis_sources_.begin()), dt_);
 }
 
 }  // namespace bullet_sim

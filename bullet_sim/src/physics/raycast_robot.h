@@ -17,6 +17,7 @@
 
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/sensing/ray_caster.h"
+#include "physics/contacts.h"
 #include "physics/robot_parts.h"
 
 class btMultiBodyDynamicsWorld;
@@ -30,7 +31,8 @@ class RaycastRobot : public PhysicsRobot {
  public:
   /// Builds the robot with its root link at `root_pose` and adds its chassis to `world`; wheels find the
   /// ground in `ground`'s static bodies. Throws SpecError when the model cannot be simulated this way.
-  RaycastRobot(ModelSpec spec, btMultiBodyDynamicsWorld& world, const RayCaster& ground,
+  /// `name` is the robot's, as contacts name its collisions (model::link::collision).
+  RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamicsWorld& world, const RayCaster& ground,
                const Eigen::Isometry3d& root_pose);
   ~RaycastRobot() override;
   RaycastRobot(const RaycastRobot&) = delete;
@@ -39,6 +41,9 @@ class RaycastRobot : public PhysicsRobot {
   void beforeStep() override;
   void afterStep() override;
   void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) override;
+  void teleport(const Eigen::Isometry3d& root_pose) override;
+  void setJointPositions(const JointPositions& joints) override;
+  void setStepSize(double step_size) override;
 
   const ModelSpec& spec() const override { return spec_; }
   int jointIndex(const std::string& joint) const override;
@@ -47,12 +52,20 @@ class RaycastRobot : public PhysicsRobot {
   double jointEffort(int joint) const override { return joints_.at(joint).effort; }
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
+  /// Pushes a wheel's spin; a kinematic joint has no dynamics to push, so it stays where it is.
+  void setJointEffort(int joint, double effort) override;
+  void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
+  void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                       const Eigen::Vector3d& torque) override;
+  bool takesJointEffort(int joint) const override;
+  void applyJointEffort(int joint, double effort) override;
   Eigen::Isometry3d linkPose(const std::string& link) const override;
   Eigen::Vector3d linkLinearVelocity(const std::string& link) const override;
   Eigen::Vector3d linkAngularVelocity(const std::string& link) const override;
   const std::vector<RobotPart>& parts() const override { return layout_.parts; }
   int partOf(const std::string& link) const override;
   Eigen::Isometry3d partPose(int part) const override;
+  std::vector<CollisionContact> contacts(const CollisionSource& source) const override;
 
  private:
   struct Joint {
@@ -63,6 +76,7 @@ class RaycastRobot : public PhysicsRobot {
     double position = 0;  ///< [rad] or [m]
     double velocity = 0;  ///< [rad/s] or [m/s]; a kinematic joint moves at it
     double effort = 0;    ///< applied by the motor in the last step
+    double external_effort = 0;  ///< applyJointEffort's, for the coming step (wheels only)
   };
   struct Wheel {
     int joint;
@@ -72,6 +86,7 @@ class RaycastRobot : public PhysicsRobot {
     bool caster;             ///< on a swivel: load only
     double spin_target = 0;  ///< [rad/s]
     double max_torque = 0;   ///< [N m]; 0 = free
+    bool pushed = false;     ///< max_torque pushes the spin towards the sign of spin_target, whatever its speed
   };
 
   /// A wheel's contact with the ground in one step, and the impulses solved for it.
@@ -100,6 +115,7 @@ class RaycastRobot : public PhysicsRobot {
   int linkIndex(const std::string& link) const;
 
   ModelSpec spec_;
+  std::string name_;
   btMultiBodyDynamicsWorld& world_;
   const RayCaster& ground_;
   double dt_;
@@ -122,6 +138,8 @@ class RaycastRobot : public PhysicsRobot {
 
   std::unique_ptr<BulletShapes> shapes_;
   std::unique_ptr<btRigidBody> chassis_;
+  std::vector<CollisionSource> chassis_sources_;  ///< per child shape of the chassis
+  CollisionNames chassis_names_;
   // Per step scratch, kept to avoid allocating.
   std::vector<Eigen::Vector3d> ray_origins_, ray_directions_;
   std::vector<double> ray_hits_;

@@ -28,8 +28,11 @@ PartLayout partitionAtMovingJoints(const ModelSpec& model) {
   for (size_t k = 0; k < layout.parts.size(); ++k) {
     for (const auto& name : layout.parts[k].links) {
       const Eigen::Isometry3d& in_part = layout.link_in_part[k].at(name);
-      for (const auto& collision : model.link(name)->collisions) {
-        layout.parts[k].collisions.push_back({in_part * collision.origin, collision.shape});
+      const auto& collisions = model.link(name)->collisions;
+      for (size_t i = 0; i < collisions.size(); ++i) {
+        layout.parts[k].collisions.push_back(
+            {in_part * collisions[i].origin, collisions[i].shape, collisions[i].name});
+        layout.parts[k].sources.push_back({name, static_cast<int>(i)});
       }
     }
   }

@@ -56,7 +56,7 @@ Imu::Imu(const PluginDeclaration& declaration, const ImuConfig& config, const Pl
     : Plugin(declaration, setup), config_(config), gravity_(setup.gravity) {
   ImuSample& sample = samples_.next();
   sample.frame_id = config_.frame;
-  const double variance = config_.noise_stddev * config_.noise_stddev;
+  const Eigen::Vector3d variance = Eigen::Vector3d::Constant(config_.noise_stddev * config_.noise_stddev);
   sample.angular_velocity_variance = sample.linear_acceleration_variance = variance;
   addOutput(config_.topic, samples_);
 }

@@ -18,7 +18,7 @@ bool UpdateTimer::due(const StepTime& time) {
 
 Plugin::Plugin(const PluginDeclaration& declaration, const PluginSetup& setup)
     : name_(declaration.displayName()),
-      robot_namespace_(declaration.config->robot_namespace),
+      robot_namespace_(setup.robot_namespace.value_or(declaration.config->robot_namespace)),
       where_(declaration.where()),
       timer_(declaration.config->update_rate),
       seed_(setup.seed ^ stableHash(setup.robot_name + "/" + name_)),

@@ -43,7 +43,8 @@ bool withinRayLimit(double beams, double channels, const std::string& where, con
   return false;
 }
 
-/// The <ray> blocks of the sensor: scan (horizontal, vertical), range and noise.
+}  // namespace
+
 void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
                  const DeclarationSource& source) {
   Diagnostics& diagnostics = source.diagnostics;
@@ -95,6 +96,8 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
   }
 }
 
+namespace {
+
 /// The plugin's tags: topic, frame, and the velodyne plugins' own range and noise.
 void readPluginTags(const std::string& filename, PluginTags& tags, RayLidarConfig& config) {
   const bool velodyne = filename.find("velodyne") != std::string::npos;
@@ -118,6 +121,23 @@ void readPluginTags(const std::string& filename, PluginTags& tags, RayLidarConfi
 }  // namespace
 
 int RayLidarConfig::beams() const { return std::max(1, static_cast<int>(std::lround(samples * resolution))); }
+
+std::vector<Eigen::Vector3f> rayDirections(const RayLidarConfig& config, int channels) {
+  const int beams = config.beams();
+  const double increment = beams > 1 ? (config.max_angle - config.min_angle) / (beams - 1) : 0.0;
+  const double elevation_step =
+      channels > 1 ? (config.max_elevation - config.min_elevation) / (channels - 1) : 0.0;
+  std::vector<Eigen::Vector3f> directions;
+  for (int channel = 0; channel < channels; ++channel) {
+    const double elevation = channels > 1 ? config.min_elevation + channel * elevation_step : 0.0;
+    for (int i = 0; i < beams; ++i) {
+      const double angle = config.min_angle + i * increment;
+      directions.emplace_back(std::cos(elevation) * std::cos(angle), std::cos(elevation) * std::sin(angle),
+                              std::sin(elevation));
+    }
+  }
+  return directions;
+}
 
 RayLidarConfig parseRayLidar(const DeclarationSource& source) {
   const SensorDeclaration& sensor = *source.declaration.sensor;
@@ -145,17 +165,8 @@ RayLidar::RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& c
   const int beams = config_.beams();
   const double increment = beams > 1 ? (config_.max_angle - config_.min_angle) / (beams - 1) : 0.0;
   // A LaserScan is the plane at 0 elevation; point clouds take every channel, bottom first.
-  const int channels = config_.output == RayLidarConfig::Output::kLaserScan ? 1 : config_.channels;
-  const double elevation_step =
-      channels > 1 ? (config_.max_elevation - config_.min_elevation) / (channels - 1) : 0.0;
-  for (int channel = 0; channel < channels; ++channel) {
-    const double elevation = channels > 1 ? config_.min_elevation + channel * elevation_step : 0.0;
-    for (int i = 0; i < beams; ++i) {
-      const double angle = config_.min_angle + i * increment;
-      directions_.emplace_back(std::cos(elevation) * std::cos(angle), std::cos(elevation) * std::sin(angle),
-                               std::sin(elevation));
-    }
-  }
+  const bool planar = config_.output == RayLidarConfig::Output::kLaserScan;
+  directions_ = rayDirections(config_, planar ? 1 : config_.channels);
   world_directions_.resize(directions_.size());
   ranges_.resize(directions_.size());
   LaserScan& scan = scan_.next();

@@ -5,13 +5,24 @@
 #include <stdexcept>
 
 #include "bullet_sim/plugins/ackermann_drive.h"
+#include "bullet_sim/plugins/bumper.h"
 #include "bullet_sim/plugins/drive_support.h"
+#include "bullet_sim/plugins/force_based_move.h"
 #include "bullet_sim/plugins/ground_truth.h"
+#include "bullet_sim/plugins/hector_gps.h"
+#include "bullet_sim/plugins/hector_imu.h"
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/joint_states.h"
 #include "bullet_sim/plugins/pinhole_camera.h"
+#include "bullet_sim/plugins/planar_move.h"
+#include "bullet_sim/plugins/range_sensor.h"
 #include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/plugins/ros_control/diff_drive_controller.h"
+#include "bullet_sim/plugins/ros_control/joint_command_controllers.h"
+#include "bullet_sim/plugins/ros_control/joint_state_controller.h"
+#include "bullet_sim/plugins/ros_control/pid_joint_controllers.h"
+#include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 
 namespace bullet_sim {
@@ -40,6 +51,37 @@ PluginRegistry makeBuiltin() {
            pluginType<PinholeCamera>("libgazebo_ros_camera.so", kCameraSensors, parseCamera),
            pluginType<PinholeCamera>("libgazebo_ros_openni_kinect.so", {"depth"}, parseDepthCamera),
            pluginType<PinholeCamera>("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera),
+           pluginType<RangeSensor>("libgazebo_ros_range.so", {"ray"}, parseRange),
+           pluginType<HectorImu>("libhector_gazebo_ros_imu.so", {}, parseHectorImu),
+           pluginType<HectorGps>("libhector_gazebo_ros_gps.so", {}, parseHectorGps),
+           pluginType<Bumper>("libgazebo_ros_bumper.so", {"contact"}, parseBumper),
+           pluginType<PlanarMove>("libgazebo_ros_planar_move.so", {}, parsePlanarMove),
+           // hector_gazebo_plugins' force-based move:
+           pluginType<ForceBasedMove>("libgazebo_ros_force_based_move.so", {}, parseForceBasedMove),
+           pluginType<RosControl>("libgazebo_ros_control.so", {}, parseRosControl),
+       }) {
+    registry.add(std::move(type));
+  }
+  return registry;
+}
+
+ControllerRegistry makeBuiltinControllers() {
+  using Joints = JointGroupCommandController;
+  using Pid = PidJointController;
+  constexpr auto kEffort = JointInterface::kEffort, kVelocity = JointInterface::kVelocity,
+                 kPosition = JointInterface::kPosition;
+  ControllerRegistry registry;
+  for (ControllerType type : {
+           controllerType<JointStateController>("joint_state_controller/JointStateController"),
+           controllerType<DiffDriveController>("diff_drive_controller/DiffDriveController"),
+           controllerType<Joints>("velocity_controllers/JointVelocityController", kVelocity, true),
+           controllerType<Joints>("position_controllers/JointPositionController", kPosition, true),
+           controllerType<Joints>("effort_controllers/JointEffortController", kEffort, true),
+           controllerType<Pid>("effort_controllers/JointPositionController", Pid::Target::kPosition),
+           controllerType<Pid>("effort_controllers/JointVelocityController", Pid::Target::kVelocity),
+           controllerType<Joints>("velocity_controllers/JointGroupVelocityController", kVelocity, false),
+           controllerType<Joints>("position_controllers/JointGroupPositionController", kPosition, false),
+           controllerType<Joints>("effort_controllers/JointGroupEffortController", kEffort, false),
        }) {
     registry.add(std::move(type));
   }
@@ -126,6 +168,34 @@ std::unique_ptr<Plugin> PluginRegistry::create(const PluginDeclaration& declarat
                                 "] was parsed by another plugin registry than the simulation's");
   }
   return type->create(declaration, setup);
+}
+
+const ControllerRegistry& ControllerRegistry::builtin() {
+  static const ControllerRegistry registry = makeBuiltinControllers();
+  return registry;
+}
+
+void ControllerRegistry::add(ControllerType type) {
+  auto same = std::find_if(types_.begin(), types_.end(),
+                           [&](const ControllerType& known) { return known.name == type.name; });
+  if (same != types_.end()) {
+    *same = std::move(type);
+  } else {
+    types_.push_back(std::move(type));
+  }
+}
+
+const ControllerType* ControllerRegistry::find(const std::string& name) const {
+  for (const auto& type : types_) {
+    if (type.name == name) return &type;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> ControllerRegistry::names() const {
+  std::vector<std::string> names;
+  for (const auto& type : types_) names.push_back(type.name);
+  return names;
 }
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,

@@ -1,7 +1,11 @@
 #include "robot_adapter.h"
 
 #include <camera_info_manager/camera_info_manager.h>
+#include <control_msgs/JointControllerState.h>
+#include <gazebo_msgs/ContactsState.h>
 #include <geometry_msgs/Twist.h>
+#include <geometry_msgs/TwistStamped.h>
+#include <geometry_msgs/Vector3Stamped.h>
 #include <image_transport/image_transport.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -9,14 +13,22 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/NavSatFix.h>
 #include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/Range.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <std_msgs/Bool.h>
+#include <std_msgs/Float64.h>
+#include <std_msgs/Float64MultiArray.h>
 #include <std_srvs/Empty.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
 #include <algorithm>
+#include <optional>
+
+#include "controller_manager_services.h"
 
 namespace bullet_sim {
 
@@ -119,10 +131,10 @@ sensor_msgs::Imu toMessage(const ImuSample& sample, const FramePrefix& frames) {
   message.orientation = tf2::toMsg(sample.orientation);
   tf2::toMsg(sample.angular_velocity, message.angular_velocity);
   tf2::toMsg(sample.linear_acceleration, message.linear_acceleration);
-  for (int i : {0, 4, 8}) {
-    message.orientation_covariance[i] = sample.orientation_variance;
-    message.angular_velocity_covariance[i] = sample.angular_velocity_variance;
-    message.linear_acceleration_covariance[i] = sample.linear_acceleration_variance;
+  for (int i = 0; i < 3; ++i) {
+    message.orientation_covariance[4 * i] = sample.orientation_variance[i];
+    message.angular_velocity_covariance[4 * i] = sample.angular_velocity_variance[i];
+    message.linear_acceleration_covariance[4 * i] = sample.linear_acceleration_variance[i];
   }
   return message;
 }
@@ -163,6 +175,111 @@ sensor_msgs::PointCloud2 toMessage(const ColouredCloud& cloud, const FramePrefix
   return message;
 }
 
+sensor_msgs::Range toMessage(const RangeSample& sample, const FramePrefix& frames) {
+  sensor_msgs::Range message;
+  message.header = header(sample.stamp, frames(sample.frame_id));
+  message.radiation_type = sample.infrared ? sensor_msgs::Range::INFRARED : sensor_msgs::Range::ULTRASOUND;
+  message.field_of_view = sample.field_of_view;
+  message.min_range = sample.min_range;
+  message.max_range = sample.max_range;
+  message.range = sample.range;
+  return message;
+}
+
+sensor_msgs::NavSatFix toMessage(const NavSatFixSample& fix, const FramePrefix& frames) {
+  sensor_msgs::NavSatFix message;
+  message.header = header(fix.stamp, frames(fix.frame_id));
+  message.status.status = fix.status;
+  message.status.service = fix.service;
+  message.latitude = fix.latitude;
+  message.longitude = fix.longitude;
+  message.altitude = fix.altitude;
+  std::copy(fix.position_covariance.begin(), fix.position_covariance.end(),
+            message.position_covariance.begin());
+  message.position_covariance_type = fix.position_covariance_type;
+  return message;
+}
+
+geometry_msgs::Vector3Stamped toMessage(const Vector3Sample& sample, const FramePrefix& frames) {
+  geometry_msgs::Vector3Stamped message;
+  message.header = header(sample.stamp, frames(sample.frame_id));
+  tf2::toMsg(sample.vector, message.vector);
+  return message;
+}
+
+geometry_msgs::Wrench toMessage(const ContactsSample::Wrench& wrench) {
+  geometry_msgs::Wrench message;
+  tf2::toMsg(wrench.force, message.force);
+  tf2::toMsg(wrench.torque, message.torque);
+  return message;
+}
+
+gazebo_msgs::ContactsState toMessage(const ContactsSample& contacts, const FramePrefix& frames) {
+  gazebo_msgs::ContactsState message;
+  message.header = header(contacts.stamp, frames(contacts.frame_id));
+  for (const auto& state : contacts.states) {
+    gazebo_msgs::ContactState& out = message.states.emplace_back();
+    out.info = state.info;
+    out.collision1_name = state.collision1;
+    out.collision2_name = state.collision2;
+    for (const auto& wrench : state.wrenches) out.wrenches.push_back(toMessage(wrench));
+    out.total_wrench = toMessage(state.total_wrench);
+    for (const auto& position : state.positions) tf2::toMsg(position, out.contact_positions.emplace_back());
+    for (const auto& normal : state.normals) tf2::toMsg(normal, out.contact_normals.emplace_back());
+    out.depths = state.depths;
+  }
+  return message;
+}
+
+control_msgs::JointControllerState toMessage(const JointControllerState& state, const FramePrefix&) {
+  control_msgs::JointControllerState message;
+  message.header.stamp = ros::Time(state.stamp);
+  message.set_point = state.set_point;
+  message.process_value = state.process_value;
+  message.process_value_dot = state.process_value_dot;
+  message.error = state.error;
+  message.time_step = state.time_step;
+  message.command = state.command;
+  message.p = state.p;
+  message.i = state.i;
+  message.d = state.d;
+  message.i_clamp = state.i_clamp;
+  message.antiwindup = state.antiwindup;
+  return message;
+}
+
+geometry_msgs::TwistStamped toMessage(const StampedTwist& twist, const FramePrefix& frames) {
+  geometry_msgs::TwistStamped message;
+  message.header = header(twist.stamp, twist.frame_id.empty() ? "" : frames(twist.frame_id));
+  tf2::toMsg(twist.twist.linear, message.twist.linear);
+  tf2::toMsg(twist.twist.angular, message.twist.angular);
+  return message;
+}
+
+// One conversion per input type; nullopt when the message holds nothing to take.
+
+std::optional<Twist> fromMessage(const geometry_msgs::Twist& message) {
+  Twist twist;
+  tf2::fromMsg(message.linear, twist.linear);
+  tf2::fromMsg(message.angular, twist.angular);
+  return twist;
+}
+
+std::optional<JointTargets> fromMessage(const trajectory_msgs::JointTrajectory& message) {
+  if (message.points.empty()) return std::nullopt;
+  return JointTargets{message.joint_names, message.points.front().positions};
+}
+
+std::optional<Float64Command> fromMessage(const std_msgs::Float64& message) { return Float64Command{message.data}; }
+
+std::optional<Float64ArrayCommand> fromMessage(const std_msgs::Float64MultiArray& message) {
+  return Float64ArrayCommand{message.data};
+}
+
+std::optional<BoolCommand> fromMessage(const std_msgs::Bool& message) {
+  return BoolCommand{static_cast<bool>(message.data)};
+}
+
 }  // namespace
 
 std::string FramePrefix::operator()(const std::string& frame) const {
@@ -174,6 +291,7 @@ std::string FramePrefix::operator()(const std::string& frame) const {
 struct RobotAdapter::Connection {
   mutable ros::NodeHandle handle;  // advertise and subscribe are not const
   const FramePrefix& frames;
+  Connections& into;
 };
 
 RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
@@ -185,42 +303,77 @@ RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
       sim_time_(std::move(sim_time)) {
   std::string prefix = namespace_;
   for (const auto& plugin : robot.plugins()) {
-    if (prefix.empty()) prefix = withoutSlashes(plugin->robotNamespace());
+    if (prefix.empty() && plugin->prefixesFrames()) prefix = withoutSlashes(plugin->robotNamespace());
   }
   frames_ = FramePrefix(prefix);
-  for (const auto& plugin : robot.plugins()) connect(*plugin);
+  for (const auto& plugin : robot.plugins()) {
+    connect(*plugin, plugin->ports(), fixed_);
+    watched_.push_back({plugin.get(), plugin->portGroupsRevision()});
+    reconnectGroups(*plugin);
+  }
 }
 
-void RobotAdapter::connect(const Plugin& plugin) {
-  const Connection connection{handleFor(plugin.robotNamespace()), frames_};
-  for (const auto& port : plugin.ports().inputs) subscribe(connection, port);
-  for (const auto& port : plugin.ports().outputs) advertise(connection, port);
-  for (const auto& port : plugin.ports().services) serve(connection, port);
+void RobotAdapter::connect(const Plugin& plugin, const PluginPorts& ports, Connections& into) {
+  const Connection connection{handleFor(plugin.robotNamespace()), plugin.prefixesFrames() ? frames_ : unprefixed_,
+                              into};
+  try {
+    for (const auto& port : ports.inputs) subscribe(connection, port);
+    for (const auto& port : ports.outputs) advertise(connection, port);
+    for (const auto& port : ports.services) serve(connection, port);
+  } catch (const ros::Exception& e) {  // a name ROS refuses, e.g. from a controller's parameters
+    ROS_ERROR("[%s] %s: %s", robot_name_.c_str(), plugin.where().c_str(), e.what());
+  }
+}
+
+void RobotAdapter::refreshPorts() {
+  for (auto& watched : watched_) {
+    const uint64_t revision = watched.plugin->portGroupsRevision();
+    if (revision == watched.revision) continue;
+    watched.revision = revision;
+    reconnectGroups(*watched.plugin);
+  }
+}
+
+void RobotAdapter::reconnectGroups(const Plugin& plugin) {
+  const std::vector<PortGroup> groups = plugin.portGroups();
+  for (auto it = groups_.begin(); it != groups_.end();) {
+    const auto& [owner, id] = it->first;
+    const bool gone = owner == &plugin && std::none_of(groups.begin(), groups.end(),
+                                                       [id = id](const PortGroup& group) { return group.id == id; });
+    it = gone ? groups_.erase(it) : std::next(it);
+  }
+  for (const auto& group : groups) {
+    if (groups_.count({&plugin, group.id})) continue;
+    const size_t logged = topics_.size();
+    connect(plugin, *group.ports, groups_[{&plugin, group.id}]);
+    for (size_t t = logged; t < topics_.size(); ++t)
+      ROS_INFO("[%s] %s: %s", robot_name_.c_str(), group.name.c_str(), topics_[t].c_str());
+  }
 }
 
 void RobotAdapter::serve(const Connection& plugin, const ServicePort& port) {
-  std::visit(
-      [&](const ServiceHandler<EmptyRequest>& handler) {
-        services_.push_back(
-            plugin.handle.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
-                port.name,
-                [handler, name = robot_name_](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-                  const std::string refused = handler(EmptyRequest{});
-                  if (!refused.empty()) ROS_WARN("[%s] %s", name.c_str(), refused.c_str());
-                  return refused.empty();
-                }));
-      },
-      port.handler);
-  topics_.push_back(services_.back().getService() + " (service)");
+  auto& services = plugin.into.services;
+  if (const auto* handler = std::get_if<ServiceHandler<EmptyRequest>>(&port.handler)) {
+    services.push_back(plugin.handle.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
+        port.name, [handler = *handler, name = robot_name_](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+          EmptyRequest::Reply reply;
+          const std::string refused = handler(EmptyRequest{}, reply);
+          if (!refused.empty()) ROS_WARN("[%s] %s", name.c_str(), refused.c_str());
+          return refused.empty();
+        }));
+  } else {
+    services.push_back(serveControllerManager(plugin.handle, port.name, port.handler, robot_name_));
+  }
+  topics_.push_back(services.back().getService() + " (service)");
 }
 
 template <class Message, class Sample, class Convert>
 void RobotAdapter::advertiseStream(const Connection& plugin, const OutputPort& port,
                                    const Stream<Sample>* stream, Convert convert) {
   ros::Publisher publisher = plugin.handle.advertise<Message>(port.topic, 10);
-  publishers_.push_back(publisher);
+  plugin.into.publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
-  outputs_.push_back({[stream] { return stream->count(); },
+  plugin.into.outputs.push_back({[stream] { return stream->count(); },
                       [publisher, stream, convert, frames = plugin.frames] {
                         publisher.publish(convert(stream->latest(), frames));
                       },
@@ -231,9 +384,9 @@ void RobotAdapter::advertiseImages(const Connection& plugin, const OutputPort& p
                                    const Stream<CameraImage>* stream) {
   image_transport::ImageTransport transport(plugin.handle);
   image_transport::Publisher publisher = transport.advertise(port.topic, 2);
-  image_publishers_.push_back(publisher);
+  plugin.into.image_publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
-  outputs_.push_back({[stream] { return stream->count(); },
+  plugin.into.outputs.push_back({[stream] { return stream->count(); },
                       [publisher, stream, frames = plugin.frames] {
                         publisher.publish(toMessage(stream->latest(), frames));
                       },
@@ -260,9 +413,9 @@ void RobotAdapter::advertiseCameraInfo(const Connection& plugin, const OutputPor
     manager->setCameraInfo(info);
   }
   ros::Publisher publisher = plugin.handle.advertise<sensor_msgs::CameraInfo>(port.topic, 2);
-  publishers_.push_back(publisher);
+  plugin.into.publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
-  outputs_.push_back({[stream] { return stream->count(); },
+  plugin.into.outputs.push_back({[stream] { return stream->count(); },
                       [publisher, stream, manager, frames = plugin.frames] {
                         sensor_msgs::CameraInfo info = manager->getCameraInfo();
                         info.header = header(stream->latest().stamp, frames(stream->latest().frame_id));
@@ -271,9 +424,9 @@ void RobotAdapter::advertiseCameraInfo(const Connection& plugin, const OutputPor
                       0, port.demand, [publisher] { return publisher.getNumSubscribers(); }});
 }
 
-void RobotAdapter::broadcast(const Stream<TransformSample>* stream, const FramePrefix& frames) {
-  outputs_.push_back({[stream] { return stream->count(); },
-                      [this, stream, frames] {
+void RobotAdapter::broadcast(const Connection& plugin, const Stream<TransformSample>* stream) {
+  plugin.into.outputs.push_back({[stream] { return stream->count(); },
+                      [this, stream, frames = plugin.frames] {
                         const TransformSample& sample = stream->latest();
                         for (const auto& frame : sample.frames) {
                           geometry_msgs::TransformStamped transform = tf2::eigenToTransform(frame.pose);
@@ -292,7 +445,7 @@ void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
       [&](const auto* stream) {
         using Sample = std::decay_t<decltype(stream->latest())>;
         if constexpr (std::is_same_v<Sample, TransformSample>) {
-          broadcast(stream, plugin.frames);
+          broadcast(plugin, stream);
         } else if constexpr (std::is_same_v<Sample, CameraImage>) {
           advertiseImages(plugin, port, stream);
         } else if constexpr (std::is_same_v<Sample, CameraInfo>) {
@@ -305,33 +458,38 @@ void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
       port.stream);
 }
 
-void RobotAdapter::subscribe(const Connection& plugin, const InputPort& port) {
+template <class Message, class Input>
+void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, const InputHandler<Input>& handler) {
   const auto warn = [name = robot_name_](const std::string& why) {
     if (!why.empty()) ROS_WARN_THROTTLE(5, "[%s] ignored %s", name.c_str(), why.c_str());
   };
+  ros::Subscriber subscriber = plugin.handle.subscribe<Message>(
+      port.topic, 10, [this, handler, warn](const typename Message::ConstPtr& message) {
+        if (const std::optional<Input> input = fromMessage(*message)) warn(handler(*input, sim_time_()));
+      });
+  plugin.into.subscribers.push_back(subscriber);
+  if (port.publishers) plugin.into.counted_inputs.emplace_back(subscriber, port.publishers);
+  topics_.push_back(subscriber.getTopic() + " (in)");
+}
+
+void RobotAdapter::subscribe(const Connection& plugin, const InputPort& port) {
   std::visit(
       [&](const auto& handler) {
         using Handler = std::decay_t<decltype(handler)>;
         if constexpr (std::is_same_v<Handler, InputHandler<Twist>>) {
-          subscribers_.push_back(plugin.handle.subscribe<geometry_msgs::Twist>(
-              port.topic, 10, [this, handler, warn](const geometry_msgs::Twist::ConstPtr& message) {
-                Twist twist;
-                tf2::fromMsg(message->linear, twist.linear);
-                tf2::fromMsg(message->angular, twist.angular);
-                warn(handler(twist, sim_time_()));
-              }));
+          subscribeAs<geometry_msgs::Twist>(plugin, port, handler);
+        } else if constexpr (std::is_same_v<Handler, InputHandler<JointTargets>>) {
+          subscribeAs<trajectory_msgs::JointTrajectory>(plugin, port, handler);
+        } else if constexpr (std::is_same_v<Handler, InputHandler<Float64Command>>) {
+          subscribeAs<std_msgs::Float64>(plugin, port, handler);
+        } else if constexpr (std::is_same_v<Handler, InputHandler<Float64ArrayCommand>>) {
+          subscribeAs<std_msgs::Float64MultiArray>(plugin, port, handler);
         } else {
-          static_assert(std::is_same_v<Handler, InputHandler<JointTargets>>, "an input type without a topic");
-          subscribers_.push_back(plugin.handle.subscribe<trajectory_msgs::JointTrajectory>(
-              port.topic, 10,
-              [this, handler, warn](const trajectory_msgs::JointTrajectory::ConstPtr& message) {
-                if (message->points.empty()) return;
-                warn(handler({message->joint_names, message->points.front().positions}, sim_time_()));
-              }));
+          static_assert(std::is_same_v<Handler, InputHandler<BoolCommand>>, "an input type without a topic");
+          subscribeAs<std_msgs::Bool>(plugin, port, handler);
         }
       },
       port.sink);
-  topics_.push_back(subscribers_.back().getTopic() + " (in)");
 }
 
 ros::NodeHandle RobotAdapter::handleFor(const std::string& plugin_namespace) const {
@@ -340,7 +498,13 @@ ros::NodeHandle RobotAdapter::handleFor(const std::string& plugin_namespace) con
 }
 
 void RobotAdapter::publish() {
-  for (auto& output : outputs_) {
+  refreshPorts();  // first: the outputs of an unloaded controller are gone
+  publish(fixed_);
+  for (auto& [group, connections] : groups_) publish(connections);
+}
+
+void RobotAdapter::publish(Connections& connections) {
+  for (auto& output : connections.outputs) {
     const uint64_t count = output.count();
     if (count != output.seen) {
       output.seen = count;
@@ -348,6 +512,7 @@ void RobotAdapter::publish() {
     }
     if (output.demand) output.demand->wanted = output.subscribers() > 0;
   }
+  for (auto& [subscriber, publishers] : connections.counted_inputs) publishers->count = subscriber.getNumPublishers();
 }
 
 }  // namespace bullet_sim

@@ -1,6 +1,8 @@
 // The ROS face of one spawned robot: for every plugin, a subscription per input, a publisher per output and a
 // server per service, in the robot's namespace and with its frame prefix. Each output type maps to its
-// message, each input type to its subscription and each request type to its service, in one place. Runs between steps, on the node's thread.
+// message, each input type to its subscription and each request type to its service, in one place. Ports that
+// appear while the robot runs (a ros_control controller's, from its load to its unload) are connected when they
+// appear and dropped when they go. Runs between steps, on the node's thread.
 #pragma once
 
 #include <image_transport/publisher.h>
@@ -41,8 +43,10 @@ class RobotAdapter {
                std::function<double()> sim_time);
 
   /// Publishes what the plugins produced since the last call, and tells each plugin whether its on-demand
-  /// outputs (camera images) have subscribers now.
+  /// outputs (camera images) have subscribers now and how many publish to its inputs.
   void publish();
+  /// Connects the port groups that appeared since the last call and drops those that went.
+  void refreshPorts();
 
   /// The topics this robot advertises and subscribes, for the log.
   const std::vector<std::string>& topics() const { return topics_; }
@@ -55,11 +59,29 @@ class RobotAdapter {
     Demand* demand = nullptr;  ///< the plugin's, set from the subscriber count
     std::function<uint32_t()> subscribers;
   };
+  /// What one set of ports is connected to: dropped together when its port group goes.
+  struct Connections {
+    std::vector<ros::Publisher> publishers;
+    std::vector<image_transport::Publisher> image_publishers;
+    std::vector<ros::Subscriber> subscribers;
+    std::vector<ros::ServiceServer> services;
+    std::vector<Output> outputs;
+    std::vector<std::pair<ros::Subscriber, Publishers*>> counted_inputs;  ///< and the plugin's count of them
+  };
+  /// A plugin whose port groups come and go, and the revision of them connected.
+  struct Watched {
+    const Plugin* plugin;
+    uint64_t revision;
+  };
   struct Connection;  ///< what connect() needs of one plugin
 
-  void connect(const Plugin& plugin);
+  void connect(const Plugin& plugin, const PluginPorts& ports, Connections& into);
+  void reconnectGroups(const Plugin& plugin);
+  void publish(Connections& connections);
   void advertise(const Connection& plugin, const OutputPort& port);
   void subscribe(const Connection& plugin, const InputPort& port);
+  template <class Message, class Input>
+  void subscribeAs(const Connection& plugin, const InputPort& port, const InputHandler<Input>& handler);
   void serve(const Connection& plugin, const ServicePort& port);
   template <class Message, class Sample, class Convert>
   void advertiseStream(const Connection& plugin, const OutputPort& port, const Stream<Sample>* stream,
@@ -68,21 +90,20 @@ class RobotAdapter {
   void advertiseImages(const Connection& plugin, const OutputPort& port, const Stream<CameraImage>* stream);
   /// camera_info comes from the camera's camera_info_manager, which serves set_camera_info.
   void advertiseCameraInfo(const Connection& plugin, const OutputPort& port, const Stream<CameraInfo>* stream);
-  void broadcast(const Stream<TransformSample>* stream, const FramePrefix& frames);
+  void broadcast(const Connection& plugin, const Stream<TransformSample>* stream);
   ros::NodeHandle handleFor(const std::string& plugin_namespace) const;
 
   const std::string robot_name_;
   std::string namespace_;
   FramePrefix frames_;
+  FramePrefix unprefixed_{""};  ///< for plugins whose frames are not prefixed (ros_control's)
   tf2_ros::TransformBroadcaster& tf_;
   std::function<double()> sim_time_;
-  std::vector<ros::Publisher> publishers_;
-  std::vector<image_transport::Publisher> image_publishers_;
   /// By the camera's namespace.
   std::map<std::string, std::shared_ptr<camera_info_manager::CameraInfoManager>> info_managers_;
-  std::vector<ros::Subscriber> subscribers_;
-  std::vector<ros::ServiceServer> services_;
-  std::vector<Output> outputs_;
+  Connections fixed_;  ///< the plugins' own ports, for the robot's life
+  std::vector<Watched> watched_;
+  std::map<std::pair<const Plugin*, uint64_t>, Connections> groups_;  ///< by plugin and port group id
   std::vector<std::string> topics_;
 };
 

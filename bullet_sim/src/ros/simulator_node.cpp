@@ -42,12 +42,20 @@ Limits limitsParam(const ros::NodeHandle& private_node) {
 
 WorldSpec loadWorldParam(const ros::NodeHandle& private_node, const Limits& limits) {
   const std::string name = private_node.param<std::string>("world", "empty.world");
+  const std::string fallback = private_node.param<std::string>("world_fallback", "");
+  WorldOptions options;
+  options.strict_models = private_node.param("strict_models", false);
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   std::string error;
-  const auto path = findWorldFile(name, resolver, &error);
+  auto path = findWorldFile(name, resolver, &error);
+  if (!path && !fallback.empty()) {
+    ROS_WARN("~world: %s; falling back on %s, as gzserver does", error.c_str(), fallback.c_str());
+    path = findWorldFile(fallback, resolver, &error);
+  }
   if (!path) throw std::runtime_error("~world: " + error);
   std::vector<std::string> warnings;
-  WorldSpec world = loadWorld(*path, resolver, &warnings, limits);
+  options.limits = limits;
+  WorldSpec world = loadWorld(*path, resolver, &warnings, options);
   for (const auto& warning : warnings) ROS_WARN("%s", warning.c_str());
   ROS_INFO("world %s", path->c_str());
   return world;
@@ -58,9 +66,12 @@ WorldSpec loadWorldParam(const ros::NodeHandle& private_node, const Limits& limi
 SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
     : node_(node), private_(private_node) {
   SimulationOptions options;
-  options.physics.step_size = private_.param("step_size", options.physics.step_size);
+  options.limits = limitsParam(private_);
+  WorldSpec world = loadWorldParam(private_, options.limits);
+  // The world's <physics>, unless the node's own parameters say otherwise.
+  options.physics.step_size = private_.param("step_size", world.max_step_size);
+  real_time_factor_ = private_.param("real_time_factor", world.real_time_update_rate * world.max_step_size);
   options.seed = static_cast<uint64_t>(private_.param("seed", 0));
-  real_time_factor_ = private_.param("real_time_factor", 1.0);
   paused_ = private_.param("paused", false);
   clock_period_ = ros::WallDuration(1.0 / std::max(1.0, private_.param("pub_clock_frequency", 1000.0)));
   if (options.physics.step_size <= 0 || !std::isfinite(options.physics.step_size)) {
@@ -74,14 +85,15 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
   options.images = imagesFrom([this]() -> SceneRenderer& { return renderer(); });
-  options.limits = limitsParam(private_);
-  simulation_ = std::make_unique<Simulation>(loadWorldParam(private_, options.limits), options);
+  options.max_update_rate = real_time_factor_ / options.physics.step_size;
+  options.parameters = &parameters_;
+  simulation_ = std::make_unique<Simulation>(std::move(world), options);
+  world_api_ = std::make_unique<WorldApi>(private_, *simulation_, *this);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
   recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
 
   clock_ = node_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   services_.push_back(private_.advertiseService("spawn_urdf", &SimulatorNode::spawn, this));
-  services_.push_back(private_.advertiseService("delete_model", &SimulatorNode::remove, this));
   services_.push_back(private_.advertiseService("reset_simulation", &SimulatorNode::resetSimulation, this));
   services_.push_back(private_.advertiseService("reset_world", &SimulatorNode::resetWorld, this));
   services_.push_back(private_.advertiseService("pause_physics", &SimulatorNode::pause, this));
@@ -98,6 +110,7 @@ void SimulatorNode::run() {
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (ros::ok()) {
     queue.callAvailable();  // commands and service calls land between steps
+    refreshPorts();         // a controller loaded while paused is heard at once
     if (paused_) {
       publishClock();
       queue.callAvailable(clock_period_);
@@ -120,17 +133,24 @@ void SimulatorNode::run() {
 void SimulatorNode::step() {
   simulation_->step();
   for (auto& [name, adapter] : adapters_) adapter->publish();
+  world_api_->afterStep();
   if (ros::WallTime::now() - last_clock_ >= clock_period_) publishClock();
   afterStep();
 }
 
 void SimulatorNode::afterStep() {
+  if (observer_) observer_(*simulation_);
   if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
-    if (!writeSnapshot(snapshot_dir_ / *frame, [this] { return drawView(View::kChase, 640, 480); }, &error)) {
+    if (!writeSnapshot(
+            snapshot_dir_ / *frame, [this] { return drawView(View::kChase, 640, 480); }, &error)) {
       ROS_WARN_THROTTLE(10, "~snapshot_period: %s", error.c_str());
     }
   }
+}
+
+void SimulatorNode::refreshPorts() {
+  for (auto& [name, adapter] : adapters_) adapter->refreshPorts();
 }
 
 void SimulatorNode::publishClock() {
@@ -143,6 +163,43 @@ void SimulatorNode::publishClock() {
 void SimulatorNode::anchorPacing() {
   wall_anchor_ = ros::WallTime::now();
   sim_anchor_ = simulation_->time();
+}
+
+Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const SpawnPose& pose,
+                                 const std::string& robot_namespace, std::vector<std::string>* warnings) {
+  const std::string source = "model [" + name + "]";
+  Robot& robot = simulation_->spawn(name, std::move(model), pose, warnings);
+  std::unique_ptr<RobotAdapter> adapter;
+  try {
+    adapter =
+        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, [this] { return simulation_->time(); });
+  } catch (...) {
+    simulation_->remove(name);
+    throw;
+  }
+  for (const auto& warning : *warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
+  for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
+  adapters_[name] = std::move(adapter);
+  return robot;
+}
+
+bool SimulatorNode::deleteRobot(const std::string& name) {
+  adapters_.erase(name);
+  recording_->forget(name);
+  const bool removed = simulation_->remove(name);
+  malloc_trim(0);  // the robot's memory goes back to the system, not only to malloc
+  return removed;
+}
+
+void SimulatorNode::physicsChanged() {
+  const PhysicsProperties physics = simulation_->physicsProperties();
+  real_time_factor_ = physics.step_size * physics.max_update_rate;
+  anchorPacing();
+}
+
+void SimulatorNode::setPaused(bool paused) {
+  paused_ = paused;
+  if (!paused_) anchorPacing();
 }
 
 bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
@@ -163,15 +220,11 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     warnings = pose_problems.warnings();
     ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings,
                                  simulation_->limits());
+    if (!request.robot_namespace.empty()) pose.robot_namespace = request.robot_namespace;
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];
     }
-    Robot& robot = simulation_->spawn(request.model_name, std::move(model), pose, &warnings);
-    auto adapter = std::make_unique<RobotAdapter>(robot, request.robot_namespace, tf_,
-                                                  [this] { return simulation_->time(); });
-    for (const auto& warning : warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
-    for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
-    adapters_[request.model_name] = std::move(adapter);
+    spawnRobot(request.model_name, std::move(model), pose, request.robot_namespace, &warnings);
     response.success = true;
     response.message = "spawned " + source;
     for (const auto& warning : warnings) response.message += "\n" + warning;
@@ -181,17 +234,6 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     ROS_ERROR("spawn refused: %s", e.what());
     malloc_trim(0);  // what the refused model took goes back to the system
   }
-  return true;
-}
-
-bool SimulatorNode::remove(DeleteModel::Request& request, DeleteModel::Response& response) {
-  adapters_.erase(request.model_name);
-  recording_->forget(request.model_name);
-  response.success = simulation_->remove(request.model_name);
-  malloc_trim(0);  // the robot's memory goes back to the system, not only to malloc
-  response.message = response.success ? "deleted model [" + request.model_name + "]"
-                                      : "no model [" + request.model_name + "]" +
-                                            didYouMean(request.model_name, simulation_->robotNames());
   return true;
 }
 
@@ -215,8 +257,7 @@ bool SimulatorNode::pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&)
 }
 
 bool SimulatorNode::unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-  paused_ = false;
-  anchorPacing();
+  setPaused(false);
   return true;
 }
 

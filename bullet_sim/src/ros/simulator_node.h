@@ -1,13 +1,15 @@
 // The ROS node `simulator` (registered as `gazebo`, as gzserver is): steps the core in sim time, publishes
 // /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
 //
-// Params: ~world [empty.world], ~step_size [1 ms], ~real_time_factor [1; 0 = as fast as possible], ~paused
-// [false],
-//   ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless),
-//   ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames),
-//   ~limits/<name> (description/limits.h: what a model or world may ask for).
-// Services: ~spawn_urdf, ~delete_model, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics,
-//   ~snapshot (a PNG under ~snapshot_dir; rendered between steps, never inside one).
+// Params: ~world [empty.world], ~world_fallback [none: the world loaded, with a warning, when ~world is not
+//   found, as gzserver falls back on worlds/empty.world], ~strict_models [false: an unknown model:// include
+//   is skipped with a warning; true: an error], ~step_size and ~real_time_factor [the world's <physics>: 1 ms,
+//   1; 0 = as fast as possible], ~paused [false], ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui
+//   (accepted: rendering is headless), ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off]
+//   (numbered chase-view frames), ~model_states_rate (world_api.h), ~limits/<name> (description/limits.h:
+//   what a model or world may ask for).
+// Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
+//   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (world_api.h).
 #pragma once
 
 #include <ros/ros.h>
@@ -19,7 +21,6 @@
 #include <memory>
 #include <optional>
 
-#include "bullet_sim/DeleteModel.h"
 #include "bullet_sim/Snapshot.h"
 #include "bullet_sim/SpawnModel.h"
 #include "bullet_sim/scene/camera.h"
@@ -30,10 +31,12 @@
 #include "bullet_sim/simulation.h"
 #include "render_library.h"
 #include "robot_adapter.h"
+#include "ros_parameters.h"
+#include "world_api.h"
 
 namespace bullet_sim {
 
-class SimulatorNode {
+class SimulatorNode final : public SimulationHost {
  public:
   /// Loads the world named by ~world. Throws std::runtime_error saying what is wrong with it.
   SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node);
@@ -41,9 +44,19 @@ class SimulatorNode {
   /// Steps until shutdown. Commands and service calls are handled between steps.
   void run();
 
+  /// Adds a robot with its ROS interface under `robot_namespace`, as ~spawn_urdf does. Throws SpecError.
+  Robot& spawnRobot(const std::string& name, ModelSpec model, const SpawnPose& pose,
+                    const std::string& robot_namespace, std::vector<std::string>* warnings) override;
+  bool deleteRobot(const std::string& name) override;
+  bool paused() const override { return paused_; }
+  void physicsChanged() override;
+  /// For hosts that run the node (the scenario runner): the simulation, a call after every step, and pausing.
+  const Simulation& simulation() const { return *simulation_; }
+  void observeSteps(std::function<void(const Simulation&)> observer) { observer_ = std::move(observer); }
+  void setPaused(bool paused);
+
  private:
   bool spawn(SpawnModel::Request& request, SpawnModel::Response& response);
-  bool remove(DeleteModel::Request& request, DeleteModel::Response& response);
   bool resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
@@ -54,7 +67,8 @@ class SimulatorNode {
   /// be written: a NUL byte, an absolute path, a way out with .. or through a symbolic link.
   std::optional<std::filesystem::path> snapshotPath(const std::string& file, std::string* error);
   /// Writes what `draw` renders into a PNG at `path`; false with `error` when it cannot.
-  bool writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw, std::string* error);
+  bool writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw,
+                     std::string* error);
   /// The simulation from `view`, with the trails.
   Image drawView(View view, int width, int height);
   /// Extends each robot's trail and writes the periodic frame when one is due.
@@ -67,15 +81,20 @@ class SimulatorNode {
   /// Sim time and wall time are matched from now on (after a pause, a reset or a late step).
   void anchorPacing();
 
+  /// Connects and drops the ports that came and went (ros_control's controllers) since the last call.
+  void refreshPorts();
+
   ros::NodeHandle node_;
   ros::NodeHandle private_;
+  RosParameters parameters_;  ///< what plugins read at run time; outlives the simulation
   std::unique_ptr<Simulation> simulation_;
   std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
+  std::unique_ptr<WorldApi> world_api_;
   tf2_ros::TransformBroadcaster tf_;
   ros::Publisher clock_;
   std::vector<ros::ServiceServer> services_;
 
-  double real_time_factor_ = 1.0;
+  double real_time_factor_ = 1.0;  ///< the pace: the step size times the physics' max_update_rate
   bool paused_ = false;
   ros::WallDuration clock_period_;
   ros::WallTime last_clock_;
@@ -85,6 +104,7 @@ class SimulatorNode {
   RenderLibrary render_;  ///< loaded at the first snapshot or camera frame
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
+  std::function<void(const Simulation&)> observer_;
 };
 
 }  // namespace bullet_sim

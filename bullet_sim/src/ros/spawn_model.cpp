@@ -42,7 +42,8 @@ Arguments parseFlags(const std::vector<std::string>& args) {
       parsed.joints.emplace_back(args[i + 1], args[i + 2]);
       i += 2;
     } else if (flag == "-sdf" || flag == "-database" || flag == "-stdin") {
-      throw Refusal(flag + " is not supported: bullet_sim spawns URDF (-urdf with -file or -param)");
+      throw Refusal(flag + " is not supported here: this spawn_model takes -urdf with -file or -param; spawn " +
+                    "SDF with gazebo_ros's spawn_model or the simulator's spawn_sdf_model service");
     } else if (flag.size() > 1 && flag[0] == '-' && i + 1 < args.size()) {
       parsed.values[flag.substr(1)] = args[++i];
       parsed.have_z |= flag == "-z";

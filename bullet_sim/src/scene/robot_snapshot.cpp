@@ -52,7 +52,11 @@ RobotSnapshot snapshotRobot(WorldSpec world, ModelSpec model, const SpawnPose& p
 Scene simulationScene(const Simulation& simulation, View view, const std::string& focus,
                       const std::vector<Polyline>& trails) {
   Scene scene;
-  addWorld(scene, simulation.world());
+  std::vector<Eigen::Isometry3d> world_poses;
+  for (size_t m = 0; m < simulation.world().models.size(); ++m) {
+    world_poses.push_back(simulation.worldModelPose(m));
+  }
+  addWorld(scene, simulation.world(), world_poses);
   const std::vector<std::string> names = simulation.robotNames();
   Eigen::Isometry3d focus_pose = Eigen::Isometry3d::Identity();
   Eigen::AlignedBox3d focus_bounds;

@@ -126,9 +126,15 @@ Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
 }
 
 void addWorld(Scene& scene, const WorldSpec& world) {
-  for (const WorldModelSpec& model : world.models) {
-    for (const Visual& visual : model.visuals) {
-      scene.meshes.push_back({tessellate(visual.shape), model.pose * visual.origin, visual.rgba});
+  std::vector<Eigen::Isometry3d> poses;
+  for (const WorldModelSpec& model : world.models) poses.push_back(model.pose);
+  addWorld(scene, world, poses);
+}
+
+void addWorld(Scene& scene, const WorldSpec& world, const std::vector<Eigen::Isometry3d>& model_poses) {
+  for (size_t m = 0; m < world.models.size(); ++m) {
+    for (const Visual& visual : world.models[m].visuals) {
+      scene.meshes.push_back({tessellate(visual.shape), model_poses.at(m) * visual.origin, visual.rgba});
     }
   }
 }

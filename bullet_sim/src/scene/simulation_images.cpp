@@ -25,8 +25,13 @@ Camera requestCamera(const ImageRequest& request) {
 
 SimulationImages::SimulationImages(const Simulation& simulation, RendererAccess renderer)
     : simulation_(simulation), renderer_(std::move(renderer)) {
-  addWorld(scene_, simulation_.world());
-  world_meshes_ = scene_.meshes.size();
+  const WorldSpec& world = simulation_.world();
+  for (size_t m = 0; m < world.models.size(); ++m) {
+    for (const Visual& visual : world.models[m].visuals) {
+      world_visuals_.emplace_back(m, visual.origin);
+      scene_.meshes.push_back({tessellate(visual.shape), visual.origin, visual.rgba});
+    }
+  }
   scene_.ground_grid = false;
   scene_.background = kGazeboBackground;
 }
@@ -52,7 +57,10 @@ void SimulationImages::refreshRobots() {
 
 const Scene& SimulationImages::sceneFor(const ImageRequest& request) {
   refreshRobots();
-  scene_.meshes.resize(world_meshes_);
+  scene_.meshes.resize(world_visuals_.size());
+  for (size_t k = 0; k < world_visuals_.size(); ++k) {  // the world API may have moved world models
+    scene_.meshes[k].pose = simulation_.worldModelPose(world_visuals_[k].first) * world_visuals_[k].second;
+  }
   for (const auto& [name, robot] : robots_) {
     std::map<std::string, Eigen::Isometry3d> link_poses;
     for (const RobotVisual& visual : robot.visuals) {

@@ -673,7 +673,7 @@ Figures measure(const Options& options) {
   if (options.boxes > 0) box_world.emplace(boxWorld(options.boxes, kBoxClearance), ".world");
   const std::string world_file = box_world ? box_world->path() : findWorld(options.world, resolver);
   const WorldLoad world_load = measureWorldLoad(world_file, resolver);
-  WorldSpec world = loadWorld(world_file, resolver, &warnings, options.limits);
+  WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});
   addObstacles(world, options);
   Figures figures = drive(options, model, world, warnings);
   figures.world_file = world_file;

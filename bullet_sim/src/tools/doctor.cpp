@@ -323,6 +323,7 @@ class Examination {
       frame.erase(0, frame.find_first_not_of(" \t\n/"));  // tf2 frames carry no leading slash
       frame.erase(frame.find_last_not_of(" \t\n") + 1);
       if (std::find(links.begin(), links.end(), frame) != links.end()) continue;
+      if (frame == "world" || frame == "map") continue;  // global frames (a bumper's default is world)
       const std::string suggestion = closestName(frame, links);
       add(Severity::kError,
           message("line " + std::to_string(element->GetLineNum()) + ": plugin [" + plugin_name + "] <" + tag +

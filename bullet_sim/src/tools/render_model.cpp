@@ -96,7 +96,8 @@ int run(const Options& options) {
     for (const std::string& warning : warnings) std::cerr << "render_model: warning: " << warning << "\n";
   };
   ModelSpec model = parseModel(urdf, source, resolver, &warnings, options.limits);
-  WorldSpec world = loadWorld(findWorld(options.world, resolver), resolver, &warnings, options.limits);
+  WorldSpec world =
+      loadWorld(findWorld(options.world, resolver), resolver, &warnings, WorldOptions{false, options.limits});
   say(warnings);
   OffscreenRenderer renderer;
   Image image;

@@ -26,6 +26,9 @@ struct Shape {
 struct Collision {
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< in the owning link's or model's frame
   Shape shape;
+  /// A URDF collision's name attribute ("" when it has none); a world's collision's scoped Gazebo name,
+  /// model::link::collision.
+  std::string name;
 };
 
 struct Visual {

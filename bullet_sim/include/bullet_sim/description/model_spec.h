@@ -14,6 +14,7 @@
 #include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/plugin_declaration.h"
+#include "bullet_sim/description/transmission.h"
 
 namespace bullet_sim {
 
@@ -57,18 +58,32 @@ struct JointSpec {
   double velocity = 0;  ///< [rad/s] or [m/s]; 0 = no limit given
   double damping = 0;   ///< [N m s/rad]
   double friction = 0;  ///< [N m]
+  /// <disableFixedJointLumping> or <preserveFixedJoint>: Gazebo keeps a fixed joint's child link apart instead
+  /// of lumping it into the parent (which changes the names of its collisions, not its physics).
+  bool lumping_disabled = false;
 
   bool moves() const { return type != Type::kFixed; }
 };
 
 struct ModelSpec {
   std::string name;
+  /// Gazebo's <static>: the model is rigid and never moves by itself (only when teleported); its links need
+  /// no mass.
+  bool is_static = false;
+  /// The root link's frame in the model frame, whose pose is the model's (Gazebo's Model::WorldPose): an SDF
+  /// model's root link <pose>; identity for a URDF.
+  Eigen::Isometry3d root_in_model = Eigen::Isometry3d::Identity();
+  /// The model frame where its file puts it: an SDF model's <pose>, which a spawn composes with its initial
+  /// pose, as Gazebo does; identity for a URDF.
+  Eigen::Isometry3d placement = Eigen::Isometry3d::Identity();
   std::string source;             ///< where the URDF came from, for messages
   std::string root;               ///< root link
   std::vector<LinkSpec> links;    ///< the root first, then parents before children
   std::vector<JointSpec> joints;  ///< in the order of `links` (joint i + 1 leads to links[i + 1])
   /// The plugins bullet_sim simulates, typed: the model's own <gazebo><plugin>s first, then the sensors'.
   std::vector<PluginDeclaration> plugins;
+  /// The <transmission>s ros_control would load (for libgazebo_ros_control.so), in the file's order.
+  std::vector<TransmissionSpec> transmissions;
 
   const LinkSpec* link(const std::string& name) const;
   const JointSpec* joint(const std::string& name) const;
@@ -77,6 +92,20 @@ struct ModelSpec {
   std::vector<std::string> linkNames() const;
   std::vector<std::string> jointNames() const;
 };
+
+/// A <plugin> of a model description, on its own or inside a <sensor>, as found: what declarePlugins reads.
+struct PluginElement {
+  TagNode plugin;
+  std::optional<SensorDeclaration> sensor;  ///< the sensor it is in, if any,
+  std::optional<TagNode> sensor_tags;       ///< and that sensor's element
+  std::string where;                        ///< where it was found, the head of messages (e.g. "line 12: ")
+};
+
+/// Types each element with `plugins` into model.plugins, in order; one that bullet_sim does not simulate is
+/// left out after the parser's warning, and one without a filename is an error; then checks what the plugins
+/// ask together (PluginParsers::checkModel). The model's links and joints must be complete: plugins name them.
+void declarePlugins(const std::vector<PluginElement>& elements, const PluginParsers& plugins,
+                    ModelSpec& model, Diagnostics& diagnostics, const Limits& limits);
 
 /// Parses a URDF string with its <gazebo> tags; `plugins` turns each <plugin> into its typed config (the
 /// plugin registry's parseModel overload passes the built-in plugins). Throws SpecError naming `source` and

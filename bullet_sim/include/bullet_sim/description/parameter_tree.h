@@ -34,6 +34,10 @@ class ParameterTree {
   /// One text or a list of texts (ros_controllers take `left_wheel: name` and `left_wheel: [a, b]` alike);
   /// empty when absent.
   std::vector<std::string> texts(const std::string& path) const;
+  /// The entries of a list (e.g. joint_state_controller's extra_joints, a list of maps); empty when absent.
+  std::vector<ParameterTree> items(const std::string& path) const;
+  /// What the value at `path` is, for messages: "[value]", "a list", "a map" or "nothing".
+  std::string describe(const std::string& path) const;
 
   const std::string& source() const { return source_; }
 
@@ -46,6 +50,26 @@ class ParameterTree {
   std::shared_ptr<const Node> node_;  ///< nullptr when empty
   std::string source_;
   std::string prefix_;  ///< this tree's path in the whole, for messages ("" at the root)
+};
+
+/// Where plugins read their run-time parameters: the ROS parameter server in the node, one tree (a YAML file)
+/// in tools and tests.
+class ParameterSource {
+ public:
+  virtual ~ParameterSource() = default;
+  /// The parameters under the absolute name `ns` ("/husky_velocity_controller"; "/" for all of them); an
+  /// empty tree when there are none. Throws SpecError when they cannot be read.
+  virtual ParameterTree fetch(const std::string& ns) const = 0;
+};
+
+/// Parameters from one tree, e.g. a robot's control.yaml as `rosparam load` puts it at the root.
+class TreeParameters : public ParameterSource {
+ public:
+  explicit TreeParameters(ParameterTree root) : root_(std::move(root)) {}
+  ParameterTree fetch(const std::string& ns) const override { return root_.at(ns); }
+
+ private:
+  ParameterTree root_;
 };
 
 }  // namespace bullet_sim

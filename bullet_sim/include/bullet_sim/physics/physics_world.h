@@ -1,7 +1,10 @@
 // The Bullet dynamics world: gravity, the fixed step, the solver, and the static geometry of a world spec.
 #pragma once
 
+#include <Eigen/Geometry>
+
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "bullet_sim/description/world_spec.h"
@@ -14,6 +17,7 @@ class btTransform;
 namespace bullet_sim {
 
 class BulletShapes;
+struct CollisionNames;
 
 struct PhysicsOptions {
   double step_size = 0.001;  ///< [s] every step advances exactly this much
@@ -36,11 +40,19 @@ class PhysicsWorld {
   void releaseMemory();
 
   double stepSize() const { return options_.step_size; }
+  /// From the next step on; robots must be told too (PhysicsRobot::setStepSize).
+  void setStepSize(double step_size);
+  Eigen::Vector3d gravity() const;  ///< [m/s^2]
+  void setGravity(const Eigen::Vector3d& gravity);
+  /// Moves the static geometry of the world spec's model `model` (an index into WorldSpec::models) so that
+  /// the model frame is at `pose`.
+  void setModelPose(size_t model, const Eigen::Isometry3d& pose);
   btMultiBodyDynamicsWorld& bullet() { return *world_; }
 
  private:
-  /// Adds a sleeping static object of `shape` (owned by shapes_) at `pose`.
-  void addStatic(btCollisionShape* shape, const btTransform& pose);
+  /// Adds a sleeping static object of `shape` (owned by shapes_) at `pose`, with no collision names yet;
+  /// returns its index into statics_.
+  size_t addStatic(btCollisionShape* shape, const btTransform& pose);
 
   struct Engine;  ///< Bullet's collision configuration, dispatcher, broadphase and solver, in creation order
   PhysicsOptions options_;
@@ -48,6 +60,15 @@ class PhysicsWorld {
   std::unique_ptr<btMultiBodyDynamicsWorld> world_;
   std::unique_ptr<BulletShapes> shapes_;
   std::vector<std::unique_ptr<btCollisionObject>> statics_;
+  /// Where a collision of a world model is: static object `object` (an index into statics_), or its
+  /// compound's child `child` (-1: the object itself); and its origin in the model frame.
+  struct StaticPlacement {
+    size_t object;
+    int child;
+    Eigen::Isometry3d origin;
+  };
+  std::vector<std::vector<StaticPlacement>> model_statics_;  ///< per world model
+  std::vector<std::unique_ptr<CollisionNames>> static_names_;  ///< per static object (by child), for contacts
 };
 
 }  // namespace bullet_sim

@@ -12,15 +12,37 @@
 
 namespace bullet_sim {
 
-/// The wheel-ground model of a robot whose drive plugin has no <wheelModel> tag: "raycast" or "contact".
-/// A robot without a drive plugin always uses "contact".
+/// The wheel-ground model of a robot whose drive plugin (or ros_control plugin, for its wheels) has no
+/// <wheelModel> tag: "raycast" or "contact". A robot without wheels driven by either uses "contact".
 constexpr const char* kDefaultWheelModel = "raycast";
+
+/// Where a collision comes from: the link that declares it and its index among that link's collisions.
+struct CollisionSource {
+  std::string link;
+  int index = 0;
+  bool operator==(const CollisionSource& other) const { return link == other.link && index == other.index; }
+};
 
 /// A rigid part of the robot: links merged by fixed joints. Sensors see parts through their collisions.
 struct RobotPart {
-  std::string root_link;              ///< the link whose frame is the part's frame
-  std::vector<std::string> links;     ///< every link merged into it
-  std::vector<Collision> collisions;  ///< origins in the part's frame
+  std::string root_link;                ///< the link whose frame is the part's frame
+  std::vector<std::string> links;       ///< every link merged into it
+  std::vector<Collision> collisions;    ///< origins in the part's frame
+  std::vector<CollisionSource> sources;  ///< per collision
+};
+
+/// A point where a robot's collision touches another collision, after a step.
+struct ContactPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< [m] world, on the robot's collision
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   ///< unit, world: the way the contact pushes the robot
+  double depth = 0;                                    ///< [m] of interpenetration
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();     ///< [N] on the robot's collision, world axes
+};
+
+/// What a robot's collision touches: one entry per other collision.
+struct CollisionContact {
+  std::string other;  ///< the other collision as Gazebo names it: model::link::collision
+  std::vector<ContactPoint> points;
 };
 
 class RobotBody {
@@ -39,6 +61,20 @@ class RobotBody {
   virtual void setJointVelocity(int joint, double velocity, double max_effort) = 0;
   /// Holds a joint at `position` with at most `max_effort`.
   virtual void setJointPosition(int joint, double position, double max_effort) = 0;
+  /// Pushes a joint with `effort` [N m] or [N] for the next step, instead of any velocity or position it was
+  /// held at; its URDF friction still acts (Gazebo's SetForce).
+  virtual void setJointEffort(int joint, double effort) = 0;
+
+  /// Sets the root link's world-frame velocity [m/s] and angular velocity [rad/s] (Gazebo's Model::SetLinearVel / SetAngularVel).
+  virtual void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) = 0;
+  /// Adds a force [N] and a torque [N m], in world axes, at the origin of `link`, for the coming step only.
+  virtual void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) = 0;
+  /// Whether applyJointEffort moves `joint`: not for a joint the wheel model moves kinematically (raycast:
+  /// every joint but the wheels).
+  virtual bool takesJointEffort(int joint) const = 0;
+  /// Adds an effort [N m] or [N] to a joint for the coming step only (Gazebo's Joint::SetForce); nothing on a
+  /// joint that takes none.
+  virtual void applyJointEffort(int joint, double effort) = 0;
 
   /// World pose of any link, including links merged into a part by fixed joints.
   virtual Eigen::Isometry3d linkPose(const std::string& link) const = 0;
@@ -50,6 +86,10 @@ class RobotBody {
   /// Index into parts() of the part holding `link`, or -1.
   virtual int partOf(const std::string& link) const = 0;
   virtual Eigen::Isometry3d partPose(int part) const = 0;
+
+  /// What collision `source` touches after the last step; empty for a collision that never meets bodies (a
+  /// `raycast` wheel, whose ray is its contact).
+  virtual std::vector<CollisionContact> contacts(const CollisionSource& source) const = 0;
 };
 
 /// Joint positions by joint index (see RobotBody::jointIndex): [rad] or [m].
@@ -65,6 +105,12 @@ class PhysicsRobot : public RobotBody {
   /// Puts the robot back at `root_pose`, at rest, with the joints in `joints` (index, position) there and
   /// every other joint at 0.
   virtual void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) = 0;
+  /// Moves the robot rigidly, its root link to `root_pose`; joint positions and all velocities stay.
+  virtual void teleport(const Eigen::Isometry3d& root_pose) = 0;
+  /// Puts the joints in `joints` (index, position) there, at rest; the root and the other joints stay.
+  virtual void setJointPositions(const JointPositions& joints) = 0;
+  /// The world's step is now `step_size` [s]; the motors' limits are impulses per step.
+  virtual void setStepSize(double step_size) = 0;
 };
 
 }  // namespace bullet_sim

@@ -77,9 +77,10 @@ struct ImuSample {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< of the frame in the world
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();       ///< [rad/s] in the frame
   Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();  ///< [m/s^2] in the frame, gravity included
-  double orientation_variance = 0;
-  double angular_velocity_variance = 0;
-  double linear_acceleration_variance = 0;
+  /// The covariances' diagonals (x, y, z).
+  Eigen::Vector3d orientation_variance = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity_variance = Eigen::Vector3d::Zero();
+  Eigen::Vector3d linear_acceleration_variance = Eigen::Vector3d::Zero();
 };
 
 /// sensor_msgs/Image: a camera's colour image or a depth image, as its ROS encoding lays it out.
@@ -120,16 +121,103 @@ struct ColouredCloud {
   bool is_dense = true;                       ///< false when any point is NaN
 };
 
+/// control_msgs/JointControllerState: what a PID joint controller aims at, sees and commands, with its gains.
+struct JointControllerState {
+  double stamp = 0;
+  double set_point = 0;          ///< [rad], [m], [rad/s] or [m/s]: what the controller aims at
+  double process_value = 0;      ///< what it measures
+  double process_value_dot = 0;  ///< its time derivative (0 where the controller does not fill it)
+  double error = 0;              ///< set_point - process_value
+  double time_step = 0;          ///< [s] since the previous update
+  double command = 0;            ///< [N m] or [N]
+  double p = 0, i = 0, d = 0, i_clamp = 0;
+  bool antiwindup = false;
+};
+
+/// sensor_msgs/Range: the nearest hit of a ranger's rays.
+struct RangeSample {
+  double stamp = 0;
+  std::string frame_id;
+  bool infrared = false;      ///< radiation_type INFRARED (1), else ULTRASOUND (0)
+  double field_of_view = 0;   ///< [rad]
+  double min_range = 0;       ///< [m]
+  double max_range = 0;       ///< [m]
+  double range = 0;           ///< [m]
+};
+
+/// sensor_msgs/NavSatFix.
+struct NavSatFixSample {
+  double stamp = 0;
+  std::string frame_id;
+  int status = 0;        ///< NavSatStatus: -1 no fix, 0 fix, 1 SBAS fix, 2 GBAS fix
+  unsigned service = 0;  ///< NavSatStatus service bits: 1 GPS, 2 GLONASS, 4 COMPASS, 8 GALILEO
+  double latitude = 0;   ///< [deg], + north
+  double longitude = 0;  ///< [deg], + east
+  double altitude = 0;   ///< [m] above the WGS84 ellipsoid
+  std::array<double, 9> position_covariance{};  ///< [m^2], row-major, east north up
+  int position_covariance_type = 0;  ///< 0 unknown, 1 approximated, 2 diagonal known, 3 known
+};
+
+/// geometry_msgs/Vector3Stamped.
+struct Vector3Sample {
+  double stamp = 0;
+  std::string frame_id;
+  Eigen::Vector3d vector = Eigen::Vector3d::Zero();
+};
+
+/// gazebo_msgs/ContactsState: what touches a contact sensor's collisions, one state per pair of collisions.
+struct ContactsSample {
+  struct Wrench {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< [N]
+    Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< [N m]
+  };
+  struct State {
+    std::string info;
+    std::string collision1;  ///< the sensor's collision, model::link::collision as Gazebo names it
+    std::string collision2;  ///< what it touches
+    std::vector<Wrench> wrenches;  ///< per contact point, on collision1
+    Wrench total_wrench;
+    std::vector<Eigen::Vector3d> positions;  ///< [m]
+    std::vector<Eigen::Vector3d> normals;    ///< unit
+    std::vector<double> depths;              ///< [m] of interpenetration
+  };
+  double stamp = 0;
+  std::string frame_id;
+  std::vector<State> states;  ///< empty while nothing touches
+};
+
 /// geometry_msgs/Twist, an input: a velocity command.
 struct Twist {
   Eigen::Vector3d linear = Eigen::Vector3d::Zero();   ///< [m/s]
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();  ///< [rad/s]
 };
 
+/// geometry_msgs/TwistStamped: a velocity command as a controller applies it.
+struct StampedTwist {
+  double stamp = 0;
+  std::string frame_id;
+  Twist twist;
+};
+
 /// An input: positions for named joints (the first point of a trajectory_msgs/JointTrajectory).
 struct JointTargets {
   std::vector<std::string> names;
   std::vector<double> positions;  ///< [rad] or [m]
+};
+
+/// std_msgs/Float64, an input: one command (a joint controller's position, velocity or effort).
+struct Float64Command {
+  double data = 0;
+};
+
+/// std_msgs/Float64MultiArray, an input: one command per joint of a group controller (its layout is not read).
+struct Float64ArrayCommand {
+  std::vector<double> data;
+};
+
+/// std_msgs/Bool, an input (ros_control's emergency stop).
+struct BoolCommand {
+  bool data = false;
 };
 
 }  // namespace bullet_sim

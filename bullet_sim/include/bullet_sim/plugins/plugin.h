@@ -5,16 +5,21 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 
 #include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/image_source.h"
 #include "bullet_sim/plugins/ports.h"
 #include "bullet_sim/sensing/ray_caster.h"
 
 namespace bullet_sim {
+
+class ControllerRegistry;
 
 /// The step being simulated: it ends at `sim_time` [s] and lasts `dt` [s]. Nothing in the core reads a clock.
 struct StepTime {
@@ -48,6 +53,17 @@ struct PluginSetup {
   BodyId own_ray_body = kNoBody;  ///< the ray-caster body of the part a sensor sits on, which it skips
   /// Renders the world for cameras; nullptr when the simulation has no renderer (cameras then warn).
   ImageSource* images = nullptr;
+  /// The world's <spherical_coordinates>, for GPS receivers; nullopt when it gives none.
+  std::optional<SphericalCoordinates> spherical_coordinates;
+  /// spawn_model's -robot_namespace (slashes around it do not count): when given (even "/", the root), it
+  /// replaces every plugin's <robotNamespace>, as gazebo_ros's spawn_model does.
+  std::optional<std::string> robot_namespace;
+  /// The parameters plugins read at run time (ros_control's); nullptr when there are none.
+  const ParameterSource* parameters = nullptr;
+  /// The controller types ros_control's plugin loads by name; nullptr: the built-in ones.
+  const ControllerRegistry* controllers = nullptr;
+  /// Where a plugin reports what it finds wrong while it is built (parameters it reads then); may be nullptr.
+  Diagnostics* diagnostics = nullptr;
 };
 
 /// What every plugin has: its name and namespace, the head of its messages, an update timer at its config's
@@ -64,6 +80,13 @@ class Plugin {
   /// "plugin [name]" or "sensor [name] on link [link]".
   const std::string& where() const { return where_; }
   const PluginPorts& ports() const { return ports_; }
+  /// Ports that come and go while the plugin runs (a ros_control controller's); none for most plugins.
+  virtual std::vector<PortGroup> portGroups() const { return {}; }
+  /// Changes whenever portGroups() does.
+  virtual uint64_t portGroupsRevision() const { return 0; }
+  /// Whether the node prefixes the frames this plugin publishes with the robot's namespace. ros_control's
+  /// controllers publish their frames exactly as their parameters name them, as on a real robot.
+  virtual bool prefixesFrames() const { return true; }
 
   /// Phase 1: apply commands to the robot (motor targets) for this step.
   virtual void applyCommands(const StepTime&, RobotBody&) {}
@@ -78,6 +101,8 @@ class Plugin {
   /// What a plugin resets beyond the timer and the noise (commands, integrated odometry).
   virtual void onReset() {}
 
+  /// For plugins whose namespace defaults to something else than "" (ros_control's: the model's name).
+  void setRobotNamespace(std::string robot_namespace) { robot_namespace_ = std::move(robot_namespace); }
   UpdateTimer& timer() { return timer_; }
   const UpdateTimer& timer() const { return timer_; }
   /// The plugin's own seeded noise source.
@@ -87,15 +112,16 @@ class Plugin {
 
   template <class Sample>
   void addOutput(const std::string& topic, const Stream<Sample>& stream, Demand* demand = nullptr) {
-    ports_.outputs.push_back({topic, &stream, demand});
+    ports_.addOutput(topic, stream, demand);
   }
   template <class Input>
-  void addInput(const std::string& topic, InputHandler<Input> handler) {
-    ports_.inputs.push_back({topic, std::move(handler)});
+  void addInput(const std::string& topic, InputHandler<Input> handler, Publishers* publishers = nullptr) {
+    ports_.addInput(topic, std::move(handler), publishers);
   }
-  template <class Request>
-  void addService(const std::string& name, ServiceHandler<Request> handler) {
-    ports_.services.push_back({name, std::move(handler)});
+  /// `handler` takes (request, reply), or (request) alone for a request with nothing to reply.
+  template <class Request, class Handler>
+  void addService(const std::string& name, Handler handler) {
+    ports_.addService<Request>(name, std::move(handler));
   }
 
  private:

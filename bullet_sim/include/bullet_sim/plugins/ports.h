@@ -6,10 +6,12 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
 #include "bullet_sim/plugins/outputs.h"
+#include "bullet_sim/plugins/requests.h"
 
 namespace bullet_sim {
 
@@ -34,7 +36,9 @@ using OutputStream =
     std::variant<const Stream<Odometry>*, const Stream<TransformSample>*, const Stream<JointStateSample>*,
                  const Stream<LaserScan>*, const Stream<PointCloud>*, const Stream<LegacyPointCloud>*,
                  const Stream<ImuSample>*, const Stream<CameraImage>*, const Stream<CameraInfo>*,
-                 const Stream<ColouredCloud>*>;
+                 const Stream<ColouredCloud>*, const Stream<RangeSample>*, const Stream<NavSatFixSample>*,
+                 const Stream<Vector3Sample>*, const Stream<ContactsSample>*, const Stream<JointControllerState>*,
+                 const Stream<StampedTwist>*>;
 
 /// Whether anyone listens to an output. The node sets it from the topic's subscribers before each step; a
 /// plugin skips work (a camera's rendering) that nobody wants. Without a node, everything is wanted.
@@ -52,21 +56,42 @@ struct OutputPort {
 template <class Input>
 using InputHandler = std::function<std::string(const Input& input, double sim_time)>;
 
-using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTargets>>;
+using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTargets>, InputHandler<Float64Command>,
+                               InputHandler<Float64ArrayCommand>, InputHandler<BoolCommand>>;
+
+/// How many publish to an input. The node sets it from the subscription before each step (diff_drive_controller
+/// refuses commands from several publishers when asked to); without a node, one.
+struct Publishers {
+  uint32_t count = 1;
+};
 
 struct InputPort {
   std::string topic;  ///< relative to the plugin's namespace
   InputSink sink;
+  Publishers* publishers = nullptr;  ///< the plugin's, for inputs that care how many publish to them
 };
 
-/// A std_srvs/Empty request: the service does its one thing (hector's calibrate, ...).
-struct EmptyRequest {};
-
-/// Serves a request; returns "" when done, else why not (the node then answers with a failure).
+/// Serves a request and fills its reply; returns "" when done, else why not (the node then answers with a
+/// failure).
 template <class Request>
-using ServiceHandler = std::function<std::string(const Request& request)>;
+using ServiceHandler = std::function<std::string(const Request& request, typename Request::Reply& reply)>;
 
-using ServiceSink = std::variant<ServiceHandler<EmptyRequest>>;
+/// A ServiceHandler from a callable of (request, reply), or of (request) alone for a request with nothing to
+/// reply.
+template <class Request, class Handler>
+ServiceHandler<Request> serviceHandler(Handler handler) {
+  if constexpr (std::is_invocable_v<Handler&, const Request&>) {
+    return [handler](const Request& request, typename Request::Reply&) { return handler(request); };
+  } else {
+    return handler;
+  }
+}
+
+using ServiceSink =
+    std::variant<ServiceHandler<EmptyRequest>, ServiceHandler<LoadControllerRequest>,
+                 ServiceHandler<UnloadControllerRequest>, ServiceHandler<SwitchControllerRequest>,
+                 ServiceHandler<ListControllersRequest>, ServiceHandler<ListControllerTypesRequest>,
+                 ServiceHandler<ReloadControllerLibrariesRequest>>;
 
 struct ServicePort {
   std::string name;  ///< relative to the plugin's namespace
@@ -77,6 +102,27 @@ struct PluginPorts {
   std::vector<OutputPort> outputs;
   std::vector<InputPort> inputs;
   std::vector<ServicePort> services;
+
+  template <class Sample>
+  void addOutput(const std::string& topic, const Stream<Sample>& stream, Demand* demand = nullptr) {
+    outputs.push_back({topic, &stream, demand});
+  }
+  template <class Input>
+  void addInput(const std::string& topic, InputHandler<Input> handler, Publishers* publishers = nullptr) {
+    inputs.push_back({topic, std::move(handler), publishers});
+  }
+  template <class Request, class Handler>
+  void addService(const std::string& name, Handler handler) {
+    services.push_back({name, serviceHandler<Request>(std::move(handler))});
+  }
+};
+
+/// Ports that appear while a plugin runs and go again: a ros_control controller's, from its load to its
+/// unload. The node connects a group when it appears and drops it when it goes.
+struct PortGroup {
+  uint64_t id = 0;    ///< never reused within a plugin
+  std::string name;   ///< for the log, e.g. "controller [husky_velocity_controller]"
+  const PluginPorts* ports = nullptr;
 };
 
 }  // namespace bullet_sim

@@ -1,6 +1,7 @@
 // The one table of what bullet_sim simulates. Each Gazebo plugin filename (for a sensor's plugin, with the
 // sensor types it serves) maps to its config parser and its factory. A new plugin is one file pair under
 // plugins/ and one line in registry.cpp's table; tests and library users may add their own to a copy.
+// Beside it, the run-time types: ros_control's controller type names, which load_controller builds by name.
 #pragma once
 
 #include <functional>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "bullet_sim/plugins/plugin.h"
+#include "bullet_sim/plugins/ros_control/controller.h"
 
 namespace bullet_sim {
 
@@ -61,6 +63,37 @@ class PluginRegistry final : public PluginParsers {
 
  private:
   std::vector<PluginType> types_;
+};
+
+using ControllerFactory = std::function<std::unique_ptr<Controller>(const ControllerSetup& setup)>;
+
+struct ControllerType {
+  std::string name;  ///< ros_controllers' type name, e.g. diff_drive_controller/DiffDriveController
+  ControllerFactory create;
+};
+
+/// A controller type built as Behaviour(setup, args...).
+template <class Behaviour, class... Args>
+ControllerType controllerType(std::string name, Args... args) {
+  return {std::move(name), [args...](const ControllerSetup& setup) -> std::unique_ptr<Controller> {
+            return std::make_unique<Behaviour>(setup, args...);
+          }};
+}
+
+class ControllerRegistry {
+ public:
+  /// Every controller type bullet_sim ships.
+  static const ControllerRegistry& builtin();
+
+  /// Adds a type; one of the same name is replaced.
+  void add(ControllerType type);
+  /// The type of that name, or nullptr.
+  const ControllerType* find(const std::string& name) const;
+  /// Every type's name, in the table's order.
+  std::vector<std::string> names() const;
+
+ private:
+  std::vector<ControllerType> types_;
 };
 
 /// parseModel with the built-in plugins.

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/description/geometry.h"
 #include "bullet_sim/description/model_spec.h"
@@ -27,8 +28,11 @@ std::shared_ptr<const TriangleMesh> tessellate(const Shape& shape);
 Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
                              const std::map<std::string, Eigen::Isometry3d>& link_poses);
 
-/// Adds every visual of the world's models, the ground plane included.
+/// Adds every visual of the world's models, the ground plane included, where the world file puts them.
 void addWorld(Scene& scene, const WorldSpec& world);
+/// The same with each model at its pose in `model_poses` (parallel to world.models: where a simulation has
+/// them now, Simulation::worldModelPose).
+void addWorld(Scene& scene, const WorldSpec& world, const std::vector<Eigen::Isometry3d>& model_poses);
 
 /// Where the beams of a scan hit, in the world: one point per finite range (not +inf, no return, nor -inf,
 /// closer than range_min), placed with the scan's sensor_pose.

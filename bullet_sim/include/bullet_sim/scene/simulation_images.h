@@ -47,7 +47,8 @@ class SimulationImages final : public ImageSource {
   const Simulation& simulation_;
   RendererAccess renderer_;
   Scene scene_;
-  size_t world_meshes_ = 0;  ///< scene_.meshes starts with the world's
+  /// scene_.meshes starts with the world's visuals: each one's model and its origin in the model frame.
+  std::vector<std::pair<size_t, Eigen::Isometry3d>> world_visuals_;
   std::map<std::string, RobotVisuals> robots_;
 };
 

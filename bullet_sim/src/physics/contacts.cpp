@@ -1,0 +1,81 @@
+#include "physics/contacts.h"
+
+#include <btBulletCollisionCommon.h>
+
+#include <algorithm>
+
+#include "bullet_shapes.h"
+
+namespace bullet_sim {
+
+namespace {
+
+const std::string kUnnamed;
+
+const std::string& nameOf(const btCollisionObject* object, int child) {
+  const auto* names = static_cast<const CollisionNames*>(object->getUserPointer());
+  return names ? names->at(child) : kUnnamed;
+}
+
+/// The point as felt by the side `ours` (0 for body A, 1 for body B).
+ContactPoint pointOn(const btManifoldPoint& point, int ours, double dt) {
+  const double sign = ours == 0 ? 1.0 : -1.0;  // the normal points from B to A
+  ContactPoint contact;
+  contact.position = fromBullet(ours == 0 ? point.getPositionWorldOnA() : point.getPositionWorldOnB());
+  contact.normal = sign * fromBullet(point.m_normalWorldOnB);
+  contact.depth = std::max(0.0, -static_cast<double>(point.getDistance()));
+  const btVector3 impulse = point.m_normalWorldOnB * point.m_appliedImpulse +
+                            point.m_lateralFrictionDir1 * point.m_appliedImpulseLateral1 +
+                            point.m_lateralFrictionDir2 * point.m_appliedImpulseLateral2;
+  contact.force = sign * fromBullet(impulse) / dt;
+  return contact;
+}
+
+}  // namespace
+
+const std::string& CollisionNames::at(int index) const {
+  if (names.size() == 1) return names.front();
+  return index >= 0 && index < static_cast<int>(names.size()) ? names[index] : kUnnamed;
+}
+
+CollisionNames robotCollisionNames(const std::string& robot, const std::vector<GazeboCollision>& gazebo,
+                                   const std::vector<CollisionSource>& sources) {
+  CollisionNames named;
+  for (const CollisionSource& source : sources) {
+    const auto found = std::find_if(gazebo.begin(), gazebo.end(), [&](const GazeboCollision& collision) {
+      return collision.link == source.link && collision.index == source.index;
+    });
+    const bool known = found != gazebo.end();
+    named.names.push_back(known ? robot + "::" + found->gazebo_link + "::" + found->name : "");
+  }
+  return named;
+}
+
+void nameCollisions(btCollisionObject& object, const CollisionNames& names) {
+  object.setUserPointer(const_cast<CollisionNames*>(&names));  // Bullet's user pointer is not const
+}
+
+std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int child,
+                                         double dt) {
+  std::vector<CollisionContact> contacts;
+  btDispatcher& dispatcher = *world.getDispatcher();  // its manifold getters are not const
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
+    const int ours = manifold.getBody0() == &object ? 0 : manifold.getBody1() == &object ? 1 : -1;
+    if (ours < 0) continue;
+    const btCollisionObject* other = ours == 0 ? manifold.getBody1() : manifold.getBody0();
+    for (int p = 0; p < manifold.getNumContacts(); ++p) {
+      const btManifoldPoint& point = manifold.getContactPoint(p);
+      if ((ours == 0 ? point.m_index0 : point.m_index1) != child) continue;
+      if (point.getDistance() > 0 && point.m_appliedImpulse <= 0) continue;  // near, not touching
+      const std::string& other_name = nameOf(other, ours == 0 ? point.m_index1 : point.m_index0);
+      auto found = std::find_if(contacts.begin(), contacts.end(),
+                                [&](const CollisionContact& contact) { return contact.other == other_name; });
+      if (found == contacts.end()) found = contacts.insert(contacts.end(), {other_name, {}});
+      found->points.push_back(pointOn(point, ours, dt));
+    }
+  }
+  return contacts;
+}
+
+}  // namespace bullet_sim

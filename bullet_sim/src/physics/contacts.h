@@ -1,0 +1,37 @@
+// Contacts per named collision, read from Bullet's contact manifolds after a step (private to the physics
+// layer). Every collision object the simulation adds points, through its user pointer, at the Gazebo names of
+// its collisions.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "bullet_sim/description/gazebo_names.h"
+#include "bullet_sim/physics/robot_body.h"
+
+class btCollisionObject;
+class btCollisionWorld;
+
+namespace bullet_sim {
+
+/// The Gazebo names (model::link::collision) of a collision object's collisions, by compound child index; a
+/// simple shape has one.
+struct CollisionNames {
+  std::vector<std::string> names;
+  /// The name of child `index`: the only one for a simple shape (whose index may be a triangle's).
+  const std::string& at(int index) const;
+};
+
+/// The names of collisions `sources` of robot `robot`, as Gazebo names them (`gazebo`: the robot's).
+CollisionNames robotCollisionNames(const std::string& robot, const std::vector<GazeboCollision>& gazebo,
+                                   const std::vector<CollisionSource>& sources);
+
+/// Makes `object`'s user pointer point at `names`, which must outlive it.
+void nameCollisions(btCollisionObject& object, const CollisionNames& names);
+
+/// What child `child` of `object` touches in `world`'s contact manifolds, after a step of `dt` [s]: the
+/// points that touch (no gap, or a force), grouped by the other collision.
+std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int child,
+                                         double dt);
+
+}  // namespace bullet_sim

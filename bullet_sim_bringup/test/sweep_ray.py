@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+"""sweep on a Ray cluster of its own: `ray start --head --num-cpus 2` on 127.0.0.1 with its own ports and temp
+dir, joined with --address, runs the 8 cells of drive_matrix.yaml with the results that running them one by one
+gives; stopping the cluster leaves no process of it behind."""
+import csv
+import json
+import os
+import signal
+import socket
+import subprocess
+import tempfile
+import time
+import unittest
+
+import rospkg
+import rostest
+
+MATRIX = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test/fixtures/scenarios/drive_matrix.yaml")
+STOP_GRACE = 3.0  # [s] the cluster's processes get after SIGTERM
+
+
+def free_ports(count):
+    sockets = [socket.socket() for _ in range(count)]
+    for s in sockets:
+        s.bind(("127.0.0.1", 0))
+    ports = [s.getsockname()[1] for s in sockets]
+    for s in sockets:
+        s.close()
+    return ports
+
+
+def processes_with(marker):
+    """The processes whose command line or environment holds `marker` (the cluster's temp dir)."""
+    found = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open("/proc/%s/cmdline" % pid, "rb") as file:
+                cmdline = file.read()
+            with open("/proc/%s/environ" % pid, "rb") as file:
+                environment = file.read()
+        except OSError:
+            continue
+        if marker.encode() in cmdline or marker.encode() in environment:
+            found.append("%s: %s" % (pid, cmdline.replace(b"\0", b" ").decode(errors="replace")))
+    return found
+
+
+def stop_cluster(marker):
+    """Ends this cluster's processes only (`ray stop` would end every Ray process of the machine)."""
+    for signal_number in (signal.SIGTERM, signal.SIGKILL):
+        for line in processes_with(marker):
+            try:
+                os.kill(int(line.split(":")[0]), signal_number)
+            except ProcessLookupError:
+                pass
+        deadline = time.monotonic() + STOP_GRACE
+        while processes_with(marker) and time.monotonic() < deadline:
+            time.sleep(0.1)
+
+
+# A stand-in for `scenario` that loses its Ray worker on cell 0's first attempt and crashes on cell 1 (each
+# attempt is counted in a file); every other call is the real scenario's.
+FLAKY_SCENARIO = """#!/usr/bin/env python3
+import os, signal, sys
+arguments = sys.argv[1:]
+if "--index" in arguments:
+    index = int(arguments[arguments.index("--index") + 1])
+    with open(os.path.join(%(folder)r, "attempts_%%d" %% index), "a") as file:
+        file.write("x")
+    with open(os.path.join(%(folder)r, "attempts_%%d" %% index)) as file:
+        attempts = len(file.read())
+    if index == 0 and attempts == 1:
+        os.kill(os.getppid(), signal.SIGKILL)  # the Ray worker running this task (taskset exec'd into us)
+        sys.exit(0)
+    if index == 1:
+        print("crashing on purpose", flush=True)
+        os.kill(os.getpid(), signal.SIGSEGV)
+os.execv(%(real)r, [%(real)r] + arguments)
+"""
+
+
+def write_flaky_scenario(folder):
+    real = subprocess.run(["catkin_find", "--first-only", "bullet_sim", "scenario"], capture_output=True,
+                          text=True, check=True).stdout.strip()
+    path = os.path.join(folder, "flaky_scenario")
+    with open(path, "w") as file:
+        file.write(FLAKY_SCENARIO % {"folder": folder, "real": real})
+    os.chmod(path, 0o755)
+    return path
+
+
+def without_timing(result):
+    return {key: value for key, value in result.items() if key != "timing"}
+
+
+class SweepOnRay(unittest.TestCase):
+    def test_a_sweep_gives_the_results_of_runs_one_by_one(self):
+        folder = tempfile.mkdtemp(prefix="sweep_ray_")
+        temp_dir = os.path.join(folder, "ray")  # Ray keeps its sockets here: a short path
+        self.assertEqual(processes_with(temp_dir), [])
+        ports = free_ports(7)
+        # A cluster of this machine alone, on the loopback address, without the token auth of shared clusters.
+        env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0", RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER="0",
+                   RAY_AUTH_MODE="disabled")
+        head = ["ray", "start", "--head", "--node-ip-address", "127.0.0.1", "--port", str(ports[0]),
+                "--num-cpus", "2", "--temp-dir", temp_dir, "--include-dashboard", "false", "--disable-usage-stats",
+                "--node-manager-port", str(ports[1]), "--object-manager-port", str(ports[2]),
+                "--dashboard-agent-listen-port", str(ports[3]), "--metrics-export-port", str(ports[4]),
+                "--runtime-env-agent-port", str(ports[5]), "--dashboard-port", str(ports[6])]
+        try:
+            started = subprocess.run(head, env=env, capture_output=True, text=True, timeout=60)
+            self.assertEqual(started.returncode, 0, started.stdout + started.stderr)
+            out = os.path.join(folder, "sweep")
+            sweep = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", "127.0.0.1:%d" % ports[0],
+                                    "--out", out, "--no-progress"], env=env, capture_output=True, text=True,
+                                   timeout=120)
+            flaky = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", "127.0.0.1:%d" % ports[0],
+                                    "--out", os.path.join(folder, "flaky"), "--no-progress", "--scenario",
+                                    write_flaky_scenario(folder)], env=env, capture_output=True, text=True,
+                                   timeout=120)
+        finally:
+            stop_cluster(temp_dir)
+        self.assertEqual(processes_with(temp_dir), [])
+        # v = 0.4 m/s falls 0.4 m short of the region and the final pose: a check fails, so the sweep exits 1.
+        self.assertEqual(sweep.returncode, 1, sweep.stdout + sweep.stderr)
+        self.assertIn("8 runs, 4 passed, 4 failed, 0 could not run or crashed", sweep.stdout)
+        with open(os.path.join(out, "results.csv")) as file:
+            rows = list(csv.DictReader(file))
+        self.assertEqual([row["status"] for row in rows], ["fail"] * 4 + ["pass"] * 4)
+        self.assertTrue(os.path.getsize(os.path.join(out, "summary.png")) > 0)
+        with open(os.path.join(out, "results.json")) as file:
+            self.assertEqual(len(json.load(file)), 8)
+        self.check_retries(folder, flaky)
+        for index in range(8):
+            alone = os.path.join(folder, "alone", str(index))
+            run = subprocess.run(["rosrun", "bullet_sim", "scenario", "--matrix", MATRIX, "--index", str(index),
+                                  "--out", alone], capture_output=True, text=True, timeout=60)
+            self.assertEqual(run.returncode, 0 if index >= 4 else 1, run.stdout + run.stderr)
+            with open(os.path.join(alone, "result.json")) as file:
+                expected = without_timing(json.load(file))
+            with open(os.path.join(out, "cells", "%04d" % index, "result.json")) as file:
+                self.assertEqual(without_timing(json.load(file)), expected)
+
+    def check_retries(self, folder, flaky):
+        """A lost worker's run ran again and counts; a crash ran once and is reported with its code and log."""
+        self.assertEqual(flaky.returncode, 2, flaky.stdout + flaky.stderr)
+        with open(os.path.join(folder, "attempts_0")) as file:
+            self.assertEqual(file.read(), "xx")
+        with open(os.path.join(folder, "attempts_1")) as file:
+            self.assertEqual(file.read(), "x")
+        with open(os.path.join(folder, "flaky", "results.json")) as file:
+            rows = json.load(file)
+        self.assertEqual(rows[0]["status"], "fail")  # v = 0.4 m/s: its checks, as without the lost worker
+        self.assertEqual(rows[1]["status"], "crash")
+        self.assertEqual(rows[1]["exit_code"], -11)  # SIGSEGV
+        self.assertIn("crashing on purpose", rows[1]["log_tail"])
+        self.assertIn("cell 1: crash (exit code -11)", flaky.stderr)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("bullet_sim_bringup", "sweep_ray", SweepOnRay)

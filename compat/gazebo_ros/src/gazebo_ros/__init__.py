@@ -1,0 +1,1 @@
+"""bullet_sim's stand-in for gazebo_ros's Python package: gazebo_interface."""
