@@ -2,7 +2,7 @@
 """Measures the scenario figures the README reports (never asserted by tests): one run's wall time, sweep
 throughput for timeline and launch scenarios, and the sweep's scaling from 1 to 2 CPUs.
 
-    source devel/setup.bash && scripts/bench_scenarios.py [--out DIR] [--quick]
+    source devel/setup.bash && scripts/bench_scenarios.py [--out DIR] [--single N]
 
 Uses bullet_sim/bench/scenarios (the wheelchair in home.world, its lidar on, 10 s of sim time). Prints a
 Markdown table and writes DIR/bench_scenarios.json. Run it on a quiet machine: the load is printed with it.

@@ -13,6 +13,7 @@
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/gazebo_materials.h"
 #include "bullet_sim/description/model_geometry.h"
+#include "description/tag_node_xml.h"
 #include "description/urdf_values.h"
 
 namespace bullet_sim {

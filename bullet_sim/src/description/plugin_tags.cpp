@@ -1,6 +1,4 @@
-#include "bullet_sim/description/plugin_tags.h"
-
-#include <tinyxml2.h>
+#include "description/tag_node_xml.h"
 
 #include <cmath>
 #include <sstream>

@@ -17,6 +17,7 @@
 #include "bullet_sim/description/files.h"
 #include "bullet_sim/description/gazebo_materials.h"
 #include "bullet_sim/description/mesh.h"
+#include "description/tag_node_xml.h"
 #include "description/world_copies.h"
 
 namespace bullet_sim {

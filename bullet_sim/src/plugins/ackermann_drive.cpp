@@ -94,10 +94,11 @@ void readAckermannTags(PluginTags& tags, AckermannConfig& config) {
 /// Checks the joints the drive moves and reads their figures from the URDF at the zero pose.
 class GeometryReader {
  public:
-  GeometryReader(const DeclarationSource& source, AckermannConfig& config)
-      : model_(source.model),
-        diagnostics_(source.diagnostics),
-        where_(source.tags.where()),
+  GeometryReader(const ModelSpec& model, Diagnostics& diagnostics, const std::string& where,
+                 AckermannConfig& config)
+      : model_(model),
+        diagnostics_(diagnostics),
+        where_(where),
         config_(config),
         poses_(linkPosesAtZero(model_)),
         base_inverse_(poses_.at(config.robot_base_frame).inverse()) {}
@@ -109,11 +110,12 @@ class GeometryReader {
                                             config_.right_steering, config_.right_limits);
     const JointSpec* rear_left = wheel("rear_left_joint", config_.rear_left_joint, config_.rear_left);
     const JointSpec* rear_right = wheel("rear_right_joint", config_.rear_right_joint, config_.rear_right);
-    // The front wheels roll freely: they only have to exist and turn.
-    movingJoint("front_left_joint", config_.front_left_joint);
-    movingJoint("front_right_joint", config_.front_right_joint);
+    // The plugin lets the front wheels roll freely: they only have to exist and turn.
+    const JointSpec* front_left = movingJoint("front_left_joint", config_.front_left_joint);
+    const JointSpec* front_right = movingJoint("front_right_joint", config_.front_right_joint);
     if (!left_hinge || !right_hinge || !rear_left || !rear_right) return;
     measure(*left_hinge, *right_hinge, *rear_left, *rear_right);
+    if (front_left && front_right) measureFront(*front_left, *front_right);
     checkFigures();
   }
 
@@ -205,6 +207,17 @@ class GeometryReader {
     }
   }
 
+  /// The front wheels' roll signs and their distance apart, for those who drive them
+  /// (ackermannJointCommands).
+  void measureFront(const JointSpec& front_left, const JointSpec& front_right) {
+    config_.front_left = {front_left.name, wheelRollSign(poses_, config_.robot_base_frame, front_left),
+                          front_left.effort};
+    config_.front_right = {front_right.name, wheelRollSign(poses_, config_.robot_base_frame, front_right),
+                           front_right.effort};
+    config_.geometry.front_track =
+        inBase(front_left).translation().y() - inBase(front_right).translation().y();
+  }
+
   void checkFigures() {
     const auto check = [&](const std::optional<double>& figure, const char* tag, double urdf,
                            const std::string& what) {
@@ -234,14 +247,59 @@ class GeometryReader {
 AckermannConfig parseAckermann(const DeclarationSource& source) {
   AckermannConfig config;
   readAckermannTags(source.tags, config);
-  if (!source.model.link(config.robot_base_frame)) {
-    source.diagnostics.error(source.tags.where() + " <robot_base_frame> [" + config.robot_base_frame +
-                             "] is not a link" +
-                             didYouMean(config.robot_base_frame, source.model.linkNames()));
-    return config;
-  }
-  GeometryReader(source, config).read();
+  readAckermannGeometry(source.model, source.tags.where(), config, source.diagnostics);
   return config;
+}
+
+void readAckermannGeometry(const ModelSpec& model, const std::string& where, AckermannConfig& config,
+                           Diagnostics& diagnostics) {
+  if (!model.link(config.robot_base_frame)) {
+    diagnostics.error(where + " <robot_base_frame> [" + config.robot_base_frame + "] is not a link" +
+                      didYouMean(config.robot_base_frame, model.linkNames()));
+    return;
+  }
+  GeometryReader(model, diagnostics, where, config).read();
+}
+
+double ackermannCurvatureLimit(const AckermannConfig& config, double side) {
+  // A wheel at lateral offset y reaches angle a at curvature k = tan(a) / (L + y tan(a)). The wheel on the
+  // inside of the turn always reaches its limit at a finite curvature (max_steer < pi/2); the outside one
+  // may never.
+  double limit = INFINITY;
+  const AckermannGeometry& geometry = config.geometry;
+  const double half = geometry.steering_track / 2;
+  for (const auto& [y, limits] :
+       {std::pair{half, config.left_limits}, std::pair{-half, config.right_limits}}) {
+    const double tangent = std::tan(side > 0 ? limits[1] : limits[0]);
+    const double denominator = geometry.wheelbase + y * tangent;
+    if (denominator > 0) limit = std::min(limit, std::abs(tangent / denominator));
+  }
+  return side * limit;
+}
+
+AckermannJointCommands ackermannJointCommands(const AckermannConfig& config, double linear, double angular) {
+  const AckermannGeometry& geometry = config.geometry;
+  linear = std::clamp(linear, -config.max_speed, config.max_speed);
+  // At v = 0 a turn cannot be driven: the wheels steer as far as they go towards the side of w.
+  const double wanted = linear != 0 ? angular / linear : angular > 0 ? INFINITY : angular < 0 ? -INFINITY : 0;
+  AckermannJointCommands commands;
+  const double k =
+      std::clamp(wanted, ackermannCurvatureLimit(config, -1), ackermannCurvatureLimit(config, 1));
+  commands.curvature = k;
+  const SteeringAngles angles = ackermannAngles(geometry.wheelbase, geometry.steering_track, k);
+  commands.left_steering = config.left_steering.sign * angles.left;
+  commands.right_steering = config.right_steering.sign * angles.right;
+  // Each wheel rolls at the speed of its own distance from the turn centre (0, 1 / k): a rear wheel at
+  // lateral offset y at v (1 - k y), a front one, L ahead, at v hypot(L k, 1 - k y).
+  const auto spin = [&](const AckermannJoint& wheel, double rim_speed) {
+    return wheel.sign * rim_speed / geometry.wheel_radius;
+  };
+  commands.rear_left = spin(config.rear_left, linear * (1 - k * geometry.rear_track / 2));
+  commands.rear_right = spin(config.rear_right, linear * (1 + k * geometry.rear_track / 2));
+  const double front_half = geometry.front_track / 2, lead = geometry.wheelbase * k;
+  commands.front_left = spin(config.front_left, linear * std::hypot(lead, 1 - k * front_half));
+  commands.front_right = spin(config.front_right, linear * std::hypot(lead, 1 + k * front_half));
+  return commands;
 }
 
 SteeringAngles ackermannAngles(double wheelbase, double steering_track, double curvature) {
@@ -261,45 +319,16 @@ AckermannDrive::AckermannDrive(const PluginDeclaration& declaration, const Acker
       rear_left_(setup.body.jointIndex(config.rear_left.name)),
       rear_right_(setup.body.jointIndex(config.rear_right.name)) {}
 
-double AckermannDrive::curvatureLimit(double side) const {
-  // A wheel at lateral offset y reaches angle a at curvature k = tan(a) / (L + y tan(a)). The wheel on the
-  // inside of the turn always reaches its limit at a finite curvature (max_steer < pi/2); the outside one
-  // may never.
-  double limit = INFINITY;
-  const AckermannGeometry& geometry = config_.geometry;
-  const double half = geometry.steering_track / 2;
-  for (const auto& [y, limits] :
-       {std::pair{half, config_.left_limits}, std::pair{-half, config_.right_limits}}) {
-    const double tangent = std::tan(side > 0 ? limits[1] : limits[0]);
-    const double denominator = geometry.wheelbase + y * tangent;
-    if (denominator > 0) limit = std::min(limit, std::abs(tangent / denominator));
-  }
-  return side * limit;
-}
-
 void AckermannDrive::applyCommands(const StepTime& time, RobotBody& body) {
   updated_this_step_ = timer().due(time);
   if (!updated_this_step_) return;
-  const AckermannGeometry& geometry = config_.geometry;
-  const double linear = std::clamp(command().linear(time.sim_time), -config_.max_speed, config_.max_speed);
-  const double angular = command().angular(time.sim_time);
-
-  // At v = 0 a turn cannot be driven: the wheels steer as far as they go towards the side of w.
-  const double wanted = linear != 0 ? angular / linear : angular > 0 ? INFINITY : angular < 0 ? -INFINITY : 0;
-  curvature_ = std::clamp(wanted, curvatureLimit(-1), curvatureLimit(1));
-  const SteeringAngles angles = ackermannAngles(geometry.wheelbase, geometry.steering_track, curvature_);
-  body.setJointPosition(left_steering_, config_.left_steering.sign * angles.left,
-                        config_.left_steering.effort);
-  body.setJointPosition(right_steering_, config_.right_steering.sign * angles.right,
-                        config_.right_steering.effort);
-
-  // Each rear wheel rolls at the speed of its own turn radius, 1 / k - y, as an open differential lets it.
-  const auto drive = [&](int joint, const AckermannJoint& wheel, double lateral) {
-    const double rim_speed = linear * (1 - curvature_ * lateral);
-    body.setJointVelocity(joint, wheel.sign * rim_speed / geometry.wheel_radius, wheel.effort);
-  };
-  drive(rear_left_, config_.rear_left, geometry.rear_track / 2);
-  drive(rear_right_, config_.rear_right, -geometry.rear_track / 2);
+  const AckermannJointCommands commands =
+      ackermannJointCommands(config_, command().linear(time.sim_time), command().angular(time.sim_time));
+  curvature_ = commands.curvature;
+  body.setJointPosition(left_steering_, commands.left_steering, config_.left_steering.effort);
+  body.setJointPosition(right_steering_, commands.right_steering, config_.right_steering.effort);
+  body.setJointVelocity(rear_left_, commands.rear_left, config_.rear_left.effort);
+  body.setJointVelocity(rear_right_, commands.rear_right, config_.rear_right.effort);
 }
 
 void AckermannDrive::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {

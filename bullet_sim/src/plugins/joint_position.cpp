@@ -41,7 +41,8 @@ JointPosition::JointPosition(const PluginDeclaration& declaration, const JointPo
     const double initial = std::clamp(setup.body.jointPosition(index), joint.lower, joint.upper);
     held_.push_back({name, index, joint.lower, joint.upper, joint.effort, initial, initial});
   }
-  addInput<JointTargets>(config.topic, [this](const JointTargets& targets, double) { return take(targets); });
+  addInput<JointTrajectory>(config.topic,
+                            [this](const JointTrajectory& trajectory, double) { return take(trajectory); });
 }
 
 bool JointPosition::setTarget(const std::string& joint, double position) {
@@ -55,12 +56,15 @@ bool JointPosition::setTarget(const std::string& joint, double position) {
   return false;
 }
 
-std::string JointPosition::take(const JointTargets& targets) {
+std::string JointPosition::take(const JointTrajectory& trajectory) {
+  if (trajectory.points.empty()) return "";
+  const std::vector<std::string>& names = trajectory.joint_names;
+  const std::vector<double>& positions = trajectory.points.front().positions;
   std::ostringstream refused;
-  for (size_t i = 0; i < targets.names.size() && i < targets.positions.size(); ++i) {
-    if (!setTarget(targets.names[i], targets.positions[i])) {
-      refused << (refused.tellp() > 0 ? ", " : "a target it cannot hold: ") << "joint [" << targets.names[i]
-              << "] at " << targets.positions[i];
+  for (size_t i = 0; i < names.size() && i < positions.size(); ++i) {
+    if (!setTarget(names[i], positions[i])) {
+      refused << (refused.tellp() > 0 ? ", " : "a target it cannot hold: ") << "joint [" << names[i] << "] at "
+              << positions[i];
     }
   }
   return refused.str();

@@ -21,6 +21,7 @@
 #include "bullet_sim/plugins/ros_control/diff_drive_controller.h"
 #include "bullet_sim/plugins/ros_control/joint_command_controllers.h"
 #include "bullet_sim/plugins/ros_control/joint_state_controller.h"
+#include "bullet_sim/plugins/ros_control/joint_trajectory_controller.h"
 #include "bullet_sim/plugins/ros_control/pid_joint_controllers.h"
 #include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
@@ -68,6 +69,7 @@ PluginRegistry makeBuiltin() {
 ControllerRegistry makeBuiltinControllers() {
   using Joints = JointGroupCommandController;
   using Pid = PidJointController;
+  using Trajectory = JointTrajectoryController;
   constexpr auto kEffort = JointInterface::kEffort, kVelocity = JointInterface::kVelocity,
                  kPosition = JointInterface::kPosition;
   ControllerRegistry registry;
@@ -82,6 +84,9 @@ ControllerRegistry makeBuiltinControllers() {
            controllerType<Joints>("velocity_controllers/JointGroupVelocityController", kVelocity, false),
            controllerType<Joints>("position_controllers/JointGroupPositionController", kPosition, false),
            controllerType<Joints>("effort_controllers/JointGroupEffortController", kEffort, false),
+           controllerType<Trajectory>("position_controllers/JointTrajectoryController", kPosition),
+           controllerType<Trajectory>("velocity_controllers/JointTrajectoryController", kVelocity),
+           controllerType<Trajectory>("effort_controllers/JointTrajectoryController", kEffort),
        }) {
     registry.add(std::move(type));
   }

@@ -28,7 +28,9 @@
 #include <algorithm>
 #include <optional>
 
+#include "action_server.h"
 #include "controller_manager_services.h"
+#include "trajectory_messages.h"
 
 namespace bullet_sim {
 
@@ -248,6 +250,11 @@ control_msgs::JointControllerState toMessage(const JointControllerState& state, 
   return message;
 }
 
+control_msgs::JointTrajectoryControllerState toMessage(const JointTrajectoryControllerState& state,
+                                                      const FramePrefix&) {
+  return toStateMessage(state);
+}
+
 geometry_msgs::TwistStamped toMessage(const StampedTwist& twist, const FramePrefix& frames) {
   geometry_msgs::TwistStamped message;
   message.header = header(twist.stamp, twist.frame_id.empty() ? "" : frames(twist.frame_id));
@@ -265,9 +272,8 @@ std::optional<Twist> fromMessage(const geometry_msgs::Twist& message) {
   return twist;
 }
 
-std::optional<JointTargets> fromMessage(const trajectory_msgs::JointTrajectory& message) {
-  if (message.points.empty()) return std::nullopt;
-  return JointTargets{message.joint_names, message.points.front().positions};
+std::optional<JointTrajectory> fromMessage(const trajectory_msgs::JointTrajectory& message) {
+  return toTrajectory(message);
 }
 
 std::optional<Float64Command> fromMessage(const std_msgs::Float64& message) { return Float64Command{message.data}; }
@@ -320,6 +326,7 @@ void RobotAdapter::connect(const Plugin& plugin, const PluginPorts& ports, Conne
     for (const auto& port : ports.inputs) subscribe(connection, port);
     for (const auto& port : ports.outputs) advertise(connection, port);
     for (const auto& port : ports.services) serve(connection, port);
+    for (const auto& port : ports.actions) serveAction(connection, port);
   } catch (const ros::Exception& e) {  // a name ROS refuses, e.g. from a controller's parameters
     ROS_ERROR("[%s] %s: %s", robot_name_.c_str(), plugin.where().c_str(), e.what());
   }
@@ -361,10 +368,25 @@ void RobotAdapter::serve(const Connection& plugin, const ServicePort& port) {
           if (!refused.empty()) ROS_WARN("[%s] %s", name.c_str(), refused.c_str());
           return refused.empty();
         }));
+  } else if (const auto* query = std::get_if<ServiceHandler<QueryTrajectoryStateRequest>>(&port.handler)) {
+    services.push_back(serveQueryState(plugin.handle, port.name, *query, robot_name_));
   } else {
     services.push_back(serveControllerManager(plugin.handle, port.name, port.handler, robot_name_));
   }
   topics_.push_back(services.back().getService() + " (service)");
+}
+
+void RobotAdapter::serveAction(const Connection& plugin, const ActionPort& port) {
+  std::visit(
+      [&](const auto& handlers) {
+        using Handlers = std::decay_t<decltype(handlers)>;
+        static_assert(std::is_same_v<Handlers, ActionHandlers<FollowJointTrajectoryAction>>,
+                      "an action type without its messages");
+        plugin.into.actions.push_back(std::make_shared<ActionBridge<FollowJointTrajectoryMessages>>(
+            plugin.handle, port.name, handlers, sim_time_, robot_name_));
+      },
+      port.sink);
+  topics_.push_back(plugin.into.actions.back()->name() + " (action)");
 }
 
 template <class Message, class Sample, class Convert>
@@ -478,7 +500,7 @@ void RobotAdapter::subscribe(const Connection& plugin, const InputPort& port) {
         using Handler = std::decay_t<decltype(handler)>;
         if constexpr (std::is_same_v<Handler, InputHandler<Twist>>) {
           subscribeAs<geometry_msgs::Twist>(plugin, port, handler);
-        } else if constexpr (std::is_same_v<Handler, InputHandler<JointTargets>>) {
+        } else if constexpr (std::is_same_v<Handler, InputHandler<JointTrajectory>>) {
           subscribeAs<trajectory_msgs::JointTrajectory>(plugin, port, handler);
         } else if constexpr (std::is_same_v<Handler, InputHandler<Float64Command>>) {
           subscribeAs<std_msgs::Float64>(plugin, port, handler);
@@ -513,6 +535,7 @@ void RobotAdapter::publish(Connections& connections) {
     if (output.demand) output.demand->wanted = output.subscribers() > 0;
   }
   for (auto& [subscriber, publishers] : connections.counted_inputs) publishers->count = subscriber.getNumPublishers();
+  for (auto& action : connections.actions) action->sendReports();
 }
 
 }  // namespace bullet_sim

@@ -1,6 +1,7 @@
-// The ROS face of one spawned robot: for every plugin, a subscription per input, a publisher per output and a
-// server per service, in the robot's namespace and with its frame prefix. Each output type maps to its
-// message, each input type to its subscription and each request type to its service, in one place. Ports that
+// The ROS face of one spawned robot: for every plugin, a subscription per input, a publisher per output, a
+// server per service and an action server per action, in the robot's namespace and with its frame prefix. Each
+// output type maps to its message, each input type to its subscription, each request type to its service and
+// each action type to its action server, in one place. Ports that
 // appear while the robot runs (a ros_control controller's, from its load to its unload) are connected when they
 // appear and dropped when they go. Runs between steps, on the node's thread.
 #pragma once
@@ -22,6 +23,8 @@ class CameraInfoManager;
 }
 
 namespace bullet_sim {
+
+class ActionConnection;
 
 /// Frame names as the robot publishes them: without leading or trailing '/', and under the robot's prefix,
 /// except the global frames (world, map).
@@ -65,6 +68,7 @@ class RobotAdapter {
     std::vector<image_transport::Publisher> image_publishers;
     std::vector<ros::Subscriber> subscribers;
     std::vector<ros::ServiceServer> services;
+    std::vector<std::shared_ptr<ActionConnection>> actions;
     std::vector<Output> outputs;
     std::vector<std::pair<ros::Subscriber, Publishers*>> counted_inputs;  ///< and the plugin's count of them
   };
@@ -83,6 +87,7 @@ class RobotAdapter {
   template <class Message, class Input>
   void subscribeAs(const Connection& plugin, const InputPort& port, const InputHandler<Input>& handler);
   void serve(const Connection& plugin, const ServicePort& port);
+  void serveAction(const Connection& plugin, const ActionPort& port);
   template <class Message, class Sample, class Convert>
   void advertiseStream(const Connection& plugin, const OutputPort& port, const Stream<Sample>* stream,
                        Convert convert);

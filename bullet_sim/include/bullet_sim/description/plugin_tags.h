@@ -10,10 +10,6 @@
 
 #include "bullet_sim/description/diagnostics.h"
 
-namespace tinyxml2 {
-class XMLElement;
-}
-
 namespace bullet_sim {
 
 /// An element as plain data: its name, attributes, trimmed text and children, and the line it came from.
@@ -31,9 +27,6 @@ struct TagNode {
   /// The attribute's value, or "" when it is absent.
   std::string attribute(const std::string& key) const;
 };
-
-/// An XML element (with its children) as a TagNode: the model readers call it once per <plugin> and <sensor>.
-TagNode readTagNode(const tinyxml2::XMLElement& element);
 
 /// Reads a plugin's or sensor's child tags. Problems go to `diagnostics`, naming `where` and the tag;
 /// finish() warns once about each tag nothing read (Gazebo ignores unknown tags silently).

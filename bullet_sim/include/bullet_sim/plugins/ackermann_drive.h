@@ -51,6 +51,7 @@ struct AckermannGeometry {
   double steering_track = 0;  ///< between the steering axes
   double rear_track = 0;      ///< between the rear wheels
   double wheel_radius = 0;    ///< of the rear wheels
+  double front_track = 0;     ///< between the front wheels' joints
 };
 
 /// A joint the drive moves, as the URDF has it.
@@ -75,7 +76,7 @@ struct AckermannConfig : DriveConfigHead {
 
   // From the URDF, at load:
   AckermannGeometry geometry;
-  AckermannJoint left_steering, right_steering, rear_left, rear_right;
+  AckermannJoint left_steering, right_steering, rear_left, rear_right, front_left, front_right;
   /// Steering limits per wheel [rad], max_steer and the joint limits combined: {right turn, left turn}.
   std::array<double, 2> left_limits{}, right_limits{};
 
@@ -101,6 +102,25 @@ struct SteeringAngles {
 /// and `steering_track` T [m], the distance between the steering axes.
 SteeringAngles ackermannAngles(double wheelbase, double steering_track, double curvature);
 
+/// Reads into `config` the joints its names give and the geometry they have in `model` at the zero pose, as
+/// the plugin does at load (also for ackermann_joint_commander, which drives the joints through ros_control).
+/// Each problem goes to `diagnostics`, after `where`.
+void readAckermannGeometry(const ModelSpec& model, const std::string& where, AckermannConfig& config,
+                           Diagnostics& diagnostics);
+
+/// The curvature [1/m] at which the first tyre on the left (`side` = 1) or right (-1) reaches its limit.
+double ackermannCurvatureLimit(const AckermannConfig& config, double side);
+
+/// What the six joints are commanded for cmd_vel (`linear` [m/s], `angular` [rad/s]) within max_speed and the
+/// steering limits: the steering joints' positions [rad] and the wheels' velocities [rad/s], each wheel
+/// rolling at the speed of its own distance from the turn centre.
+struct AckermannJointCommands {
+  double curvature = 0;  ///< [1/m] steered for, after the limits
+  double left_steering = 0, right_steering = 0;
+  double front_left = 0, front_right = 0, rear_left = 0, rear_right = 0;
+};
+AckermannJointCommands ackermannJointCommands(const AckermannConfig& config, double linear, double angular);
+
 class AckermannDrive : public DrivePlugin {
  public:
   AckermannDrive(const PluginDeclaration& declaration, const AckermannConfig& config,
@@ -116,8 +136,6 @@ class AckermannDrive : public DrivePlugin {
 
  private:
   void onReset() override;
-  /// The curvature [1/m] at which the first tyre on the left (`side` = 1) or right (-1) reaches its limit.
-  double curvatureLimit(double side) const;
 
   AckermannConfig config_;
   int left_steering_ = -1, right_steering_ = -1, rear_left_ = -1, rear_right_ = -1;  ///< joint indices

@@ -41,7 +41,8 @@ class JointPosition : public Plugin {
   };
   void onReset() override;
   /// The input: the first point of a trajectory; "" when every joint in it is held, else why not.
-  std::string take(const JointTargets& targets);
+  /// The first waypoint's positions become the targets.
+  std::string take(const JointTrajectory& trajectory);
 
   std::vector<Held> held_;
 };

@@ -199,10 +199,30 @@ struct StampedTwist {
   Twist twist;
 };
 
-/// An input: positions for named joints (the first point of a trajectory_msgs/JointTrajectory).
-struct JointTargets {
-  std::vector<std::string> names;
-  std::vector<double> positions;  ///< [rad] or [m]
+/// trajectory_msgs/JointTrajectoryPoint: one waypoint, one value per joint in each list that is not empty.
+struct TrajectoryPoint {
+  std::vector<double> positions;      ///< [rad] or [m]
+  std::vector<double> velocities;     ///< [rad/s] or [m/s]
+  std::vector<double> accelerations;  ///< [rad/s^2] or [m/s^2]
+  std::vector<double> effort;         ///< [N m] or [N]
+  double time_from_start = 0;         ///< [s] after the trajectory's start
+};
+
+/// trajectory_msgs/JointTrajectory, an input: where named joints go, and when.
+struct JointTrajectory {
+  double stamp = 0;  ///< [s] sim time at which time_from_start counts from; 0 = at once
+  std::vector<std::string> joint_names;
+  std::vector<TrajectoryPoint> points;
+};
+
+/// control_msgs/JointTrajectoryControllerState (also FollowJointTrajectory's feedback): where a trajectory
+/// controller wants its joints, where they are, and the difference, one value per joint.
+struct JointTrajectoryControllerState {
+  double stamp = 0;
+  std::vector<std::string> joint_names;
+  TrajectoryPoint desired;  ///< positions, velocities and accelerations
+  TrajectoryPoint actual;   ///< positions and velocities
+  TrajectoryPoint error;    ///< desired - actual: positions and velocities
 };
 
 /// std_msgs/Float64, an input: one command (a joint controller's position, velocity or effort).

@@ -1,15 +1,18 @@
-// How a plugin talks to the outside: typed, sequenced outputs, typed inputs and typed services, each under a
-// name. The ROS node maps each output type to its message, each input type to its subscription and each
-// request type to its service, once; a plugin whose types exist needs nothing new in the node.
+// How a plugin talks to the outside: typed, sequenced outputs, typed inputs, typed services and typed actions,
+// each under a name. The ROS node maps each output type to its message, each input type to its subscription,
+// each request type to its service and each action type to its action server, once; a plugin whose types
+// exist needs nothing new in the node.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <variant>
 #include <vector>
 
+#include "bullet_sim/plugins/actions.h"
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/requests.h"
 
@@ -38,7 +41,7 @@ using OutputStream =
                  const Stream<ImuSample>*, const Stream<CameraImage>*, const Stream<CameraInfo>*,
                  const Stream<ColouredCloud>*, const Stream<RangeSample>*, const Stream<NavSatFixSample>*,
                  const Stream<Vector3Sample>*, const Stream<ContactsSample>*, const Stream<JointControllerState>*,
-                 const Stream<StampedTwist>*>;
+                 const Stream<StampedTwist>*, const Stream<JointTrajectoryControllerState>*>;
 
 /// Whether anyone listens to an output. The node sets it from the topic's subscribers before each step; a
 /// plugin skips work (a camera's rendering) that nobody wants. Without a node, everything is wanted.
@@ -56,7 +59,7 @@ struct OutputPort {
 template <class Input>
 using InputHandler = std::function<std::string(const Input& input, double sim_time)>;
 
-using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTargets>, InputHandler<Float64Command>,
+using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTrajectory>, InputHandler<Float64Command>,
                                InputHandler<Float64ArrayCommand>, InputHandler<BoolCommand>>;
 
 /// How many publish to an input. The node sets it from the subscription before each step (diff_drive_controller
@@ -91,17 +94,37 @@ using ServiceSink =
     std::variant<ServiceHandler<EmptyRequest>, ServiceHandler<LoadControllerRequest>,
                  ServiceHandler<UnloadControllerRequest>, ServiceHandler<SwitchControllerRequest>,
                  ServiceHandler<ListControllersRequest>, ServiceHandler<ListControllerTypesRequest>,
-                 ServiceHandler<ReloadControllerLibrariesRequest>>;
+                 ServiceHandler<ReloadControllerLibrariesRequest>, ServiceHandler<QueryTrajectoryStateRequest>>;
 
 struct ServicePort {
   std::string name;  ///< relative to the plugin's namespace
   ServiceSink handler;
 };
 
+/// An action's goals as a plugin serves them (actionlib's ActionServer without ROS): the node hands it each goal
+/// and each cancel request, at `sim_time` [s], and sends what it reports.
+template <class Action>
+struct ActionHandlers {
+  /// Accepts or rejects a goal at once.
+  std::function<GoalDecision<Action>(GoalId goal, const typename Action::Goal& request, double sim_time)> goal;
+  /// A client asks to cancel `goal`; the plugin reports the goal's end if it ends it.
+  std::function<void(GoalId goal, double sim_time)> cancel;
+  /// Shared, so that what a controller reported before its unload still reaches the node.
+  std::shared_ptr<GoalReports<Action>> reports;
+};
+
+using ActionSink = std::variant<ActionHandlers<FollowJointTrajectoryAction>>;
+
+struct ActionPort {
+  std::string name;  ///< relative to the plugin's namespace
+  ActionSink sink;
+};
+
 struct PluginPorts {
   std::vector<OutputPort> outputs;
   std::vector<InputPort> inputs;
   std::vector<ServicePort> services;
+  std::vector<ActionPort> actions;
 
   template <class Sample>
   void addOutput(const std::string& topic, const Stream<Sample>& stream, Demand* demand = nullptr) {
@@ -114,6 +137,10 @@ struct PluginPorts {
   template <class Request, class Handler>
   void addService(const std::string& name, Handler handler) {
     services.push_back({name, serviceHandler<Request>(std::move(handler))});
+  }
+  template <class Action>
+  void addAction(const std::string& name, ActionHandlers<Action> handlers) {
+    actions.push_back({name, std::move(handlers)});
   }
 };
 

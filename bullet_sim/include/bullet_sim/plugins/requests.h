@@ -78,4 +78,15 @@ struct ReloadControllerLibrariesRequest {
   struct Reply {};
 };
 
+/// control_msgs/QueryTrajectoryState: where a trajectory controller wants its joints at `time`.
+struct QueryTrajectoryStateRequest {
+  double time = 0;  ///< [s] sim time
+  struct Reply {
+    std::vector<std::string> name;
+    std::vector<double> position;
+    std::vector<double> velocity;
+    std::vector<double> acceleration;
+  };
+};
+
 }  // namespace bullet_sim

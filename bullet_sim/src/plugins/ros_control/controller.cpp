@@ -68,8 +68,8 @@ HardwareJoint& Controller::claim(const std::string& joint, JointInterface interf
   return *found;
 }
 
-void Controller::warnUnread(const ControllerSetup& setup, std::initializer_list<const char*> known) const {
-  std::vector<std::string> names(known.begin(), known.end());
+void Controller::warnUnread(const ControllerSetup& setup, const std::vector<std::string>& known) const {
+  std::vector<std::string> names = known;
   names.push_back("type");
   for (const auto& key : setup.parameters.keys()) {
     if (std::count(names.begin(), names.end(), key)) continue;

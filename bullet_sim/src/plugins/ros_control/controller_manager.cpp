@@ -24,11 +24,12 @@ bool isGraphName(const std::string& name) {
   return std::regex_match(name, kName);
 }
 
-/// The controller's ports with inputs that do nothing once the controller is gone: a message already queued
-/// for it may still arrive after its unload.
+/// The controller's ports with inputs that do nothing, and services and actions that refuse, once the
+/// controller is gone: a message or a call already queued for it may still arrive after its unload.
 PluginPorts guardedPorts(const std::shared_ptr<Controller>& controller) {
   PluginPorts ports = controller->ports();
   const std::weak_ptr<Controller> alive = controller;
+  const std::string gone = "controller [" + controller->name() + "] is unloaded";
   for (auto& input : ports.inputs) {
     input.sink = std::visit(
         [&](const auto& handler) -> InputSink {
@@ -38,6 +39,29 @@ PluginPorts guardedPorts(const std::shared_ptr<Controller>& controller) {
           });
         },
         input.sink);
+  }
+  for (auto& service : ports.services) {
+    service.handler = std::visit(
+        [&](const auto& handler) -> ServiceSink {
+          using Handler = std::decay_t<decltype(handler)>;
+          return Handler([alive, handler, gone](const auto& request, auto& reply) -> std::string {
+            return alive.expired() ? gone : handler(request, reply);
+          });
+        },
+        service.handler);
+  }
+  for (auto& action : ports.actions) {
+    std::visit(
+        [&](auto& handlers) {
+          using Decision = decltype(handlers.goal(0, {}, 0));
+          handlers.goal = [alive, goal = handlers.goal, gone](GoalId id, const auto& request, double sim_time) {
+            return alive.expired() ? Decision{false, {-1, gone}} : goal(id, request, sim_time);
+          };
+          handlers.cancel = [alive, cancel = handlers.cancel](GoalId id, double sim_time) {
+            if (!alive.expired()) cancel(id, sim_time);
+          };
+        },
+        action.sink);
   }
   return ports;
 }

@@ -4,7 +4,6 @@
 // drive controller's <name>/cmd_vel), except what it publishes for the whole robot (joint_states, /tf).
 #pragma once
 
-#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -70,7 +69,7 @@ class Controller {
   PluginPorts& ownPorts() { return ports_; }
   RobotHardware& hardware() { return hardware_; }
   /// One warning in `setup` for each of its parameters that is not in `known` (type is always known).
-  void warnUnread(const ControllerSetup& setup, std::initializer_list<const char*> known) const;
+  void warnUnread(const ControllerSetup& setup, const std::vector<std::string>& known) const;
 
  private:
   std::string name_;
