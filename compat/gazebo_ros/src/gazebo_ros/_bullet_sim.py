@@ -115,9 +115,9 @@ def run_server(program, argv, under_gdb=False):
 
 def run_client():
     """gzclient: says there is no window, then waits until it is stopped."""
-    print(no_window("gzclient") + " This process stays up until the launch ends.", flush=True)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
-    try:
+    try:  # a SIGINT right after the line, before the loop, ends it as cleanly
+        print(no_window("gzclient") + " This process stays up until the launch ends.", flush=True)
         while True:
             signal.pause()
     except KeyboardInterrupt:
