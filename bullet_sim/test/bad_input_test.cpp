@@ -1,6 +1,7 @@
 // Input that crashed, hung or exhausted the simulator (issue 17): every case of fixtures/bad_input/cases.yaml
 // is refused by the loader and by urdf_doctor with the same message, while a robot already in the world
-// drives on; spawn poses that are not finite or too far; meshes that crash or hang their importer.
+// drives on; spawn poses that are not finite or too far; SDF models to spawn and worlds held to the same
+// limits; meshes that crash or hang their importer.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <malloc.h>
@@ -14,6 +15,8 @@
 #include <fstream>
 
 #include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/sdf_model.h"
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/tools/process_stats.h"
 #include "description/child_process.h"
@@ -276,6 +279,52 @@ TEST(BadInput, WorldsOfAbsurdSizesPosesOrCountsAreRefused) {
                 HasSubstr("the world has more than 2 collisions and visuals, the limit (max_world_shapes)"));
     EXPECT_EQ(worldError(models), "");
   }
+}
+
+/// The message of the SpecError that reading an SDF model to spawn of `links` throws, or "" when it loads.
+std::string sdfModelError(const std::string& links, const Limits& limits = Limits()) {
+  try {
+    parseSdfModel("<sdf version=\"1.6\"><model name=\"m\">" + links + "</model></sdf>", "bad.sdf",
+                  PackageResolver::fromEnvironment(), PluginRegistry::builtin(), nullptr, limits);
+  } catch (const SpecError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// A link of an SDF model: a box of `size` at `pose`, of `mass` kg, with `extra` inside.
+std::string sdfLink(const std::string& name, const std::string& pose = "0 0 0 0 0 0",
+                    const std::string& size = "0.2 0.2 0.2", const std::string& mass = "1",
+                    const std::string& extra = "") {
+  return "<link name=\"" + name + "\"><pose>" + pose + "</pose><inertial><mass>" + mass +
+         "</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia></inertial>" +
+         "<collision name=\"c\"><geometry><box><size>" + size + "</size></box></geometry></collision>" + extra +
+         "</link>";
+}
+
+TEST(BadInput, SdfModelsToSpawnAreBoundedAsUrdfsAre) {
+  EXPECT_EQ(sdfModelError(sdfLink("base")), "");
+  EXPECT_THAT(sdfModelError(sdfLink("base", "0 0 0 0 0 0", "0.2 0.2 0.2", "1e30")),
+              HasSubstr("link [base] <inertial> mass [1e+30] kg is beyond the limit of 1e+06 kg (max_mass)"));
+  EXPECT_THAT(sdfModelError(sdfLink("base", "0 0 0 0 0 0", "1e9 1 1")),
+              HasSubstr("collision [c]: size [1e+09] m is beyond the limit of 10000 m (max_length)"));
+  EXPECT_THAT(sdfModelError(sdfLink("base", "1e12 0 0 0 0 0")),
+              HasSubstr("link [base]: its position x [1e+12] m is beyond the limit of 10000 m (max_length)"));
+  EXPECT_THAT(sdfModelError(sdfLink("base", "0 0 0 0 0 0", "0.2 0 0.2")),
+              HasSubstr("box size [0.2 0 0.2] must be positive"));
+  const std::string lidar = R"(<sensor name="lidar" type="ray"><ray><scan><horizontal>
+      <samples>2147483648</samples><min_angle>-1</min_angle><max_angle>1</max_angle></horizontal></scan>
+      <range><min>0.1</min><max>10</max></range></ray>
+      <plugin name="laser" filename="libgazebo_ros_laser.so"/></sensor>)";
+  EXPECT_THAT(sdfModelError(sdfLink("base", "0 0 0 0 0 0", "0.2 0.2 0.2", "1", lidar)),
+              HasSubstr("rays per scan, above the limit of 1048576 (max_rays)"));
+  Limits two_links;
+  two_links.max_links = 2;
+  const std::string three = sdfLink("a") + sdfLink("b") + sdfLink("c") +
+                            R"(<joint name="ab" type="fixed"><parent>a</parent><child>b</child></joint>
+                               <joint name="bc" type="fixed"><parent>b</parent><child>c</child></joint>)";
+  EXPECT_THAT(sdfModelError(three, two_links), HasSubstr("the robot has 3 links, above the limit of 2 (max_links)"));
+  EXPECT_EQ(sdfModelError(three), "");
 }
 
 /// A robot of `boxes` visible boxes in a row on one link, the first ten colliding, with a 1000-beam lidar:

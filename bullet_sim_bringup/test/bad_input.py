@@ -2,8 +2,9 @@
 """rostest node: the simulator under bad input. A NaN or inf in cmd_vel is ignored (the robot stays put, the node
 keeps stepping); the drive's commandTimeout stops the robot when commands stop; a malformed and an empty robot
 description, or a flag that is not a number, make spawn_model exit non-zero with the reason, while the simulator
-keeps running. Every case of bullet_sim's test/fixtures/bad_input/cases.yaml, and spawn poses that are not
-finite, are refused with their message while the wheelchair drives on."""
+keeps running. Every case of bullet_sim's test/fixtures/bad_input/cases.yaml, spawn poses that are not finite and
+an SDF model of absurd mass through the world API are refused with their message while the wheelchair drives
+on."""
 import math
 import os
 import shutil
@@ -18,7 +19,8 @@ import rospy
 import rostest
 import yaml
 from bullet_sim.srv import SpawnModel, SpawnModelRequest
-from gazebo_msgs.srv import DeleteModel
+from gazebo_msgs.srv import DeleteModel, SpawnModel as GazeboSpawnModel
+from geometry_msgs.msg import Pose
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
@@ -248,6 +250,25 @@ class BadInput(unittest.TestCase):
             result = self.spawn_model("-file", os.path.join(fixtures, "minimal.urdf"), "-Y", "nan")
             self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
             self.assertIn("is not finite", result.stderr)
+            self.assertIsNone(self.chair_drives_on(start))
+        finally:
+            commander.stop()
+
+    def test_spawn_sdf_model_refuses_a_model_of_absurd_mass_naming_the_value(self):
+        rospy.wait_for_service("/gazebo/spawn_sdf_model", timeout=30)
+        heavy = ('<sdf version="1.6"><model name="heavy"><link name="base"><inertial><mass>1e30</mass></inertial>'
+                 '<collision name="c"><geometry><box><size>1 1 1</size></box></geometry></collision></link>'
+                 '</model></sdf>')
+        commander = Commander(0.3, 0.0)
+        try:
+            start = self.wait_until(self.odometry.messages[-1].header.stamp.to_sec() + 1.0)[-1]  # up to speed
+            pose = Pose()
+            pose.position.x = 50
+            pose.orientation.w = 1
+            answer = rospy.ServiceProxy("/gazebo/spawn_sdf_model", GazeboSpawnModel)("heavy", heavy, "", pose, "")
+            self.assertFalse(answer.success)
+            self.assertIn("link [base] <inertial> mass [1e+30] kg is beyond the limit of 1e+06 kg (max_mass)",
+                          answer.status_message)
             self.assertIsNone(self.chair_drives_on(start))
         finally:
             commander.stop()
