@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes bullet_sim's readers with libFuzzer (clang-14) under AddressSanitizer and UndefinedBehaviorSanitizer:
-# fuzz_model_spec (the URDF reader and urdf_doctor), fuzz_world_spec (the SDF world reader) and fuzz_mesh (the
-# mesh importer), in bullet_sim/fuzz/.
+# fuzz_model_spec (the URDF reader and urdf_doctor), fuzz_world_spec (the SDF readers of worlds and of models to
+# spawn) and fuzz_mesh (the mesh importer), in bullet_sim/fuzz/.
 #
 #   scripts/fuzz.sh [SECONDS [TARGET...]]  fuzz each target (default: all) for SECONDS (default 600), at the
 #                                          lowest priority; merge what it finds into bullet_sim/fuzz/corpus/TARGET
@@ -84,13 +84,17 @@ seed() {
   rm -rf "$corpus"
   mkdir -p "$corpus"/{fuzz_model_spec,fuzz_world_spec,fuzz_mesh}
   for description in smartwheelchair_model/urdf/smartwheelchair_model.urdf.xacro smartcar_description/urdf/smartcar.urdf.xacro \
-    yahboomcar_description/urdf/yahboomcar.urdf.xacro tianracer_description/urdf/tianracer.urdf.xacro; do
+    yahboomcar_description/urdf/yahboomcar.urdf.xacro tianracer_description/urdf/tianracer.urdf.xacro \
+    rover_description/urdf/rover.urdf.xacro; do
     xacro "$REPO/$description" >"$corpus/fuzz_model_spec/$(basename "$description" .urdf.xacro).urdf"
   done
   cp "$REPO"/bullet_sim/test/fixtures/robots/*.urdf "$REPO"/bullet_sim/test/fixtures/doctor/*.urdf \
     "$REPO"/bullet_sim/test/fixtures/bad_input/*.urdf "$corpus/fuzz_model_spec/"
   cp "$REPO"/bullet_sim/worlds/*.world "$REPO"/bullet_sim_bringup/worlds/*.world "$REPO"/bullet_sim/test/fixtures/worlds/*.world \
     "$corpus/fuzz_world_spec/"
+  for model in "$REPO"/bullet_sim/models/*/model.sdf "$REPO"/bullet_sim/test/fixtures/models/*.sdf; do
+    cp "$model" "$corpus/fuzz_world_spec/$(basename "$(dirname "$model")")_$(basename "$model")"
+  done
   # fuzz_mesh takes one byte for the format (0 STL, 1 OBJ, 2 COLLADA), then the file.
   for mesh in "$REPO"/*/meshes/*.stl "$REPO"/bullet_sim/test/fixtures/worlds/meshes/*.stl; do
     { printf '\x00'; cat "$mesh"; } >"$corpus/fuzz_mesh/$(basename "$(dirname "$(dirname "$mesh")")")_$(basename "$mesh")"

@@ -1,6 +1,7 @@
-// libFuzzer target for the world reader (SDF through libsdformat, then ours): whatever the bytes, it must
-// return or throw SpecError, never crash, hang or touch memory it does not own. It reads in this process
-// (parseWorldHere), where the fuzzer sees what it covers. Built and run by scripts/fuzz.sh.
+// libFuzzer target for the SDF readers (libsdformat, then ours), of worlds and of models to spawn: whatever the
+// bytes, each must return or throw SpecError, never crash, hang or touch memory it does not own. They read in
+// this process (parseWorldHere, readSdfModelHere), where the fuzzer sees what they cover; the simulator reads
+// in a child process. Built and run by scripts/fuzz.sh.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -17,6 +18,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     bullet_sim::parseWorldHere(sdf, "/nonexistent/fuzz.world", resolver, nullptr);
   } catch (const bullet_sim::SpecError&) {
     // A rejected file is a correct answer.
+  }
+  try {
+    bullet_sim::readSdfModelHere(sdf, "/nonexistent/fuzz.sdf", resolver, nullptr);
+  } catch (const bullet_sim::SpecError&) {
   }
   return 0;
 }
