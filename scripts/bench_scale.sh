@@ -16,6 +16,7 @@ cleanup() {
   rm -rf "$OUT"
 }
 trap cleanup EXIT
+cut -d' ' -f1-3 /proc/loadavg >"$OUT/load.before"
 CHAIR=$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro
 
 # The worlds and robot the figures need: 10,000 boxes as bench --boxes 100 makes them, and a robot of 9,000
@@ -73,9 +74,18 @@ until rosparam list >/dev/null 2>&1; do sleep 0.1; done
 node_start() {
   local name=$1 world=$2
   for run in $(seq "$REPEAT"); do
-    rosrun bullet_sim simulator _world:="$world" >"$OUT/node.log" 2>&1 &
-    local pid=$!
-    until grep -q "first /clock" "$OUT/node.log" || ! kill -0 "$pid" 2>/dev/null; do sleep 0.1; done
+    # rosconsole buffers stdout into a file unless told not to.
+    ROSCONSOLE_STDOUT_LINE_BUFFERED=1 rosrun bullet_sim simulator _world:="$world" >"$OUT/node.log" 2>&1 &
+    local pid=$! waited=0
+    until grep -q "first /clock" "$OUT/node.log" || ! kill -0 "$pid" 2>/dev/null; do
+      sleep 0.1
+      waited=$((waited + 1))
+      if [ "$waited" -gt 1200 ]; then
+        echo "FAILED: the simulator said nothing of its first /clock within 120 s; see its log:" >&2
+        cat "$OUT/node.log" >&2
+        exit 1
+      fi
+    done
     kill -INT "$pid"
     wait "$pid" || true
     grep -o "first /clock [0-9.]* s after the process started ([0-9.]* s of CPU), [0-9]* MB" "$OUT/node.log" \
@@ -90,7 +100,10 @@ import datetime, json, os, re, statistics, sys
 
 out, readme, repeat = sys.argv[1], sys.argv[2], sys.argv[3]
 run = {name[:-5]: json.load(open(os.path.join(out, name))) for name in os.listdir(out) if name.endswith(".json")}
-command = {name: open(os.path.join(out, name + ".command")).read().strip() for name in run}
+# Commands as a reader types them: paths in the workspace relative to it, the generated files by name.
+repo = os.path.dirname(os.path.abspath(readme)) + "/"
+command = {name: open(os.path.join(out, name + ".command")).read().strip().replace(repo, "").replace(out + "/", "")
+           for name in run}
 def node(name):
     lines = open(os.path.join(out, name + ".node")).read().split("\n")
     figures = [re.findall(r"[0-9.]+", line) for line in lines if line]
@@ -117,9 +130,12 @@ rows = [
      "within 10 %", yes(abs(growth(heavy)) <= 10)),
 ]
 cpu = re.search(r"model name\s*:\s*(.*)", open("/proc/cpuinfo").read())
+load = [open(os.path.join(out, "load.before")).read().split(), ["%.2f" % x for x in os.getloadavg()]]
 text = ["Measured by `scripts/bench_scale.sh` on %s, on a %d-core %s: the node's figures are the medians of %s starts "
-        "(its start-up line, `first /clock ... s after the process started`), the others bench's JSON." %
-        (datetime.date.today().isoformat(), os.cpu_count(), cpu.group(1).strip() if cpu else "machine", repeat),
+        "(its start-up line, `first /clock ... s after the process started`), the others bench's JSON. The machine "
+        "was shared: its load average (1, 5, 15 min) was %s before and %s after." %
+        (datetime.date.today().isoformat(), os.cpu_count(), cpu.group(1).strip() if cpu else "machine", repeat,
+         " ".join(load[0]), " ".join(load[1])),
         "", "| figure | ours | target | met |", "|---|---|---|---|"]
 text += ["| %s | %s | %s | %s |" % row for row in rows]
 text += ["", "```"] + [command[name] for name in ("boxes", "home", "heavy")] + [
