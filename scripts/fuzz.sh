@@ -25,7 +25,7 @@ FUZZ=$REPO/bullet_sim/fuzz
 DIR=${BULLET_SIM_FUZZ_DIR:-$(workspace_of "$REPO")/build_fuzz}
 WS=$DIR/ws
 TARGETS=(fuzz_model_spec fuzz_world_spec fuzz_mesh)
-CI_RUNS=300          # inputs per target in the CI's short run
+CI_MUTATIONS=100     # new inputs per target in the CI's short run, after its corpus
 CI_SEED=1
 export PATH=/usr/bin:/usr/local/bin:$PATH
 export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1
@@ -102,27 +102,27 @@ seed() {
   for seed_file in "$FUZZ"/seeds/*; do cp "$seed_file" "$corpus/fuzz_mesh/"; done
 }
 
-# Replays the committed corpus and crashes, then runs a short, seeded fuzz: what CI runs.
+# Replays the committed crashes, then the corpus with a short, seeded fuzz after it: what CI runs. libFuzzer runs
+# every corpus input first (the replay), then CI_MUTATIONS more; -runs counts both.
 ci() {
   local status=0
   for target in "${TARGETS[@]}"; do
     local crashes=()
     mapfile -t crashes < <(find "$FUZZ/crashes/$target" -maxdepth 1 -type f 2>/dev/null | sort)
-    log "$target: replaying $(find "$FUZZ/corpus/$target" -type f | wc -l) corpus inputs and ${#crashes[@]} crashes"
-    # shellcheck disable=SC2046
-    "$(binary "$target")" $(options "$target") -runs=0 "$FUZZ/corpus/$target" >"$DIR/$target.replay.log" 2>&1 ||
-      { status=1; tail -n 30 "$DIR/$target.replay.log"; }
     if [ ${#crashes[@]} -gt 0 ]; then
+      log "$target: replaying ${#crashes[@]} crashes"
       # shellcheck disable=SC2046
       "$(binary "$target")" $(options "$target") "${crashes[@]}" >"$DIR/$target.crashes.log" 2>&1 ||
         { status=1; tail -n 30 "$DIR/$target.crashes.log"; }
     fi
-    local scratch=$DIR/ci/corpus/$target
+    local scratch=$DIR/ci/corpus/$target inputs
     rm -rf "$scratch" && mkdir -p "$scratch" && cp -r "$FUZZ/corpus/$target/." "$scratch/"
-    log "$target: $CI_RUNS runs with -seed=$CI_SEED"
+    inputs=$(find "$scratch" -type f | wc -l)
+    log "$target: replaying $inputs corpus inputs, then $CI_MUTATIONS more with -seed=$CI_SEED"
     # shellcheck disable=SC2046
-    "$(binary "$target")" $(options "$target") -seed=$CI_SEED -runs=$CI_RUNS -artifact_prefix="$DIR/ci/$target-" \
-      "$scratch" >"$DIR/$target.ci.log" 2>&1 || { status=1; tail -n 30 "$DIR/$target.ci.log"; }
+    "$(binary "$target")" $(options "$target") -seed=$CI_SEED -runs=$((inputs + CI_MUTATIONS)) \
+      -artifact_prefix="$DIR/ci/$target-" "$scratch" >"$DIR/$target.ci.log" 2>&1 ||
+      { status=1; tail -n 30 "$DIR/$target.ci.log"; }
   done
   [ "$status" -eq 0 ] || echo "FAILED: an input crashed a fuzz target; logs in $DIR" >&2
   return "$status"

@@ -367,6 +367,45 @@ TEST(Footprint, TheMemoryOfADeletedRobotIsGivenBack) {
       << "before the first spawn: " << before << " MB, with the robot " << spawned << " MB";
 }
 
+/// Inputs the fuzzers found that crash, hang or exhaust a library we cannot patch, in
+/// bullet_sim/fuzz/crashes/<target>/library: the simulator's own readers, which run those libraries in a child
+/// process, report each as a load error naming the file.
+/// The files in `folder`; none when there is no such folder.
+std::vector<fs::path> filesIn(const fs::path& folder) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) files.push_back(it->path());
+  return files;
+}
+
+TEST(BadInput, FilesThatBreakALibraryAreLoadErrorsNamingTheFile) {
+  const fs::path crashes = test::packageFile("bullet_sim", "fuzz/crashes");
+  int replayed = 0;
+  for (const fs::path& found : filesIn(crashes / "fuzz_mesh" / "library")) {
+    const std::string bytes = test::readFile(found.string());
+    ASSERT_FALSE(bytes.empty()) << found;
+    // As fuzz_mesh takes it: the first byte chooses the format.
+    static const char* const kExtensions[] = {".stl", ".obj", ".dae"};
+    TemporaryFolder folder;
+    const std::string path = folder.path() + "/mesh" + kExtensions[static_cast<unsigned char>(bytes[0]) % 3];
+    std::ofstream(path, std::ios::binary) << bytes.substr(1);
+    std::string error;
+    EXPECT_FALSE(loadMesh(path, Eigen::Vector3d::Ones(), &error)) << found;
+    EXPECT_THAT(error, HasSubstr("cannot load mesh [" + path + "]: ")) << found;
+    if (found.filename().string().rfind("oom-", 0) == 0)
+      EXPECT_THAT(error, HasSubstr("the importer (assimp) ran out of the memory it may use on it")) << found;
+    ++replayed;
+  }
+  for (const fs::path& found : filesIn(crashes / "fuzz_world_spec" / "library")) {
+    EXPECT_THROW(
+        parseWorld(test::readFile(found.string()), found.string(), PackageResolver::fromEnvironment(), nullptr),
+        SpecError)
+        << found;
+    ++replayed;
+  }
+  EXPECT_GT(replayed, 0) << "no input in " << crashes << "/*/library";
+}
+
 TEST(BadInput, WorkThatCrashesHangsOrExhaustsItsChildEndsOnlyTheChild) {
   const auto crashed = runInChild(
       []() -> std::string {

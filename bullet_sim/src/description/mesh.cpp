@@ -158,7 +158,16 @@ std::optional<TriangleMesh> importTriangles(const std::string& path, const Eigen
                                                      aiProcess_SortByPType | aiProcess_ValidateDataStructure);
   try {
     if (!refused.empty()) throw std::runtime_error("the file it names, " + refused);
-    if (!scene || !scene->mRootNode) throw std::runtime_error(importer.GetErrorString());
+    if (!scene || !scene->mRootNode) {
+      const std::string said = importer.GetErrorString();
+      // assimp catches what it throws, running out of memory too, and says only its name.
+      if (said.find("bad_alloc") != std::string::npos) {
+        throw std::runtime_error(
+            "the importer (assimp) ran out of the memory it may use on it: the file is corrupt or not a mesh; "
+            "re-export it as STL, DAE or OBJ");
+      }
+      throw std::runtime_error(said);
+    }
     return collectTriangles(*scene, scale, limits);
   } catch (const std::runtime_error& e) {
     *why = e.what();
