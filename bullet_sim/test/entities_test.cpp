@@ -129,6 +129,19 @@ TEST(Entities, AStaticWorldModelMovesForTheLidarAndResetWorldPutsItBack) {
   EXPECT_TRUE(simulation.modelState("crate").pose.translation().isApprox(Eigen::Vector3d(2, 0, 0.5)));
 }
 
+TEST(Entities, AMovedStaticWorldModelCarriesWhatFallsOnIt) {
+  // The crate shares a compound with the static primitives of its cell of the floor: moving it moves its child.
+  Simulation simulation(crateWorld());
+  EXPECT_EQ(simulation.setModelState("crate", at(0, 0, 0.5, 0)), "");
+  simulation.spawn("box", fixtureRobot("minimal.urdf"), {.z = 2});
+  for (int i = 0; i < 2000; ++i) simulation.step();
+  EXPECT_NEAR(simulation.modelState("box").pose.translation().z(), 1.1, 0.01)
+      << "on the crate's top (1 m), not on the ground";
+  EXPECT_EQ(simulation.setModelState("crate", at(2, 0, 0.5, 0)), "");
+  for (int i = 0; i < 2000; ++i) simulation.step();
+  EXPECT_NEAR(simulation.modelState("box").pose.translation().z(), 0.1, 0.01) << "on the ground, the crate gone";
+}
+
 TEST(Entities, StatesAreReadAndSetInTheReferenceFramesGazeboUses) {
   Simulation simulation(crateWorld(/*weightless=*/true));
   simulation.spawn("a", twoWheeler("contact"), {.x = 1, .y = 2, .yaw = M_PI / 2, .z = 1});

@@ -468,6 +468,20 @@ TEST(WorldSpec, UnknownModelIsSkippedWithOneWarningAndTheRestLoads) {
   }
 }
 
+TEST(WorldSpec, CopiesOfAnUnknownModelAreSkippedWithItNamed) {
+  std::string includes;
+  for (int i = 1; i <= 3; ++i) {
+    includes += "<include><uri>model://ground_plan</uri><name>g" + std::to_string(i) + "</name><pose>" +
+                std::to_string(i) + " 0 0 0 0 0</pose></include>";
+  }
+  std::vector<std::string> warnings;
+  const WorldSpec world = parse("<sdf version=\"1.6\"><world name=\"w\">" + includes + "</world></sdf>", &warnings);
+  EXPECT_TRUE(world.models.empty());
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_TRUE(contains(warnings[0], "unknown model [ground_plan]")) << warnings[0];
+  EXPECT_EQ(warnings[1], "models [g2], [g3] repeat [g1], which is skipped: they are skipped too");
+}
+
 TEST(WorldSpecErrorList, NonPositiveSizesAreRejected) {
   try {
     parse(R"(<sdf version="1.6"><world name="w"><model name="flat"><static>true</static><link name="l">
@@ -561,6 +575,7 @@ TEST(WorldSpec, ModelsThatRepeatOneAnotherAreReadOnceAndPlacedEach) {
     EXPECT_TRUE(model->pose.linear().isApprox(rotation, kExact));
     ASSERT_EQ(model->collisions.size(), 1u);
     EXPECT_TRUE(model->collisions[0].shape.box_size.isApprox(Eigen::Vector3d(1, 2, 3)));
+    EXPECT_EQ(model->collisions[0].name, name + "::link::c") << "a copy's collisions carry its own name";
     ASSERT_EQ(model->visuals.size(), 1u);
     EXPECT_TRUE(model->visuals[0].rgba.isApprox(Eigen::Vector4d(1, 0, 0, 1)));
   }

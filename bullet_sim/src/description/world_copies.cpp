@@ -112,9 +112,13 @@ void addCopies(const WorldCopies& copies, const Limits& limits, WorldSpec& world
   std::map<std::string, size_t> index;
   for (size_t i = 0; i < world.models.size(); ++i) index[world.models[i].name] = i;
   world.models.reserve(world.models.size() + copies.copies.size());
+  std::map<std::string, std::vector<std::string>> left_out;  // original -> its copies, when it is not loaded
   for (const WorldCopies::Copy& copy : copies.copies) {
     const auto original = index.find(copy.original);
-    if (original == index.end()) continue;  // its original was refused, with a message
+    if (original == index.end()) {  // refused (the file is then read again in full) or skipped with a warning
+      left_out[copy.original].push_back(copy.name);
+      continue;
+    }
     const Eigen::Vector3d position = copy.pose.translation();
     if (position.cwiseAbs().maxCoeff() > limits.max_length) {
       std::ostringstream message;
@@ -132,6 +136,11 @@ void addCopies(const WorldCopies& copies, const Limits& limits, WorldSpec& world
     model.name = copy.name;
     model.pose = copy.pose;
     world.models.push_back(std::move(model));
+  }
+  for (const auto& [original, names] : left_out) {
+    std::string list;
+    for (const auto& name : names) list += (list.empty() ? "[" : ", [") + name + "]";
+    diagnostics.warning("models " + list + " repeat [" + original + "], which is skipped: they are skipped too");
   }
   size_t shapes = 0, triangles = 0;
   for (const WorldModelSpec& model : world.models) {
