@@ -1,10 +1,20 @@
 #!/usr/bin/env bash
 # Runs `rosrun bullet_sim bench` on the wheelchair in home.world and on the bench scenario (bullet_sim/bench:
 # the robot and home our peers measured PyBullet and MuJoCo with), and rewrites the README's "## Performance"
-# section between <!-- bench:begin --> and <!-- bench:end --> (created before "## Tests" when missing).
+# section between <!-- bench:begin --> and <!-- bench:end --> (created before "## Tests" when missing), and
+# its camera table (bench --camera) between <!-- bench-camera:begin --> and <!-- bench-camera:end -->.
 # Run after building, on a machine as quiet as you can make it:
-#   source devel/setup.bash && scripts/bench_readme.sh        # BENCH_REPEAT=5 runs per figure (medians)
+#   source devel/setup.bash && scripts/bench_readme.sh [all|physics|camera]   # default all
+# BENCH_REPEAT=5 runs per figure (medians).
 set -euo pipefail
+SECTIONS=${1:-all}
+case "$SECTIONS" in
+all | physics | camera) ;;
+*)
+  echo "usage: $0 [all|physics|camera]" >&2
+  exit 2
+  ;;
+esac
 export PATH=/usr/bin:/usr/local/bin:$PATH  # Debian's ROS tools and the python3 below
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 REPEAT=${BENCH_REPEAT:-5}
@@ -12,16 +22,42 @@ SCENARIO=$REPO/bullet_sim/bench
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 
+# bench NAME ARGS...: runs bench with ARGS (and --repeat REPEAT unless ARGS give one) into $OUT/NAME.json.
 bench() {
   local name=$1
   shift
+  local repeat=(--repeat "$REPEAT")
+  if [[ " $* " == *" --repeat "* ]]; then repeat=(); fi  # bench takes one --repeat
   echo "rosrun bullet_sim bench $*" >"$OUT/$name.command"
   echo "== $name: bench $*" >&2
-  rosrun bullet_sim bench --repeat "$REPEAT" "$@" >"$OUT/$name.json"
+  rosrun bullet_sim bench "${repeat[@]}" "$@" >"$OUT/$name.json"
 }
 
 CHAIR=$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro
 ROBOT=(--robot "$SCENARIO/bench_robot.urdf" --world "$SCENARIO/bench_home.world")
+
+# The camera figures of issue 13: the wheelchair in home.world with its lidar on, driving 4 s of the arc (the
+# flat leaves room for that much), a camera on it. The load averages before and after go into the README.
+camera_section() {
+  mkdir -p "$OUT/camera"
+  # How busy the machine is without us: its CPU time over 2 s before the runs (/proc/stat's first line).
+  head -1 /proc/stat >"$OUT/camera/stat_before"
+  sleep 2
+  head -1 /proc/stat >>"$OUT/camera/stat_before"
+  cut -d' ' -f1-3 /proc/loadavg >"$OUT/camera/load_before"
+  local chair=(--robot "$CHAIR" --world home.world --duration 4)
+  bench camera/rgb "${chair[@]}" --camera 640x480@30
+  bench camera/depth "${chair[@]}" --camera 640x480@20 --depth
+  bench camera/rgb_hd "${chair[@]}" --camera 1920x1080@30
+  bench camera/depth_hd "${chair[@]}" --camera 1920x1080@30 --depth
+  cut -d' ' -f1-3 /proc/loadavg >"$OUT/camera/load_after"
+  /usr/bin/python3 "$REPO/scripts/bench_readme_camera.py" "$OUT/camera" "$REPO/README.md" "$REPEAT"
+}
+if [[ $SECTIONS == camera ]]; then
+  camera_section
+  exit 0
+fi
+
 # home.world has a wall 2.5 m north of the origin: 5 s of the arc keeps the chair clear of it.
 bench wheelchair --robot "$CHAIR" --world home.world --duration 5
 bench default "${ROBOT[@]}"
@@ -33,7 +69,10 @@ bench obstacles "${ROBOT[@]}" --lidar 1800x16 --obstacles 1000
 for run in $(seq "$REPEAT"); do bench "startup$run" "${ROBOT[@]}" --duration 0.1 --repeat 1; done
 
 /usr/bin/python3 - "$OUT" "$REPO/README.md" "$REPEAT" <<'EOF'
-import datetime, json, os, re, sys, textwrap
+import datetime, json, os, sys, textwrap
+
+sys.path.insert(0, os.path.join(os.path.dirname(sys.argv[2]), "scripts"))
+from readme_section import write_section
 
 out, readme, repeat = sys.argv[1], sys.argv[2], sys.argv[3]
 runs = {name[:-5]: json.load(open(os.path.join(out, name))) for name in os.listdir(out) if name.endswith(".json")}
@@ -128,12 +167,9 @@ lines = [
 if warnings:
     lines += ["", "Load warnings:"] + ["- " + w for w in warnings]
 
-section = "<!-- bench:begin -->\n" + "\n".join(lines) + "\n<!-- bench:end -->"
-text = open(readme).read()  # read right before writing: others edit the README too
-if "<!-- bench:begin -->" in text:
-    text = re.sub(r"<!-- bench:begin -->.*?<!-- bench:end -->", lambda _: section, text, flags=re.S)
-else:
-    text = text.replace("\n## Tests\n", "\n## Performance\n" + section + "\n\n## Tests\n", 1)
-open(readme, "w").write(text)
+write_section(readme, "bench", lines,
+              lambda text, section: text.replace("\n## Tests\n", "\n## Performance\n" + section + "\n\n## Tests\n", 1))
 print("\n".join(lines))
 EOF
+
+if [[ $SECTIONS == all ]]; then camera_section; fi

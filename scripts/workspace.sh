@@ -21,7 +21,7 @@ DEBIAN_PACKAGES=(
   libtf2-ros-dev libtf2-eigen-dev python3-tf2-ros libtf-dev python3-tf tf-tools libtopic-tools-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-srvs-dev ros-robot-state-publisher joint-state-publisher libimage-transport-dev libcamera-info-manager-dev
   liburdf-dev liburdfdom-dev liburdfdom-tools libtinyxml2-dev libsdformat-dev
-  libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev
+  libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev libjpeg-dev
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs
   ros-message-generation libtrajectory-msgs-dev libactionlib-msgs-dev python3-actionlib-msgs libstd-msgs-dev
   libactionlib-dev python3-actionlib

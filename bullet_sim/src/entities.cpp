@@ -102,7 +102,7 @@ std::vector<std::string> Simulation::modelNames() const {
 
 Simulation::Entity Simulation::findModel(const std::string& name) const {
   for (size_t i = 0; i < world_.models.size(); ++i) {
-    if (world_.models[i].name == name) return {nullptr, static_cast<int>(i), ""};
+    if (world_.models[i].name == name) return {world_models_[i].body.get(), static_cast<int>(i), ""};
   }
   for (const auto& robot : robots_) {
     if (robot->name() == name) return {robot.get(), -1, ""};
@@ -153,9 +153,8 @@ std::pair<Robot*, std::string> Simulation::findBody(const std::string& name) con
                                 "]: it takes no wrench");
   }
   if (!entity.robot) {
-    throw std::invalid_argument("body [" + name + "] belongs to the world's model [" +
-                                world_.models[entity.world_model].name +
-                                "], which bullet_sim keeps static: it takes no wrench");
+    throw std::invalid_argument("body [" + name + "] belongs to the world's static model [" +
+                                world_.models[entity.world_model].name + "]: it takes no wrench");
   }
   return {entity.robot, entity.link.empty() ? entity.robot->body().spec().root : entity.link};
 }
@@ -183,7 +182,7 @@ std::pair<Robot*, int> Simulation::findJoint(const std::string& name) const {
 }
 
 EntityState Simulation::worldState(const Entity& entity) const {
-  if (entity.world_model >= 0) {
+  if (!entity.robot) {
     EntityState state;
     state.pose = world_models_[entity.world_model].pose;
     if (!entity.link.empty()) {
@@ -214,6 +213,11 @@ std::vector<NamedState> Simulation::modelStates() const {
 std::vector<NamedState> Simulation::linkStates() const {
   std::vector<NamedState> states;
   for (size_t i = 0; i < world_.models.size(); ++i) {
+    if (const Robot* body = world_models_[i].body.get()) {  // its one link
+      const std::string& link = body->body().spec().root;
+      states.push_back({scoped(world_.models[i].name, link), worldState({world_models_[i].body.get(), -1, link})});
+      continue;
+    }
     for (const auto& link : world_.models[i].links) {
       states.push_back(
           {scoped(world_.models[i].name, link.name),
@@ -252,7 +256,7 @@ std::string Simulation::setLinkState(const std::string& link, const EntityState&
   const Entity entity = findLink(link);
   const EntityState target = inWorld(state, entityState(reference));
   checkState(target, "link [" + link + "]", options_.limits);
-  if (entity.world_model >= 0) {
+  if (!entity.robot) {
     const Entity model{nullptr, entity.world_model, ""};
     const Eigen::Isometry3d in_model = worldState(model).pose.inverse() * worldState(entity).pose;
     return setWorldState(model, {target.pose * in_model.inverse(), target.linear, target.angular});
@@ -309,7 +313,7 @@ void Simulation::moveWorldModel(size_t model, const Eigen::Isometry3d& pose) {
 ModelProperties Simulation::modelProperties(const std::string& model) const {
   const Entity entity = findModel(model);
   ModelProperties properties;
-  if (entity.world_model >= 0) {
+  if (!entity.robot) {
     const WorldModelSpec& spec = world_.models[entity.world_model];
     properties.is_static = spec.is_static;
     std::set<std::string> children;
@@ -339,8 +343,8 @@ ModelProperties Simulation::modelProperties(const std::string& model) const {
 
 LinkProperties Simulation::linkProperties(const std::string& link) const {
   const Entity entity = findLink(link);
-  if (entity.world_model >= 0) {
-    throw std::invalid_argument("link [" + link + "] belongs to the world's model [" +
+  if (!entity.robot) {
+    throw std::invalid_argument("link [" + link + "] belongs to the world's static model [" +
                                 world_.models[entity.world_model].name +
                                 "], which bullet_sim keeps as static geometry, without mass");
   }
@@ -460,7 +464,7 @@ void Simulation::applyScheduled() {
   eraseIf(efforts_, [&](const ScheduledEffort& effort) { return now >= effort.end; });
   for (const ScheduledWrench& wrench : wrenches_) {
     if (now < wrench.start) continue;
-    PhysicsRobot& body = robot(wrench.robot)->body();
+    PhysicsRobot& body = findModel(wrench.robot).robot->body();  // a robot or a world's body
     const LinkSpec& link = *body.spec().link(wrench.link);
     const Eigen::Isometry3d pose = body.linkPose(wrench.link);
     const Eigen::Vector3d com = link.inertial ? pose * link.inertial->com : pose.translation();
@@ -496,6 +500,9 @@ void Simulation::setPhysicsProperties(const PhysicsProperties& properties) {
     steps_at_base_ = steps_;
     options_.physics.step_size = properties.step_size;
     physics_->setStepSize(properties.step_size);
+    for (auto& placed : world_models_) {
+      if (placed.body) placed.body->body_->setStepSize(properties.step_size);
+    }
     for (auto& robot : robots_) robot->body_->setStepSize(properties.step_size);
   }
   options_.max_update_rate = properties.max_update_rate;

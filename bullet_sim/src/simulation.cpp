@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/description/sdf_model.h"
 #include "bullet_sim/plugins/drive_support.h"
 #include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
 #include "physics/multibody_robot.h"
@@ -22,8 +23,8 @@ Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
   root.rotate(Eigen::AngleAxisd(pose.yaw, Eigen::Vector3d::UnitZ()) *
               Eigen::AngleAxisd(pose.pitch, Eigen::Vector3d::UnitY()) *
               Eigen::AngleAxisd(pose.roll, Eigen::Vector3d::UnitX()));
-  if (pose.z) {
-    root.translation().z() = *pose.z;
+  if (pose.z || (hasFixedBase(model) && !model.is_static)) {  // fixed to the world where it is put
+    root.translation().z() = pose.z.value_or(0.0);
     return root;
   }
   double lowest = std::numeric_limits<double>::infinity();
@@ -103,7 +104,7 @@ void checkSpawnPose(const SpawnPose& pose, const Limits& limits, Diagnostics& di
 /// ros_control's rule, else contact.
 std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
                          const ParameterSource* parameters, Diagnostics& diagnostics) {
-  if (model.is_static) return "contact";
+  if (hasFixedBase(model)) return "contact";
   for (const auto& plugin : model.plugins) {
     if (const auto* drive = plugin.configAs<DriveConfigHead>()) return drive->wheel_model;
   }
@@ -158,14 +159,50 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     : world_(std::move(world)), options_(options) {
   physics_ = std::make_unique<PhysicsWorld>(world_, options_.physics);
   for (const auto& model : world_.models) {
-    world_models_.push_back(
-        {model.pose, model.collisions.empty() ? kNoBody : rays_.addBody(model.collisions, model.pose, true)});
+    PlacedWorldModel& placed = world_models_.emplace_back();
+    placed.pose = model.pose;
+    if (!model.is_static) {
+      placed.body = makeWorldBody(model);
+    } else if (!model.collisions.empty()) {
+      placed.ray_body = rays_.addBody(model.collisions, model.pose, true);
+    }
   }
   rays_.commit();
   if (options_.images) images_ = options_.images(*this);
 }
 
 Simulation::~Simulation() = default;
+
+std::unique_ptr<Robot> Simulation::makeWorldBody(const WorldModelSpec& model) {
+  Diagnostics diagnostics(world_.source);
+  ModelSpec spec = toModelSpec(model, *options_.plugins, diagnostics);
+  diagnostics.throwIfErrors();
+  const Eigen::Isometry3d root = model.pose * spec.root_in_model;
+  auto body = std::make_unique<MultiBodyRobot>(std::move(spec), model.name, physics_->bullet(), root);
+  auto robot = std::make_unique<Robot>(model.name, std::move(body), root);
+  const auto& parts = robot->body().parts();
+  for (size_t k = 0; k < parts.size(); ++k) {
+    robot->ray_bodies_.push_back(
+        parts[k].collisions.empty() ? kNoBody : rays_.addBody(parts[k].collisions, robot->body().partPose(k), false));
+  }
+  return robot;
+}
+
+std::vector<Robot*> Simulation::movingModels() {
+  std::vector<Robot*> moving;
+  for (auto& placed : world_models_) {
+    if (placed.body) moving.push_back(placed.body.get());
+  }
+  for (auto& robot : robots_) moving.push_back(robot.get());
+  return moving;
+}
+
+Eigen::Isometry3d Simulation::worldModelPose(size_t model) const {
+  const PlacedWorldModel& placed = world_models_.at(model);
+  if (!placed.body) return placed.pose;
+  const RobotBody& body = placed.body->body();
+  return body.linkPose(body.spec().root) * body.spec().root_in_model.inverse();
+}
 
 Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
                          std::vector<std::string>* warnings) {
@@ -291,8 +328,11 @@ void Simulation::step() {
     }
     robot->body_->beforeStep();
   }
+  for (auto& placed : world_models_) {
+    if (placed.body) placed.body->body_->beforeStep();
+  }
   physics_->step();
-  for (auto& robot : robots_) robot->body_->afterStep();
+  for (Robot* moving : movingModels()) moving->body_->afterStep();
   if (rays_due) refreshRays();
   for (auto& robot : robots_) {
     for (auto& plugin : robot->plugins_) plugin->sense(time, *robot->body_, rays_);
@@ -301,7 +341,7 @@ void Simulation::step() {
 }
 
 void Simulation::refreshRays() {
-  for (auto& robot : robots_) {
+  for (Robot* robot : movingModels()) {
     for (size_t k = 0; k < robot->ray_bodies_.size(); ++k) {
       if (robot->ray_bodies_[k] != kNoBody) rays_.setPose(robot->ray_bodies_[k], robot->body_->partPose(k));
     }
@@ -312,12 +352,17 @@ void Simulation::refreshRays() {
 void Simulation::resetWorld() {
   for (size_t i = 0; i < world_models_.size(); ++i) {
     const Eigen::Isometry3d& in_file = world_.models[i].pose;
-    if (world_models_[i].pose.matrix() != in_file.matrix()) moveWorldModel(i, in_file);
+    if (Robot* body = world_models_[i].body.get()) {
+      body->body_->reset(body->spawn_pose_, {});
+    } else if (world_models_[i].pose.matrix() != in_file.matrix()) {
+      moveWorldModel(i, in_file);
+    }
   }
   for (auto& robot : robots_) {
     robot->body_->reset(robot->spawn_pose_, robot->spawn_joints_);
     for (auto& plugin : robot->plugins_) plugin->reset();
   }
+  physics_->forgetContacts();
   refreshRays();
 }
 

@@ -87,7 +87,8 @@ TEST(Bench, ACameraRendersAtItsRateAndAnUnwantedOneRendersNothing) {
   const test::CommandResult result =
       test::run(bench(scenario() + " --camera 64x48@20 --depth --duration 0.5 --repeat 1"));
   ASSERT_EQ(result.status, 0) << result.errors;
-  const auto numbers = numbersIn(result.output, {"rtf_camera", "rtf_camera_idle", "camera_frames_per_run"});
+  const auto numbers = numbersIn(result.output, {"rtf_camera", "rtf_camera_idle", "camera_frames_per_run",
+                                                 "camera_ms_per_frame", "camera_idle_cost_pct"});
   // 0.5 s of settling and 0.5 s of driving at 20 Hz.
   EXPECT_EQ(numbers.at("camera_frames_per_run"), 20);
   EXPECT_THAT(result.output, HasSubstr("\"camera_idle_frames_per_run\": 0"));

@@ -9,6 +9,7 @@
 
 #include "bullet_sim/description/gazebo_materials.h"
 #include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/world_spec.h"
 #include "test_support.h"
 
@@ -204,8 +205,41 @@ TEST(GazeboPaths, MaterialScriptsFromModelFoldersAndTheResourcePathGiveColours) 
   EXPECT_TRUE(visuals[0].rgba.isApprox(Eigen::Vector4d(0.6, 0.3, 0.1, 1))) << "its diffuse colour";
   EXPECT_TRUE(visuals[1].rgba.isApprox(Eigen::Vector4d(0.6, 0.3, 0.1, 1))) << "inherited from Yard/Rust";
   EXPECT_TRUE(visuals[2].rgba.isApprox(Eigen::Vector4d(0.1, 0.5, 0.1, 1))) << "its ambient colour";
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_TRUE(contains(warnings[0], "material [Yard/DarkRust]: its texture [rust.png] was not found"))
+      << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "drawn in its colour")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[1], "unknown Gazebo material [Yard/Nothing]")) << warnings[1];
+}
+
+// Gazebo loads every script in media/materials/scripts of its resource path for every visual: a URDF's
+// <gazebo reference><material> and an SDF script whose own <uri>s do not define the name find them there.
+TEST(GazeboPaths, MaterialScriptsOnTheResourcePathColourUrdfAndSdfVisuals) {
+  const std::string urdf =
+      R"(<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0"
+      ixz="0" iyz="0"/></inertial><visual><geometry><box size="1 1 1"/></geometry></visual></link>
+      <gazebo reference="a"><material>Yard/Grass</material></gazebo></robot>)";
+  std::vector<std::string> warnings;
+  const ModelSpec robot = parseModel(urdf, "yard.urdf", fixtureResolver(), &warnings);
+  EXPECT_TRUE(robot.link("a")->visuals.at(0).rgba.isApprox(Eigen::Vector4d(0.1, 0.5, 0.1, 1)));
+  EXPECT_EQ(robot.link("a")->visuals.at(0).paint, MeshPaint::kUniform);
+  const WorldSpec world = parseWorld(
+      "<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'><visual "
+      "name='v'>"
+      "<geometry><box><size>1 1 1</size></box></geometry><material><script>"
+      "<uri>model://crate/materials/scripts</uri><name>Yard/Grass</name></script></material></visual>"
+      "</link></model></world></sdf>",
+      "inline.world", fixtureResolver(), &warnings);
+  EXPECT_TRUE(world.models.at(0).visuals.at(0).rgba.isApprox(Eigen::Vector4d(0.1, 0.5, 0.1, 1)));
+  EXPECT_TRUE(warnings.empty()) << warnings.at(0);
+  // Without the export that brings the script, the name is unknown: one warning each.
+  GazeboEnvironment environment;
+  environment.home = fixtures() + "/home";
+  const PackageResolver bare({}, environment);
+  const ModelSpec plain = parseModel(urdf, "yard.urdf", bare, &warnings);
+  EXPECT_TRUE(plain.link("a")->visuals.at(0).rgba.isApprox(Visual().rgba)) << "the URDF colour is kept";
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_TRUE(contains(warnings[0], "unknown Gazebo material [Yard/Nothing]")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "<material>Yard/Grass</material> is neither")) << warnings[0];
 }
 
 /// A stock model and the extent of its collisions at the origin, from the sizes Gazebo's model publishes.

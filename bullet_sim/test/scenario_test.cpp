@@ -327,7 +327,9 @@ std::vector<std::string> processesOf(const fs::path& folder) {
   for (const auto& entry : fs::directory_iterator("/proc", ec)) {
     const std::string pid = entry.path().filename();
     if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::string cmdline = test::readFile((entry.path() / "cmdline").string());
+    // A process may end between the listing and the reading: then there is nothing to read, and nothing left.
+    std::ifstream cmdline_file(entry.path() / "cmdline", std::ios::binary);
+    std::string cmdline((std::istreambuf_iterator<char>(cmdline_file)), {});
     std::ifstream environ_file(entry.path() / "environ", std::ios::binary);
     const std::string environment((std::istreambuf_iterator<char>(environ_file)), {});
     if (cmdline.find(folder.string()) != std::string::npos || environment.find(folder.string()) != std::string::npos) {

@@ -346,22 +346,27 @@ TEST(WorldSpec, ColoursComeFromDiffuseThenAmbientThenTheGazeboScript) {
   EXPECT_TRUE(contains(warnings[0], "did you mean [Gazebo/Green]")) << warnings[0];
 }
 
-TEST(WorldSpec, NonStaticModelIsLoadedStaticWithOneWarningNamingIt) {
+// A non-static model of one link is a body (world_bodies_test simulates it); one of several links is made
+// static, with one warning saying so.
+TEST(WorldSpec, NonStaticModelIsABodyAndOneOfSeveralLinksStaticWithOneWarning) {
   std::vector<std::string> warnings;
   const WorldSpec world = parse(R"(<sdf version="1.6"><world name="w">
     <model name="ball"><link name="l">
       <collision name="c"><geometry><sphere><radius>0.1</radius></sphere></geometry></collision>
     </link></model>
-    <model name="box"><static>true</static><link name="l">
+    <model name="pair"><link name="a">
+      <collision name="c"><geometry><box><size>1 1 1</size></box></geometry></collision>
+    </link><link name="b">
       <collision name="c"><geometry><box><size>1 1 1</size></box></geometry></collision>
     </link></model>
   </world></sdf>)",
                                 &warnings);
   ASSERT_EQ(world.models.size(), 2u);
   EXPECT_FALSE(world.models[0].is_static);
+  EXPECT_TRUE(world.models[1].is_static);
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_TRUE(contains(warnings[0], "model [ball] is not static")) << warnings[0];
-  EXPECT_TRUE(contains(warnings[0], "<static>true</static>")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "model [pair] is not static, but has 2 links")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "static obstacle")) << warnings[0];
 }
 
 TEST(WorldSpec, PluginsAndJointsAreIgnoredWithWarnings) {

@@ -127,7 +127,7 @@ class Simulation {
   const WorldSpec& world() const { return world_; }
   const Limits& limits() const { return options_.limits; }
   /// Where each of the world's models is now (parallel to world().models): the world API moves them.
-  Eigen::Isometry3d worldModelPose(size_t model) const { return world_models_.at(model).pose; }
+  Eigen::Isometry3d worldModelPose(size_t model) const;
 
   // Gazebo's world API (entities.h says how entities are named). A request that cannot be honoured throws
   // std::invalid_argument saying why, and changes nothing; a setter returns a note on what it left out, or
@@ -174,10 +174,12 @@ class Simulation {
 
  private:
   struct Entity;  ///< a model, or one of its links (entities.cpp)
-  /// A world model as it is now: where, and its ray-caster body.
+  /// A world model as it is now: where, and its ray-caster body; or, for a non-static one, its rigid body,
+  /// which the world API treats as a robot without plugins.
   struct PlacedWorldModel {
     Eigen::Isometry3d pose;
     BodyId ray_body = kNoBody;
+    std::unique_ptr<Robot> body;
   };
   /// A scheduled wrench (world axes, about the link's centre of mass) or joint effort, between two sim times.
   struct ScheduledWrench {
@@ -195,6 +197,10 @@ class Simulation {
     return time_base_ + static_cast<double>(steps - steps_at_base_) * options_.physics.step_size;
   }
   void refreshRays();
+  /// The non-static world model `model` as a body at its pose in the file.
+  std::unique_ptr<Robot> makeWorldBody(const WorldModelSpec& model);
+  /// The robots and the world's bodies: what steps.
+  std::vector<Robot*> movingModels();
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
   /// Applies the scheduled wrenches and efforts whose window holds the step that starts now; drops the ended.
@@ -219,7 +225,7 @@ class Simulation {
   RayCaster rays_;
   std::unique_ptr<ImageSource> images_;         ///< outlives the robots' cameras
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
-  std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models
+  std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
   std::vector<ScheduledWrench> wrenches_;
   std::vector<ScheduledEffort> efforts_;
   uint64_t steps_ = 0;

@@ -256,6 +256,13 @@ class ModelParser {
         if (visual->material) {
           const auto& c = visual->material->color;
           v.rgba = Eigen::Vector4d(c.r, c.g, c.b, c.a);
+          v.paint = MeshPaint::kTint;
+          if (!visual->material->texture_filename.empty()) {
+            diagnostics_.warning("link [" + link.name + "] <visual> <material> <texture> [" +
+                                 visual->material->texture_filename +
+                                 "] is not drawn (Gazebo draws no URDF textures either): the visual shows "
+                                 "the material's colour");
+          }
         }
         spec.visuals.push_back(v);
       }
@@ -344,7 +351,9 @@ class ModelParser {
           return std::nullopt;
         }
         shape.mesh_path = *path;
-        shape.mesh = loadCachedMesh(*path, shape.mesh_scale, &error);
+        std::vector<std::string> warnings;
+        shape.mesh = meshes_.load(*path, shape.mesh_scale, &error, &warnings);
+        for (const std::string& warning : warnings) diagnostics_.warning(where + ": " + warning);
         if (!shape.mesh) {
           diagnostics_.error(where + ": " + error);
           return std::nullopt;
@@ -361,18 +370,6 @@ class ModelParser {
     }
     diagnostics_.error(where + ": unsupported geometry");
     return std::nullopt;
-  }
-
-  std::shared_ptr<const TriangleMesh> loadCachedMesh(const std::string& path, const Eigen::Vector3d& scale,
-                                                     std::string* error) {
-    std::ostringstream key;
-    key << path << '|' << scale.transpose();
-    auto& cached = meshes_[key.str()];
-    if (!cached) {
-      if (auto mesh = loadMesh(path, scale, error, limits_))
-        cached = std::make_shared<const TriangleMesh>(std::move(*mesh));
-    }
-    return cached;
   }
 
   void readGazeboExtensions(const tinyxml2::XMLElement* robot, ModelSpec& spec) {
@@ -420,17 +417,18 @@ class ModelParser {
     const std::string where = line + "<gazebo reference=\"" + link.name + "\"> ";
     for (auto* tag = gazebo->FirstChildElement(); tag; tag = tag->NextSiblingElement()) {
       const std::string name = tag->Name();
+      // <mu1 value="1"/> reads as <mu1>1</mu1>, as sdformat reads it (Clearpath writes every wheel so).
+      const char* text = tag->GetText() ? tag->GetText() : tag->Attribute("value");
       const auto number = [&](double* out) {  // friction and contact figures: >= 0
-        const auto value = parseDouble(tag->GetText());
+        const auto value = parseDouble(text);
         if (value && std::isfinite(*value) && *value >= 0) {
           *out = *value;
         } else {
-          diagnostics_.error(where + "<" + name + "> must be a number >= 0, not [" +
-                             (tag->GetText() ? tag->GetText() : "") + "]");
+          diagnostics_.error(where + "<" + name + "> must be a number >= 0, not [" + (text ? text : "") + "]");
         }
       };
       const auto flag = [&](bool* out) {
-        if (auto value = parseBool(tag->GetText())) {
+        if (auto value = parseBool(text)) {
           *out = *value;
         } else {
           diagnostics_.error(where + "<" + name + "> must be true or false");
@@ -482,16 +480,37 @@ class ModelParser {
     }
   }
 
+  /// Gazebo's table, else the material scripts on Gazebo's resource path (read once), as Gazebo finds them.
   void applyMaterial(const std::string& material, const std::string& where, LinkSpec& link) {
-    const auto colour = gazeboMaterialColour(material);
+    std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(material);
+    std::string texture_warning;
+    if (!colour && script_colours_.count(material)) {
+      colour = script_colours_[material];
+    } else if (!colour) {  // read once for all links that name it
+      const std::vector<std::string>& resource_path = resolver_.gazeboPaths().resourcePath();
+      if (!resource_scripts_) resource_scripts_ = resourceMaterialScripts(resource_path);
+      colour = scriptMaterialColour(material, *resource_scripts_, resourceTextureFolders(resource_path),
+                                    &texture_warning);
+      script_colours_[material] = colour;
+    }
+    if (!texture_warning.empty() && unknown_materials_.insert(material).second) {
+      diagnostics_.warning(where + "<material>" + material + "</material>: " + texture_warning +
+                           (colour ? "; drawn in its colour" : "; the URDF colour is kept"));
+    }
     if (!colour) {
-      diagnostics_.warning(where + "<material>" + material + "</material> is not a Gazebo material we know" +
-                           didYouMean(material, gazeboMaterialNames()) + "; the URDF colour is kept");
+      if (unknown_materials_.insert(material).second) {
+        diagnostics_.warning(
+            where + "<material>" + material + "</material> is neither a Gazebo material we know" +
+            didYouMean(material, gazeboMaterialNames()) +
+            " nor one that a material script on Gazebo's resource path defines with a colour; "
+            "the URDF colour is kept");
+      }
       return;
     }
     for (auto& visual : link.visuals) {
       visual.rgba = *colour;
       visual.material = material;
+      visual.paint = MeshPaint::kUniform;
     }
   }
 
@@ -560,8 +579,11 @@ class ModelParser {
   const PackageResolver& resolver_;
   const PluginParsers& plugins_;
   const Limits& limits_;
-  std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;
   size_t triangles_ = 0;  ///< of every mesh shape so far
+  MeshCache meshes_{limits_};
+  std::set<std::string> unknown_materials_;  ///< Gazebo material names warned about, once each
+  std::optional<std::vector<std::string>> resource_scripts_;              ///< see applyMaterial
+  std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  ///< by material name
   std::vector<PluginElement> model_plugins_;
   std::vector<PluginElement> sensor_plugins_;
 };

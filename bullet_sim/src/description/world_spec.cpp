@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "bullet_sim/description/files.h"
@@ -213,11 +214,17 @@ class WorldConverter {
     spec.name = model.Name();
     spec.pose = resolvePose(model.SemanticPose(), "", "model [" + model.Name() + "]", model.Element());
     spec.is_static = model.Static();
-    if (!spec.is_static && !spawning_) {
-      diagnostics_.warning(locate(model.Element()) + "model [" + model.Name() +
-                           "] is not static: bullet_sim simulates world models as static obstacles; add "
-                           "<static>true</static> to it");
+    // A world's non-static model is one rigid body; one with joints or several links stays static.
+    if (!spec.is_static && !spawning_ && (model.LinkCount() != 1 || model.ModelCount() > 0)) {
+      spec.is_static = true;
+      diagnostics_.warning(locate(model.Element()) + "model [" + model.Name() + "] is not static, but has " +
+                           std::to_string(model.LinkCount()) + " links and " +
+                           std::to_string(model.ModelCount()) +
+                           " nested models: bullet_sim simulates a world's moving model only as one rigid "
+                           "link, so this one is a static obstacle; spawn it with spawn_sdf_model to "
+                           "simulate its joints");
     }
+    said_static_ = !model.Static() && spec.is_static;
     addContents(model, Eigen::Isometry3d::Identity(), model.Name(), spec);
     return spec;
   }
@@ -232,7 +239,7 @@ class WorldConverter {
       for (uint64_t j = 0; j < model.JointCount(); ++j) {
         addJoint(*model.JointByIndex(j), in_top_model, prefix, spec);
       }
-    } else if (model.JointCount() > 0) {
+    } else if (model.JointCount() > 0 && !said_static_) {
       std::string joints;
       for (uint64_t i = 0; i < model.JointCount(); ++i) {
         joints += (i ? ", [" : "[") + model.JointByIndex(i)->Name() + "]";
@@ -460,22 +467,26 @@ class WorldConverter {
   }
 
   /// Colour precedence as in Gazebo classic: an explicit <diffuse> (else <ambient>) overrides the script's.
+  /// A known script replaces a mesh's own materials; a colour alone tints them.
   void applyMaterial(const sdf::Visual& visual, const std::string& where, Visual& result) {
     if (const sdf::Material* material = visual.Material()) {
       const bool has_diffuse = material->Element()->HasElement("diffuse");
       const bool has_ambient = material->Element()->HasElement("ambient");
+      if (has_diffuse || has_ambient) result.paint = MeshPaint::kTint;
       const std::string script = material->ScriptName();
       if (!script.empty()) {
         result.material = script;
         std::optional<Eigen::Vector4d> colour = gazeboMaterialColour(script);
-        if (!colour) colour = scriptMaterialColour(script, materialScripts(material->Element()));
+        if (!colour) colour = scriptColour(material->Element(), script, where);
         if (colour) {
           result.rgba = *colour;
-        } else if (!has_diffuse && !has_ambient) {
+          result.paint = MeshPaint::kUniform;
+        } else if (!has_diffuse && !has_ambient && unknown_materials_.insert(script).second) {
           diagnostics_.warning(locate(material->Element()) + where + ": unknown Gazebo material [" + script +
                                "]" + didYouMean(script, gazeboMaterialNames()) +
-                               ", shown grey: no script of its <uri>s defines it with a colour; give it a "
-                               "<diffuse> colour");
+                               ": no script of its <uri>s or of Gazebo's resource path defines it with a "
+                               "colour, so a mesh keeps its own colours and other shapes are grey; give the "
+                               "visual a <diffuse> colour (warned once for all visuals that use it)");
         }
       }
       if (has_diffuse) {
@@ -487,10 +498,40 @@ class WorldConverter {
     result.rgba[3] *= 1.0 - visual.Transparency();
   }
 
+  /// The colour material scripts give `script`: those its <uri>s name, then those of the resource path; its
+  /// texture looked for in its <uri>s' folders, then the resource path's. A texture that cannot be used is
+  /// warned about once per name. Visuals naming the same scripts share one reading of them and of the
+  /// texture.
+  std::optional<Eigen::Vector4d> scriptColour(const sdf::ElementPtr& material, const std::string& script,
+                                              const std::string& where) {
+    std::vector<std::string> folders;
+    const std::vector<std::string> scripts = materialScripts(material, folders);
+    std::string key = script;
+    for (const std::string& file : scripts) key += "\n" + file;
+    const auto cached = script_colours_.find(key);
+    if (cached != script_colours_.end()) return cached->second;
+    const std::vector<std::string> resource = resourceTextureFolders(resolver_.gazeboPaths().resourcePath());
+    folders.insert(folders.end(), resource.begin(), resource.end());
+    std::string warning;
+    std::optional<Eigen::Vector4d> colour = scriptMaterialColour(script, scripts, folders, &warning);
+    if (!colour && warning.empty())
+      colour = scriptMaterialColour(script, resourceScripts(), folders, &warning);
+    if (!warning.empty() && unknown_materials_.insert(script).second) {
+      diagnostics_.warning(
+          locate(material) + where + ": material [" + script + "]: " + warning +
+          (colour ? "; drawn in its colour" : "; a mesh keeps its own colours, other shapes are grey") +
+          " (warned once for all visuals that use it)");
+    }
+    script_colours_[key] = colour;
+    return colour;
+  }
+
   /// The .material files that the <uri>s of a material's <script> name: a file, or the .material files of a
   /// folder. model:// and package:// URIs go through the resolver; others (file://media/materials/...) are
-  /// looked up in the resource path's folders, then beside the SDF file.
-  std::vector<std::string> materialScripts(const sdf::ElementPtr& material) const {
+  /// looked up in the resource path's folders, then beside the SDF file. `folders` gets the folders the
+  /// <uri>s name (a file's own folder), where textures are looked for.
+  std::vector<std::string> materialScripts(const sdf::ElementPtr& material,
+                                           std::vector<std::string>& folders) const {
     std::vector<std::string> files;
     const sdf::ElementPtr script = material->HasElement("script") ? material->GetElement("script") : nullptr;
     for (const auto& uri : children(script, "uri")) {
@@ -505,28 +546,37 @@ class WorldConverter {
           candidates.push_back(fs::path(folder) / text);
         candidates.push_back(base_directory_ / text);
       }
-      appendScripts(candidates, files);
+      if (const std::optional<fs::path> found = appendScripts(candidates, files)) {
+        std::error_code ec;
+        folders.push_back(fs::is_directory(*found, ec) ? found->string() : found->parent_path().string());
+      }
     }
     return files;
   }
 
+  /// The scripts of Gazebo's resource path, which every visual sees, read from disk once.
+  const std::vector<std::string>& resourceScripts() {
+    if (!resource_scripts_)
+      resource_scripts_ = resourceMaterialScripts(resolver_.gazeboPaths().resourcePath());
+    return *resource_scripts_;
+  }
+
   /// Appends the first of `candidates` that exists: a file, or the .material files of a folder (sorted).
-  static void appendScripts(const std::vector<fs::path>& candidates, std::vector<std::string>& files) {
+  /// Returns it; nullopt when none exists.
+  static std::optional<fs::path> appendScripts(const std::vector<fs::path>& candidates,
+                                               std::vector<std::string>& files) {
     std::error_code ec;
     for (const auto& candidate : candidates) {
       if (fs::is_regular_file(candidate, ec)) {
         files.push_back(candidate.string());
-        return;
+        return candidate;
       }
       if (!fs::is_directory(candidate, ec)) continue;
-      std::vector<std::string> scripts;
-      for (fs::directory_iterator it(candidate, ec), end; !ec && it != end; it.increment(ec)) {
-        if (it->path().extension() == ".material") scripts.push_back(it->path().string());
-      }
-      std::sort(scripts.begin(), scripts.end());
+      const std::vector<std::string> scripts = materialScriptsIn(candidate.string());
       files.insert(files.end(), scripts.begin(), scripts.end());
-      return;
+      return candidate;
     }
+    return std::nullopt;
   }
 
   std::optional<Shape> toShape(const sdf::Geometry& geometry, const std::string& where) {
@@ -599,19 +649,20 @@ class WorldConverter {
     shape.type = Shape::Type::kMesh;
     shape.mesh_path = fs::absolute(*path).lexically_normal().string();
     shape.mesh_scale = toEigen(mesh.Scale());
-    std::optional<TriangleMesh> triangles = loadMesh(shape.mesh_path, shape.mesh_scale, &error, limits_);
-    if (!triangles) {
+    std::vector<std::string> warnings;
+    shape.mesh = meshes_.load(shape.mesh_path, shape.mesh_scale, &error, &warnings);
+    for (const std::string& warning : warnings) diagnostics_.warning(at + ": " + warning);
+    if (!shape.mesh) {
       diagnostics_.error(at + ": " + error + "; check that the file is an STL, DAE or OBJ mesh");
       return std::nullopt;
     }
-    triangles_ += triangles->triangles.size();
+    triangles_ += shape.mesh->triangles.size();
     if (triangles_ > limits_.max_triangles) {
       diagnostics_.error(at + ": mesh [" + shape.mesh_path + "] brings the meshes to " +
                          std::to_string(triangles_) + " triangles, above the limit of " +
                          std::to_string(limits_.max_triangles) + " (max_triangles): simplify the meshes");
       return std::nullopt;
     }
-    shape.mesh = std::make_shared<const TriangleMesh>(std::move(*triangles));
     return shape;
   }
 
@@ -624,6 +675,11 @@ class WorldConverter {
   const fs::path base_directory_;  // for relative paths in SDF text that has no file
   Diagnostics& diagnostics_;
   const Limits& limits_;
+  MeshCache meshes_{limits_};                // copies of a model share their meshes and textures
+  std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
+  std::optional<std::vector<std::string>> resource_scripts_;              // see resourceScripts
+  std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  // see scriptColour
+  bool said_static_ = false;  ///< the model being read was made static with a warning, which said why
   bool spawning_ = false;  ///< converting a model to spawn, not a world's
   size_t shapes_ = 0;      ///< collisions and visuals so far
   bool reported_shapes_ = false;

@@ -66,8 +66,8 @@ void MultiBodyRobot::buildParts() {
     std::vector<std::pair<std::string, Eigen::Isometry3d>> placed;
     for (const auto& name : parts_[k].links) placed.emplace_back(name, frames.link_in_part.at(name));
     const MassProperties mass = combineInertia(spec_, placed);
-    if (mass.mass <= 0 && spec_.is_static) {
-      frames.mass = 1;  // a static model's base is fixed: its mass does not matter, but Bullet wants one
+    if (mass.mass <= 0 && k == 0 && hasFixedBase(spec_)) {
+      frames.mass = 1;  // a fixed base does not move: its mass does not matter, but Bullet wants one
       frames.principal_inertia = Eigen::Vector3d::Ones();
       continue;
     }
@@ -96,7 +96,7 @@ void MultiBodyRobot::buildParts() {
 void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   const int links = static_cast<int>(parts_.size()) - 1;
   body_ = std::make_unique<btMultiBody>(links, frames_[0].mass, toBullet(frames_[0].principal_inertia),
-                                        /*fixedBase=*/spec_.is_static, /*canSleep=*/false);
+                                        /*fixedBase=*/hasFixedBase(spec_), /*canSleep=*/false);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   bool self_collide = false;
   for (const auto& link : spec_.links) self_collide |= link.self_collide;
@@ -176,8 +176,8 @@ void MultiBodyRobot::addCollider(int k) {
       // Gazebo's defaults: a rigid contact (kp 1e12 N/m) with kd 1 N s/m.
       collider->setContactStiffnessAndDamping(surface.kp.value_or(1e12), surface.kd.value_or(1.0));
     }
-    // A static model is static geometry: it meets the robots, not the world's other static geometry.
-    if (spec_.is_static) {
+    // A fixed base is static geometry: it meets the robots, not the world's other static geometry.
+    if (spec_.is_static || (k == 0 && hasFixedBase(spec_))) {
       world_.addCollisionObject(collider.get(), kStaticGroup, kRobotGroup);
     } else {
       world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);
@@ -330,6 +330,10 @@ void MultiBodyRobot::setJointEffort(int joint, double effort) {
 // As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.
 void MultiBodyRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
   if (spec_.is_static) return;  // a static model never moves by itself
+  if (hasFixedBase(spec_)) {      // its base stays; its joints stop, as every link takes the base's twist
+    for (const auto& joint : joints_) body_->setJointVel(joint.bullet_link, 0);
+    return;
+  }
   const Eigen::Vector3d origin = linkPose(spec_.root).translation();
   const Eigen::Vector3d com = part_poses_[0] * frames_[0].part_to_bullet.translation();
   body_->setBaseVel(toBullet(linear + angular.cross(com - origin)));

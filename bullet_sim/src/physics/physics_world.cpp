@@ -24,13 +24,49 @@ struct PhysicsWorld::Engine {
   std::unique_ptr<btMultiBodyConstraintSolver> solver = std::make_unique<btMultiBodyConstraintSolver>();
 };
 
+/// Bullet's solver pushes a contact's bodies apart at erp * depth / dt. For the solver only, a contact
+/// deeper than `max_correcting_velocity` allows looks that deep; its real depth comes back after the solve.
+class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
+ public:
+  CappedWorld(Engine& engine, double max_correcting_velocity)
+      : btMultiBodyDynamicsWorld(&engine.dispatcher, &engine.broadphase, engine.solver.get(),
+                                 &engine.configuration),
+        max_correcting_velocity_(max_correcting_velocity) {}
+
+  void solveConstraints(btContactSolverInfo& info) override {
+    // Multibody contacts correct with erp2, rigid bodies with erp or erp2: the larger one bounds both.
+    const btScalar erp = std::max(info.m_erp, info.m_erp2);
+    const btScalar deepest = -max_correcting_velocity_ * info.m_timeStep / erp - info.m_linearSlop;
+    clamped_.clear();
+    for (int m = 0; m < getDispatcher()->getNumManifolds(); ++m) {
+      btPersistentManifold& manifold = *getDispatcher()->getManifoldByIndexInternal(m);
+      for (int p = 0; p < manifold.getNumContacts(); ++p) {
+        btManifoldPoint& point = manifold.getContactPoint(p);
+        if (point.m_distance1 >= deepest) continue;
+        clamped_.emplace_back(&point, point.m_distance1);
+        point.m_distance1 = deepest;
+      }
+    }
+    btMultiBodyDynamicsWorld::solveConstraints(info);
+    for (const auto& [point, distance] : clamped_) point->m_distance1 = distance;
+  }
+
+ private:
+  double max_correcting_velocity_;                            ///< [m/s]
+  std::vector<std::pair<btManifoldPoint*, btScalar>> clamped_;  ///< and their depths, kept between steps
+};
+
 PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options)
     : options_(options), engine_(std::make_unique<Engine>()), shapes_(std::make_unique<BulletShapes>()) {
-  world_ = std::make_unique<btMultiBodyDynamicsWorld>(&engine_->dispatcher, &engine_->broadphase,
-                                                      engine_->solver.get(), &engine_->configuration);
+  world_ = std::make_unique<CappedWorld>(*engine_, options_.max_correcting_velocity);
   world_->setGravity(toBullet(world.gravity));
   btContactSolverInfo& solver = world_->getSolverInfo();
   solver.m_numIterations = options_.solver_iterations;
+  // Multibody contacts start each step from the impulses of the last one, in full: a robot resting on four
+  // free wheels is statically indeterminate, and a solve begun from zero leaves a residual that rolled it
+  // on (a constant push, 2 mm/s^2 on the smartcar).
+  solver.m_solverMode |= SOLVER_USE_ARTICULATED_WARMSTARTING;
+  solver.m_articulatedWarmstartingFactor = 1.0;
   solver.m_timeStep = options_.step_size;  // robots size their motor impulses from it before the first step
 
   // Bullet walks every collision object each step (10,000 boxes as as many objects took most of a step), so
@@ -41,6 +77,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   std::map<std::pair<long, long>, size_t> cells;  // a cell's compound object, as an index into statics_
   for (const auto& model : world.models) {
     auto& placed = model_statics_.emplace_back();
+    if (!model.is_static) continue;  // a body: the simulation adds it
     for (const auto& collision : model.collisions) {
       const btTransform pose = toBullet(model.pose * collision.origin);
       btCollisionShape* shape = shapes_->make(collision.shape, /*moving=*/false);
@@ -89,7 +126,14 @@ void PhysicsWorld::releaseMemory() {
   engine_->solver = std::move(fresh);
 }
 
+btMultiBodyDynamicsWorld& PhysicsWorld::bullet() { return *world_; }
+
 void PhysicsWorld::step() { world_->stepSimulation(options_.step_size, 0, options_.step_size); }
+
+void PhysicsWorld::forgetContacts() {
+  btDispatcher& dispatcher = *world_->getDispatcher();
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) dispatcher.getManifoldByIndexInternal(m)->clearManifold();
+}
 
 void PhysicsWorld::setStepSize(double step_size) {
   options_.step_size = step_size;

@@ -1,6 +1,7 @@
 #include "bullet_sim/plugins/pinhole_camera.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -175,10 +176,6 @@ PinholeCameraConfig parseAnyCamera(const DeclarationSource& source, bool depth) 
 
 }  // namespace
 
-bool PinholeCameraConfig::withinCutoffs(double depth) const {
-  return depth > cloud_cutoff && depth < cloud_cutoff_max;
-}
-
 double PinholeCameraConfig::renderedFocalLength() const { return width / (2 * std::tan(horizontal_fov / 2)); }
 
 CameraInfo PinholeCameraConfig::info() const {
@@ -249,13 +246,13 @@ void PinholeCamera::sense(const StepTime& time, const RobotBody& body, const Ray
   if (!timer().due(time)) return;  // frames stay on the update grid whether or not anyone listens
   const bool want_depth = config_.depth && (depth_demand_.wanted || cloud_demand_.wanted);
   if (!images_ || !(image_demand_.wanted || want_depth)) return;
-  RenderedImage rendered = images_->render(imageRequest(body, want_depth));
+  images_->render(imageRequest(body, want_depth), frame_);
   ++frames_;
-  addNoise(rendered);
-  publishImage(rendered, time.sim_time);
+  addNoise(frame_);
+  publishImage(frame_, time.sim_time);
   if (!want_depth) return;
-  publishDepth(rendered, time.sim_time);
-  if (cloud_demand_.wanted) publishCloud(rendered, time.sim_time);
+  publishDepth(frame_, time.sim_time);
+  if (cloud_demand_.wanted) publishCloud(frame_, time.sim_time);
 }
 
 void PinholeCamera::addNoise(RenderedImage& rendered) {
@@ -267,6 +264,27 @@ void PinholeCamera::addNoise(RenderedImage& rendered) {
       rendered.rgb[c] = static_cast<uint8_t>(std::clamp(std::lround(rendered.rgb[c] + offset), 0L, 255L));
   }
 }
+
+namespace {
+
+/// Writes RGB pixels as `channels` values (3: in `order`, 1: luminance) of `Value`, each 8-bit value scaled
+/// by `scale` (257 spreads it over 16 bits).
+template <class Value>
+void convertPixels(const uint8_t* rgb, size_t pixels, int channels, const std::array<int, 3>& order,
+                   Value scale, uint8_t* out) {
+  for (size_t p = 0; p < pixels; ++p, rgb += 3) {
+    Value values[3];
+    if (channels == 1) {
+      values[0] = static_cast<Value>(std::lround(0.299 * rgb[0] + 0.587 * rgb[1] + 0.114 * rgb[2]) * scale);
+    } else {
+      for (int c = 0; c < 3; ++c) values[c] = static_cast<Value>(rgb[order[c]] * scale);
+    }
+    std::memcpy(out, values, channels * sizeof(Value));
+    out += channels * sizeof(Value);
+  }
+}
+
+}  // namespace
 
 void PinholeCamera::publishImage(const RenderedImage& rendered, double stamp) {
   CameraImage& image = image_.next();
@@ -280,19 +298,13 @@ void PinholeCamera::publishImage(const RenderedImage& rendered, double stamp) {
   const int channels = mono ? 1 : 3, bytes = wide ? 2 : 1;
   image.step = rendered.width * channels * bytes;
   image.data.resize(pixels * channels * bytes);
-  for (size_t p = 0; p < pixels; ++p) {
-    const uint8_t* rgb = &rendered.rgb[p * 3];
-    uint8_t values[3] = {rgb[0], rgb[1], rgb[2]};
-    if (image.encoding == "bgr8") std::swap(values[0], values[2]);
-    if (mono) values[0] = static_cast<uint8_t>(std::lround(0.299 * rgb[0] + 0.587 * rgb[1] + 0.114 * rgb[2]));
-    for (int c = 0; c < channels; ++c) {
-      if (!wide) {
-        image.data[p * channels + c] = values[c];
-        continue;
-      }
-      const uint16_t value = static_cast<uint16_t>(values[c] * 257);  // full 8-bit range onto 16 bits
-      std::memcpy(&image.data[(p * channels + c) * 2], &value, 2);
-    }
+  const std::array<int, 3> order = image.encoding == "bgr8" ? std::array{2, 1, 0} : std::array{0, 1, 2};
+  if (image.encoding == "rgb8") {
+    std::memcpy(image.data.data(), rendered.rgb.data(), rendered.rgb.size());
+  } else if (wide) {
+    convertPixels<uint16_t>(rendered.rgb.data(), pixels, channels, order, 257, image.data.data());
+  } else {
+    convertPixels<uint8_t>(rendered.rgb.data(), pixels, channels, order, 1, image.data.data());
   }
   image_.publish();
   info_.next().stamp = stamp;
@@ -308,15 +320,20 @@ void PinholeCamera::publishDepth(const RenderedImage& rendered, double stamp) {
   const size_t bytes = config_.depth_16uc1 ? 2 : 4;
   image.step = static_cast<int>(rendered.width * bytes);
   image.data.resize(rendered.depth.size() * bytes);
-  for (size_t p = 0; p < rendered.depth.size(); ++p) {
-    const float depth = rendered.depth[p];
-    const bool seen = config_.withinCutoffs(depth);
-    if (config_.depth_16uc1) {
-      const uint16_t millimetres = seen ? static_cast<uint16_t>(std::lround(depth * 1000)) : 0;
-      std::memcpy(&image.data[p * 2], &millimetres, 2);
-    } else {
-      const float metres = seen ? depth : std::numeric_limits<float>::quiet_NaN();
-      std::memcpy(&image.data[p * 4], &metres, 4);
+  uint8_t* out = image.data.data();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  if (config_.depth_16uc1) {
+    for (const float depth : rendered.depth) {
+      const uint16_t millimetres =
+          config_.withinCutoffs(depth) ? static_cast<uint16_t>(std::lround(depth * 1000)) : 0;
+      std::memcpy(out, &millimetres, 2);
+      out += 2;
+    }
+  } else {
+    for (const float depth : rendered.depth) {
+      const float metres = config_.withinCutoffs(depth) ? depth : nan;
+      std::memcpy(out, &metres, 4);
+      out += 4;
     }
   }
   depth_.publish();
@@ -331,25 +348,29 @@ void PinholeCamera::publishCloud(const RenderedImage& rendered, double stamp) {
   cloud.height = rendered.height;
   cloud.points.resize(rendered.depth.size());
   cloud.rgb.resize(rendered.depth.size());
-  cloud.is_dense = true;
+  static_assert(sizeof(cloud.rgb[0]) == 3, "the cloud's colours are packed as the image's");
+  std::memcpy(cloud.rgb.data(), rendered.rgb.data(), rendered.rgb.size());
   // As gazebo_ros_openni_kinect: rays through pixel centres, column i at (i - (width - 1) / 2) / f.
   const double f = config_.renderedFocalLength();
   const double centre_x = 0.5 * (rendered.width - 1), centre_y = 0.5 * (rendered.height - 1);
+  ray_x_.resize(rendered.width);
+  for (int column = 0; column < rendered.width; ++column) {
+    ray_x_[column] = static_cast<float>((column - centre_x) / f);
+  }
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  size_t seen = 0;
   for (int row = 0; row < rendered.height; ++row) {
+    const auto ray_y = static_cast<float>((row - centre_y) / f);
+    const size_t first = static_cast<size_t>(row) * rendered.width;
     for (int column = 0; column < rendered.width; ++column) {
-      const size_t p = static_cast<size_t>(row) * rendered.width + column;
-      const double depth = rendered.depth[p];
-      if (config_.withinCutoffs(depth)) {
-        cloud.points[p] = Eigen::Vector3d(depth * (column - centre_x) / f, depth * (row - centre_y) / f, depth)
-                              .cast<float>();
-      } else {
-        cloud.points[p] = Eigen::Vector3f::Constant(nan);
-        cloud.is_dense = false;
-      }
-      cloud.rgb[p] = {rendered.rgb[p * 3], rendered.rgb[p * 3 + 1], rendered.rgb[p * 3 + 2]};
+      const float depth = rendered.depth[first + column];
+      const bool within = config_.withinCutoffs(depth);
+      seen += within;
+      cloud.points[first + column] = within ? Eigen::Vector3f(depth * ray_x_[column], depth * ray_y, depth)
+                                            : Eigen::Vector3f(nan, nan, nan);
     }
   }
+  cloud.is_dense = seen == cloud.points.size();
   cloud_.publish();
 }
 

@@ -6,58 +6,53 @@
 #include <GL/osmesa.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <vector>
+
+#include "gpu_resources.h"
 
 namespace bullet_sim {
 
 namespace {
 
-// Faces meeting at less than this angle share their corners' normals (a smooth cylinder); sharper edges
-// (a box's) stay sharp.
-constexpr double kCreaseAngle = 40 * M_PI / 180;
 constexpr int kMaxImageSide = 16384;  // [px], llvmpipe's largest render target
 // Pushes filled triangles back in depth, so points and lines lying on a surface (lidar hits on a wall, the
 // grid on the ground) are drawn over it: `factor` scales with the triangle's depth slope, `units` are the
 // depth buffer's smallest steps.
 constexpr GLfloat kSurfaceOffsetFactor = 1, kSurfaceOffsetUnits = 4;
-constexpr int kFloatsPerCorner = 6;  // position, normal
+// Texels more transparent than this are not drawn at all (cut-outs such as leaves and fences).
+constexpr GLfloat kTextureAlphaCut = 0.5f;
 
-/// Per triangle corner, its position and normal, ready for glDrawArrays. A triangle wound the wrong way (as
-/// CAD exports have) gets an inward normal; two-sided lighting lights it right, since the camera then sees
-/// its back.
-std::vector<float> cornerAttributes(const TriangleMesh& mesh) {
-  std::vector<Eigen::Vector3d> area_normals, unit_normals;  // per triangle; |area normal| = 2 * area
-  std::vector<std::vector<int>> triangles_at(mesh.vertices.size());
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& [a, b, c] = mesh.triangles[t];
-    const Eigen::Vector3d normal =
-        (mesh.vertices[b] - mesh.vertices[a]).cross(mesh.vertices[c] - mesh.vertices[a]);
-    area_normals.push_back(normal);
-    unit_normals.push_back(normal.norm() > 0 ? normal.normalized() : Eigen::Vector3d::Zero());
-    for (const int vertex : mesh.triangles[t]) triangles_at[vertex].push_back(static_cast<int>(t));
+/// How a part of a mesh is drawn.
+struct Look {
+  Eigen::Vector4d rgba;
+  const std::shared_ptr<const Texture>* texture = nullptr;  ///< nullptr: none
+};
+
+/// The look of a mesh part whose file material is `material` (nullptr: the file gives none), as the mesh's
+/// paint says: its file's colour (white under a texture it gives no colour for) and texture, the mesh's
+/// colour over the file's texture, or the mesh's colour alone.
+Look lookOf(const SceneMesh& mesh, const MeshMaterial* material) {
+  if (!material || mesh.paint == MeshPaint::kUniform) return {mesh.rgba};
+  const auto* texture = material->texture ? &material->texture : nullptr;
+  if (mesh.paint == MeshPaint::kTint) return {mesh.rgba, texture};
+  return {material->rgba.value_or(texture ? Eigen::Vector4d::Ones() : mesh.rgba), texture};
+}
+
+/// The six planes (a, b, c, d: inside where a x + b y + c z + d >= 0, |(a, b, c)| = 1) of the volume a
+/// projection * view matrix shows.
+std::array<Eigen::Vector4d, 6> frustumPlanes(const Eigen::Matrix4d& clip) {
+  std::array<Eigen::Vector4d, 6> planes;
+  for (int axis = 0; axis < 3; ++axis) {
+    planes[2 * axis] = clip.row(3).transpose() + clip.row(axis).transpose();
+    planes[2 * axis + 1] = clip.row(3).transpose() - clip.row(axis).transpose();
   }
-  const double crease = std::cos(kCreaseAngle);
-  std::vector<float> attributes;
-  attributes.reserve(mesh.triangles.size() * 3 * kFloatsPerCorner);
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (const int vertex : mesh.triangles[t]) {
-      Eigen::Vector3d smooth = Eigen::Vector3d::Zero();
-      for (const int other : triangles_at[vertex]) {
-        if (unit_normals[other].dot(unit_normals[t]) >= crease) smooth += area_normals[other];
-      }
-      const Eigen::Vector3f position = mesh.vertices[vertex].cast<float>();
-      const Eigen::Vector3f normal =
-          (smooth.norm() > 0 ? smooth.normalized() : unit_normals[t]).cast<float>();
-      attributes.insert(attributes.end(),
-                        {position.x(), position.y(), position.z(), normal.x(), normal.y(), normal.z()});
-    }
-  }
-  return attributes;
+  for (Eigen::Vector4d& plane : planes) plane /= plane.head<3>().norm();
+  return planes;
 }
 
 void setColour(const Eigen::Vector4d& rgba) { glColor4d(rgba[0], rgba[1], rgba[2], rgba[3]); }
@@ -107,7 +102,8 @@ class OffscreenRenderer::Context {
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
 
-  Image render(const Scene& scene, int width, int height, std::vector<float>* depth) {
+  /// Draws `scene`; the picture is then in `pixels_` (RGBA, top row first) and the depth in GL's buffer.
+  void draw(const Scene& scene, int width, int height) {
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
       throw std::invalid_argument("OffscreenRenderer: cannot render " + std::to_string(width) + "x" +
                                   std::to_string(height) + " pixels; each side must be 1 to " +
@@ -136,7 +132,8 @@ class OffscreenRenderer::Context {
     glLoadMatrixd(view.data());
     setLight(scene.lighting);
 
-    drawMeshes(scene, view, /*translucent=*/false);
+    collectVisible(scene, projection * view, view);
+    drawMeshes(view, /*translucent=*/false);
     if (scene.outline_step > 0) drawOutlines(scene, width, height);
     glLoadMatrixd(view.data());
     if (scene.ground_grid) {
@@ -150,23 +147,41 @@ class OffscreenRenderer::Context {
       drawVertices(GL_LINE_STRIP, line.points);
     }
     drawPoints(scene, /*overlay=*/false);
-    drawMeshes(scene, view, /*translucent=*/true);
+    drawMeshes(view, /*translucent=*/true);
     glLoadMatrixd(view.data());
     glDisable(GL_DEPTH_TEST);
     drawPoints(scene, /*overlay=*/true);
     glEnable(GL_DEPTH_TEST);
 
     glFinish();
-    if (depth) readDepth(scene.camera, width, height, *depth);
-    forgetDeadMeshes();
-    return Image{width, height, pixels_};
+    gpu_.forgetDead();
+  }
+
+  const std::vector<uint8_t>& pixels() const { return pixels_; }
+
+  /// The depth buffer as distances along the view axis [m], rows top first; +inf where nothing was drawn.
+  static void readDepth(const Camera& camera, int width, int height, std::vector<float>& depth) {
+    const size_t pixels = static_cast<size_t>(width) * height;
+    depth.resize(pixels);
+    // GL reads the bottom row first; Mesa's pack inversion (in every Mesa driver) reads the top row first.
+    glPixelStorei(GL_PACK_INVERT_MESA, GL_TRUE);
+    glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+    glPixelStorei(GL_PACK_INVERT_MESA, GL_FALSE);
+    // Camera::viewDepth for the whole buffer: (p + q w) / (r + s w) of each value w in [0, 1]. 1 is the far
+    // plane, where nothing was drawn: there floor(w) = 1 makes the denominator 0 and the depth +inf (as
+    // p + q > 0). One arithmetic expression, so that Eigen converts four values at a time.
+    const Eigen::Vector4f fraction = camera.viewDepthFraction().cast<float>();
+    Eigen::Map<Eigen::ArrayXf> window(depth.data(), static_cast<Eigen::Index>(pixels));
+    window = (fraction[0] + fraction[1] * window) /
+             ((fraction[2] + fraction[3] * window) * (1.0f - window.floor()));
   }
 
  private:
-  struct GpuMesh {
-    std::weak_ptr<const TriangleMesh> source;  ///< expired once nobody draws it any more
-    GLuint buffer = 0;
-    GLsizei corners = 0;
+  /// A mesh in view this frame.
+  struct Visible {
+    const SceneMesh* mesh;
+    const GpuMesh* gpu;
+    double distance;  ///< of its bounding sphere's centre along the view axis [m]
   };
 
   void initialise() {
@@ -183,24 +198,9 @@ class OffscreenRenderer::Context {
     glPolygonOffset(kSurfaceOffsetFactor, kSurfaceOffsetUnits);
     // See-through colours mix; the picture's alpha stays that of what lies behind (opaque).
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    glAlphaFunc(GL_GREATER, kTextureAlphaCut);
     glEnableClientState(GL_VERTEX_ARRAY);
     initialised_ = true;
-  }
-
-  /// The depth buffer as distances along the view axis [m], rows top first; +inf where nothing was drawn.
-  static void readDepth(const Camera& camera, int width, int height, std::vector<float>& depth) {
-    depth.resize(static_cast<size_t>(width) * height);
-    glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-    for (float& value : depth) {
-      // [0, 1]; 1 is the far plane, where nothing was drawn
-      value = value >= 1 ? std::numeric_limits<float>::infinity() : static_cast<float>(camera.viewDepth(value));
-    }
-    // OpenGL reads the bottom row first.
-    for (int row = 0; row < height / 2; ++row) {
-      std::swap_ranges(depth.begin() + static_cast<long>(row) * width,
-                       depth.begin() + static_cast<long>(row + 1) * width,
-                       depth.begin() + static_cast<long>(height - 1 - row) * width);
-    }
   }
 
   /// Darkens the pixels beside a surface that is outline_step nearer than they are: the edges of what stands
@@ -253,41 +253,107 @@ class OffscreenRenderer::Context {
     glLightfv(GL_LIGHT0, GL_SPECULAR, no_specular);
   }
 
+  /// The meshes whose bounding spheres reach into the view, nearest first: far surfaces hidden behind near
+  /// ones then fail the depth test before llvmpipe shades them.
+  void collectVisible(const Scene& scene, const Eigen::Matrix4d& clip, const Eigen::Matrix4d& view) {
+    visible_.clear();
+    const std::array<Eigen::Vector4d, 6> planes = frustumPlanes(clip);
+    for (const SceneMesh& mesh : scene.meshes) {
+      if (!mesh.mesh) continue;
+      const GpuMesh& gpu = gpu_.mesh(mesh.mesh);
+      const Eigen::Vector4d centre = (mesh.pose * gpu.centre).homogeneous();
+      const bool outside = std::any_of(planes.begin(), planes.end(), [&](const Eigen::Vector4d& plane) {
+        return plane.dot(centre) < -gpu.radius;
+      });
+      if (!outside) visible_.push_back({&mesh, &gpu, -view.row(2).dot(centre)});
+    }
+    std::stable_sort(visible_.begin(), visible_.end(),
+                     [](const Visible& a, const Visible& b) { return a.distance < b.distance; });
+  }
+
   /// Opaque meshes write depth. See-through ones (alpha < 1) blend over what is drawn before them, and only
   /// the nearest see-through surface of a pixel does, once: a depth-only pass finds it first.
-  void drawMeshes(const Scene& scene, const Eigen::Matrix4d& view, bool translucent) {
+  void drawMeshes(const Eigen::Matrix4d& view, bool translucent) {
     glEnable(GL_LIGHTING);
     glEnable(GL_POLYGON_OFFSET_FILL);
     glEnableClientState(GL_NORMAL_ARRAY);
     if (translucent) {
       glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      drawMeshesOfKind(scene, view, translucent);
+      drawMeshesOfKind(view, translucent);
       glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       glEnable(GL_BLEND);
       glDepthMask(GL_FALSE);
     }
-    drawMeshesOfKind(scene, view, translucent);
+    drawMeshesOfKind(view, translucent);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
     glDisableClientState(GL_NORMAL_ARRAY);
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    glDisable(GL_CULL_FACE);
+    setTexture(nullptr, translucent);
     glDisable(GL_POLYGON_OFFSET_FILL);
     glDisable(GL_LIGHTING);
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
   }
 
-  void drawMeshesOfKind(const Scene& scene, const Eigen::Matrix4d& view, bool translucent) {
-    for (const SceneMesh& mesh : scene.meshes) {
-      if (!mesh.mesh || (mesh.rgba[3] < 1) != translucent) continue;
-      const GpuMesh& gpu = upload(mesh.mesh);
-      const Eigen::Matrix4d model_view = view * mesh.pose.matrix();
-      glLoadMatrixd(model_view.data());
-      setColour(mesh.rgba);
-      glBindBuffer(GL_ARRAY_BUFFER, gpu.buffer);
-      glVertexPointer(3, GL_FLOAT, kFloatsPerCorner * sizeof(float), nullptr);
-      glNormalPointer(GL_FLOAT, kFloatsPerCorner * sizeof(float),
-                      reinterpret_cast<const void*>(3 * sizeof(float)));
-      glDrawArrays(GL_TRIANGLES, 0, gpu.corners);
+  /// Draws the parts of the visible meshes that are see-through or not, as `translucent` says.
+  void drawMeshesOfKind(const Eigen::Matrix4d& view, bool translucent) {
+    for (const Visible& visible : visible_) {
+      const SceneMesh& mesh = *visible.mesh;
+      const std::vector<MeshPart>& parts = mesh.mesh->parts;
+      bool bound = false;
+      const auto draw = [&](int first_triangle, int triangles, const Look& look) {
+        if ((look.rgba[3] < 1) != translucent) return;
+        if (!bound) bindMesh(view, mesh, *visible.gpu);
+        bound = true;
+        setColour(look.rgba);
+        setTexture(look.texture, translucent);
+        glDrawElements(GL_TRIANGLES, 3 * triangles, GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(3 * sizeof(GLuint) * first_triangle));
+      };
+      if (parts.empty()) draw(0, static_cast<int>(mesh.mesh->triangles.size()), lookOf(mesh, nullptr));
+      for (const MeshPart& part : parts) {
+        draw(part.first_triangle, part.triangle_count, lookOf(mesh, &mesh.mesh->materials[part.material]));
+      }
     }
+  }
+
+  static void bindMesh(const Eigen::Matrix4d& view, const SceneMesh& mesh, const GpuMesh& gpu) {
+    const Eigen::Matrix4d model_view = view * mesh.pose.matrix();
+    glLoadMatrixd(model_view.data());
+    // The backs of a closed shape's triangles lie behind its fronts: skipping them halves its rasterising.
+    if (mesh.mesh->closed) {
+      glEnable(GL_CULL_FACE);
+    } else {
+      glDisable(GL_CULL_FACE);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, gpu.vertices);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.indices);
+    glVertexPointer(3, GL_FLOAT, gpu.stride, nullptr);
+    glNormalPointer(GL_FLOAT, gpu.stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+    if (gpu.has_uvs) {
+      glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+      glTexCoordPointer(2, GL_FLOAT, gpu.stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+    } else {
+      glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+  }
+
+  /// Texels multiply the lit colour; the clearest are cut away. Opaque textured surfaces leave the picture's
+  /// alpha as it is (a texel's alpha is not the picture's).
+  void setTexture(const std::shared_ptr<const Texture>* texture, bool translucent) {
+    if (!texture) {
+      glDisable(GL_TEXTURE_2D);
+      glDisable(GL_ALPHA_TEST);
+      if (!translucent) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      return;
+    }
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, gpu_.texture(*texture));
+    glEnable(GL_ALPHA_TEST);
+    if (!translucent) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   }
 
   static void drawPoints(const Scene& scene, bool overlay) {
@@ -299,36 +365,11 @@ class OffscreenRenderer::Context {
     }
   }
 
-  /// The mesh's buffer, uploaded on first use.
-  const GpuMesh& upload(const std::shared_ptr<const TriangleMesh>& mesh) {
-    GpuMesh& gpu = meshes_[mesh.get()];
-    // A dead mesh's address can be reused by a new one: its weak pointer tells them apart.
-    if (gpu.buffer != 0 && gpu.source.lock() == mesh) return gpu;
-    if (gpu.buffer == 0) glGenBuffers(1, &gpu.buffer);
-    const std::vector<float> attributes = cornerAttributes(*mesh);
-    glBindBuffer(GL_ARRAY_BUFFER, gpu.buffer);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(attributes.size() * sizeof(float)),
-                 attributes.data(), GL_STATIC_DRAW);
-    gpu.source = mesh;
-    gpu.corners = static_cast<GLsizei>(attributes.size() / kFloatsPerCorner);
-    return gpu;
-  }
-
-  void forgetDeadMeshes() {
-    for (auto it = meshes_.begin(); it != meshes_.end();) {
-      if (it->second.source.expired()) {
-        glDeleteBuffers(1, &it->second.buffer);
-        it = meshes_.erase(it);
-      } else {
-        ++it;
-      }
-    }
-  }
-
   OSMesaContext context_;
   std::vector<uint8_t> pixels_;  ///< RGBA, top row first
   bool initialised_ = false;
-  std::unordered_map<const TriangleMesh*, GpuMesh> meshes_;
+  GpuResources gpu_;
+  std::vector<Visible> visible_;  ///< this frame's, nearest first
 };
 
 OffscreenRenderer::OffscreenRenderer() : context_(std::make_unique<Context>()) {}
@@ -336,9 +377,22 @@ OffscreenRenderer::~OffscreenRenderer() = default;
 OffscreenRenderer::OffscreenRenderer(OffscreenRenderer&&) noexcept = default;
 OffscreenRenderer& OffscreenRenderer::operator=(OffscreenRenderer&&) noexcept = default;
 
+OffscreenRenderer::Context& OffscreenRenderer::drawn(const Scene& scene, int width, int height,
+                                                     std::vector<float>* depth) {
+  if (!context_) throw std::logic_error("OffscreenRenderer: this renderer was moved from");
+  context_->draw(scene, width, height);
+  if (depth) Context::readDepth(scene.camera, width, height, *depth);
+  return *context_;
+}
+
 Image OffscreenRenderer::render(const Scene& scene, int width, int height, std::vector<float>* depth) {
-  if (!context_) throw std::logic_error("OffscreenRenderer::render: this renderer was moved from");
-  return context_->render(scene, width, height, depth);
+  return Image{width, height, drawn(scene, width, height, depth).pixels()};
+}
+
+void OffscreenRenderer::renderRgb(const Scene& scene, int width, int height, std::vector<uint8_t>& rgb,
+                                  std::vector<float>* depth) {
+  const std::vector<uint8_t>& rgba = drawn(scene, width, height, depth).pixels();
+  dropAlpha(rgba.data(), rgba.size() / 4, rgb);
 }
 
 }  // namespace bullet_sim

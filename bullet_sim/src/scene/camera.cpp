@@ -98,10 +98,15 @@ Eigen::Matrix4d Camera::projectionMatrix(double aspect) const {
 }
 
 double Camera::viewDepth(double window) const {
-  if (projection == Projection::kOrthographic) return window * 2 * kTopDownHeight;
+  const Eigen::Vector4d fraction = viewDepthFraction();
+  return (fraction[0] + fraction[1] * window) / (fraction[2] + fraction[3] * window);
+}
+
+Eigen::Vector4d Camera::viewDepthFraction() const {
+  if (projection == Projection::kOrthographic) return {0, 2 * kTopDownHeight, 1, 0};
+  // The inverse of projectionMatrix's depth: with ndc = 2 w - 1, 2 f n / ((f + n) - ndc (f - n)).
   const double near = near_clip, far = std::max(far_clip, 2 * near_clip);
-  const double ndc = 2 * window - 1;
-  return 2 * far * near / ((far + near) - ndc * (far - near));
+  return {far * near, 0, far, -(far - near)};
 }
 
 std::optional<Eigen::Vector2d> Camera::project(const Eigen::Vector3d& point, int width, int height) const {

@@ -85,16 +85,22 @@ TriangleMesh plane(const Eigen::Vector3d& normal) {
   return mesh;
 }
 
+/// A closed shape: its back faces never show.
+std::shared_ptr<const TriangleMesh> closed(TriangleMesh mesh) {
+  mesh.closed = true;
+  return std::make_shared<const TriangleMesh>(std::move(mesh));
+}
+
 }  // namespace
 
 std::shared_ptr<const TriangleMesh> tessellate(const Shape& shape) {
   switch (shape.type) {
     case Shape::Type::kBox:
-      return std::make_shared<const TriangleMesh>(box(shape.box_size));
+      return closed(box(shape.box_size));
     case Shape::Type::kCylinder:
-      return std::make_shared<const TriangleMesh>(cylinder(shape.radius, shape.length));
+      return closed(cylinder(shape.radius, shape.length));
     case Shape::Type::kSphere:
-      return std::make_shared<const TriangleMesh>(sphere(shape.radius));
+      return closed(sphere(shape.radius));
     case Shape::Type::kPlane:
       return std::make_shared<const TriangleMesh>(plane(shape.plane_normal));
     case Shape::Type::kMesh:
@@ -105,6 +111,10 @@ std::shared_ptr<const TriangleMesh> tessellate(const Shape& shape) {
       return shape.mesh;
   }
   throw std::invalid_argument("unknown shape type");
+}
+
+SceneMesh visualMesh(const Visual& visual, const Eigen::Isometry3d& frame) {
+  return {tessellate(visual.shape), frame * visual.origin, visual.rgba, visual.paint};
 }
 
 Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
@@ -118,7 +128,7 @@ Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
                                   "]; pass the world pose of every link that has visuals");
     }
     for (const Visual& visual : link.visuals) {
-      scene.meshes.push_back({tessellate(visual.shape), pose->second * visual.origin, visual.rgba});
+      scene.meshes.push_back(visualMesh(visual, pose->second));
       bounds.extend(meshBounds(scene.meshes.back()));
     }
   }
@@ -134,7 +144,7 @@ void addWorld(Scene& scene, const WorldSpec& world) {
 void addWorld(Scene& scene, const WorldSpec& world, const std::vector<Eigen::Isometry3d>& model_poses) {
   for (size_t m = 0; m < world.models.size(); ++m) {
     for (const Visual& visual : world.models[m].visuals) {
-      scene.meshes.push_back({tessellate(visual.shape), model_poses.at(m) * visual.origin, visual.rgba});
+      scene.meshes.push_back(visualMesh(visual, model_poses.at(m)));
     }
   }
 }

@@ -29,7 +29,7 @@ SimulationImages::SimulationImages(const Simulation& simulation, RendererAccess 
   for (size_t m = 0; m < world.models.size(); ++m) {
     for (const Visual& visual : world.models[m].visuals) {
       world_visuals_.emplace_back(m, visual.origin);
-      scene_.meshes.push_back({tessellate(visual.shape), visual.origin, visual.rgba});
+      scene_.meshes.push_back(visualMesh(visual, Eigen::Isometry3d::Identity()));
     }
   }
   scene_.ground_grid = false;
@@ -48,8 +48,11 @@ void SimulationImages::refreshRobots() {
     RobotVisuals& entry = robots_[name];
     entry.body = &body;
     for (const LinkSpec& link : body.spec().links) {
+      if (link.visuals.empty()) continue;
+      LinkVisuals& visuals = entry.links.emplace_back();
+      visuals.link = link.name;
       for (const Visual& visual : link.visuals) {
-        entry.visuals.push_back({link.name, visual.origin, tessellate(visual.shape), visual.rgba});
+        visuals.meshes.push_back(visualMesh(visual, Eigen::Isometry3d::Identity()));
       }
     }
   }
@@ -62,30 +65,25 @@ const Scene& SimulationImages::sceneFor(const ImageRequest& request) {
     scene_.meshes[k].pose = simulation_.worldModelPose(world_visuals_[k].first) * world_visuals_[k].second;
   }
   for (const auto& [name, robot] : robots_) {
-    std::map<std::string, Eigen::Isometry3d> link_poses;
-    for (const RobotVisual& visual : robot.visuals) {
-      auto pose = link_poses.find(visual.link);
-      if (pose == link_poses.end()) pose = link_poses.emplace(visual.link, robot.body->linkPose(visual.link)).first;
-      scene_.meshes.push_back({visual.mesh, pose->second * visual.origin, visual.rgba});
+    for (const LinkVisuals& link : robot.links) {
+      const Eigen::Isometry3d link_pose = robot.body->linkPose(link.link);
+      for (const SceneMesh& visual : link.meshes) {
+        scene_.meshes.push_back(visual);
+        scene_.meshes.back().pose = link_pose * visual.pose;
+      }
     }
   }
   scene_.camera = requestCamera(request);
   return scene_;
 }
 
-RenderedImage SimulationImages::render(const ImageRequest& request) {
+void SimulationImages::render(const ImageRequest& request, RenderedImage& image) {
   const Scene& scene = sceneFor(request);
-  RenderedImage rendered;
-  const Image image =
-      renderer_().render(scene, request.width, request.height, request.depth ? &rendered.depth : nullptr);
-  rendered.width = image.width;
-  rendered.height = image.height;
-  const size_t pixels = static_cast<size_t>(image.width) * image.height;
-  rendered.rgb.resize(pixels * 3);
-  for (size_t p = 0; p < pixels; ++p) {
-    for (size_t c = 0; c < 3; ++c) rendered.rgb[p * 3 + c] = image.rgba[p * 4 + c];
-  }
-  return rendered;
+  if (!request.depth) image.depth.clear();
+  renderer_().renderRgb(scene, request.width, request.height, image.rgb,
+                        request.depth ? &image.depth : nullptr);
+  image.width = request.width;
+  image.height = request.height;
 }
 
 ImageSourceFactory imagesFrom(RendererAccess renderer) {
@@ -93,6 +91,5 @@ ImageSourceFactory imagesFrom(RendererAccess renderer) {
     return std::make_unique<SimulationImages>(simulation, renderer);
   };
 }
-
 
 }  // namespace bullet_sim

@@ -488,7 +488,8 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
 
   CastContext context;
   rtcInitIntersectContext(&context.embree);
-  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // a scan's rays share their origin
+  // Not RTC_INTERSECT_CONTEXT_FLAG_COHERENT: Embree's coherent packet traversal culled a box wall 0.2 m
+  // ahead for rays whose direction had a 5e-15 z component (a robot tilted by that much).
   unsigned ray_mask = ~0u;
   if (ignore != kNoBody) {
     // A body with its own mask bit is skipped by the ray mask at no cost. Masks have too few bits for every

@@ -66,9 +66,11 @@ constexpr char kUsage[] =
     "  pose_error_m            where the drive axle ends, against the unicycle that follows the\n"
     "                          command exactly from the settled axle; pose_error_steady_m: that\n"
     "                          unicycle started after the first second of driving\n"
-    "  rtf_camera              with --camera: with its lidars and a camera that renders at HZ\n"
+    "  rtf_camera              with --camera: with its lidars and a camera that renders at HZ;\n"
+    "                          camera_ms_per_frame: the wall time each frame adds to the lidar run\n"
     "  rtf_camera_idle         without lidars, with a camera nobody wants (it renders nothing);\n"
-    "                          camera_idle_cost_pct: its cost against rtf_physics\n"
+    "                          camera_idle_cost_pct: the CPU time it adds to the physics-only\n"
+    "                          run before it (the median of those pairs)\n"
     "with the inputs, every run's figures (medians are reported) and the load warnings.\n"
     "\n"
     "--wheel-model sets <wheelModel> in the robot's drive plugin. --lidar replaces the scan of the\n"
@@ -455,6 +457,13 @@ Planar unicycle(const Planar& start, double v, double w, double seconds) {
           start.y - v / w * (std::cos(yaw) - std::cos(start.yaw)), yaw};
 }
 
+/// CPU time of the calling thread [s]: what its work cost, whatever other processes took of the machine.
+double threadCpuSeconds() {
+  timespec time{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &time);
+  return static_cast<double>(time.tv_sec) + static_cast<double>(time.tv_nsec) * 1e-9;
+}
+
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -481,6 +490,7 @@ struct DriveRun {
   double startup_s = NAN;      ///< process age at the end of the first step
   double startup_cpu_s = NAN;  ///< CPU time used by then
   double wall_s = 0;           ///< of the driving, the settling left out
+  double cpu_s = 0;            ///< the driving's CPU time on the simulation's thread
   uint64_t camera_frames = 0;  ///< rendered while driving
   std::string wheel_model;
   Planar settled, after_spin_up, end;  ///< of the drive axle
@@ -514,12 +524,14 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
   const long resend = std::max(1L, std::lround(kCommandPeriod / options.step));
   const long spin_up = std::lround(kSpinUpTime / options.step);
   const Clock::time_point start = Clock::now();
+  const double cpu_start = threadCpuSeconds();
   for (long i = 0; i < steps; ++i) {
     if (i % resend == 0) drive.setCommand(options.v, options.w, simulation.time());
     simulation.step();
     if (i + 1 == spin_up) run.after_spin_up = axlePose(robot, drive);
   }
   run.wall_s = secondsSince(start);
+  run.cpu_s = threadCpuSeconds() - cpu_start;
   run.end = axlePose(robot, drive);
   for (const PinholeCamera* camera : cameras) run.camera_frames += camera->frameCount();
   return run;
@@ -649,13 +661,19 @@ Figures drive(const Options& options, const ModelSpec& model, const WorldSpec& w
   Figures figures;
   const ModelSpec model_without_lidars = withoutLidars(model);
   const bool has_lidars = model_without_lidars.plugins.size() != model.plugins.size();
-  // Runs with and without lidars take turns, so that a slow spell of a shared machine hits both alike. The
-  // first spawn is of the whole robot: startup_s is to its first step.
+  // Runs with and without lidars take turns, so that a slow spell of a shared machine hits both alike; a
+  // camera run comes right after the run it is compared with (the lidar run, or the physics-only one when
+  // the robot has no lidar); the idle camera's run comes soon after the physics-only one. The first spawn
+  // is of the whole robot: startup_s is to its first step.
+  const auto camera_run = [&]() {
+    figures.camera_runs.push_back(driveOnce(world, withCamera(model, *options.camera), options, warnings));
+  };
   for (int i = 0; i < options.repeat; ++i) {
     if (has_lidars) figures.lidar_runs.push_back(driveOnce(world, model, options, warnings));
+    if (has_lidars && options.camera) camera_run();
     figures.physics_runs.push_back(driveOnce(world, model_without_lidars, options, warnings));
     if (!options.camera) continue;
-    figures.camera_runs.push_back(driveOnce(world, withCamera(model, *options.camera), options, warnings));
+    if (!has_lidars) camera_run();
     figures.idle_camera_runs.push_back(
         driveOnce(world, withCamera(model_without_lidars, *options.camera), options, warnings, false));
   }
@@ -707,13 +725,24 @@ std::vector<double> realTimeFactors(const Options& options, const std::vector<Dr
 /// --camera's figures: RTF while it renders and while nobody wants it, and what the idle camera costs.
 void reportCamera(Json& json, const Options& options, const Figures& figures) {
   const Options::Camera& camera = *options.camera;
-  json["camera"] = {{"size", {camera.width, camera.height}}, {"rate_hz", camera.rate}, {"depth", camera.depth}};
+  json["camera"] = {
+      {"size", {camera.width, camera.height}}, {"rate_hz", camera.rate}, {"depth", camera.depth}};
   const double rtf = median(realTimeFactors(options, figures.camera_runs));
   const double idle = median(realTimeFactors(options, figures.idle_camera_runs));
-  const double physics = median(realTimeFactors(options, figures.physics_runs));
   json["rtf_camera"] = figure(rtf);
   json["rtf_camera_idle"] = figure(idle);
-  json["camera_idle_cost_pct"] = figure(100 * (physics / idle - 1));
+  // Medians of the differences within pairs of adjacent runs (see drive).
+  const std::vector<DriveRun>& base = figures.lidar_runs.empty() ? figures.physics_runs : figures.lidar_runs;
+  std::vector<double> frame_ms, idle_pct;
+  for (size_t i = 0; i < figures.camera_runs.size(); ++i) {
+    const DriveRun& run = figures.camera_runs[i];
+    if (run.camera_frames > 0)
+      frame_ms.push_back(1000 * (run.wall_s - base.at(i).wall_s) / static_cast<double>(run.camera_frames));
+    // In CPU time: a run of physics alone is too short for its wall time to be steady on a shared machine.
+    idle_pct.push_back(100 * (figures.idle_camera_runs[i].cpu_s / figures.physics_runs.at(i).cpu_s - 1));
+  }
+  json["camera_ms_per_frame"] = frame_ms.empty() ? Json(nullptr) : figure(median(frame_ms));
+  json["camera_idle_cost_pct"] = figure(median(idle_pct));
   json["camera_frames_per_run"] = figures.camera_runs.front().camera_frames;
   json["camera_idle_frames_per_run"] = figures.idle_camera_runs.front().camera_frames;
   json["rtf_camera_runs"] = figureList(realTimeFactors(options, figures.camera_runs));

@@ -36,6 +36,7 @@ struct Visual {
   Shape shape;
   Eigen::Vector4d rgba{0.7, 0.7, 0.7, 1.0};
   std::string material;  ///< e.g. "Gazebo/Gray" when the colour came from a Gazebo material name
+  MeshPaint paint = MeshPaint::kOwn;  ///< how `rgba` meets a mesh's own colours and textures
 };
 
 }  // namespace bullet_sim

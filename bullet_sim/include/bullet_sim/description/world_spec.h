@@ -47,11 +47,12 @@ struct WorldJointSpec {
   double friction = 0;
 };
 
-/// One <model> of the world. World models are static obstacles: every link is welded to the model frame.
+/// One <model> of the world: a static obstacle whose links are welded to the model frame, or a rigid body.
 struct WorldModelSpec {
   std::string name;  ///< nested models are folded into their top-level model
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< model frame in the world frame
-  /// What the file says. A non-static model is still simulated as static (with a warning).
+  /// What the file says. A world file's non-static model of one link is a rigid body; one of several links
+  /// or with nested models is made static, with a warning.
   bool is_static = true;
   std::vector<Collision> collisions;  ///< origins in the model frame (link pose and collision pose folded in)
   /// Origins in the model frame. A plane visual becomes a thin box of its <size>, top face on the plane,

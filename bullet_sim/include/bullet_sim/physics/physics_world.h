@@ -24,10 +24,17 @@ struct PhysicsOptions {
   /// Constraint solver iterations per step. 10 kept a 33 kg wheelchair within 2 mm of its arc in the
   /// prototype (research/prototype-facts.md); more cost time and bought no accuracy.
   int solver_iterations = 10;
+  /// [m/s] at most, the speed at which contacts push penetrating bodies apart (ODE's contact correcting
+  /// velocity). Bullet's solver pushes at erp * depth / dt and the body keeps that speed: 80 m/s for a
+  /// robot spawned 10 cm under the ground. Gazebo caps each contact at its surfaces' max_vel (0.01 m/s
+  /// unless a <maxVel> says otherwise), which would take 10 s to lift that robot; 0.1 m/s (TurtleBot3's
+  /// <maxVel>) lifts it in 1 s and leaves it a hop of v^2 / 2g = 0.5 mm.
+  double max_correcting_velocity = 0.1;
 };
 
 class PhysicsWorld {
  public:
+  /// Adds the static models of `world` as static geometry; its other models are bodies for the caller to add.
   PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options);
   ~PhysicsWorld();
   PhysicsWorld(const PhysicsWorld&) = delete;
@@ -38,6 +45,9 @@ class PhysicsWorld {
   /// Frees what the solver kept for the contacts of past steps (after a robot is removed: a robot resting on
   /// 3,000 shapes left 6 MB there).
   void releaseMemory();
+  /// Drops what contacts remember between steps (the impulses the solver starts from), so that a reset
+  /// world runs as it first did.
+  void forgetContacts();
 
   double stepSize() const { return options_.step_size; }
   /// From the next step on; robots must be told too (PhysicsRobot::setStepSize).
@@ -47,7 +57,7 @@ class PhysicsWorld {
   /// Moves the static geometry of the world spec's model `model` (an index into WorldSpec::models) so that
   /// the model frame is at `pose`.
   void setModelPose(size_t model, const Eigen::Isometry3d& pose);
-  btMultiBodyDynamicsWorld& bullet() { return *world_; }
+  btMultiBodyDynamicsWorld& bullet();
 
  private:
   /// Adds a sleeping static object of `shape` (owned by shapes_) at `pose`, with no collision names yet;
@@ -57,7 +67,8 @@ class PhysicsWorld {
   struct Engine;  ///< Bullet's collision configuration, dispatcher, broadphase and solver, in creation order
   PhysicsOptions options_;
   std::unique_ptr<Engine> engine_;
-  std::unique_ptr<btMultiBodyDynamicsWorld> world_;
+  class CappedWorld;  ///< Bullet's world, its contacts' push-out speed capped
+  std::unique_ptr<CappedWorld> world_;
   std::unique_ptr<BulletShapes> shapes_;
   std::vector<std::unique_ptr<btCollisionObject>> statics_;
   /// Where a collision of a world model is: static object `object` (an index into statics_), or its

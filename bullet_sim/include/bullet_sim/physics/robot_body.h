@@ -16,6 +16,11 @@ namespace bullet_sim {
 /// <wheelModel> tag: "raycast" or "contact". A robot without wheels driven by either uses "contact".
 constexpr const char* kDefaultWheelModel = "raycast";
 
+/// Whether the model's base never moves: a static model, or a URDF whose root link is named `world`, which
+/// Gazebo takes for the world itself, so that the joint to its child fixes (or turns) the model against the
+/// world at its spawn pose.
+inline bool hasFixedBase(const ModelSpec& model) { return model.is_static || model.root == "world"; }
+
 /// Where a collision comes from: the link that declares it and its index among that link's collisions.
 struct CollisionSource {
   std::string link;

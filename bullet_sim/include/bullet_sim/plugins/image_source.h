@@ -21,6 +21,8 @@ struct ImageRequest {
   bool depth = false;  ///< whether the depth map is wanted too
 };
 
+/// A rendered frame. Its buffers keep their storage from frame to frame, so that a camera that renders into
+/// the same one every time allocates nothing.
 struct RenderedImage {
   int width = 0;
   int height = 0;
@@ -33,8 +35,9 @@ struct RenderedImage {
 class ImageSource {
  public:
   virtual ~ImageSource() = default;
-  /// The world as it is now, seen from `request`. Throws std::runtime_error when it cannot render.
-  virtual RenderedImage render(const ImageRequest& request) = 0;
+  /// The world as it is now, seen from `request`, into `image` (its buffers are reused). Throws
+  /// std::runtime_error when it cannot render.
+  virtual void render(const ImageRequest& request, RenderedImage& image) = 0;
 };
 
 }  // namespace bullet_sim

@@ -19,6 +19,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/plugin.h"
@@ -56,7 +57,7 @@ struct PinholeCameraConfig : PluginConfig {
   bool depth_16uc1 = false;     ///< depth in 16UC1 millimetres instead of 32FC1 metres
 
   /// Whether a depth [m] is inside (pointCloudCutoff, pointCloudCutoffMax): kept in the depth image and cloud.
-  bool withinCutoffs(double depth) const;
+  bool withinCutoffs(double depth) const { return depth > cloud_cutoff && depth < cloud_cutoff_max; }
   /// The focal length [px] the image is rendered with: width / (2 tan(horizontal_fov / 2)).
   double renderedFocalLength() const;
   /// camera_info as gazebo_plugins fills it (K, P from the focal length and centre, D from the tags).
@@ -96,6 +97,8 @@ class PinholeCamera : public Plugin {
 
   PinholeCameraConfig config_;
   ImageSource* images_;
+  RenderedImage frame_;        ///< the last frame rendered; its buffers are reused
+  std::vector<float> ray_x_;  ///< per column, x / z of its ray through the pixel centre
   uint64_t frames_ = 0;
   Demand image_demand_, depth_demand_, cloud_demand_;
   Stream<CameraImage> image_, depth_;

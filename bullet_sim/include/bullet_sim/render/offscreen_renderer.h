@@ -25,9 +25,14 @@ class OffscreenRenderer final : public SceneRenderer {
   /// GPU while their TriangleMesh lives, so only the first render of a scene pays for uploads. Throws
   /// std::invalid_argument for a size OSMesa cannot render.
   Image render(const Scene& scene, int width, int height, std::vector<float>* depth = nullptr) override;
+  /// As render, converting straight into `rgb` (SceneRenderer).
+  void renderRgb(const Scene& scene, int width, int height, std::vector<uint8_t>& rgb,
+                 std::vector<float>* depth = nullptr) override;
 
  private:
   class Context;
+  /// The context after drawing `scene` and reading its depth into `depth` when given.
+  Context& drawn(const Scene& scene, int width, int height, std::vector<float>* depth);
   std::unique_ptr<Context> context_;
 };
 

@@ -42,6 +42,9 @@ struct Camera {
   Eigen::Matrix4d projectionMatrix(double aspect) const;
   /// The distance along the view axis [m] of a depth buffer value in [0, 1] (OpenGL's default depth range).
   double viewDepth(double window) const;
+  /// viewDepth as the fraction (p + q w) / (r + s w) of the depth buffer value w: (p, q, r, s), for whole
+  /// buffers.
+  Eigen::Vector4d viewDepthFraction() const;
   /// Where a world point appears in a width x height image: (column, row) in pixels from the image's top-left
   /// corner, so pixel (c, r) covers [c, c + 1) x [r, r + 1). Nullopt for a point behind a perspective camera.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& point, int width, int height) const;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -18,5 +19,9 @@ struct Image {
     return {pixel[0], pixel[1], pixel[2], pixel[3]};
   }
 };
+
+/// The RGB of `pixels` RGBA pixels into `rgb`, 3 bytes per pixel in the same order. `rgb` keeps its storage
+/// when it is large enough.
+void dropAlpha(const uint8_t* rgba, size_t pixels, std::vector<uint8_t>& rgb);
 
 }  // namespace bullet_sim

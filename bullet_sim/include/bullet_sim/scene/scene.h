@@ -14,11 +14,13 @@
 namespace bullet_sim {
 
 struct SceneMesh {
-  /// Triangles in the mesh's own frame [m]. The renderer keeps its copy on the GPU while this stays alive, so
-  /// sharing one mesh across scenes and renders uploads it once.
+  /// Triangles in the mesh's own frame [m], with the colours and textures of its file. The renderer keeps its
+  /// copy (and its textures') on the GPU while this stays alive, so sharing one mesh across scenes and
+  /// renders uploads it once.
   std::shared_ptr<const TriangleMesh> mesh;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< the mesh frame in the world
   Eigen::Vector4d rgba{0.7, 0.7, 0.7, 1};                  ///< [0, 1]; alpha < 1 is drawn see-through
+  MeshPaint paint = MeshPaint::kOwn;  ///< how rgba meets the mesh's own colours and textures
 };
 
 /// Square dots of one colour, unlit.

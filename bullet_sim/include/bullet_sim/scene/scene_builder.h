@@ -22,6 +22,9 @@ namespace bullet_sim {
 /// Throws std::invalid_argument for a mesh shape whose mesh was not loaded.
 std::shared_ptr<const TriangleMesh> tessellate(const Shape& shape);
 
+/// A visual in its colour, placed in `frame` (its link's or model's pose in the world).
+SceneMesh visualMesh(const Visual& visual, const Eigen::Isometry3d& frame);
+
 /// Adds every visual of `model` in its colour, each link at its world pose in `link_poses`, and returns the
 /// world bounds of what it added (empty for a model without visuals). Throws std::invalid_argument naming the
 /// link when a link with visuals has no pose.

@@ -2,6 +2,7 @@
 // scene layer's image sources draw through it without depending on the render layer.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "bullet_sim/scene/image.h"
@@ -16,6 +17,11 @@ class SceneRenderer {
   /// pixel's distance along the view axis [m], rows top first; +inf where nothing was drawn. Throws
   /// std::invalid_argument for a size it cannot render.
   virtual Image render(const Scene& scene, int width, int height, std::vector<float>* depth = nullptr) = 0;
+
+  /// As render, into `rgb` (3 bytes per pixel, rows top first) and `depth`, whose storage is reused from
+  /// call to call: a camera that renders every frame allocates nothing. The default converts render()'s.
+  virtual void renderRgb(const Scene& scene, int width, int height, std::vector<uint8_t>& rgb,
+                         std::vector<float>* depth = nullptr);
 };
 
 }  // namespace bullet_sim

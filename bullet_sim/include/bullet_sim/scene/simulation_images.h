@@ -24,21 +24,19 @@ class SimulationImages final : public ImageSource {
  public:
   SimulationImages(const Simulation& simulation, RendererAccess renderer);
 
-  RenderedImage render(const ImageRequest& request) override;
+  void render(const ImageRequest& request, RenderedImage& image) override;
 
   /// The scene a camera at `request` sees, without drawing it.
   const Scene& sceneFor(const ImageRequest& request);
 
  private:
-  struct RobotVisual {
+  struct LinkVisuals {
     std::string link;
-    Eigen::Isometry3d origin;  ///< in the link frame
-    std::shared_ptr<const TriangleMesh> mesh;
-    Eigen::Vector4d rgba;
+    std::vector<SceneMesh> meshes;  ///< poses in the link frame
   };
   struct RobotVisuals {
     const PhysicsRobot* body = nullptr;  ///< the robot they were made for; a respawn makes new ones
-    std::vector<RobotVisual> visuals;
+    std::vector<LinkVisuals> links;      ///< the links that have visuals
   };
 
   /// Brings the robots' visuals up to date with the simulation's robots.

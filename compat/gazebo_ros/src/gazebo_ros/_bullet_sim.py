@@ -115,11 +115,9 @@ def run_server(program, argv, under_gdb=False):
 
 def run_client():
     """gzclient: says there is no window, then waits until it is stopped."""
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
-    try:  # a SIGINT right after the line, before the loop, ends it as cleanly
-        print(no_window("gzclient") + " This process stays up until the launch ends.", flush=True)
-        while True:
-            signal.pause()
-    except KeyboardInterrupt:
-        pass
-    return 0
+    # The handlers come before the line: a stop that follows the line at once must find them in place.
+    for stop in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(stop, lambda *_: sys.exit(0))
+    print(no_window("gzclient") + " This process stays up until the launch ends.", flush=True)
+    while True:
+        signal.pause()
