@@ -1,7 +1,8 @@
 // libFuzzer target for the mesh importer (assimp, then ours): the first byte chooses the format (STL, OBJ or
-// COLLADA, Gazebo's), the rest is the file. importMesh must return the mesh or an error, never crash, hang or
-// touch memory it does not own. It imports in this process, where the fuzzer sees what it covers; the
-// simulator imports in a child process (loadMesh), so that what crashes assimp here is a load error there.
+// COLLADA, Gazebo's), the rest is the file. importMesh must return the mesh (its embedded images decoded) or an
+// error, never crash, hang or touch memory it does not own. It imports in this process, where the fuzzer sees
+// what it covers; the simulator imports in a child process (loadMesh), so that what crashes assimp here is a
+// load error there.
 // Built and run by scripts/fuzz.sh.
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/description/mesh.h"
 
@@ -24,7 +26,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   close(fd);
   if (written) {
     std::string error;
-    bullet_sim::importMesh(path, Eigen::Vector3d::Ones(), &error);
+    std::vector<std::string> warnings;
+    bullet_sim::TextureCache textures;  // embedded images are decoded too
+    bullet_sim::importMesh(path, Eigen::Vector3d::Ones(), &error, &textures, &warnings);
   }
   unlink(path.c_str());
   return 0;
