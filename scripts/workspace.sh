@@ -2,7 +2,7 @@
 # Sets up, builds, runs and tests this catkin workspace on Debian 12. Every step is idempotent.
 #
 #   scripts/workspace.sh run     install what is missing, build, bring up the wheelchair simulation
-#   scripts/workspace.sh test    install what is missing, build, run the whole test suite
+#   scripts/workspace.sh test    install what is missing, build, run the whole test suite and replay the fuzz corpus
 #   scripts/workspace.sh install | build
 #
 # The repo root is the catkin source space. When it is cloned as <ws>/src, the workspace is <ws>;
@@ -28,6 +28,7 @@ DEBIAN_PACKAGES=(
   python3-std-msgs python3-rospy python3-rosparam python3-rosservice
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
+  clang-14 libclang-rt-14-dev libfuzzer-14-dev
 )
 XACRO_VERSION=1.13.3
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
@@ -108,6 +109,9 @@ PY
     echo "FAILED: no gtest ran (is googletest installed?)" >&2
     exit 1
   fi
+  # The fuzz targets replay their committed corpus and crashes, then fuzz briefly with a fixed seed.
+  log "fuzz targets (scripts/fuzz.sh --ci)"
+  "$REPO/scripts/fuzz.sh" --ci || status=1
   return "$status"
 }
 

@@ -8,6 +8,7 @@
 
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/tools/doctor.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -24,8 +24,8 @@ bool isWorldFrame(const std::string& name) {
 std::string scoped(const std::string& model, const std::string& link) { return model + "::" + link; }
 
 // What a request may ask, far beyond any robot's world: past it, Bullet and the single-precision ray caster
-// lose the model (Embree aborts on a ray cast from infinity).
-constexpr double kMaxDistance = 1e6;      // [m] of a position from the origin, or of an offset
+// lose the model (Embree aborts on a ray cast from infinity). Positions and offsets are bounded by
+// limits().max_length, as spawn poses and descriptions are.
 constexpr double kMaxSpeed = 1e6;         // [m/s], [rad/s]
 constexpr double kMaxLoad = 1e12;         // [N], [N m]: a force, a torque, an effort
 constexpr double kMaxAcceleration = 1e6;  // [m/s^2] of gravity
@@ -46,11 +46,16 @@ void checkBound(double magnitude, double bound, const std::string& what, const s
   }
 }
 
-void checkState(const EntityState& state, const std::string& what) {
+/// Throws naming `what` unless `value` is finite and within limits.max_length.
+void checkLength(double value, const Limits& limits, const std::string& what) {
+  if (auto problem = boundProblem(value, limits.max_length, "max_length", "m"))
+    throw std::invalid_argument(what + " " + *problem);
+}
+
+void checkState(const EntityState& state, const std::string& what, const Limits& limits) {
   if (!state.pose.matrix().allFinite()) throw std::invalid_argument("the pose of " + what + " is not finite");
   // Largest components, not lengths, which could overflow.
-  checkBound(state.pose.translation().lpNorm<Eigen::Infinity>(), kMaxDistance, "a coordinate of " + what,
-             "m");
+  checkLength(state.pose.translation().lpNorm<Eigen::Infinity>(), limits, "a coordinate of " + what);
   checkBound(state.linear.lpNorm<Eigen::Infinity>(), kMaxSpeed, "a velocity of " + what, "m/s");
   checkBound(state.angular.lpNorm<Eigen::Infinity>(), kMaxSpeed, "an angular velocity of " + what, "rad/s");
 }
@@ -242,7 +247,7 @@ std::string Simulation::setModelState(const std::string& model, const EntityStat
                                       const std::string& reference) {
   const Entity entity = findModel(model);
   const EntityState target = inWorld(state, entityState(reference));
-  checkState(target, "model [" + model + "]");
+  checkState(target, "model [" + model + "]", options_.limits);
   return setWorldState(entity, target);
 }
 
@@ -250,7 +255,7 @@ std::string Simulation::setLinkState(const std::string& link, const EntityState&
                                      const std::string& reference) {
   const Entity entity = findLink(link);
   const EntityState target = inWorld(state, entityState(reference));
-  checkState(target, "link [" + link + "]");
+  checkState(target, "link [" + link + "]", options_.limits);
   if (!entity.robot) {
     const Entity model{nullptr, entity.world_model, ""};
     const Eigen::Isometry3d in_model = worldState(model).pose.inverse() * worldState(entity).pose;
@@ -377,9 +382,8 @@ void Simulation::setModelConfiguration(const std::string& model,
     if (index < 0) {
       problems += "; [" + joint + "] is not a moving joint of [" + model + "]" +
                   didYouMean(joint, body.spec().jointNames());
-    } else if (!(std::abs(position) <= kMaxDistance)) {
-      problems += "; the position of [" + joint + "] [" + number(position) + "] is not a number within +-" +
-                  number(kMaxDistance);
+    } else if (auto problem = boundProblem(position, options_.limits.max_length, "max_length", "")) {
+      problems += "; the position of [" + joint + "] " + *problem;
     } else {
       joints.emplace_back(index, position);
     }
@@ -401,7 +405,7 @@ std::string Simulation::applyBodyWrench(const BodyWrench& wrench) {
   const std::string on = " on [" + wrench.body + "]";
   checkBound(wrench.force.lpNorm<Eigen::Infinity>(), kMaxLoad, "the force" + on, "N");
   checkBound(wrench.torque.lpNorm<Eigen::Infinity>(), kMaxLoad, "the torque" + on, "N m");
-  checkBound(wrench.reference_point.lpNorm<Eigen::Infinity>(), kMaxDistance, "the reference point" + on, "m");
+  checkLength(wrench.reference_point.lpNorm<Eigen::Infinity>(), options_.limits, "the reference point" + on);
   if (!std::isfinite(wrench.schedule.start_time) || std::isnan(wrench.schedule.duration)) {
     throw std::invalid_argument("the start time or the duration of the wrench" + on + " is not a number");
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <sstream>
 
 #include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/description/sdf_model.h"
@@ -83,6 +84,22 @@ bool isCopyInTheWay(const WorldModelSpec& world_model, const ModelSpec& model,
   return robot_box.intersects(copy_box);
 }
 
+/// Every number of a spawn pose finite, and its position within max_length of the origin.
+void checkSpawnPose(const SpawnPose& pose, const Limits& limits, Diagnostics& diagnostics) {
+  const std::pair<const char*, double> lengths[] = {{"x", pose.x}, {"y", pose.y}, {"z", pose.z.value_or(0)}};
+  for (const auto& [name, value] : lengths) {
+    if (auto problem = boundProblem(value, limits.max_length, "max_length", "m"))
+      diagnostics.error(std::string("spawn pose ") + name + " " + *problem);
+  }
+  const std::pair<const char*, double> angles[] = {
+      {"roll", pose.roll}, {"pitch", pose.pitch}, {"yaw", pose.yaw}};
+  for (const auto& [name, value] : angles) {
+    if (!std::isfinite(value))
+      diagnostics.error(std::string("spawn pose ") + name + " [" + std::to_string(value) +
+                        "] is not a finite number");
+  }
+}
+
 /// The wheel-ground model of a robot named `name`: contact for a static one; else its drive's, else by
 /// ros_control's rule, else contact.
 std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
@@ -102,6 +119,36 @@ std::string wheelModelOf(const ModelSpec& model, const std::string& name, const 
 }
 
 }  // namespace
+
+SpawnPose spawnPoseFrom(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation,
+                        bool place_on_ground, Diagnostics& diagnostics) {
+  SpawnPose spawn;
+  if (!position.allFinite()) {
+    std::ostringstream message;
+    message << "spawn position [" << position.transpose() << "] is not finite";
+    diagnostics.error(message.str());
+    return spawn;
+  }
+  if (!orientation.coeffs().allFinite()) {
+    std::ostringstream message;
+    message << "spawn orientation (x y z w) [" << orientation.coeffs().transpose() << "] is not finite";
+    diagnostics.error(message.str());
+    return spawn;
+  }
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  if (orientation.norm() > 1e-12) {
+    rotation = orientation.normalized().toRotationMatrix();
+  } else {
+    diagnostics.warning("spawn orientation (x y z w) [0 0 0 0] is no rotation: the identity is used");
+  }
+  spawn.x = position.x();
+  spawn.y = position.y();
+  spawn.yaw = std::atan2(rotation(1, 0), rotation(0, 0));
+  spawn.pitch = std::asin(-std::clamp(rotation(2, 0), -1.0, 1.0));
+  spawn.roll = std::atan2(rotation(2, 1), rotation(2, 2));
+  if (!place_on_ground) spawn.z = position.z();
+  return spawn;
+}
 
 Robot::Robot(std::string name, std::unique_ptr<PhysicsRobot> body, const Eigen::Isometry3d& spawn_pose)
     : name_(std::move(name)), body_(std::move(body)), spawn_pose_(spawn_pose) {}
@@ -163,11 +210,9 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (name.empty()) diagnostics.error("a robot needs a name");
   if (robot(name))
     diagnostics.error("a robot named [" + name + "] already exists: delete it first, or choose another name");
+  checkSpawnPose(pose, options_.limits, diagnostics);
+  diagnostics.throwIfErrors();
   const Eigen::Isometry3d root = rootPose(model, pose);
-  if (!root.matrix().allFinite() || !(root.translation().norm() <= 1e6)) {  // as the world API's bound
-    diagnostics.error("the spawn pose [" + std::to_string(root.translation().norm()) +
-                      " m from the origin] is not finite or beyond the 1e6 m bullet_sim simulates");
-  }
   for (const auto& world_model : world_.models) {
     if (world_model.name == name) {
       diagnostics.error("the world already holds a model named [" + name +
@@ -195,8 +240,8 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     if (index < 0) {
       diagnostics.error("initial position for [" + joint + "], which is not a moving joint" +
                         didYouMean(joint, robot->body().spec().jointNames()));
-    } else if (!std::isfinite(position)) {
-      diagnostics.error("initial position for [" + joint + "] is not a number");
+    } else if (auto problem = boundProblem(position, options_.limits.max_length, "max_length", "")) {
+      diagnostics.error("initial position for [" + joint + "] " + *problem);
     } else {
       robot->spawn_joints_.emplace_back(index, position);
     }
@@ -248,6 +293,7 @@ bool Simulation::remove(const std::string& name) {
   rays_.commit();
   clearScheduled(name);
   robots_.erase(found);
+  physics_->releaseMemory();
   return true;
 }
 

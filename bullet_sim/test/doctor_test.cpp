@@ -304,7 +304,7 @@ const ToolRun kToolRuns[] = {
      "/nonexistent/robot.urdf",
      "",
      2,
-     {"/nonexistent/robot.urdf: error: cannot read the file"}},
+     {"/nonexistent/robot.urdf: error: the file cannot be read"}},
 };
 
 INSTANTIATE_TEST_SUITE_P(Exits, DoctorTool, ::testing::ValuesIn(kToolRuns),

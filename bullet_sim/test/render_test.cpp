@@ -196,6 +196,64 @@ TEST(Render, TopViewOfTheTestRoomShowsTheWallsWhereTheOrthographicProjectionPuts
   EXPECT_TRUE(sameColour(rgbAt(image, kWidth / 2, kHeight / 2), floor)) << "floor in the middle";
 }
 
+/// A 0.6 x 0.4 x 0.5 m box robot in Gazebo/Grey, the ground's colour.
+ModelSpec greyBox() {
+  const std::string urdf = R"(<robot name="grey_box"><link name="base_link">
+    <inertial><mass value="1.0"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <visual><geometry><box size="0.6 0.4 0.5"/></geometry></visual>
+    <collision><geometry><box size="0.6 0.4 0.5"/></geometry></collision></link>
+    <gazebo reference="base_link"><material>Gazebo/Grey</material></gazebo></robot>)";
+  return test::parseQuietly(urdf, "grey_box");
+}
+
+TEST(Render, APlanOutlinesARobotTheColourOfTheFloor) {
+  // Lit from above, the box's top is the floor's colour: only an outline tells them apart.
+  const RobotSnapshot snapshot = snapshotRobot(test::shippedWorld("empty.world"), greyBox(), {}, View::kTop);
+  Scene scene = snapshot.scene;
+  scene.ground_grid = false;
+  const Image image = OffscreenRenderer().render(scene, kWidth, kHeight);
+  const Eigen::Vector3i floor = bytes(scene.lighting.shade({0.7, 0.7, 0.7, 1}, Eigen::Vector3d::UnitZ()));
+  const Eigen::Vector3i outline = bytes(scene.outline_rgba.head<3>());
+  const auto at = [&](double x, double y) {
+    return pixelOf(scene.camera, Eigen::Vector3d(x, y, 0.5), kWidth, kHeight);
+  };
+  EXPECT_TRUE(sameColour(rgbAt(image, at(0, 0).x(), at(0, 0).y()), floor)) << "the box top";
+  EXPECT_TRUE(sameColour(rgbAt(image, at(0.6, 0).x(), at(0.6, 0).y()), floor)) << "the ground beside it";
+  // One pixel beyond each side's middle: the outline.
+  for (const Eigen::Vector2i& edge : {at(0.3, 0), at(-0.3, 0), at(0, 0.2), at(0, -0.2)}) {
+    const Eigen::Vector2i centre = at(0, 0);
+    const Eigen::Vector2i outward = (edge - centre).cwiseSign();
+    bool outlined = false;
+    for (int step = -1; step <= 2; ++step) {  // within a pixel of the projected edge
+      const Eigen::Vector2i pixel = edge + step * outward;
+      outlined |= sameColour(rgbAt(image, pixel.x(), pixel.y()), outline);
+    }
+    EXPECT_TRUE(outlined) << "no outline near pixel " << edge.transpose();
+  }
+}
+
+TEST(Render, APlanOfTheWheelchairShowsItsSeatAndBackrest) {
+  // They are Gazebo/Grey like the ground: the plan showed the wheels and armrests only.
+  const RobotSnapshot snapshot =
+      snapshotRobot(test::shippedWorld("empty.world"), test::wheelchair(), {}, View::kTop);
+  const Image image = OffscreenRenderer().render(snapshot.scene, kWidth, kHeight);
+  const ModelSpec chair = test::wheelchair();
+  Eigen::AlignedBox3d body;  // base_link's visual, where the chair spawns at rest
+  const Eigen::Isometry3d base = Eigen::Translation3d(0, 0, 0.6040562) * Eigen::Isometry3d::Identity();
+  for (const Visual& visual : chair.link("base_link")->visuals)
+    body.extend(boundingBox(visual.shape, base * visual.origin));
+  const Eigen::Vector2i a = pixelOf(snapshot.scene.camera, body.min(), kWidth, kHeight);
+  const Eigen::Vector2i b = pixelOf(snapshot.scene.camera, body.max(), kWidth, kHeight);
+  const Eigen::Vector3i outline = bytes(snapshot.scene.outline_rgba.head<3>());
+  const int outlined = countPixels(image, [&](int column, int row) {
+    return column >= std::min(a.x(), b.x()) && column <= std::max(a.x(), b.x()) &&
+           row >= std::min(a.y(), b.y()) && row <= std::max(a.y(), b.y()) &&
+           sameColour(rgbAt(image, column, row), outline);
+  });
+  // The seat's and the backrest's edges run about 2 x (0.45 + 0.45) m, at about 100 px per metre.
+  EXPECT_GT(outlined, 100);
+}
+
 TEST(Render, LidarHitsAreDrawnWhereTheBeamsHit) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   Robot& mast = simulation.spawn("mast", lidarMast(), {});

@@ -1,11 +1,13 @@
 // Checks the SDF world layer against the geometry the shipped worlds document, and that every kind of broken
 // world fails with a message naming the file and the offending element.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -471,6 +473,20 @@ TEST(WorldSpec, UnknownModelIsSkippedWithOneWarningAndTheRestLoads) {
   }
 }
 
+TEST(WorldSpec, CopiesOfAnUnknownModelAreSkippedWithItNamed) {
+  std::string includes;
+  for (int i = 1; i <= 3; ++i) {
+    includes += "<include><uri>model://ground_plan</uri><name>g" + std::to_string(i) + "</name><pose>" +
+                std::to_string(i) + " 0 0 0 0 0</pose></include>";
+  }
+  std::vector<std::string> warnings;
+  const WorldSpec world = parse("<sdf version=\"1.6\"><world name=\"w\">" + includes + "</world></sdf>", &warnings);
+  EXPECT_TRUE(world.models.empty());
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_TRUE(contains(warnings[0], "unknown model [ground_plan]")) << warnings[0];
+  EXPECT_EQ(warnings[1], "models [g2], [g3] repeat [g1], which is skipped: they are skipped too");
+}
+
 TEST(WorldSpecErrorList, NonPositiveSizesAreRejected) {
   try {
     parse(R"(<sdf version="1.6"><world name="w"><model name="flat"><static>true</static><link name="l">
@@ -526,6 +542,71 @@ TEST(ModelGeometry, BoundingBoxesOfTurnedShapesAreTheirWorldExtents) {
   EXPECT_TRUE(extent(sphere, quarter_y).isApprox(Eigen::Vector3d(2, 2, 2)));
   const Eigen::AlignedBox3d ball = boundingBox(sphere, at);
   EXPECT_TRUE(ball.min().isApprox(Eigen::Vector3d(0, 1, 2)));
+}
+
+/// A static model of a 1 x 2 x 3 m red box at `pose`, written as a world's <model>.
+std::string redBox(const std::string& name, const std::string& pose) {
+  return "<model name=\"" + name + "\"><static>true</static><pose>" + pose +
+         "</pose><link name=\"link\">"
+         "<collision name=\"c\"><geometry><box><size>1 2 3</size></box></geometry></collision>"
+         "<visual name=\"v\"><geometry><box><size>1 2 3</size></box></geometry>"
+         "<material><diffuse>1 0 0 1</diffuse></material></visual></link></model>\n";
+}
+
+TEST(WorldSpec, ModelsThatRepeatOneAnotherAreReadOnceAndPlacedEach) {
+  // The poses as sdformat reads them: x y z, then roll about x, pitch about y, yaw about z, all fixed axes.
+  const std::vector<std::pair<std::string, std::string>> boxes = {
+      {"a", "0 0 1.5 0 0 0"}, {"b", "3 -4 1.5 0 0 1.2"}, {"c", "-2 5 2 0.3 -0.4 2.5"}};
+  std::string text = "<sdf version=\"1.6\"><world name=\"w\">\n";
+  for (const auto& [name, pose] : boxes) text += redBox(name, pose);
+  text +=
+      "<include><uri>model://ground_plane</uri><name>floor_1</name></include>\n"
+      "<include><uri>model://ground_plane</uri><name>floor_2</name><pose>0 0 -1 0 0 0</pose></include>\n"
+      "</world></sdf>\n";
+  const WorldSpec world = parse(text);
+  ASSERT_EQ(world.models.size(), 5u);
+  for (const auto& [name, pose_text] : boxes) {
+    SCOPED_TRACE(name);
+    const WorldModelSpec* model = findModel(world, name);
+    ASSERT_NE(model, nullptr);
+    std::istringstream in(pose_text);
+    double x, y, z, roll, pitch, yaw;
+    in >> x >> y >> z >> roll >> pitch >> yaw;
+    const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                                      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                                         .toRotationMatrix();
+    EXPECT_TRUE(model->pose.translation().isApprox(Eigen::Vector3d(x, y, z), kExact));
+    EXPECT_TRUE(model->pose.linear().isApprox(rotation, kExact));
+    ASSERT_EQ(model->collisions.size(), 1u);
+    EXPECT_TRUE(model->collisions[0].shape.box_size.isApprox(Eigen::Vector3d(1, 2, 3)));
+    EXPECT_EQ(model->collisions[0].name, name + "::link::c") << "a copy's collisions carry its own name";
+    ASSERT_EQ(model->visuals.size(), 1u);
+    EXPECT_TRUE(model->visuals[0].rgba.isApprox(Eigen::Vector4d(1, 0, 0, 1)));
+  }
+  ASSERT_NE(findModel(world, "floor_2"), nullptr);
+  EXPECT_NEAR(findModel(world, "floor_2")->pose.translation().z(), -1, kExact);
+  EXPECT_EQ(findModel(world, "floor_1")->collisions[0].shape.type, Shape::Type::kPlane);
+}
+
+TEST(WorldSpec, AProblemOfModelsThatRepeatOneAnotherIsReportedAtEachOfThem) {
+  // Lines 2, 3 and 4: each model's size is zero.
+  std::string text = "<sdf version=\"1.6\"><world name=\"w\">\n";
+  for (const char* name : {"a", "b", "c"}) {
+    text += "<model name=\"" + std::string(name) +
+            "\"><static>true</static><link name=\"link\"><collision "
+            "name=\"c\"><geometry><box><size>0 1 1</size></box></geometry></collision></link></model>\n";
+  }
+  text += "</world></sdf>\n";
+  try {
+    parse(text);
+    FAIL() << "loaded";
+  } catch (const SpecError& e) {
+    ASSERT_EQ(e.problems().size(), 3u) << e.what();
+    for (int line = 2; line <= 4; ++line)
+      EXPECT_THAT(e.what(), ::testing::HasSubstr("[inline.world:" + std::to_string(line) + "] model [" +
+                                                 std::string(1, static_cast<char>('a' + line - 2)) + "]"));
+  }
 }
 
 }  // namespace

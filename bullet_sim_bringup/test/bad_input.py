@@ -2,17 +2,25 @@
 """rostest node: the simulator under bad input. A NaN or inf in cmd_vel is ignored (the robot stays put, the node
 keeps stepping); the drive's commandTimeout stops the robot when commands stop; a malformed and an empty robot
 description, or a flag that is not a number, make spawn_model exit non-zero with the reason, while the simulator
-keeps running."""
+keeps running. Every case of bullet_sim's test/fixtures/bad_input/cases.yaml, spawn poses that are not finite and
+an SDF model of absurd mass through the world API are refused with their message while the wheelchair drives
+on."""
 import math
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import threading
 import unittest
 
 import rospkg
 import rospy
 import rostest
+import yaml
+from bullet_sim.srv import SpawnModel, SpawnModelRequest
+from gazebo_msgs.srv import DeleteModel, SpawnModel as GazeboSpawnModel
+from geometry_msgs.msg import Pose
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
@@ -41,6 +49,46 @@ class Commander:
         self._stopped.set()
         self._thread.join(timeout=5)
         self._publisher.unregister()
+
+
+def revolute_chain(links):
+    inertial = ('<inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/>'
+                '</inertial><collision><geometry><box size="0.05 0.05 0.05"/></geometry></collision>')
+    text = ['<robot name="chain">']
+    text += ['<link name="l%d">%s</link>' % (i, inertial) for i in range(links)]
+    text += ['<joint name="j%d" type="revolute"><parent link="l%d"/><child link="l%d"/><origin xyz="0 0 0.06"/>'
+             '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>' % (i, i - 1, i)
+             for i in range(1, links)]
+    return "\n".join(text + ["</robot>"])
+
+
+def mesh_robot(mesh):
+    return ('<robot name="mesh"><link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" '
+            'izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial><visual><geometry><mesh filename="file://%s"/>'
+            '</geometry></visual></link></robot>' % mesh)
+
+
+def urdf_of(case, fixtures, folder):
+    """The URDF of a case of cases.yaml, its files written into `folder` when it is generated."""
+    if "file" in case:
+        with open(os.path.join(fixtures, case["file"])) as urdf:
+            return urdf.read()
+    kind = case["generate"]
+    if kind == "revolute_chain":
+        return revolute_chain(case["links"])
+    if kind == "fifo_mesh":
+        os.mkfifo(os.path.join(folder, "mesh.stl"))
+        return mesh_robot(os.path.join(folder, "mesh.stl"))
+    if kind == "obj_naming_fifo":
+        with open(os.path.join(folder, "mesh.obj"), "w") as obj:
+            obj.write("mtllib mesh.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n")
+        os.mkfifo(os.path.join(folder, "mesh.mtl"))
+        return mesh_robot(os.path.join(folder, "mesh.obj"))
+    if kind == "sparse_mesh":
+        with open(os.path.join(folder, "mesh.stl"), "w") as mesh:
+            mesh.truncate(300 << 20)
+        return mesh_robot(os.path.join(folder, "mesh.stl"))
+    raise AssertionError("cases.yaml: unknown generate [%s]" % kind)
 
 
 def travelled(messages, start, end):
@@ -96,7 +144,9 @@ class BadInput(unittest.TestCase):
                         "the chair kept driving after the commands stopped")
 
     def spawn_model(self, *source):
-        command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", *source, "-model", "bad", "-timeout", "30"]
+        # Far from the chair, and in a namespace of its own, should it load.
+        command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", *source, "-model", "bad", "-timeout", "30",
+                   "-x", "50", "-robot_namespace", "bad"]
         return subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
 
     def test_a_flag_that_is_not_a_number_fails_the_spawn_with_the_reason(self):
@@ -109,10 +159,10 @@ class BadInput(unittest.TestCase):
 
     def test_a_file_that_is_not_a_regular_file_fails_the_spawn_promptly(self):
         # A directory threw an uncaught exception, and /dev/zero was read for ever.
-        for path in ("/tmp", "/dev/zero"):
+        for path, kind in (("/tmp", "directory"), ("/dev/zero", "device")):
             result = self.spawn_model("-file", path)
             self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
-            self.assertIn("-file [%s] is not a regular file" % path, result.stderr)
+            self.assertIn("-file [%s] is a %s, not a regular file" % (path, kind), result.stderr)
 
     def test_bad_descriptions_fail_the_spawn_and_the_simulator_keeps_running(self):
         fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
@@ -129,6 +179,99 @@ class BadInput(unittest.TestCase):
             rospy.ServiceProxy(name, Empty)()
         latest = self.clock.wait_for(lambda m: m, 30, "a clock message")[-1].clock.to_sec()
         self.clock.wait_for(lambda m: m[-1].clock.to_sec() > latest + 0.5, 30, "the clock to advance")
+
+    def test_every_bad_file_is_refused_with_its_message_and_the_chair_drives_on(self):
+        bad_input = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "bad_input")
+        with open(os.path.join(bad_input, "cases.yaml")) as cases:
+            cases = yaml.safe_load(cases)
+        rospy.wait_for_service("/gazebo/spawn_urdf", timeout=30)
+        problems = []
+        commander = Commander(0.3, 0.3)
+        try:
+            self.wait_until(self.odometry.messages[-1].header.stamp.to_sec() + 1.0)  # up to speed
+            for case in cases:
+                name = case.get("file") or "%s %s" % (case["generate"], case.get("links", ""))
+                problem = self.check_case(case, bad_input)
+                if problem:
+                    problems.append("%s: %s" % (name, problem))
+        finally:
+            commander.stop()
+        self.assertEqual(problems, [])
+
+    def check_case(self, case, fixtures):
+        """Spawns the case's URDF through the simulator's service, far from the chair and in a namespace of its
+        own; what went wrong, or None."""
+        folder = tempfile.mkdtemp(prefix="bad_input_")
+        try:
+            request = SpawnModelRequest(model_name="bad", model_xml=urdf_of(case, fixtures, folder),
+                                        robot_namespace="bad", place_on_ground=True)
+            request.initial_pose.position.x = 50
+            request.initial_pose.orientation.w = 1
+            start = self.odometry.messages[-1]
+            response = rospy.ServiceProxy("/gazebo/spawn_urdf", SpawnModel)(request)
+            message = case["message"].replace("TMP", folder)
+            if case.get("loads"):
+                rospy.ServiceProxy("/gazebo/delete_model", DeleteModel)("bad")
+            if response.success != bool(case.get("loads")) or message not in response.message:
+                return "expected %s with [%s], got success %s with [%s]" % (
+                    "success" if case.get("loads") else "a refusal", message, response.success, response.message)
+            return self.chair_drives_on(start)
+        finally:
+            shutil.rmtree(folder)
+
+    def chair_drives_on(self, start):
+        """None when the chair, commanded at 0.3 m/s all along, covers ground in the next 0.3 s of sim time."""
+        t = start.header.stamp.to_sec()
+        messages = self.wait_until(self.odometry.messages[-1].header.stamp.to_sec() + 0.3)
+        if travelled(messages, t, messages[-1].header.stamp.to_sec()) < 0.03:
+            return "the chair stopped driving"
+        return None
+
+    def test_spawn_poses_that_are_not_finite_are_refused_naming_the_value(self):
+        rospy.wait_for_service("/gazebo/spawn_urdf", timeout=30)
+        spawn = rospy.ServiceProxy("/gazebo/spawn_urdf", SpawnModel)
+        fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
+        with open(os.path.join(fixtures, "minimal.urdf")) as urdf:
+            minimal = urdf.read()
+        commander = Commander(0.3, 0.0)
+        try:
+            start = self.wait_until(self.odometry.messages[-1].header.stamp.to_sec() + 1.0)[-1]  # up to speed
+            for field, value, message in (
+                    ("position.x", float("nan"), "spawn position [nan   0   0] is not finite"),
+                    ("orientation.w", float("inf"), "spawn orientation (x y z w) [  0   0   0 inf] is not finite"),
+                    ("position.y", 1e9, "spawn pose y [1e+09] m is beyond the limit of 10000 m (max_length)")):
+                request = SpawnModelRequest(model_name="bad", model_xml=minimal, place_on_ground=True)
+                request.initial_pose.orientation.w = 1.0
+                owner, name = field.split(".")
+                setattr(getattr(request.initial_pose, owner), name, value)
+                response = spawn(request)
+                self.assertFalse(response.success, field)
+                self.assertIn(message, response.message)
+            result = self.spawn_model("-file", os.path.join(fixtures, "minimal.urdf"), "-Y", "nan")
+            self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
+            self.assertIn("is not finite", result.stderr)
+            self.assertIsNone(self.chair_drives_on(start))
+        finally:
+            commander.stop()
+
+    def test_spawn_sdf_model_refuses_a_model_of_absurd_mass_naming_the_value(self):
+        rospy.wait_for_service("/gazebo/spawn_sdf_model", timeout=30)
+        heavy = ('<sdf version="1.6"><model name="heavy"><link name="base"><inertial><mass>1e30</mass></inertial>'
+                 '<collision name="c"><geometry><box><size>1 1 1</size></box></geometry></collision></link>'
+                 '</model></sdf>')
+        commander = Commander(0.3, 0.0)
+        try:
+            start = self.wait_until(self.odometry.messages[-1].header.stamp.to_sec() + 1.0)[-1]  # up to speed
+            pose = Pose()
+            pose.position.x = 50
+            pose.orientation.w = 1
+            answer = rospy.ServiceProxy("/gazebo/spawn_sdf_model", GazeboSpawnModel)("heavy", heavy, "", pose, "")
+            self.assertFalse(answer.success)
+            self.assertIn("link [base] <inertial> mass [1e+30] kg is beyond the limit of 1e+06 kg (max_mass)",
+                          answer.status_message)
+            self.assertIsNone(self.chair_drives_on(start))
+        finally:
+            commander.stop()
 
 
 if __name__ == "__main__":

@@ -13,7 +13,8 @@ class Collector:
     def __init__(self, topic, message_type):
         self.messages = []
         self._changed = threading.Condition()
-        self._subscriber = rospy.Subscriber(topic, message_type, self._add, queue_size=100)
+        # No queue limit: a full queue drops messages when the test falls behind (1 kHz topics on a busy machine).
+        self._subscriber = rospy.Subscriber(topic, message_type, self._add, queue_size=None)
 
     def _add(self, message):
         with self._changed:

@@ -31,6 +31,12 @@ struct SpawnPose {
   std::optional<std::string> robot_namespace;
 };
 
+/// A spawn pose from what a service carries: a position [m] and an orientation quaternion. A number that is
+/// not finite is an error naming it; a zero quaternion is taken for the identity, with a warning (as Gazebo
+/// does); others are normalised. With `place_on_ground`, the position's z is ignored.
+SpawnPose spawnPoseFrom(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation,
+                        bool place_on_ground, Diagnostics& diagnostics);
+
 class Simulation;
 
 /// Makes the image source that a simulation's cameras render through; it may keep the simulation to draw.
@@ -52,6 +58,8 @@ struct SimulationOptions {
   /// Gives cameras their images (scene/simulation_images.h over a renderer). Without it, cameras publish
   /// nothing: the node always gives one, and tools that draw no camera image need none.
   ImageSourceFactory images;
+  /// A spawn pose farther than max_length from the origin is refused.
+  Limits limits;
 };
 
 /// A spawned robot: its physics and its plugins.
@@ -92,8 +100,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  /// Adds a robot named `name`. Throws SpecError listing every problem (a name in use, a plugin naming a
-  /// missing joint, ...), and then leaves the simulation as it was. Load messages go to `warnings`.
+  /// Adds a robot named `name`. Throws SpecError listing every problem (a name in use, a pose that is not
+  /// finite or beyond the limits, a plugin naming a missing joint, ...), and then leaves the simulation as it
+  /// was. Load messages go to `warnings`.
   /// A world saved with the robot in it is refused: a world model of the robot's name, or one with exactly
   /// the robot's collision shapes (matched one to one by type and size) whose bounding box overlaps the
   /// robot's at the spawn pose.
@@ -116,6 +125,7 @@ class Simulation {
   uint64_t steps() const { return steps_; }
   double stepSize() const { return options_.physics.step_size; }
   const WorldSpec& world() const { return world_; }
+  const Limits& limits() const { return options_.limits; }
   /// Where each of the world's models is now (parallel to world().models): the world API moves them.
   Eigen::Isometry3d worldModelPose(size_t model) const;
 

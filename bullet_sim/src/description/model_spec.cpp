@@ -5,6 +5,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "bullet_sim/description/gazebo_materials.h"
 #include "bullet_sim/description/model_geometry.h"
 #include "description/tag_node_xml.h"
+#include "description/urdf_values.h"
 
 namespace bullet_sim {
 
@@ -92,12 +94,18 @@ Eigen::Isometry3d parsePose(const char* text, bool* ok) {
 
 class ModelParser {
  public:
-  ModelParser(Diagnostics& diagnostics, const PackageResolver& resolver, const PluginParsers& plugins)
-      : diagnostics_(diagnostics), resolver_(resolver), plugins_(plugins) {}
+  ModelParser(Diagnostics& diagnostics, const PackageResolver& resolver, const PluginParsers& plugins,
+              const Limits& limits)
+      : diagnostics_(diagnostics), resolver_(resolver), plugins_(plugins), limits_(limits) {}
 
   /// The model as far as it can be read, every problem in `diagnostics_`; nullopt when there is no model to
-  /// read (malformed XML, another root element, urdfdom's rejection).
+  /// read (malformed XML, another root element, bad numbers or counts, urdfdom's rejection, not a tree).
   std::optional<ModelSpec> parse(const std::string& xml) {
+    if (xml.size() > limits_.max_description_bytes) {
+      diagnostics_.error("the description is " + std::to_string(xml.size()) + " bytes, above the limit of " +
+                         std::to_string(limits_.max_description_bytes) + " (max_description_bytes)");
+      return std::nullopt;
+    }
     auto document = std::make_shared<tinyxml2::XMLDocument>();
     if (document->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
       std::string message = "line " + std::to_string(document->ErrorLineNum()) + ": " + document->ErrorStr();
@@ -121,6 +129,8 @@ class ModelParser {
       return std::nullopt;
     }
     reportXacroLeftovers(robot);  // urdfdom skips such elements, so its own complaints still come out
+    // urdfdom would turn some of the numbers into others, or take counts that exhaust the machine.
+    if (!checkUrdfValues(*robot, limits_, diagnostics_)) return std::nullopt;
 
     urdf::ModelInterfaceSharedPtr urdf_model;
     {
@@ -128,7 +138,7 @@ class ModelParser {
       urdf_model = urdf::parseURDF(xml);
       if (!urdf_model) diagnostics_.error("urdfdom rejected the model: " + console.text());
     }
-    if (!urdf_model) return std::nullopt;
+    if (!urdf_model || !isTree(*urdf_model)) return std::nullopt;
 
     ModelSpec spec;
     spec.name = urdf_model->getName();
@@ -140,7 +150,7 @@ class ModelParser {
     checkMovingLinksHaveMass(spec);
     std::vector<PluginElement> found = std::move(model_plugins_);  // model plugins first, then sensors'
     found.insert(found.end(), sensor_plugins_.begin(), sensor_plugins_.end());
-    declarePlugins(found, plugins_, spec, diagnostics_);
+    declarePlugins(found, plugins_, spec, diagnostics_, limits_);
     return spec;
   }
 
@@ -159,6 +169,53 @@ class ModelParser {
                            "/>");
       }
     }
+  }
+
+  /// urdfdom takes a link that is the child of two joints, or links that only reach each other, and hands
+  /// back a "tree" that loops for ever. Each link must be the child of one joint, and reached from the root.
+  bool isTree(const urdf::ModelInterface& model) {
+    std::map<std::string, std::vector<std::string>> parent_joints;  // child link -> its joints
+    std::map<std::string, std::vector<std::string>> child_links;    // parent link -> its children
+    for (const auto& [name, joint] : model.joints_) {
+      parent_joints[joint->child_link_name].push_back(name);
+      child_links[joint->parent_link_name].push_back(joint->child_link_name);
+    }
+    bool tree = true;
+    for (const auto& [link, joints] : parent_joints) {
+      if (joints.size() < 2) continue;
+      diagnostics_.error("link [" + link + "] is the child of " + std::to_string(joints.size()) +
+                         " joints, " + listed(joints) +
+                         ": a URDF is a tree, where each link has one parent joint, so these "
+                         "joints close a loop; remove all but one");
+      tree = false;
+    }
+    if (!tree) return false;
+    std::set<std::string> reached{model.getRoot()->name};
+    for (std::vector<std::string> todo{model.getRoot()->name}; !todo.empty();) {
+      const std::string link = todo.back();
+      todo.pop_back();
+      for (const auto& child : child_links[link]) {
+        if (reached.insert(child).second) todo.push_back(child);
+      }
+    }
+    std::vector<std::string> cut_off, loop_joints;
+    for (const auto& [name, link] : model.links_) {
+      if (reached.count(name)) continue;
+      cut_off.push_back(name);
+      loop_joints.insert(loop_joints.end(), parent_joints[name].begin(), parent_joints[name].end());
+    }
+    if (cut_off.empty()) return true;
+    diagnostics_.error("links " + listed(cut_off) + " are not connected to the root link [" +
+                       model.getRoot()->name + "]: their joints " + listed(loop_joints) +
+                       " form a loop; a URDF is a tree, so attach them below the root");
+    return false;
+  }
+
+  static std::string listed(const std::vector<std::string>& names) {
+    std::string text;
+    for (size_t i = 0; i < names.size(); ++i)
+      text += (i == 0 ? "[" : i + 1 == names.size() ? " and [" : ", [") + names[i] + "]";
+    return text;
   }
 
   void addTree(const urdf::ModelInterface& model, const urdf::Link& link, ModelSpec& spec) {
@@ -247,6 +304,14 @@ class ModelParser {
       }
       spec.effort = joint.limits->effort;
       spec.velocity = joint.limits->velocity;
+      if (spec.effort > limits_.max_effort) {
+        std::ostringstream message;
+        message << "joint [" << joint.name << "] <limit effort=\"" << spec.effort << "\">: " << spec.effort
+                << " is above the limit of " << limits_.max_effort << " (max_effort): " << limits_.max_effort
+                << " is used";
+        diagnostics_.warning(message.str());
+        spec.effort = limits_.max_effort;
+      }
     }
     if (joint.dynamics) {
       spec.damping = joint.dynamics->damping;
@@ -291,6 +356,13 @@ class ModelParser {
         for (const std::string& warning : warnings) diagnostics_.warning(where + ": " + warning);
         if (!shape.mesh) {
           diagnostics_.error(where + ": " + error);
+          return std::nullopt;
+        }
+        triangles_ += shape.mesh->triangles.size();
+        if (triangles_ > limits_.max_triangles) {
+          diagnostics_.error(where + ": mesh [" + *path + "] brings the robot's meshes to " +
+                             std::to_string(triangles_) + " triangles, above the limit of " +
+                             std::to_string(limits_.max_triangles) + " (max_triangles): simplify the meshes");
           return std::nullopt;
         }
         return shape;
@@ -347,11 +419,12 @@ class ModelParser {
       const std::string name = tag->Name();
       // <mu1 value="1"/> reads as <mu1>1</mu1>, as sdformat reads it (Clearpath writes every wheel so).
       const char* text = tag->GetText() ? tag->GetText() : tag->Attribute("value");
-      const auto number = [&](double* out) {
-        if (auto value = parseDouble(text)) {
+      const auto number = [&](double* out) {  // friction and contact figures: >= 0
+        const auto value = parseDouble(text);
+        if (value && std::isfinite(*value) && *value >= 0) {
           *out = *value;
         } else {
-          diagnostics_.error(where + "<" + name + "> must be a number, not [" + (text ? text : "") + "]");
+          diagnostics_.error(where + "<" + name + "> must be a number >= 0, not [" + (text ? text : "") + "]");
         }
       };
       const auto flag = [&](bool* out) {
@@ -452,6 +525,14 @@ class ModelParser {
       bool ok = false;
       sensor.pose = parsePose(pose->GetText(), &ok);
       if (!ok) diagnostics_.error(here + "<pose> must be six numbers: x y z roll pitch yaw");
+      for (int i = 0; ok && i < 3; ++i) {
+        if (auto problem =
+                boundProblem(sensor.pose.translation()[i], limits_.max_length, "max_length", "m")) {
+          diagnostics_.error(here + "<pose> " + "xyz"[i] + " " + *problem);
+          sensor.pose = Eigen::Isometry3d::Identity();
+          break;
+        }
+      }
     }
     if (auto* rate = element->FirstChildElement("update_rate")) {
       const auto value = parseDouble(rate->GetText());
@@ -497,7 +578,9 @@ class ModelParser {
   Diagnostics& diagnostics_;
   const PackageResolver& resolver_;
   const PluginParsers& plugins_;
-  MeshCache meshes_;
+  const Limits& limits_;
+  size_t triangles_ = 0;  ///< of every mesh shape so far
+  MeshCache meshes_{limits_};
   std::set<std::string> unknown_materials_;  ///< Gazebo material names warned about, once each
   std::optional<std::vector<std::string>> resource_scripts_;              ///< see applyMaterial
   std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  ///< by material name
@@ -508,7 +591,7 @@ class ModelParser {
 }  // namespace
 
 void declarePlugins(const std::vector<PluginElement>& elements, const PluginParsers& plugins,
-                    ModelSpec& model, Diagnostics& diagnostics) {
+                    ModelSpec& model, Diagnostics& diagnostics, const Limits& limits) {
   for (const PluginElement& element : elements) {
     PluginDeclaration declaration;
     declaration.name = element.plugin.attribute("name");
@@ -522,10 +605,11 @@ void declarePlugins(const std::vector<PluginElement>& elements, const PluginPars
                                                  : declaration.where();
     PluginTags tags(&element.plugin, where, diagnostics);
     const DeclarationSource source{declaration, tags, element.sensor_tags ? &*element.sensor_tags : nullptr,
-                                   model, diagnostics};
+                                   model, diagnostics, limits};
     declaration.config = plugins.parse(source);
     if (declaration.config) model.plugins.push_back(std::move(declaration));
   }
+  plugins.checkModel(model, diagnostics);
 }
 
 const LinkSpec* ModelSpec::link(const std::string& name) const {
@@ -562,9 +646,9 @@ std::vector<std::string> ModelSpec::jointNames() const {
 }
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     const PluginParsers& plugins, std::vector<std::string>* warnings) {
+                     const PluginParsers& plugins, std::vector<std::string>* warnings, const Limits& limits) {
   Diagnostics diagnostics(source);
-  std::optional<ModelSpec> spec = readModel(urdf_xml, resolver, plugins, diagnostics);
+  std::optional<ModelSpec> spec = readModel(urdf_xml, resolver, plugins, diagnostics, limits);
   diagnostics.throwIfErrors();
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
@@ -572,8 +656,9 @@ ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, con
 }
 
 std::optional<ModelSpec> readModel(const std::string& urdf_xml, const PackageResolver& resolver,
-                                   const PluginParsers& plugins, Diagnostics& diagnostics) {
-  return ModelParser(diagnostics, resolver, plugins).parse(urdf_xml);
+                                   const PluginParsers& plugins, Diagnostics& diagnostics,
+                                   const Limits& limits) {
+  return ModelParser(diagnostics, resolver, plugins, limits).parse(urdf_xml);
 }
 
 }  // namespace bullet_sim

@@ -51,9 +51,28 @@ const TagNode* PluginTags::find(const std::string& tag) {
 
 bool PluginTags::has(const std::string& tag) const { return element_ && element_->child(tag); }
 
+namespace {
+
+bool endsWith(const std::string& text, const std::string& end) {
+  return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
+}
+
+bool isTopicTag(const std::string& tag) {
+  return tag == "topicName" || endsWith(tag, "Topic") || endsWith(tag, "TopicName") ||
+         endsWith(tag, "_topic");
+}
+
+}  // namespace
+
 std::string PluginTags::text(const std::string& tag, const std::string& fallback) {
   const TagNode* node = find(tag);
-  return node ? node->text : fallback;
+  if (!node) return fallback;
+  if (node->text.empty() && isTopicTag(tag)) {
+    diagnostics_.error(where_ + " <" + tag + "> is empty: give it a topic name" +
+                       (fallback.empty() ? "" : " such as [" + fallback + "] (the default)") +
+                       ", or leave the tag out");
+  }
+  return node->text;
 }
 
 double PluginTags::number(const std::string& tag, double fallback) {
@@ -77,6 +96,17 @@ double PluginTags::positive(const std::string& tag, double fallback, bool allow_
     return fallback;
   }
   return value;
+}
+
+double PluginTags::capped(const std::string& tag, double fallback, double limit, const char* limit_name,
+                          const std::string& unit) {
+  const double value = positive(tag, fallback);
+  if (value <= limit) return value;
+  std::ostringstream message;
+  message << where_ << " <" << tag << "> " << value << " " << unit << " is above the limit of " << limit
+          << " " << unit << " (" << limit_name << "): " << limit << " " << unit << " is used";
+  diagnostics_.warning(message.str());
+  return limit;
 }
 
 bool PluginTags::flag(const std::string& tag, bool fallback) {

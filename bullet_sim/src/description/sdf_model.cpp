@@ -7,6 +7,7 @@
 
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/model_geometry.h"
+#include "description/urdf_values.h"
 
 namespace bullet_sim {
 
@@ -183,7 +184,8 @@ void checkMasses(const ModelSpec& spec, Diagnostics& diagnostics) {
 
 }  // namespace
 
-ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins, Diagnostics& diagnostics) {
+ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins, Diagnostics& diagnostics,
+                      const Limits& limits) {
   ModelSpec spec;
   spec.name = model.name;
   spec.source = diagnostics.source();
@@ -225,19 +227,20 @@ ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins,
                              findLink(model, element.sensor->link)->pose * element.sensor->pose;
     }
   }
-  declarePlugins(elements, plugins, spec, diagnostics);
+  checkModelValues(spec, limits, diagnostics);
+  declarePlugins(elements, plugins, spec, diagnostics, limits);
   checkMasses(spec, diagnostics);
   return spec;
 }
 
 ModelSpec parseSdfModel(const std::string& sdf_xml, const std::string& source,
                         const PackageResolver& resolver, const PluginParsers& plugins,
-                        std::vector<std::string>* warnings) {
+                        std::vector<std::string>* warnings, const Limits& limits) {
   std::vector<std::string> read_warnings;
-  const WorldModelSpec model = readSdfModel(sdf_xml, source, resolver, &read_warnings);
+  const WorldModelSpec model = readSdfModel(sdf_xml, source, resolver, &read_warnings, limits);
   Diagnostics diagnostics(source);
   for (const auto& warning : read_warnings) diagnostics.warning(warning);
-  ModelSpec spec = toModelSpec(model, plugins, diagnostics);
+  ModelSpec spec = toModelSpec(model, plugins, diagnostics, limits);
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   diagnostics.throwIfErrors();

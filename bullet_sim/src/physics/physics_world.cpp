@@ -4,6 +4,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
 #include <algorithm>
+#include <map>
 
 #include "bullet_shapes.h"
 #include "physics/contacts.h"
@@ -11,11 +12,16 @@
 
 namespace bullet_sim {
 
+namespace {
+constexpr double kStaticCell = 10;  // [m] side of the floor's cells whose static primitives share an object
+}
+
 struct PhysicsWorld::Engine {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
-  btMultiBodyConstraintSolver solver;
+  /// Its work arrays grow with the contacts of a step and never shrink: releaseMemory() replaces it.
+  std::unique_ptr<btMultiBodyConstraintSolver> solver = std::make_unique<btMultiBodyConstraintSolver>();
 };
 
 /// Bullet's solver pushes a contact's bodies apart at erp * depth / dt. For the solver only, a contact
@@ -23,7 +29,8 @@ struct PhysicsWorld::Engine {
 class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
  public:
   CappedWorld(Engine& engine, double max_correcting_velocity)
-      : btMultiBodyDynamicsWorld(&engine.dispatcher, &engine.broadphase, &engine.solver, &engine.configuration),
+      : btMultiBodyDynamicsWorld(&engine.dispatcher, &engine.broadphase, engine.solver.get(),
+                                 &engine.configuration),
         max_correcting_velocity_(max_correcting_velocity) {}
 
   void solveConstraints(btContactSolverInfo& info) override {
@@ -62,28 +69,61 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   solver.m_articulatedWarmstartingFactor = 1.0;
   solver.m_timeStep = options_.step_size;  // robots size their motor impulses from it before the first step
 
-  // One collision object per shape, not per model: a house's walls as one object would put every robot part
-  // next to all of them in the broadphase.
+  // Bullet walks every collision object each step (10,000 boxes as as many objects took most of a step), so
+  // primitives share one compound per cell of the floor, whose own tree finds the few a robot touches; a cell
+  // rather than the whole world, lest every robot part overlap one giant object in the broadphase. Planes and
+  // triangle meshes stay objects of their own. Static objects sleep: Bullet then leaves their bounds alone.
+  world_->setForceUpdateAllAabbs(false);
+  std::map<std::pair<long, long>, size_t> cells;  // a cell's compound object, as an index into statics_
   for (const auto& model : world.models) {
     auto& placed = model_statics_.emplace_back();
     if (!model.is_static) continue;  // a body: the simulation adds it
     for (const auto& collision : model.collisions) {
-      placed.emplace_back(statics_.size(), collision.origin);
-      auto object = std::make_unique<btCollisionObject>();
-      object->setCollisionShape(shapes_->make(collision.shape, /*moving=*/false));
-      object->setWorldTransform(toBullet(model.pose * collision.origin));
-      object->setFriction(1.0);  // Gazebo's default mu
-      object->setRestitution(0);
-      static_names_.push_back(std::make_unique<CollisionNames>(CollisionNames{{collision.name}}));
-      nameCollisions(*object, *static_names_.back());
-      world_->addCollisionObject(object.get(), kStaticGroup, kRobotGroup);
-      statics_.push_back(std::move(object));
+      const btTransform pose = toBullet(model.pose * collision.origin);
+      btCollisionShape* shape = shapes_->make(collision.shape, /*moving=*/false);
+      const Shape::Type type = collision.shape.type;
+      if (type == Shape::Type::kPlane || type == Shape::Type::kMesh) {
+        placed.push_back({addStatic(shape, pose), -1, collision.origin});
+        static_names_.back()->names.push_back(collision.name);
+        continue;
+      }
+      const Eigen::Vector2d cell = (fromBullet(pose.getOrigin()).head<2>() / kStaticCell).array().floor();
+      const auto [found, added] =
+          cells.try_emplace({static_cast<long>(cell.x()), static_cast<long>(cell.y())}, statics_.size());
+      if (added) addStatic(shapes_->makeCompound(), btTransform::getIdentity());  // bounds once filled
+      btCollisionObject& object = *statics_[found->second];
+      auto& compound = static_cast<btCompoundShape&>(*object.getCollisionShape());
+      compound.addChildShape(pose, shape);
+      static_names_[found->second]->names.push_back(collision.name);
+      placed.push_back({found->second, compound.getNumChildShapes() - 1, collision.origin});
     }
   }
+  for (const auto& [cell, index] : cells) world_->updateSingleAabb(statics_[index].get());
+}
+
+size_t PhysicsWorld::addStatic(btCollisionShape* shape, const btTransform& pose) {
+  auto object = std::make_unique<btCollisionObject>();
+  object->setCollisionShape(shape);
+  object->setWorldTransform(pose);
+  object->setCollisionFlags(object->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
+  object->setActivationState(ISLAND_SLEEPING);
+  object->setFriction(1.0);  // Gazebo's default mu
+  object->setRestitution(0);
+  static_names_.push_back(std::make_unique<CollisionNames>());
+  nameCollisions(*object, *static_names_.back());
+  world_->addCollisionObject(object.get(), kStaticGroup, kRobotGroup);
+  statics_.push_back(std::move(object));
+  return statics_.size() - 1;
 }
 
 PhysicsWorld::~PhysicsWorld() {
   for (auto& object : statics_) world_->removeCollisionObject(object.get());
+}
+
+void PhysicsWorld::releaseMemory() {
+  auto fresh = std::make_unique<btMultiBodyConstraintSolver>();
+  world_->setMultiBodyConstraintSolver(fresh.get());  // keeps the world's solver settings
+  engine_->solver = std::move(fresh);
 }
 
 btMultiBodyDynamicsWorld& PhysicsWorld::bullet() { return *world_; }
@@ -105,10 +145,21 @@ Eigen::Vector3d PhysicsWorld::gravity() const { return fromBullet(world_->getGra
 void PhysicsWorld::setGravity(const Eigen::Vector3d& gravity) { world_->setGravity(toBullet(gravity)); }
 
 void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {
-  for (const auto& [index, origin] : model_statics_.at(model)) {
-    btCollisionObject& object = *statics_[index];
-    object.setWorldTransform(toBullet(pose * origin));
-    world_->updateSingleAabb(&object);  // the broadphase refreshes only moving objects by itself
+  std::vector<btCollisionObject*> moved;
+  for (const auto& placement : model_statics_.at(model)) {
+    btCollisionObject& object = *statics_[placement.object];
+    const btTransform transform = toBullet(pose * placement.origin);
+    if (placement.child < 0) {
+      object.setWorldTransform(transform);
+    } else {  // its cell's bounds are recomputed once below
+      static_cast<btCompoundShape*>(object.getCollisionShape())->updateChildTransform(placement.child, transform,
+                                                                                     false);
+    }
+    if (std::find(moved.begin(), moved.end(), &object) == moved.end()) moved.push_back(&object);
+  }
+  for (btCollisionObject* object : moved) {
+    if (auto* compound = dynamic_cast<btCompoundShape*>(object->getCollisionShape())) compound->recalculateLocalAabb();
+    world_->updateSingleAabb(object);  // the broadphase refreshes only moving objects by itself
   }
 }
 

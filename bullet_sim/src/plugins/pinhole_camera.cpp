@@ -164,6 +164,11 @@ PinholeCameraConfig parseAnyCamera(const DeclarationSource& source, bool depth) 
                                        "of the same <horizontal_fov>, without its <lens> projection");
   }
   const auto sdf_distortion = readCameraTags(source.sensor, where, config, source.diagnostics);
+  if (static_cast<double>(config.width) * config.height > source.limits.max_image_pixels) {
+    source.diagnostics.error(where + " <image> of " + std::to_string(config.width) + " x " +
+                             std::to_string(config.height) + " px is above the limit of " +
+                             std::to_string(source.limits.max_image_pixels) + " pixels (max_image_pixels)");
+  }
   readCameraPluginTags(source.tags, sensor.update_rate, sdf_distortion, config);
   checkCamera(source, config);
   return config;

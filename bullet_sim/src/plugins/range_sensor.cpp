@@ -14,7 +14,7 @@ RangeConfig parseRange(const DeclarationSource& source) {
   RangeConfig config;
   config.rays.link = sensor.link;
   config.rays.pose = sensor.pose;
-  readRayTags(source.sensor, where, config.rays, source.diagnostics);
+  readRayTags(source.sensor, where, config.rays, source);
   if (config.rays.range_max <= config.rays.range_min)
     source.diagnostics.error(where + " <range> <max> must exceed <min>");
   if (config.rays.noise_stddev > 0 || config.rays.noise_mean != 0) {

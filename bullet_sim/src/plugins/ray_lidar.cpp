@@ -3,28 +3,65 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
 namespace bullet_sim {
 
+namespace {
+
+/// The <samples> and <resolution> of a <horizontal> or <vertical> block; samples are whole.
+struct Sampling {
+  double samples = 1;
+  double resolution = 1;
+  double beams() const { return std::max(1.0, std::round(samples * resolution)); }
+};
+
+Sampling samplingOf(PluginTags& tags, double default_samples, const std::string& where,
+                    Diagnostics& diagnostics) {
+  Sampling sampling{tags.positive("samples", default_samples), tags.positive("resolution", 1)};
+  if (sampling.samples != std::floor(sampling.samples)) {
+    std::ostringstream message;
+    message << where << " <samples> must be a whole number, not " << sampling.samples;
+    diagnostics.error(message.str());
+  }
+  return sampling;
+}
+
+/// The rays of a scan within the limit, so that no sensor asks for gigabytes: an error otherwise.
+bool withinRayLimit(double beams, double channels, const std::string& where, const Limits& limits,
+                    Diagnostics& diagnostics) {
+  const double limit = std::min<double>(limits.max_rays, std::numeric_limits<int>::max());
+  if (beams * channels <= limit) return true;
+  std::ostringstream message;
+  message << std::setprecision(17) << where << " asks for " << beams << " beams x " << channels
+          << " channels = " << beams * channels << " rays per scan, above the limit of " << limit
+          << " (max_rays): use fewer <samples> or a lower "
+          << "<resolution>";
+  diagnostics.error(message.str());
+  return false;
+}
+
+}  // namespace
+
 void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
-                 Diagnostics& diagnostics) {
+                 const DeclarationSource& source) {
+  Diagnostics& diagnostics = source.diagnostics;
   const TagNode* ray = sensor ? sensor->child("ray") : nullptr;
   PluginTags horizontal(ray ? ray->find({"scan", "horizontal"}) : nullptr, where + " <horizontal>",
                         diagnostics);
-  config.samples = static_cast<int>(horizontal.positive("samples", 640));
-  config.resolution = horizontal.positive("resolution", 1);
+  const Sampling sampling = samplingOf(horizontal, 640, where + " <horizontal>", diagnostics);
   config.min_angle = horizontal.number("min_angle", 0);
   config.max_angle = horizontal.number("max_angle", 0);
   horizontal.finish();
   if (config.max_angle < config.min_angle)
     diagnostics.error(where + " <horizontal> <max_angle> is below <min_angle>");
 
+  double channels = 1;
   if (const TagNode* vertical_node = ray ? ray->find({"scan", "vertical"}) : nullptr) {
     PluginTags vertical(vertical_node, where + " <vertical>", diagnostics);
-    config.channels = std::max(1, static_cast<int>(std::lround(vertical.positive("samples", 1) *
-                                                               vertical.positive("resolution", 1))));
+    channels = samplingOf(vertical, 1, where + " <vertical>", diagnostics).beams();
     config.min_elevation = vertical.number("min_angle", 0);
     config.max_elevation = vertical.number("max_angle", 0);
     vertical.finish();
@@ -32,10 +69,17 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
       diagnostics.error(where + " <vertical> <max_angle> is below <min_angle>");
     }
   }
+  // The samples count too: a fine resolution must not shrink 10^12 samples into one beam.
+  if (withinRayLimit(std::max(sampling.beams(), sampling.samples), channels, where, source.limits,
+                     diagnostics)) {
+    config.samples = static_cast<int>(sampling.samples);
+    config.resolution = sampling.resolution;
+    config.channels = static_cast<int>(channels);
+  }
 
   PluginTags range(ray ? ray->child("range") : nullptr, where + " <range>", diagnostics);
   config.range_min = range.positive("min", 0, /*allow_zero=*/true);
-  config.range_max = range.positive("max", 0);
+  config.range_max = range.capped("max", 0, source.limits.max_length, "max_length", "m");
   range.accept({"resolution"});  // Gazebo's ray sensor does not quantise its ranges either
   range.finish();
 
@@ -103,7 +147,7 @@ RayLidarConfig parseRayLidar(const DeclarationSource& source) {
   config.pose = sensor.pose;
   config.update_rate = sensor.update_rate;
   config.frame = sensor.link;
-  readRayTags(source.sensor, where, config, source.diagnostics);
+  readRayTags(source.sensor, where, config, source);
   readPluginTags(source.declaration.filename, source.tags, config);
   if (config.range_max <= config.range_min)
     source.diagnostics.error(where + " <range> <max> must exceed <min>");

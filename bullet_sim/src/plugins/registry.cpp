@@ -1,10 +1,12 @@
 #include "bullet_sim/plugins/registry.h"
 
 #include <algorithm>
+#include <sstream>
 #include <stdexcept>
 
 #include "bullet_sim/plugins/ackermann_drive.h"
 #include "bullet_sim/plugins/bumper.h"
+#include "bullet_sim/plugins/drive_support.h"
 #include "bullet_sim/plugins/force_based_move.h"
 #include "bullet_sim/plugins/ground_truth.h"
 #include "bullet_sim/plugins/hector_gps.h"
@@ -138,6 +140,30 @@ std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSourc
   return nullptr;
 }
 
+void PluginRegistry::checkModel(const ModelSpec& model, Diagnostics& diagnostics) const {
+  std::vector<const PluginDeclaration*> drives;
+  for (const auto& plugin : model.plugins) {
+    if (plugin.configAs<DriveConfigHead>()) drives.push_back(&plugin);
+  }
+  if (drives.size() > 1) {
+    std::string names;
+    for (const auto* drive : drives) names += (names.empty() ? "" : " and ") + drive->where();
+    diagnostics.error("the robot has " + std::to_string(drives.size()) + " drives, " + names +
+                      ": they would fight over its wheels and both publish its odometry; keep one");
+  }
+}
+
+void capUpdateRate(PluginConfig& config, const DeclarationSource& source) {
+  const double limit = source.limits.max_rate;
+  if (config.update_rate <= limit) return;
+  std::ostringstream message;
+  message << source.declaration.where() << ": update rate " << config.update_rate
+          << " Hz is above the limit of " << limit << " Hz (max_rate): " << limit
+          << " Hz is used (no plugin updates more often than once a step)";
+  source.diagnostics.warning(message.str());
+  config.update_rate = limit;
+}
+
 std::unique_ptr<Plugin> PluginRegistry::create(const PluginDeclaration& declaration,
                                                const PluginSetup& setup) const {
   const auto& sensor = declaration.sensor;
@@ -178,8 +204,8 @@ std::vector<std::string> ControllerRegistry::names() const {
 }
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings) {
-  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings);
+                     std::vector<std::string>* warnings, const Limits& limits) {
+  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings, limits);
 }
 
 }  // namespace bullet_sim

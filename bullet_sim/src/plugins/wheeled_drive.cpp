@@ -12,10 +12,30 @@ namespace {
 
 constexpr double kGeometryTolerance = 0.005;  // [m] plugin figures vs URDF geometry before we say so
 
-void readCommon(PluginTags& tags, DriveConfig& config) {
+void readCommon(const DeclarationSource& source, DriveConfig& config) {
+  PluginTags& tags = source.tags;
   readDriveHead(tags, DriveTagNames{}, config);
   config.wheel_separation = tags.positive("wheelSeparation", config.wheel_separation);
   config.wheel_diameter = tags.positive("wheelDiameter", config.wheel_diameter);
+  for (const auto& [tag, value] : {std::pair{"wheelSeparation", &config.wheel_separation},
+                                   std::pair{"wheelDiameter", &config.wheel_diameter}}) {
+    if (auto problem = boundProblem(*value, source.limits.max_length, "max_length", "m"))
+      source.diagnostics.error(tags.where() + " <" + tag + "> " + *problem);
+  }
+}
+
+/// A wheel named twice, on both sides or on one, would be driven twice: an error.
+void checkWheelsDistinct(const DeclarationSource& source, const DriveConfig& config) {
+  std::vector<std::string> seen;
+  for (const auto* side : {&config.left_joints, &config.right_joints}) {
+    for (const auto& joint : *side) {
+      if (std::find(seen.begin(), seen.end(), joint) != seen.end()) {
+        source.diagnostics.error(source.tags.where() + " names joint [" + joint +
+                                 "] for two wheels: each wheel of a drive is a joint of its own");
+      }
+      seen.push_back(joint);
+    }
+  }
 }
 
 std::string vectorText(const Eigen::Vector3d& v) {
@@ -66,6 +86,7 @@ std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig
 
 /// Checks the wheels against the model (see checkSide) and wheelSeparation against their joints.
 void checkWheels(const DeclarationSource& source, DriveConfig& config) {
+  checkWheelsDistinct(source, config);
   if (!source.model.link(config.robot_base_frame)) {
     source.diagnostics.error(source.tags.where() + " <robotBaseFrame> [" + config.robot_base_frame +
                              "] is not a link" +
@@ -92,10 +113,10 @@ void checkWheels(const DeclarationSource& source, DriveConfig& config) {
 DriveConfig parseDiffDrive(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   DriveConfig config;
-  readCommon(tags, config);
+  readCommon(source, config);
   config.left_joints = {tags.text("leftJoint", "left_joint")};
   config.right_joints = {tags.text("rightJoint", "right_joint")};
-  config.torque = tags.positive("wheelTorque", 5.0);
+  config.torque = tags.capped("wheelTorque", 5.0, source.limits.max_effort, "max_effort", "N m");
   config.acceleration = tags.positive("wheelAcceleration", 0.0, /*allow_zero=*/true);
   const std::string odometry_source = tags.text("odometrySource", "world");
   if (odometry_source == "encoder") {
@@ -123,12 +144,12 @@ DriveConfig parseSkidSteer(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   DriveConfig config;
   config.wheel_separation = 0.4;
-  readCommon(tags, config);
+  readCommon(source, config);
   config.left_joints = {tags.text("leftFrontJoint", "left_front_joint"),
                         tags.text("leftRearJoint", "left_rear_joint")};
   config.right_joints = {tags.text("rightFrontJoint", "right_front_joint"),
                          tags.text("rightRearJoint", "right_rear_joint")};
-  config.torque = tags.positive("torque", 5.0);
+  config.torque = tags.capped("torque", 5.0, source.limits.max_effort, "max_effort", "N m");
   config.publish_odom_tf = tags.flag("broadcastTF", false);
   const double x = tags.positive("covariance_x", 1e-4, true);
   const double y = tags.positive("covariance_y", 1e-4, true);

@@ -134,6 +134,7 @@ class OffscreenRenderer::Context {
 
     collectVisible(scene, projection * view, view);
     drawMeshes(view, /*translucent=*/false);
+    if (scene.outline_step > 0) drawOutlines(scene, width, height);
     glLoadMatrixd(view.data());
     if (scene.ground_grid) {
       setColour(scene.grid_rgba);
@@ -200,6 +201,41 @@ class OffscreenRenderer::Context {
     glAlphaFunc(GL_GREATER, kTextureAlphaCut);
     glEnableClientState(GL_VERTEX_ARRAY);
     initialised_ = true;
+  }
+
+  /// Darkens the pixels beside a surface that is outline_step nearer than they are: the edges of what stands
+  /// out from what lies behind it, whatever their colours. Drawn as window-space points over the meshes.
+  static void drawOutlines(const Scene& scene, int width, int height) {
+    std::vector<float> depth;
+    readDepth(scene.camera, width, height, depth);
+    std::vector<Eigen::Vector2d> outline;  // window coordinates, bottom row first
+    const auto nearer = [&](int x, int y, float here) {
+      return x >= 0 && y >= 0 && x < width && y < height &&
+             depth[static_cast<size_t>(y) * width + x] < here - scene.outline_step;
+    };
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const float here = depth[static_cast<size_t>(y) * width + x];
+        if (nearer(x - 1, y, here) || nearer(x + 1, y, here) || nearer(x, y - 1, here) ||
+            nearer(x, y + 1, here))
+          outline.emplace_back(x + 0.5, height - 1 - y + 0.5);
+      }
+    }
+    glMatrixMode(GL_PROJECTION);
+    glPushMatrix();
+    glLoadIdentity();
+    glOrtho(0, width, 0, height, -1, 1);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glDisable(GL_DEPTH_TEST);
+    setColour(scene.outline_rgba);
+    glPointSize(1);
+    glVertexPointer(2, GL_DOUBLE, sizeof(Eigen::Vector2d), outline.data());
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(outline.size()));
+    glEnable(GL_DEPTH_TEST);
+    glMatrixMode(GL_PROJECTION);
+    glPopMatrix();
+    glMatrixMode(GL_MODELVIEW);
   }
 
   /// Call with the view matrix loaded: GL fixes the light's direction in eye coordinates then.

@@ -1,13 +1,15 @@
 #include "simulator_node.h"
 
+#include <malloc.h>
 #include <ros/callback_queue.h>
 #include <rosgraph_msgs/Clock.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/render/image.h"
 #include "bullet_sim/scene/robot_snapshot.h"
+#include "bullet_sim/tools/process_stats.h"
 
 namespace bullet_sim {
 
@@ -23,7 +25,22 @@ std::filesystem::path defaultSnapshotDir() {
   return base / "snapshots";
 }
 
-WorldSpec loadWorldParam(const ros::NodeHandle& private_node) {
+/// The limits, each from its ~limits/<name> when set.
+Limits limitsParam(const ros::NodeHandle& private_node) {
+  Limits limits;
+  for (const std::string& name : Limits::names()) {
+    double value = 0;
+    if (!private_node.getParam("limits/" + name, value)) continue;
+    try {
+      limits.set(name, value);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error("~limits/" + name + ": " + e.what());
+    }
+  }
+  return limits;
+}
+
+WorldSpec loadWorldParam(const ros::NodeHandle& private_node, const Limits& limits) {
   const std::string name = private_node.param<std::string>("world", "empty.world");
   const std::string fallback = private_node.param<std::string>("world_fallback", "");
   WorldOptions options;
@@ -37,32 +54,20 @@ WorldSpec loadWorldParam(const ros::NodeHandle& private_node) {
   }
   if (!path) throw std::runtime_error("~world: " + error);
   std::vector<std::string> warnings;
+  options.limits = limits;
   WorldSpec world = loadWorld(*path, resolver, &warnings, options);
   for (const auto& warning : warnings) ROS_WARN("%s", warning.c_str());
   ROS_INFO("world %s", path->c_str());
   return world;
 }
 
-SpawnPose toSpawnPose(const geometry_msgs::Pose& pose, bool place_on_ground) {
-  const Eigen::Quaterniond q(pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z);
-  const Eigen::Matrix3d rotation =
-      q.norm() > 0 ? q.normalized().toRotationMatrix() : Eigen::Matrix3d::Identity();
-  SpawnPose spawn;
-  spawn.x = pose.position.x;
-  spawn.y = pose.position.y;
-  spawn.yaw = std::atan2(rotation(1, 0), rotation(0, 0));
-  spawn.pitch = std::asin(-std::clamp(rotation(2, 0), -1.0, 1.0));
-  spawn.roll = std::atan2(rotation(2, 1), rotation(2, 2));
-  if (!place_on_ground) spawn.z = pose.position.z;
-  return spawn;
-}
-
 }  // namespace
 
 SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
     : node_(node), private_(private_node) {
-  WorldSpec world = loadWorldParam(private_);
   SimulationOptions options;
+  options.limits = limitsParam(private_);
+  WorldSpec world = loadWorldParam(private_, options.limits);
   // The world's <physics>, unless the node's own parameters say otherwise.
   options.physics.step_size = private_.param("step_size", world.max_step_size);
   real_time_factor_ = private_.param("real_time_factor", world.real_time_update_rate * world.max_step_size);
@@ -100,6 +105,8 @@ void SimulatorNode::run() {
   // /clock is never 0: the first step happens even when starting paused.
   step();
   anchorPacing();
+  ROS_INFO("first /clock %.3f s after the process started (%.3f s of CPU), %.0f MB of memory at most so far",
+           processAge().value_or(NAN), cpuSeconds(), peakRssMb());
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
   while (ros::ok()) {
     queue.callAvailable();  // commands and service calls land between steps
@@ -179,7 +186,9 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
 bool SimulatorNode::deleteRobot(const std::string& name) {
   adapters_.erase(name);
   recording_->forget(name);
-  return simulation_->remove(name);
+  const bool removed = simulation_->remove(name);
+  malloc_trim(0);  // the robot's memory goes back to the system, not only to malloc
+  return removed;
 }
 
 void SimulatorNode::physicsChanged() {
@@ -195,13 +204,22 @@ void SimulatorNode::setPaused(bool paused) {
 
 bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
   const std::string source = "model [" + request.model_name + "]";
+  ROS_INFO("spawning %s", source.c_str());
   try {
     std::vector<std::string> warnings;
     if (request.joint_names.size() != request.joint_positions.size()) {
       throw std::invalid_argument("joint_names and joint_positions differ in length");
     }
-    ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings);
-    SpawnPose pose = toSpawnPose(request.initial_pose, request.place_on_ground);
+    Diagnostics pose_problems(source);
+    const auto& at = request.initial_pose;
+    SpawnPose pose = spawnPoseFrom(
+        Eigen::Vector3d(at.position.x, at.position.y, at.position.z),
+        Eigen::Quaterniond(at.orientation.w, at.orientation.x, at.orientation.y, at.orientation.z),
+        request.place_on_ground, pose_problems);
+    pose_problems.throwIfErrors();
+    warnings = pose_problems.warnings();
+    ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings,
+                                 simulation_->limits());
     if (!request.robot_namespace.empty()) pose.robot_namespace = request.robot_namespace;
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];
@@ -214,6 +232,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     response.success = false;
     response.message = e.what();
     ROS_ERROR("spawn refused: %s", e.what());
+    malloc_trim(0);  // what the refused model took goes back to the system
   }
   return true;
 }
@@ -255,28 +274,58 @@ bool SimulatorNode::snapshot(Snapshot::Request& request, Snapshot::Response& res
   if (!view && !camera) {
     return refuse("unknown view [" + request.view + "]: use chase, top, front, camera:NAME or depth:NAME");
   }
-  const int width = request.width == 0 ? 640 : static_cast<int>(std::min<uint32_t>(request.width, 1u << 30));
-  const int height =
-      request.height == 0 ? 480 : static_cast<int>(std::min<uint32_t>(request.height, 1u << 30));
-  if (width > kMaxSnapshotSide || height > kMaxSnapshotSide) {
-    return refuse("size " + std::to_string(width) + " x " + std::to_string(height) + " is above " +
-                  std::to_string(kMaxSnapshotSide) + " x " + std::to_string(kMaxSnapshotSide));
+  if (request.width > kMaxSnapshotSide || request.height > kMaxSnapshotSide) {
+    return refuse("size " + std::to_string(request.width) + " x " + std::to_string(request.height) +
+                  " is above " + std::to_string(kMaxSnapshotSide) + " x " + std::to_string(kMaxSnapshotSide));
   }
-  const std::filesystem::path file = std::filesystem::path(request.file).lexically_normal();
-  if (request.file.empty() || file.is_absolute() || file.empty() || *file.begin() == "..") {
-    return refuse("file [" + request.file + "] must be a relative path inside ~snapshot_dir [" +
-                  snapshot_dir_.string() + "]");
-  }
+  const int width = request.width == 0 ? 640 : static_cast<int>(request.width);
+  const int height = request.height == 0 ? 480 : static_cast<int>(request.height);
   std::string error;
-  const std::filesystem::path path = snapshot_dir_ / file;
+  const auto path = snapshotPath(request.file, &error);
+  if (!path) return refuse(error);
   const auto draw = [&] {
     return camera ? cameraImage(*simulation_, *camera, renderer()) : drawView(*view, width, height);
   };
-  if (!writeSnapshot(path, draw, &error)) return refuse(error);
+  if (!writeSnapshot(*path, draw, &error)) return refuse(error);
   response.success = true;
-  response.path = path.string();
+  response.path = path->string();
   response.message = "wrote " + response.path;
   return true;
+}
+
+std::optional<std::filesystem::path> SimulatorNode::snapshotPath(const std::string& file,
+                                                                 std::string* error) {
+  namespace fs = std::filesystem;
+  const std::string inside = "must be a relative path inside ~snapshot_dir [" + snapshot_dir_.string() + "]";
+  if (file.find('\0') != std::string::npos) {
+    *error = "file [" + file.substr(0, file.find('\0')) + "\\0...] holds a NUL byte: a file name cannot";
+    return std::nullopt;
+  }
+  const fs::path relative = fs::path(file).lexically_normal();
+  if (file.empty() || relative.is_absolute() || relative.empty() || *relative.begin() == "..") {
+    *error = "file [" + file + "] " + inside;
+    return std::nullopt;
+  }
+  // Symbolic links inside the folder may lead out of it: the real path must stay inside the real folder.
+  std::error_code ec;
+  fs::create_directories(snapshot_dir_, ec);
+  const fs::path folder = fs::canonical(snapshot_dir_, ec);
+  if (ec) {
+    *error = "~snapshot_dir [" + snapshot_dir_.string() + "] cannot be created: " + ec.message();
+    return std::nullopt;
+  }
+  const fs::path real = fs::weakly_canonical(folder / relative, ec);
+  const auto [end, ignored] = std::mismatch(folder.begin(), folder.end(), real.begin(), real.end());
+  bool dangling_link = false;  // weakly_canonical resolves the links that lead somewhere; these do not
+  for (fs::path at = real; !ec && end == folder.end() && at != folder; at = at.parent_path()) {
+    std::error_code missing;  // what does not exist yet is no link
+    dangling_link |= fs::is_symlink(fs::symlink_status(at, missing));
+  }
+  if (ec || end != folder.end() || real == folder || dangling_link) {
+    *error = "file [" + file + "] leads to [" + real.string() + "] through a symbolic link: it " + inside;
+    return std::nullopt;
+  }
+  return real;
 }
 
 Image SimulatorNode::drawView(View view, int width, int height) {
@@ -288,16 +337,13 @@ bool SimulatorNode::writeSnapshot(const std::filesystem::path& path, const std::
   try {
     std::filesystem::create_directories(path.parent_path());
     const Image image = draw();
-    return writePng(path.string(), image, error);
+    return render_.writePng(path.string(), image, error);
   } catch (const std::exception& e) {
     *error = e.what();
     return false;
   }
 }
 
-SceneRenderer& SimulatorNode::renderer() {
-  if (!renderer_) renderer_ = std::make_unique<OffscreenRenderer>();
-  return *renderer_;
-}
+SceneRenderer& SimulatorNode::renderer() { return render_.renderer(); }
 
 }  // namespace bullet_sim

@@ -1,4 +1,4 @@
-// The ROS node `simulator` (named `gazebo` by our launch files): steps the core in sim time, publishes
+// The ROS node `simulator` (registered as `gazebo`, as gzserver is): steps the core in sim time, publishes
 // /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
 //
 // Params: ~world [empty.world], ~world_fallback [none: the world loaded, with a warning, when ~world is not
@@ -6,7 +6,8 @@
 //   is skipped with a warning; true: an error], ~step_size and ~real_time_factor [the world's <physics>: 1 ms,
 //   1; 0 = as fast as possible], ~paused [false], ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui
 //   (accepted: rendering is headless), ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off]
-//   (numbered chase-view frames), ~model_states_rate (world_api.h).
+//   (numbered chase-view frames), ~model_states_rate (world_api.h), ~limits/<name> (description/limits.h:
+//   what a model or world may ask for).
 // Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
 //   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (world_api.h).
 #pragma once
@@ -18,16 +19,17 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "bullet_sim/Snapshot.h"
 #include "bullet_sim/SpawnModel.h"
-#include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/camera.h"
 #include "bullet_sim/scene/recording.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation.h"
+#include "render_library.h"
 #include "robot_adapter.h"
 #include "ros_parameters.h"
 #include "world_api.h"
@@ -61,6 +63,9 @@ class SimulatorNode final : public SimulationHost {
   bool unpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool snapshot(Snapshot::Request& request, Snapshot::Response& response);
 
+  /// The real path of a snapshot file inside ~snapshot_dir, or nullopt with `error` saying why `file` may not
+  /// be written: a NUL byte, an absolute path, a way out with .. or through a symbolic link.
+  std::optional<std::filesystem::path> snapshotPath(const std::string& file, std::string* error);
   /// Writes what `draw` renders into a PNG at `path`; false with `error` when it cannot.
   bool writeSnapshot(const std::filesystem::path& path, const std::function<Image()>& draw,
                      std::string* error);
@@ -96,7 +101,7 @@ class SimulatorNode final : public SimulationHost {
   ros::WallTime wall_anchor_;
   double sim_anchor_ = 0;
 
-  std::unique_ptr<OffscreenRenderer> renderer_;  ///< created at the first snapshot or camera frame
+  RenderLibrary render_;  ///< loaded at the first snapshot or camera frame
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
   std::function<void(const Simulation&)> observer_;

@@ -9,17 +9,15 @@
 #include <std_srvs/Empty.h>
 #include <tf2/LinearMath/Quaternion.h>
 
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "bullet_sim/SpawnModel.h"
+#include "bullet_sim/description/files.h"
+#include "bullet_sim/description/limits.h"
 
 namespace {
-
-constexpr std::uintmax_t kMaxDescriptionBytes = 64u << 20;  // [bytes] a URDF larger than this is a mistake
 
 /// A reason to stop, for stderr and a non-zero exit.
 struct Refusal : std::runtime_error {
@@ -59,20 +57,17 @@ Arguments parseFlags(const std::vector<std::string>& args) {
   return parsed;
 }
 
-/// The text of a -file: a regular file (not a directory, a FIFO or a device) of a sane size.
+/// The text of a -file: a regular file (not a directory, a FIFO or a device) of at most the simulator's
+/// default max_description_bytes.
 std::string readFile(const std::string& path) {
-  std::error_code error;
-  const auto status = std::filesystem::status(path, error);
-  if (error) throw Refusal("cannot read -file [" + path + "]: " + error.message());
-  if (!std::filesystem::is_regular_file(status)) throw Refusal("-file [" + path + "] is not a regular file");
-  const std::uintmax_t size = std::filesystem::file_size(path, error);
-  if (error || size > kMaxDescriptionBytes) {
-    throw Refusal("-file [" + path + "] is " + std::to_string(size) + " bytes, more than the " +
-                  std::to_string(kMaxDescriptionBytes) + " a robot description may have");
+  const size_t max_bytes = bullet_sim::Limits().max_description_bytes;
+  if (auto problem = bullet_sim::fileProblem(path, max_bytes, "max_description_bytes"))
+    throw Refusal("-file [" + path + "] " + *problem);
+  try {
+    return bullet_sim::readRegularFile(path, max_bytes, "max_description_bytes");
+  } catch (const std::runtime_error& e) {
+    throw Refusal(std::string("-file ") + e.what());
   }
-  std::ifstream in(path);
-  if (!in) throw Refusal("cannot read -file [" + path + "]");
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 std::string readDescription(const Arguments& arguments) {

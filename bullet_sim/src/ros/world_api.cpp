@@ -213,9 +213,10 @@ std::string WorldApi::spawn(const gazebo_msgs::SpawnModel::Request& request, boo
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   ModelSpec model;
   if (root == "robot") {
-    model = parseModel(request.model_xml, source, resolver, &warnings);
+    model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits());
   } else if (root == "sdf" && sdf_too) {
-    model = parseSdfModel(request.model_xml, source, resolver, PluginRegistry::builtin(), &warnings);
+    model = parseSdfModel(request.model_xml, source, resolver, PluginRegistry::builtin(), &warnings,
+                          simulation_.limits());
   } else if (root == "sdf") {
     throw std::invalid_argument("SpawnModel: " + source +
                                 " is SDF, not a URDF: spawn it with spawn_sdf_model");

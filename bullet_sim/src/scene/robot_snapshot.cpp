@@ -15,6 +15,8 @@ namespace bullet_sim {
 namespace {
 
 constexpr double kLidarHitSize = 4;  // [px]
+// [m] A plan outlines what stands this much above what lies beside it: a seat, a table top, a wall.
+constexpr double kPlanOutlineStep = 0.02;
 
 std::string noScanWarning(const RayLidar& lidar) {
   std::ostringstream warning;
@@ -81,6 +83,7 @@ Scene simulationScene(const Simulation& simulation, View view, const std::string
   }
   scene.polylines = trails;
   scene.camera = viewCamera(view, focus_pose, focus_bounds, worldBounds(simulation.world()));
+  if (view == View::kTop) scene.outline_step = kPlanOutlineStep;
   return scene;
 }
 

@@ -31,6 +31,8 @@
 #include "bullet_sim/scene/scene_builder.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation.h"
+#include "bullet_sim/tools/process_stats.h"
+#include "tools/bench_world.h"
 #include "tools/command_line.h"
 
 namespace bullet_sim {
@@ -42,7 +44,8 @@ constexpr char kUsage[] =
     "usage: bench --robot FILE.urdf|FILE.xacro [--world FILE] [--pose x,y,yaw]\n"
     "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
-    "             [--obstacles N] [--repeat K] [--camera WxH@HZ [--depth]]\n"
+    "             [--obstacles N] [--boxes N] [--delete-cycles K] [--repeat K]\n"
+    "             [--camera WxH@HZ [--depth]] [--limit NAME=VALUE]...\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
     "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
@@ -54,6 +57,12 @@ constexpr char kUsage[] =
     "  startup_s               from the process start to the end of the first step, xacro and\n"
     "                          loading included; startup_cpu_s: the CPU time this process used\n"
     "  peak_rss_mb             peak resident memory\n"
+    "  world_load_s            reading the world file, as the simulator node does (libsdformat in a\n"
+    "                          child process); world_first_step_s: and then building a simulation of\n"
+    "                          it and stepping it once; world_rss_mb: resident memory then\n"
+    "  rss_before_spawn_mb     resident memory of a simulation of the world before the robot is first\n"
+    "                          spawned; rss_after_delete_mb: after K spawns, 0.5 s runs and deletions\n"
+    "                          (malloc_trim, as the node does); rss_delete_growth_pct: the difference\n"
     "  pose_error_m            where the drive axle ends, against the unicycle that follows the\n"
     "                          command exactly from the settled axle; pose_error_steady_m: that\n"
     "                          unicycle started after the first second of driving\n"
@@ -69,12 +78,15 @@ constexpr char kUsage[] =
     "none) and, with CHANNELS > 1, that many channels from -15 to +15 degrees, published as a\n"
     "velodyne plugin would. --lidar-rate sets their update rate [Hz]. --obstacles adds N static\n"
     "0.1 x 0.1 x 1 m posts at random (seeded) places at least 1.5 m from the commanded path.\n"
+    "--boxes N drives in a world of N x N static boxes of 0.3 x 0.3 x 0.5 m, 1 m apart, the grid's\n"
+    "nearest row 2.5 m to the right of the start (instead of --world). --delete-cycles sets K.\n"
+    "--limit sets one of the simulator's limits (its ~limits/NAME), e.g. max_links=2000.\n"
     "--camera adds a 60 degree camera of WxH pixels at HZ on the robot's root link, 0.3 m ahead and\n"
     "1 m up, looking ahead (libgazebo_ros_camera.so); with --depth, a depth camera with its depth\n"
     "image and organized cloud (libgazebo_ros_openni_kinect.so).\n"
     "A relative --world is looked up in bullet_sim/worlds, then bullet_sim_bringup/worlds, then\n"
     "the working directory.\n"
-    "Defaults: --world empty.world --pose 0,0,0 --step 0.001 --duration 10 --cmd 0.5,0.3\n"
+    "Defaults: --world empty.world --pose 0,0,0 --step 0.001 --duration 10 --cmd 0.5,0.3 --delete-cycles 3\n"
     "          --render 640x480 --repeat 3; the robot's own wheel model and lidars;\n"
     "          --lidar-rate 10 with --lidar\n";
 
@@ -89,6 +101,7 @@ constexpr double kPostSide = 0.1;                   ///< [m] of an --obstacles p
 constexpr double kPostHeight = 1.0;                 ///< [m]: lidars up to this height see the posts
 constexpr double kPostClearance = 1.5;              ///< [m] kept free around the commanded path
 constexpr uint64_t kPostSeed = 1;
+constexpr double kBoxClearance = 2.5;  ///< [m] from the start to --boxes' nearest row, on the right
 
 struct Options {
   std::string robot;
@@ -104,6 +117,9 @@ struct Options {
   std::optional<double> lidar_rate;  ///< [Hz]
   int render_width = 640, render_height = 480;
   int obstacles = 0;
+  int boxes = 0;  ///< a world of boxes x boxes boxes instead of `world`
+  int delete_cycles = 3;
+  Limits limits;
   int repeat = 3;
   struct Camera {
     int width = 640, height = 480;
@@ -196,6 +212,10 @@ Options parseArguments(int argc, char** argv) {
           std::tie(options.render_width, options.render_height) = parseSize(value, "--render", 4096);
         }},
        {"--obstacles", [&](Value value) { options.obstacles = parseCount(value, "--obstacles", 0, 100000); }},
+       {"--boxes", [&](Value value) { options.boxes = parseCount(value, "--boxes", 1, 1000); }},
+       {"--delete-cycles",
+        [&](Value value) { options.delete_cycles = parseCount(value, "--delete-cycles", 0, 1000); }},
+       limitOption(options.limits),
        {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }},
        {"--camera", [&](Value value) { options.camera = parseCamera(value); }},
        // Taken after --camera, whatever their order on the command line.
@@ -208,6 +228,8 @@ Options parseArguments(int argc, char** argv) {
       &options.help);
   if (options.help) return options;
   if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
+  if (options.boxes > 0 && !options.world.empty())
+    throw UsageError("--boxes makes a world: leave --world out");
   return options;
 }
 
@@ -435,42 +457,6 @@ Planar unicycle(const Planar& start, double v, double w, double seconds) {
           start.y - v / w * (std::cos(yaw) - std::cos(start.yaw)), yaw};
 }
 
-/// Seconds since this process was started (exec), from /proc/self/stat: its start time has the kernel's
-/// clock-tick resolution (10 ms). Nullopt when /proc cannot tell.
-std::optional<double> processAge() {
-  std::ifstream stat("/proc/self/stat");
-  std::string text;
-  std::getline(stat, text);
-  // Field 2, the command name, may hold spaces: count fields after its closing parenthesis.
-  const size_t name_end = text.rfind(')');
-  if (name_end == std::string::npos) return std::nullopt;
-  std::istringstream fields(text.substr(name_end + 1));
-  std::string field;
-  for (int index = 3; index <= 22 && fields >> field; ++index) {
-  }
-  timespec now{};
-  const long ticks_per_second = sysconf(_SC_CLK_TCK);
-  if (!fields || ticks_per_second <= 0 || clock_gettime(CLOCK_BOOTTIME, &now) != 0) return std::nullopt;
-  const double started = std::stod(field) / ticks_per_second;  // field 22: start time since boot
-  return now.tv_sec + now.tv_nsec * 1e-9 - started;
-}
-
-/// CPU seconds this process has used so far, user and system, from its start. On a busy machine this is what
-/// start-up costs, without the waiting for a core that wall time adds.
-double cpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const auto seconds = [](const timeval& time) { return time.tv_sec + time.tv_usec * 1e-6; };
-  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
-}
-
-/// The most resident memory this process has had so far [MB].
-double peakRssMb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0;  // reported in KiB
-}
-
 /// CPU time of the calling thread [s]: what its work cost, whatever other processes took of the machine.
 double threadCpuSeconds() {
   timespec time{};
@@ -630,25 +616,16 @@ RenderTimes measureRender(const Simulation& simulation, const std::string& robot
     times.render_ms.push_back(1e3 * secondsSince(start));
   }
 
-  const char* tmpdir = std::getenv("TMPDIR");
-  std::string path = std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/bullet_sim_bench_XXXXXX.png";
-  const int fd = mkstemps(path.data(), 4);
-  if (fd < 0)
-    throw Failure("cannot create a temporary PNG file [" + path + "]: set TMPDIR to a writable directory");
-  close(fd);
+  const TemporaryFile png_file("", ".png");
   for (int i = 0; i < count; ++i) {
     std::string error;
     start = Clock::now();
-    const bool written = writePng(path, image, &error);
+    const bool written = writePng(png_file.path(), image, &error);
     times.png_ms.push_back(1e3 * secondsSince(start));
-    if (!written) {
-      std::remove(path.c_str());
-      throw Failure(error);
-    }
+    if (!written) throw Failure(error);
   }
-  std::ifstream png(path, std::ios::binary | std::ios::ate);
+  std::ifstream png(png_file.path(), std::ios::binary | std::ios::ate);
   times.png_bytes = static_cast<size_t>(png.tellg());
-  std::remove(path.c_str());
   return times;
 }
 
@@ -672,6 +649,8 @@ struct Figures {
   std::vector<LidarRays> lidars;
   std::vector<double> rays_per_s;
   double peak_rss_before_render_mb = 0;
+  WorldLoad world_load;
+  DeleteCycle delete_cycle;
   RenderTimes render;
   std::vector<std::string> warnings;  ///< each once
 };
@@ -706,12 +685,18 @@ Figures measure(const Options& options) {
   std::vector<std::string> warnings;
   const std::string urdf =
       endsWith(options.robot, ".xacro") ? runXacro(options.robot, {}) : readUrdfFile(options.robot);
-  const ModelSpec model = parseModel(applyRobotOptions(urdf, options), options.robot, resolver, &warnings);
-  const std::string world_file = findWorld(options.world, resolver);
-  WorldSpec world = loadWorld(world_file, resolver, &warnings);
+  const ModelSpec model =
+      parseModel(applyRobotOptions(urdf, options), options.robot, resolver, &warnings, options.limits);
+  std::optional<TemporaryFile> box_world;
+  if (options.boxes > 0) box_world.emplace(boxWorld(options.boxes, kBoxClearance), ".world");
+  const std::string world_file = box_world ? box_world->path() : findWorld(options.world, resolver);
+  const WorldLoad world_load = measureWorldLoad(world_file, resolver);
+  WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});
   addObstacles(world, options);
   Figures figures = drive(options, model, world, warnings);
   figures.world_file = world_file;
+  figures.world_load = world_load;
+  figures.delete_cycle = measureDeleteCycle(world, model, options.pose, options.delete_cycles);
 
   // Rays and pictures of the robot settled at its spawn pose, its lidars having scanned.
   SimulationOptions simulation_options;
@@ -815,6 +800,15 @@ Json report(const Options& options, const Figures& figures) {
   json["png_ms_runs"] = figureList(render.png_ms);
   json["png_bytes"] = render.png_bytes;
   json["peak_rss_before_render_mb"] = figures.peak_rss_before_render_mb;
+  json["boxes"] = options.boxes * options.boxes;
+  json["world_load_s"] = figures.world_load.load_s;
+  json["world_first_step_s"] = figures.world_load.first_step_s;
+  json["world_rss_mb"] = figures.world_load.rss_mb;
+  const DeleteCycle& cycle = figures.delete_cycle;
+  json["delete_cycles"] = options.delete_cycles;
+  json["rss_before_spawn_mb"] = cycle.rss_before_mb;
+  json["rss_after_delete_mb"] = cycle.rss_after_mb;
+  json["rss_delete_growth_pct"] = figure(100 * (cycle.rss_after_mb / cycle.rss_before_mb - 1));
   json["warnings"] = figures.warnings;
   return json;
 }

@@ -9,6 +9,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "bullet_sim/description/files.h"
 #include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/tools/subprocess.h"
 
@@ -96,10 +97,29 @@ std::string runXacro(const std::string& file, const std::vector<std::string>& ar
   }
 }
 
-std::string readUrdfFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Failure("cannot read URDF [" + path + "]: " + std::strerror(errno));
-  return std::string(std::istreambuf_iterator<char>(in), {});
+std::string readUrdfFile(const std::string& path, const Limits& limits) {
+  if (auto problem = fileProblem(path, limits.max_description_bytes, "max_description_bytes"))
+    throw Failure("cannot read URDF [" + path + "]: it " + *problem);
+  try {
+    return readRegularFile(path, limits.max_description_bytes, "max_description_bytes");
+  } catch (const std::runtime_error& e) {
+    throw Failure(std::string("cannot read URDF ") + e.what());
+  }
+}
+
+ToolOption limitOption(Limits& limits) {
+  return {"--limit",
+          [&limits](const std::string& value) {
+            const auto parts = split(value, '=');
+            if (parts.size() != 2)
+              throw UsageError("--limit [" + value + "]: write NAME=VALUE, e.g. max_links=2000");
+            try {
+              limits.set(parts[0], parseNumber(parts[1], "--limit"));
+            } catch (const std::invalid_argument& e) {
+              throw UsageError(std::string("--limit: ") + e.what());
+            }
+          },
+          /*repeatable=*/true};
 }
 
 std::string findWorld(const std::string& name, const PackageResolver& resolver) {

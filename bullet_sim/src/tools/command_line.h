@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/package_resolver.h"
 
 namespace bullet_sim {
@@ -53,8 +54,12 @@ std::vector<std::string> split(const std::string& text, char separator);
 /// The URDF that `xacro file args...` prints (expandXacro); a Failure with xacro's message when it fails.
 std::string runXacro(const std::string& file, const std::vector<std::string>& args);
 
-/// The whole of a URDF file.
-std::string readUrdfFile(const std::string& path);
+/// The whole of a URDF file: a regular file of at most limits.max_description_bytes; a Failure otherwise.
+std::string readUrdfFile(const std::string& path, const Limits& limits = Limits());
+
+/// --limit NAME=VALUE (repeatable): sets one of `limits` (description/limits.h); a UsageError names the
+/// limits there are when NAME is none of them.
+ToolOption limitOption(Limits& limits);
 
 /// The world file for a --world option (see findWorldFile); bullet_sim's empty.world when `name` is empty.
 std::string findWorld(const std::string& name, const PackageResolver& resolver);

@@ -225,8 +225,9 @@ bool isPrimitive(Shape::Type type) {
 
 class Examination {
  public:
-  Examination(const std::string& xml, const std::string& source, const PackageResolver& resolver)
-      : xml_(xml), resolver_(resolver) {
+  Examination(const std::string& xml, const std::string& source, const PackageResolver& resolver,
+              const Limits& limits)
+      : xml_(xml), resolver_(resolver), limits_(limits) {
     report_.source = source;
   }
 
@@ -245,7 +246,8 @@ class Examination {
     reportLookAlikes(look_alikes);
 
     Diagnostics diagnostics(report_.source);
-    const std::optional<ModelSpec> model = readModel(xml_, resolver_, PluginRegistry::builtin(), diagnostics);
+    const std::optional<ModelSpec> model =
+        readModel(xml_, resolver_, PluginRegistry::builtin(), diagnostics, limits_);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);
     for (const auto& warning : diagnostics.warnings()) add(Severity::kWarning, warning);
 
@@ -561,6 +563,7 @@ class Examination {
 
   const std::string& xml_;
   const PackageResolver& resolver_;
+  const Limits& limits_;
   tinyxml2::XMLDocument document_;
   DoctorReport report_;
 };
@@ -591,8 +594,8 @@ std::string DoctorReport::text() const {
 }
 
 DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
-                         const PackageResolver& resolver) {
-  return Examination(urdf_xml, source, resolver).run();
+                         const PackageResolver& resolver, const Limits& limits) {
+  return Examination(urdf_xml, source, resolver, limits).run();
 }
 
 DoctorReport unreadableReport(const std::string& source, const std::string& reason) {

@@ -19,7 +19,7 @@ namespace {
 constexpr char kUsage[] =
     "usage: render_model (--xacro FILE [--arg name:=value]... | --urdf FILE) [--world FILE]\n"
     "                    [--view chase|top|front|camera:NAME|depth:NAME] [--size WxH]\n"
-    "                    [--pose x,y,yaw] --out FILE.png\n"
+    "                    [--pose x,y,yaw] [--limit NAME=VALUE]... --out FILE.png\n"
     "\n"
     "Spawns the robot in the world, resting on the ground at the pose (x [m], y [m], yaw [rad]), lets\n"
     "each of its lidars scan once, and writes a picture of the robot, the world, a 1 m ground grid and\n"
@@ -27,6 +27,7 @@ constexpr char kUsage[] =
     "bullet_sim_bringup/worlds, then the working directory.\n"
     "camera:NAME draws what the robot's camera NAME (its <sensor> name or cameraName) sees after\n"
     "1 s of settling, at the camera's own size; depth:NAME its depth camera's depth, in grey.\n"
+    "--limit sets one of the simulator's limits (its ~limits/NAME), e.g. max_links=2000.\n"
     "Defaults: --world empty.world --view chase (from behind and above) --size 640x480 --pose 0,0,0\n";
 
 struct Options {
@@ -39,6 +40,7 @@ struct Options {
   int width = 640, height = 480;
   SpawnPose pose;
   std::string out;
+  Limits limits;
   bool help = false;
 };
 
@@ -73,7 +75,8 @@ Options parseArguments(int argc, char** argv) {
                      [&](const std::string& value) {
                        parsePlanarPose(value, "--pose", &options.pose.x, &options.pose.y, &options.pose.yaw);
                      }},
-                    {"--out", [&](const std::string& value) { options.out = value; }}},
+                    {"--out", [&](const std::string& value) { options.out = value; }},
+                    limitOption(options.limits)},
                    &options.help);
   if (options.help) return options;
   if (options.xacro.empty() == options.urdf.empty()) throw UsageError("give one of --xacro or --urdf");
@@ -86,14 +89,15 @@ int run(const Options& options) {
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   std::vector<std::string> warnings;
   const std::string source = options.xacro.empty() ? options.urdf : options.xacro;
-  const std::string urdf =
-      options.xacro.empty() ? readUrdfFile(options.urdf) : runXacro(options.xacro, options.xacro_args);
+  const std::string urdf = options.xacro.empty() ? readUrdfFile(options.urdf, options.limits)
+                                                 : runXacro(options.xacro, options.xacro_args);
   // Said as soon as known, so that they are not lost when a later step fails.
   const auto say = [](const std::vector<std::string>& warnings) {
     for (const std::string& warning : warnings) std::cerr << "render_model: warning: " << warning << "\n";
   };
-  ModelSpec model = parseModel(urdf, source, resolver, &warnings);
-  WorldSpec world = loadWorld(findWorld(options.world, resolver), resolver, &warnings);
+  ModelSpec model = parseModel(urdf, source, resolver, &warnings, options.limits);
+  WorldSpec world =
+      loadWorld(findWorld(options.world, resolver), resolver, &warnings, WorldOptions{false, options.limits});
   say(warnings);
   OffscreenRenderer renderer;
   Image image;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/description/files.h"
 #include "bullet_sim/tools/doctor.h"
 #include "bullet_sim/tools/subprocess.h"
 #include "tools/command_line.h"
@@ -17,25 +18,30 @@ namespace bullet_sim {
 namespace {
 
 constexpr char kUsage[] =
-    "usage: urdf_doctor FILE [name:=value ...]\n"
+    "usage: urdf_doctor [--limit NAME=VALUE]... FILE [name:=value ...]\n"
     "\n"
     "Checks a URDF, or a .xacro expanded with the xacro executable and the name:=value arguments, and\n"
-    "reports each problem with the element, the reason and the fix.\n"
+    "reports each problem with the element, the reason and the fix. What the simulator refuses is an\n"
+    "error here, with the same message; --limit sets one of its limits as the simulator's\n"
+    "~limits/NAME parameter does (e.g. --limit max_links=2000).\n"
     "Exit status: 0 clean or warnings only, 1 errors, 2 the file cannot be read, expanded or parsed.\n";
 
 bool endsWith(const std::string& text, const std::string& end) {
   return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
 }
 
-DoctorReport examineFile(const std::string& file, const std::vector<std::string>& args) {
+DoctorReport examineFile(const std::string& file, const std::vector<std::string>& args,
+                         const Limits& limits) {
   const PackageResolver resolver = PackageResolver::fromEnvironment();
-  std::ifstream in(file);
-  if (!in) return unreadableReport(file, "cannot read the file: " + std::string(std::strerror(errno)));
-  if (!endsWith(file, ".xacro") && args.empty())
-    return examineUrdf(std::string(std::istreambuf_iterator<char>(in), {}), file, resolver);
-
   try {
-    return examineUrdf(expandXacro(file, args), file, resolver);
+    // A FIFO or /dev/zero would block or fill the memory, here or in xacro.
+    if (auto problem = fileProblem(file, limits.max_description_bytes, "max_description_bytes"))
+      return unreadableReport(file, "the file " + *problem);
+    if (!endsWith(file, ".xacro") && args.empty()) {
+      return examineUrdf(readRegularFile(file, limits.max_description_bytes, "max_description_bytes"), file,
+                         resolver, limits);
+    }
+    return examineUrdf(expandXacro(file, args), file, resolver, limits);
   } catch (const std::runtime_error& error) {
     return unreadableReport(file, error.what());
   }
@@ -47,6 +53,7 @@ DoctorReport examineFile(const std::string& file, const std::vector<std::string>
 int main(int argc, char** argv) {
   using bullet_sim::UsageError;
   bool help = false;
+  bullet_sim::Limits limits;
   std::vector<std::string> words;  // FILE, then name:=value arguments for xacro
   const bullet_sim::ToolOption positional{
       "words", [&](const std::string& word) {
@@ -55,7 +62,7 @@ int main(int argc, char** argv) {
         words.push_back(word);
       }};
   try {
-    bullet_sim::parseCommandLine(argc, argv, {}, &help, &positional);
+    bullet_sim::parseCommandLine(argc, argv, {bullet_sim::limitOption(limits)}, &help, &positional);
     if (!help && words.empty()) throw UsageError("FILE is missing");
   } catch (const UsageError& error) {
     std::cerr << "urdf_doctor: " << error.what() << "\n\n" << bullet_sim::kUsage;
@@ -65,8 +72,8 @@ int main(int argc, char** argv) {
     std::cout << bullet_sim::kUsage;
     return 0;
   }
-  const bullet_sim::DoctorReport report =
-      bullet_sim::examineFile(words.front(), std::vector<std::string>(words.begin() + 1, words.end()));
+  const bullet_sim::DoctorReport report = bullet_sim::examineFile(
+      words.front(), std::vector<std::string>(words.begin() + 1, words.end()), limits);
   std::cout << report.text();
   return report.exitCode();
 }

@@ -1,4 +1,5 @@
-// Triangle meshes loaded with assimp (STL, DAE, OBJ, ...), with the colours and textures their files give.
+// Triangle meshes loaded with assimp (STL, DAE, OBJ, ...), with the colours and textures their files give, from
+// regular files only, within limits.
 #pragma once
 
 #include <Eigen/Core>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/texture.h"
 
 namespace bullet_sim {
@@ -54,20 +56,33 @@ struct TriangleMesh {
 /// it, none are loaded. A texture that cannot be found or decoded leaves its part in its colour, with a
 /// warning in `warnings`. On failure returns nullopt and sets `error` to a message naming the file and the
 /// reason.
+///
+/// The file, and every file it names (an OBJ's .mtl), must be a regular file (not a FIFO, a device or a
+/// directory) of at most limits.max_mesh_bytes. The mesh must have triangles, at most limits.max_triangles,
+/// and its scaled vertices must lie within limits.max_length. The importer runs in a child process with
+/// bounded memory and limits.mesh_import_seconds of wall time, so a file that crashes or hangs assimp is a
+/// load error here, not the end of the simulator.
 std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vector3d& scale,
                                      std::string* error, TextureCache* textures = nullptr,
-                                     std::vector<std::string>* warnings = nullptr);
+                                     std::vector<std::string>* warnings = nullptr, const Limits& limits = {});
+
+/// What loadMesh does, done in this process, without a child or a time limit: for the fuzzer.
+std::optional<TriangleMesh> importMesh(const std::string& path, const Eigen::Vector3d& scale,
+                                       std::string* error, TextureCache* textures = nullptr,
+                                       std::vector<std::string>* warnings = nullptr, const Limits& limits = {});
 
 /// Loads each mesh file once: every visual or collision that names the same file at the same scale shares
 /// one TriangleMesh, and every mesh that names the same image shares one Texture.
 class MeshCache {
  public:
+  explicit MeshCache(const Limits& limits = {}) : limits_(limits) {}
   /// loadMesh, cached; nullptr with `error` set when the file cannot be loaded. Warnings come with the first
   /// load only.
   std::shared_ptr<const TriangleMesh> load(const std::string& path, const Eigen::Vector3d& scale,
                                            std::string* error, std::vector<std::string>* warnings);
 
  private:
+  Limits limits_;
   std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;  ///< by path and scale
   TextureCache textures_;
 };

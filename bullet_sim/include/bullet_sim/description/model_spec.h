@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bullet_sim/description/geometry.h"
+#include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/plugin_declaration.h"
 #include "bullet_sim/description/transmission.h"
@@ -101,24 +102,28 @@ struct PluginElement {
 };
 
 /// Types each element with `plugins` into model.plugins, in order; one that bullet_sim does not simulate is
-/// left out after the parser's warning, and one without a filename is an error. The model's links and joints
-/// must be complete: plugins name them.
+/// left out after the parser's warning, and one without a filename is an error; then checks what the plugins
+/// ask together (PluginParsers::checkModel). The model's links and joints must be complete: plugins name them.
 void declarePlugins(const std::vector<PluginElement>& elements, const PluginParsers& plugins,
-                    ModelSpec& model, Diagnostics& diagnostics);
+                    ModelSpec& model, Diagnostics& diagnostics, const Limits& limits);
 
 /// Parses a URDF string with its <gazebo> tags; `plugins` turns each <plugin> into its typed config (the
 /// plugin registry's parseModel overload passes the built-in plugins). Throws SpecError naming `source` and
-/// listing every problem (malformed XML with line number, urdfdom's complaint, missing meshes, references to
-/// missing links, bad plugin tags). Warnings (ignored tags, plugins not simulated, ...) are appended to
-/// `warnings` when given.
+/// listing every problem (malformed XML with line number, urdfdom's complaint, a link with two parents or
+/// cut off from the root, a number that is not finite or beyond `limits`, too many links or shapes, missing
+/// meshes, references to missing links, bad plugin tags). Warnings (ignored tags, plugins not simulated,
+/// ...) are appended to `warnings` when given.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     const PluginParsers& plugins, std::vector<std::string>* warnings = nullptr);
+                     const PluginParsers& plugins, std::vector<std::string>* warnings = nullptr,
+                     const Limits& limits = Limits());
 
 /// What parseModel reads, for tools that report problems instead of loading (urdf_doctor): never throws;
 /// every error and warning goes to `diagnostics`, and the model comes back as far as it could be read (a
 /// collision or visual whose mesh cannot be loaded is left out). nullopt when there is no model to read:
-/// malformed XML, a root element other than <robot>, or urdfdom rejected the file.
+/// malformed XML, a root element other than <robot>, a number or a count parseModel refuses, urdfdom
+/// rejected the file, or its joints do not form a tree.
 std::optional<ModelSpec> readModel(const std::string& urdf_xml, const PackageResolver& resolver,
-                                   const PluginParsers& plugins, Diagnostics& diagnostics);
+                                   const PluginParsers& plugins, Diagnostics& diagnostics,
+                                   const Limits& limits = Limits());
 
 }  // namespace bullet_sim

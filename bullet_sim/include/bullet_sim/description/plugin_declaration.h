@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/plugin_tags.h"
 
 namespace bullet_sim {
@@ -55,6 +56,7 @@ struct DeclarationSource {
   const TagNode* sensor;   ///< the <sensor> element; nullptr for a model plugin
   const ModelSpec& model;  ///< its links and joints are complete, its plugins are not
   Diagnostics& diagnostics;
+  const Limits& limits;  ///< counts (a lidar's rays, a camera's pixels) above these are errors
 };
 
 /// Turns declarations into typed configs; the plugin registry implements it.
@@ -64,6 +66,9 @@ class PluginParsers {
   /// The config; nullptr, after one warning, when bullet_sim does not simulate the declaration. Problems
   /// with its tags go to `source.diagnostics`.
   virtual std::shared_ptr<const PluginConfig> parse(const DeclarationSource& source) const = 0;
+  /// Checks what the model's plugins ask of it together (two drives on one robot), once every declaration
+  /// has its config. Problems go to `diagnostics`.
+  virtual void checkModel(const ModelSpec&, Diagnostics&) const {}
 };
 
 }  // namespace bullet_sim

@@ -36,10 +36,16 @@ class PluginTags {
   PluginTags(const TagNode* element, std::string where, Diagnostics& diagnostics);
 
   bool has(const std::string& tag) const;
+  /// The tag's text. A topic tag (named ...Topic, ...TopicName, topicName or ..._topic) must not be empty:
+  /// ROS has no topic of that name, so Gazebo's plugin fails to load; that is an error.
   std::string text(const std::string& tag, const std::string& fallback);
   double number(const std::string& tag, double fallback);
   /// A number that must be > 0 (or >= 0 with `allow_zero`).
   double positive(const std::string& tag, double fallback, bool allow_zero = false);
+  /// A positive number that Gazebo takes at any size, but that is absurd above `limit` (a torque of 1e308):
+  /// above it, a warning names the value and `limit_name`, and `limit` is used.
+  double capped(const std::string& tag, double fallback, double limit, const char* limit_name,
+                const std::string& unit);
   bool flag(const std::string& tag, bool fallback);
   /// A comma- or space-separated list.
   std::vector<std::string> list(const std::string& tag);

@@ -11,15 +11,18 @@
 namespace bullet_sim {
 
 /// Parses <sdf><model>...</model></sdf> (as spawn_sdf_model receives it, or a model.sdf file's text) with its
-/// plugins typed by `plugins`. Throws SpecError naming `source` and every problem. Where SDF says more than a
-/// URDF can: links joined to nothing are an error (welded to the root in a static model); a fixed joint to
+/// plugins typed by `plugins`, libsdformat reading it in a child process (readSdfModel). Throws SpecError
+/// naming `source` and every problem, also a value beyond `limits`. Where SDF says more than a URDF can:
+/// links joined to nothing are an error (welded to the root in a static model); a fixed joint to
 /// the world makes the model static, another joint to the world is an error; a joint whose frame is away
 /// from its child link's origin puts that link's frame at the joint, with a warning.
 ModelSpec parseSdfModel(const std::string& sdf_xml, const std::string& source,
                         const PackageResolver& resolver, const PluginParsers& plugins,
-                        std::vector<std::string>* warnings = nullptr);
+                        std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits());
 
-/// The ModelSpec of a model readSdfModel read, its problems in `diagnostics`.
-ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins, Diagnostics& diagnostics);
+/// The ModelSpec of a model readSdfModel read, its problems in `diagnostics`; counts, masses, inertias and
+/// joint values beyond `limits` are errors.
+ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins, Diagnostics& diagnostics,
+                      const Limits& limits = Limits());
 
 }  // namespace bullet_sim

@@ -11,6 +11,7 @@
 
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/geometry.h"
+#include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/package_resolver.h"
 
@@ -90,16 +91,23 @@ struct WorldOptions {
   /// An <include> of a model that is on no folder of the model path is an error. By default it is skipped,
   /// as Gazebo skips it, with one warning naming the model, the folders searched and how to add a model.
   bool strict_models = false;
+  Limits limits;  ///< sizes, poses and counts beyond them are errors
 };
 
 /// Parses a .world file. Throws SpecError naming the file and listing all problems at once (sdformat errors,
 /// missing meshes, unsupported geometry). Warnings (a non-static model made static, ignored elements such as
 /// plugins, joints and sensors, unknown models) are appended to `warnings` when it is not null.
 ///
+/// libsdformat reads the file in a child process: it takes megabytes for each <model> it reads (home.world's
+/// 16 furniture models: 90 MB), which this process never holds, and should it crash or hang on a file (within
+/// limits.world_load_seconds), that is a load error naming the file, not the end of this process. Models that
+/// repeat another's contents but for their name and pose are read once and copied.
+///
 /// <include> URIs: model://NAME is the SDF file that the model.config of folder NAME on Gazebo's model path
 /// names (see GazeboPaths: GAZEBO_MODEL_PATH, package exports, the models bullet_sim ships such as
 /// ground_plane and sun, ~/.gazebo/models); package:// and file:// go through `resolver`; anything else is an
 /// error. Mesh URIs may be model://, package://, file:// or paths relative to the SDF file that holds them.
+/// Sizes, poses and counts beyond options.limits are errors too.
 WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
                     std::vector<std::string>* warnings, const WorldOptions& options = {});
 
@@ -108,12 +116,25 @@ WorldSpec loadWorld(const std::string& path, const PackageResolver& resolver,
 WorldSpec parseWorld(const std::string& sdf_text, const std::string& source, const PackageResolver& resolver,
                      std::vector<std::string>* warnings, const WorldOptions& options = {});
 
+/// loadWorld and parseWorld in this process, without a child: for the fuzzer.
+WorldSpec loadWorldHere(const std::string& path, const PackageResolver& resolver,
+                        std::vector<std::string>* warnings, const WorldOptions& options = {});
+WorldSpec parseWorldHere(const std::string& sdf_text, const std::string& source,
+                         const PackageResolver& resolver, std::vector<std::string>* warnings,
+                         const WorldOptions& options = {});
+
 /// A model's SDF as spawn_sdf_model receives it (<sdf><model>...</model></sdf>, also a model.sdf file's
 /// text), read as a world's models are but keeping its joints, sensors and plugins: sdf_model.h makes it a
 /// body.
 /// `source` names it in messages. Throws SpecError as parseWorld does, also when the text holds no <model>.
+/// libsdformat reads it in a child process, as loadWorld's worlds.
 WorldModelSpec readSdfModel(const std::string& sdf_text, const std::string& source,
-                            const PackageResolver& resolver, std::vector<std::string>* warnings);
+                            const PackageResolver& resolver, std::vector<std::string>* warnings,
+                            const Limits& limits = Limits());
+/// readSdfModel in this process, without a child: for the fuzzer.
+WorldModelSpec readSdfModelHere(const std::string& sdf_text, const std::string& source,
+                                const PackageResolver& resolver, std::vector<std::string>* warnings,
+                                const Limits& limits = Limits());
 
 /// The .world file a user means by `name`: an absolute path as it is; otherwise the name is looked up in the
 /// folders of Gazebo's resource path (GAZEBO_RESOURCE_PATH and the packages' gazebo_media_path exports: so

@@ -50,9 +50,10 @@ struct RayLidarConfig : PluginConfig {
 /// Reads the sensor and plugin tags; the plugin's filename chooses the output.
 RayLidarConfig parseRayLidar(const DeclarationSource& source);
 
-/// Reads a ray sensor's <ray> block (scan, range, noise) into `config`; `where` heads the messages.
+/// Reads a ray sensor's <ray> block (scan, range, noise) into `config`; `where` heads the messages. Counts
+/// and ranges are bounded by source.limits.
 void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
-                 Diagnostics& diagnostics);
+                 const DeclarationSource& source);
 
 /// The unit direction of every ray of `config`'s scan in the sensor frame, channel-major, bottom channel
 /// first; `channels` = 1 takes the plane at 0 elevation.

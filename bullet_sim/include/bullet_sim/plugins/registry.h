@@ -25,13 +25,20 @@ struct PluginType {
   PluginFactory create;
 };
 
+/// Caps a config's update rate at the limit (Gazebo takes any rate), with a warning naming both.
+void capUpdateRate(PluginConfig& config, const DeclarationSource& source);
+
 /// A plugin type whose config `Config` comes from `parse` and whose behaviour is `Behaviour`, built as
 /// Behaviour(declaration, config, setup).
 template <class Behaviour, class Config>
 PluginType pluginType(std::string filename, std::vector<std::string> sensor_types,
                       Config (*parse)(const DeclarationSource&)) {
   return {std::move(filename), std::move(sensor_types),
-          [parse](const DeclarationSource& source) { return std::make_shared<const Config>(parse(source)); },
+          [parse](const DeclarationSource& source) {
+            Config config = parse(source);
+            capUpdateRate(config, source);
+            return std::make_shared<const Config>(std::move(config));
+          },
           [](const PluginDeclaration& declaration, const PluginSetup& setup) -> std::unique_ptr<Plugin> {
             return std::make_unique<Behaviour>(declaration, *declaration.configAs<Config>(), setup);
           }};
@@ -49,6 +56,8 @@ class PluginRegistry final : public PluginParsers {
 
   /// The typed config, or nullptr after one warning when no type matches.
   std::shared_ptr<const PluginConfig> parse(const DeclarationSource& source) const override;
+  /// A robot has at most one drive.
+  void checkModel(const ModelSpec& model, Diagnostics& diagnostics) const override;
   /// The plugin of a declaration this registry parsed.
   std::unique_ptr<Plugin> create(const PluginDeclaration& declaration, const PluginSetup& setup) const;
 
@@ -89,6 +98,6 @@ class ControllerRegistry {
 
 /// parseModel with the built-in plugins.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings = nullptr);
+                     std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits());
 
 }  // namespace bullet_sim

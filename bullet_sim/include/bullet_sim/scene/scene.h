@@ -62,6 +62,10 @@ struct Scene {
   Eigen::Vector4d grid_rgba{0.35, 0.35, 0.35, 1};
   Lighting lighting;
   Camera camera;
+  /// [m] Surfaces get a dark outline where what lies beside them is this much farther from the camera (0:
+  /// none). A plan view needs it: a robot's seat lit from above is the floor's colour when both are grey.
+  double outline_step = 0;
+  Eigen::Vector4d outline_rgba{0.15, 0.15, 0.15, 1};
 
   static constexpr double kGridSpacing = 1;      ///< [m]
   static constexpr double kGridHalfExtent = 20;  ///< [m]

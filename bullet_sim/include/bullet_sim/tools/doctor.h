@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/package_resolver.h"
 
 namespace bullet_sim {
@@ -41,10 +42,11 @@ struct DoctorReport {
   std::string text() const;
 };
 
-/// Examines a URDF (xacro already expanded) with its <gazebo> tags; `source` names it in messages. Never
-/// throws for anything in the text.
+/// Examines a URDF (xacro already expanded) with its <gazebo> tags; `source` names it in messages. Whatever
+/// the simulator refuses under `limits` is an error here, with the same message. Never throws for anything
+/// in the text.
 DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
-                         const PackageResolver& resolver);
+                         const PackageResolver& resolver, const Limits& limits = Limits());
 
 /// The report for a file that could not be read or expanded: `reason` is its one finding, exit code 2.
 DoctorReport unreadableReport(const std::string& source, const std::string& reason);

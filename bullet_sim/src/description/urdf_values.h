@@ -1,0 +1,23 @@
+// The numbers of a URDF as written, checked before urdfdom reads them: urdfdom turns some bad ones into 0
+// (1e309, -nan) or rejects them without naming them, and lets others through (a negative box, a mass of
+// 1e30) that break Bullet or Embree later.
+#pragma once
+
+#include <tinyxml2.h>
+
+#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/limits.h"
+#include "bullet_sim/description/model_spec.h"
+
+namespace bullet_sim {
+
+/// Checks the counts of links, moving joints and shapes against `limits`, and every number of every <link>
+/// and <joint>: a number, finite, sizes positive, lengths, masses and inertias within `limits`. Each problem
+/// is an error naming the element and the text as written. Returns false when there was one.
+bool checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics);
+
+/// The same bounds on a model read as numbers already (an SDF model to spawn, whose shapes and poses its
+/// reader checked): the counts of links, moving joints and shapes, masses, inertias and joint values.
+void checkModelValues(const ModelSpec& model, const Limits& limits, Diagnostics& diagnostics);
+
+}  // namespace bullet_sim
