@@ -7,8 +7,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "bullet_sim/description/sdf_model.h"
 #include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/simulation.h"
 #include "multi_sensor_robot.h"
@@ -175,6 +177,22 @@ TEST(TolerantLoading, FixedChildrenAreLumpedBeforeTheInertiaIsJudged) {
   EXPECT_THAT(test::loadWarnings(urdf), IsEmpty()) << "the wheel's mass is its hub's";
   EXPECT_THAT(test::loadWarnings(withInertia(urdf, "hub", zero)),
               ElementsAre(HasSubstr("link [left_wheel] with the links fixed to it, lumped as Gazebo does,")));
+}
+
+TEST(TolerantLoading, AnSdfModelsPoorInertiaIsMendedToo) {
+  const std::string sdf =
+      "<sdf version='1.6'><model name='crate'><link name='body'><inertial><mass>4</mass><inertia><ixx>0</ixx>"
+      "<iyy>0</iyy><izz>0</izz></inertia></inertial><collision name='c'><geometry><box><size>0.5 0.5 "
+      "0.5</size>"
+      "</box></geometry></collision></link></model></sdf>";
+  std::vector<std::string> warnings;
+  const ModelSpec crate = parseSdfModel(sdf, "crate.sdf", PackageResolver::fromEnvironment(),
+                                        PluginRegistry::builtin(), &warnings);
+  EXPECT_THAT(warnings,
+              ElementsAre(HasSubstr("link [body]: inertia is not positive definite (principal moments "
+                                    "0 0 0 kg m^2); it is simulated as a solid box of 4 kg")));
+  const Eigen::Vector3d moments = crate.link("body")->inertial->inertia.diagonal();
+  EXPECT_TRUE(moments.isApprox(Eigen::Vector3d::Constant(4.0 / 12 * 0.5), 1e-12)) << moments.transpose();
 }
 
 TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {

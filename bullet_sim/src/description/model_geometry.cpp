@@ -196,11 +196,19 @@ LinkSpec& linkNamed(ModelSpec& model, const std::string& name) {
 }  // namespace
 
 void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics) {
+  bool negative = false;
+  for (const LinkSpec& link : model.links) {
+    if (!link.inertial || !(link.inertial->mass < 0)) continue;
+    std::ostringstream message;
+    message << "link [" << link.name << "] <inertial>: mass " << link.inertial->mass << " kg is not positive";
+    diagnostics.error(message.str());
+    negative = true;
+  }
+  if (negative || model.is_static) return;  // refused, or nothing of it moves: nothing to mend
   const auto bodies = rigidBodies(model);
   double robot_mass = 0;
   for (const auto& body : bodies) robot_mass += std::max(0.0, combineInertia(model, body).mass);
-  const bool fixed_base = model.is_static || model.root == "world";
-  for (size_t k = fixed_base ? 1 : 0; k < bodies.size(); ++k) {
+  for (size_t k = model.root == "world" ? 1 : 0; k < bodies.size(); ++k) {
     const MassProperties lumped = combineInertia(model, bodies[k]);
     const bool has_mass = lumped.mass > 0;
     const std::optional<std::string> problem =

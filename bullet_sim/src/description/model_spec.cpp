@@ -245,11 +245,6 @@ class ModelParser {
       Eigen::Matrix3d tensor;
       tensor << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
       inertial.inertia = frame.linear() * tensor * frame.linear().transpose();
-      if (inertial.mass < 0) {  // a zero mass or a poor inertia is repairBodyInertias' to warn about
-        std::ostringstream message;
-        message << "link [" << link.name << "] <inertial>: mass " << inertial.mass << " kg is not positive";
-        diagnostics_.error(message.str());
-      }
       spec.inertial = inertial;
     }
     for (const auto& collision : link.collision_array) {

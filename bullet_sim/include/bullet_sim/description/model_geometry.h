@@ -52,10 +52,11 @@ MassProperties combineInertia(const ModelSpec& model,
 /// in the group's first link's frame. The root's body comes first.
 std::vector<std::vector<std::pair<std::string, Eigen::Isometry3d>>> rigidBodies(const ModelSpec& model);
 
-/// Lumps each body's links as Gazebo does (combineInertia); a body whose lumped mass or inertia is not
-/// physically valid (zero mass, inertia zero or not positive definite) gets, after one warning naming its
-/// first link and the value, a solid box's: its mass (when there is none, 1% of the robot's, at least
-/// 0.01 kg) filling its collisions' bounding box. A fixed base (static, or a root named world) needs none.
+/// A negative mass is an error. Then lumps each body's links as Gazebo does (combineInertia); a body whose
+/// lumped mass or inertia is not physically valid (zero mass, inertia zero or not positive definite) gets,
+/// after one warning naming its first link and the value, a solid box's: its mass (when there is none, 1% of
+/// the robot's, at least 0.01 kg) filling its collisions' bounding box. A static model, and the root of one
+/// fixed to the world (a root link named world), need none.
 void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics);
 
 }  // namespace bullet_sim
