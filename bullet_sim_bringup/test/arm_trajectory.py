@@ -96,7 +96,10 @@ class ArmTrajectory(unittest.TestCase):
         self.assertTrue(self.client.wait_for_result(rospy.Duration(30)))
         self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED)
         self.assertEqual(self.client.get_result().error_code, FollowJointTrajectoryResult.SUCCESSFUL)
-        states = [s for s in self.states.messages if start <= s.header.stamp.to_sec() <= start + 3.0]
+        # The result and the state come on separate connections: wait for the states past the last waypoint.
+        end = start + 3.0 + 5 * STEP
+        self.states.wait_for(lambda ms: ms[-1].header.stamp.to_sec() >= end, 30, "the states past the last waypoint")
+        states = [s for s in self.states.messages if start <= s.header.stamp.to_sec() <= end]
         self.assertGreater(len(states), 1000, "the state at 1000 Hz along the trajectory")
         worst = max(abs(e) for s in states for e in s.error.positions)
         self.assertLess(worst, PATH_TOLERANCE, "the largest position error on the way")
