@@ -243,6 +243,10 @@ TEST(TolerantLoading, AWorldThatCannotBeReadFallsBackOnTheEmptyWorld) {
                                             HasSubstr(name))));
     EXPECT_THROW(loadWorldOrFallback(name, "", resolver, &warnings), std::runtime_error) << "no fallback";
   }
+  WorldOptions strict;
+  strict.strict_models = true;
+  EXPECT_THROW(loadWorldOrFallback(broken, "empty.world", resolver, nullptr, strict), std::runtime_error)
+      << "strict: refused";
   std::filesystem::remove(broken);
 }
 

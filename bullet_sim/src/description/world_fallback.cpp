@@ -20,6 +20,7 @@ std::optional<WorldSpec> tryLoad(const std::string& name, const PackageResolver&
     if (path) *path = *found;
     return world;
   } catch (const SpecError& error) {
+    if (options.strict_models) throw std::runtime_error(error.what());  // refusals were asked for
     *problem = error.what();  // names the file and lists its problems
     return std::nullopt;
   }
