@@ -191,13 +191,13 @@ TEST(Doctor, ATextWithoutAnyElementIsUnreadable) {  // found by scripts/fuzz.sh
 }
 
 TEST(Doctor, MassLessMovingLinkAndMissingMeshComeFromTheLoader) {
-  EXPECT_EQ(countFindings(examine("massless_moving_link.urdf"), kError,
-                          {"link [wheel] moves on joint [wheel_joint] but has no mass"}),
+  EXPECT_EQ(countFindings(examine("massless_moving_link.urdf"), kWarning,
+                          {"link [wheel]: it has no mass; it is simulated as a solid box of 0.01 kg"}),
             1u);
   const DoctorReport mesh = examineUrdf(readFile(fixture("robots/fail_missing_mesh.urdf")),
                                         "fail_missing_mesh.urdf", PackageResolver::fromEnvironment());
-  EXPECT_EQ(countFindings(mesh, kError, {"link [base_link] <visual>: cannot load mesh", "no_such_mesh.stl"}),
-            1u)
+  EXPECT_EQ(
+      countFindings(mesh, kError, {"link [base_link] <collision>: cannot load mesh", "no_such_mesh.stl"}), 1u)
       << mesh.text();
 }
 

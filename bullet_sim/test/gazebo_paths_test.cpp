@@ -146,7 +146,7 @@ TEST(GazeboPaths, ModelUrisResolveForUrdfMeshesToo) {
   EXPECT_EQ(*mesh, fixtures() + "/packages/yard_gazebo/models/pillar/meshes/pillar.dae");
 
   EXPECT_FALSE(resolver.resolve("model://pillar/meshes/missing.dae", &error));
-  EXPECT_TRUE(contains(error, "no file [pillar/meshes/missing.dae]")) << error;
+  EXPECT_TRUE(contains(error, "model [pillar] has no file [meshes/missing.dae]")) << error;
   EXPECT_TRUE(contains(error, fixtures() + "/packages/yard_gazebo/models")) << error;
   EXPECT_FALSE(resolver.resolve("model://pilar", &error));
   EXPECT_TRUE(contains(error, "unknown model [pilar] (did you mean [pillar]?)")) << error;

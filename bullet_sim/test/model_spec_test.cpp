@@ -47,8 +47,18 @@ TEST(ModelSpec, NonBreakingSpaceIsNamedWithLineAndColumn) {
 
 TEST(ModelSpec, MissingMeshNamesLinkAndUri) {
   const std::string error = loadError("fail_missing_mesh.urdf");
-  EXPECT_THAT(error, HasSubstr("link [base_link] <visual>: cannot load mesh"));
+  EXPECT_THAT(error, HasSubstr("link [base_link] <collision>: cannot load mesh"));
   EXPECT_THAT(error, HasSubstr("no_such_mesh.stl"));
+  // A visual's missing mesh is a warning: Gazebo loads the robot, and that visual is not drawn.
+  std::string urdf = readFile(fixture("robots/fail_missing_mesh.urdf"));
+  for (const std::string& element : {std::string("<collision>"), std::string("</collision>")})
+    urdf.replace(urdf.find(element), element.size(), element == "<collision>" ? "<visual>" : "</visual>");
+  std::vector<std::string> warnings;
+  const ModelSpec model = parseModel(urdf, "visual_only", PackageResolver::fromEnvironment(), &warnings);
+  EXPECT_TRUE(model.link("base_link")->visuals.empty());
+  EXPECT_THAT(warnings, ::testing::ElementsAre(::testing::AllOf(
+                            HasSubstr("link [base_link] <visual>: cannot find mesh"),
+                            HasSubstr("no_such_mesh.stl"), HasSubstr("that visual is not drawn"))));
 }
 
 TEST(ModelSpec, UnexpandedMacroCallSuggestsTheXacroPrefix) {
@@ -134,7 +144,10 @@ TEST(ModelSpec, ReadsTransmissionsAsRosControlDoes) {
   EXPECT_THAT(all, HasSubstr("actuator [odd_motor] <mechanicalReduction> must be a non-zero number, not "
                              "[fast]: 1 is used"));
   EXPECT_THAT(all, HasSubstr("(line 48) <actuator name=\"odd_motor\"> <gearRatio> is not a tag"));
-  EXPECT_EQ(warnings.size(), 5u) << all;
+  EXPECT_THAT(all,
+              HasSubstr("<transmission>s [left_wheel_trans], [right_wheel_trans] and [odd_trans] are not "
+                        "used: only libgazebo_ros_control.so reads transmissions"));
+  EXPECT_EQ(warnings.size(), 6u) << all;
 }
 
 TEST(Diagnostics, SuggestsNearMissesOnly) {

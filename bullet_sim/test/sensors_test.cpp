@@ -31,6 +31,7 @@ using test::withoutPluginTags;
 using test::withSensorPluginTags;
 
 using ::testing::Contains;
+using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::IsSupersetOf;
 
@@ -143,8 +144,10 @@ TEST(Range, LoadMessages) {
                                       "sensor's noise): ignored; use the plugin's <gaussianNoise>"),
                             HasSubstr("<radiation> must be ultrasound or infrared, not [sonic]: infrared is used, "
                                       "as Gazebo does")}));
-  EXPECT_THAT(loadErrors(withSensorPluginTags(multiSensorUrdf(), "ir", {{"frameName", "ir_lnk"}})),
-              Contains(HasSubstr("<frameName> [ir_lnk] is not a link (did you mean [ir_link]?)")));
+  // Gazebo stamps the ranges with a frameName that names no link: a warning.
+  EXPECT_THAT(loadWarnings(withSensorPluginTags(multiSensorUrdf(), "ir", {{"frameName", "ir_lnk"}})),
+              Contains(HasSubstr("<frameName> [ir_lnk] is not a link of the robot (did you mean [ir_link]?): "
+                                 "messages carry it as their frame_id all the same")));
 }
 
 // hector's IMU.
@@ -288,8 +291,12 @@ TEST(HectorImu, LoadMessages) {
   const std::string bad =
       test::withPluginTags(idealImu(), kImuPlugin, {{"accelDrift", "0.1 0.1"}, {"bodyName", "imu_lnk"}});
   EXPECT_THAT(loadErrors(bad),
-              IsSupersetOf({HasSubstr("<accelDrift> must be three numbers (x y z), not [0.1 0.1]"),
-                            HasSubstr("<bodyName> [imu_lnk] is not a link (did you mean [imu_link]?)")}));
+              ElementsAre(HasSubstr("<accelDrift> must be three numbers (x y z), not [0.1 0.1]")));
+  EXPECT_THAT(
+      loadWarnings(test::withPluginTags(idealImu(), kImuPlugin, {{"bodyName", "imu_lnk"}})),
+      Contains(HasSubstr("<bodyName> [imu_lnk] is not a link of the robot (did you mean [imu_link]?): "
+                         "messages carry it as their frame_id all the same, as Gazebo's do; link "
+                         "[base_footprint] is measured instead")));
 }
 
 // hector's GPS.
@@ -409,9 +416,13 @@ TEST(HectorGps, LoadMessages) {
   const std::string bad =
       idealGps({{"bodyName", "gps_lnk"}, {"velocityDrift", "1"}, {"referenceLatitude", "91"}});
   EXPECT_THAT(loadErrors(bad),
-              IsSupersetOf({HasSubstr("<bodyName> [gps_lnk] is not a link (did you mean [gps_link]?)"),
-                            HasSubstr("<velocityDrift> must be three numbers (x y z), not [1]"),
+              IsSupersetOf({HasSubstr("<velocityDrift> must be three numbers (x y z), not [1]"),
                             HasSubstr("<referenceLatitude> must lie strictly between -90 and 90 deg")}));
+  EXPECT_THAT(loadWarnings(idealGps({{"bodyName", "/gps_lnk"}})),
+              IsSupersetOf({HasSubstr("<bodyName> [/gps_lnk] is read as [gps_lnk]: tf2 frame ids have no "
+                                      "leading / (Gazebo's plugin keeps it)"),
+                            HasSubstr("<bodyName> [gps_lnk] is not a link of the robot (did you mean "
+                                      "[gps_link]?)")}));
 }
 
 // Bumpers.

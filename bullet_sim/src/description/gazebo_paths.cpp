@@ -102,10 +102,12 @@ std::optional<std::string> GazeboPaths::findModelFile(const std::string& relativ
   }
   if (error) {
     const std::string name = relative.substr(0, relative.find('/'));
-    const bool whole_model = name == relative;
+    const bool known = name != relative &&
+                       std::any_of(model_path_.begin(), model_path_.end(),
+                                   [&](const auto& f) { return fs::is_directory(fs::path(f) / name, ec); });
     *error =
-        (whole_model ? "unknown model [" + name + "]" + didYouMean(name, modelNames())
-                     : "no file [" + relative + "] in any folder of model [" + name + "]") +
+        (known ? "model [" + name + "] has no file [" + relative.substr(name.size() + 1) + "]"
+               : "unknown model [" + name + "]" + didYouMean(name, modelNames())) +
         "; the model path is " + joined(model_path_) + ". To add a model, put its folder (with its " +
         "model.config) into one of them, or add the folder that holds it to GAZEBO_MODEL_PATH, or export " +
         "that folder from your package.xml: <export><gazebo_ros gazebo_model_path=\"${prefix}/models\"/>" +

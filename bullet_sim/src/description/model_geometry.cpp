@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/model_spec.h"
 
 namespace bullet_sim {
@@ -104,6 +105,129 @@ std::optional<std::string> inertiaProblem(double mass, const Eigen::Matrix3d& in
     return why.str();
   }
   return std::nullopt;
+}
+
+Eigen::Isometry3d MassProperties::principalFrame(Eigen::Vector3d* moments) const {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal(inertia);
+  Eigen::Matrix3d axes = principal.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+  *moments = principal.eigenvalues();
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  frame.translate(com);
+  frame.rotate(axes);
+  return frame;
+}
+
+MassProperties combineInertia(const ModelSpec& model,
+                              const std::vector<std::pair<std::string, Eigen::Isometry3d>>& placed_links) {
+  MassProperties total;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (const auto& [name, frame] : placed_links) {
+    const LinkSpec& link = *model.link(name);
+    if (!link.inertial) continue;
+    total.mass += link.inertial->mass;
+    moment += link.inertial->mass * (frame * link.inertial->com);
+  }
+  if (total.mass <= 0) return total;
+  total.com = moment / total.mass;
+  for (const auto& [name, frame] : placed_links) {
+    const LinkSpec& link = *model.link(name);
+    if (!link.inertial) continue;
+    // Parallel axis theorem about the common centre of mass.
+    const Eigen::Vector3d d = frame * link.inertial->com - total.com;
+    total.inertia +=
+        frame.linear() * link.inertial->inertia * frame.linear().transpose() +
+        link.inertial->mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  return total;
+}
+
+std::vector<std::vector<std::pair<std::string, Eigen::Isometry3d>>> rigidBodies(const ModelSpec& model) {
+  std::vector<std::vector<std::pair<std::string, Eigen::Isometry3d>>> bodies{
+      {{model.root, Eigen::Isometry3d::Identity()}}};
+  std::map<std::string, std::pair<size_t, Eigen::Isometry3d>> placed{
+      {model.root, {0, Eigen::Isometry3d::Identity()}}};
+  for (const auto& joint : model.joints) {  // parents first
+    auto [body, frame] = placed.at(joint.parent);
+    if (joint.moves()) {
+      body = bodies.size();
+      frame = Eigen::Isometry3d::Identity();
+      bodies.emplace_back();
+    } else {
+      frame = frame * joint.origin;
+    }
+    bodies[body].emplace_back(joint.child, frame);
+    placed[joint.child] = {body, frame};
+  }
+  return bodies;
+}
+
+namespace {
+
+/// A solid box of `mass` [kg] filling the bounding box of `body`'s collisions (0.1 m across without any; no
+/// side below 1 cm), centred on `com` when given.
+MassProperties boxBody(const ModelSpec& model,
+                       const std::vector<std::pair<std::string, Eigen::Isometry3d>>& body, double mass,
+                       const std::optional<Eigen::Vector3d>& com) {
+  Eigen::AlignedBox3d box;
+  for (const auto& [name, frame] : body) {
+    for (const Collision& collision : model.link(name)->collisions)
+      box.extend(boundingBox(collision.shape, frame * collision.origin));
+  }
+  if (box.isEmpty())
+    box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-0.05), Eigen::Vector3d::Constant(0.05));
+  const Eigen::Vector3d size = box.sizes().cwiseMax(0.01);
+  MassProperties solid;
+  solid.mass = mass;
+  solid.com = com.value_or(box.center());
+  solid.inertia =
+      (mass / 12 *
+       Eigen::Vector3d(size.y() * size.y() + size.z() * size.z(), size.x() * size.x() + size.z() * size.z(),
+                       size.x() * size.x() + size.y() * size.y()))
+          .asDiagonal();
+  return solid;
+}
+
+LinkSpec& linkNamed(ModelSpec& model, const std::string& name) {
+  return *std::find_if(model.links.begin(), model.links.end(),
+                       [&](const LinkSpec& l) { return l.name == name; });
+}
+
+}  // namespace
+
+void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics) {
+  bool negative = false;
+  for (const LinkSpec& link : model.links) {
+    if (!link.inertial || !(link.inertial->mass < 0)) continue;
+    std::ostringstream message;
+    message << "link [" << link.name << "] <inertial>: mass " << link.inertial->mass << " kg is not positive";
+    diagnostics.error(message.str());
+    negative = true;
+  }
+  if (negative || model.is_static) return;  // refused, or nothing of it moves: nothing to mend
+  const auto bodies = rigidBodies(model);
+  double robot_mass = 0;
+  for (const auto& body : bodies) robot_mass += std::max(0.0, combineInertia(model, body).mass);
+  for (size_t k = model.root == "world" ? 1 : 0; k < bodies.size(); ++k) {
+    const MassProperties lumped = combineInertia(model, bodies[k]);
+    const bool has_mass = lumped.mass > 0;
+    const std::optional<std::string> problem =
+        has_mass ? inertiaProblem(lumped.mass, lumped.inertia) : std::optional<std::string>("it has no mass");
+    if (!problem) continue;
+    const MassProperties solid =
+        boxBody(model, bodies[k], has_mass ? lumped.mass : std::max(0.01, robot_mass / 100),
+                has_mass ? std::optional(lumped.com) : std::nullopt);
+    std::ostringstream message;
+    message << "link [" << bodies[k].front().first << "]"
+            << (bodies[k].size() > 1 ? " with the links fixed to it, lumped as Gazebo does," : "") << ": "
+            << *problem << "; it is simulated as a solid box of " << solid.mass
+            << " kg filling its collisions' bounding box (principal moments "
+            << solid.inertia.diagonal().transpose() << " kg m^2)";
+    diagnostics.warning(message.str());
+    for (const auto& placed : bodies[k]) linkNamed(model, placed.first).inertial.reset();
+    // The body's first link, whose frame is the body's, carries it all.
+    linkNamed(model, bodies[k].front().first).inertial = InertialSpec{solid.mass, solid.com, solid.inertia};
+  }
 }
 
 }  // namespace bullet_sim

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
@@ -129,14 +130,18 @@ class ModelParser {
       return std::nullopt;
     }
     reportXacroLeftovers(robot);  // urdfdom skips such elements, so its own complaints still come out
-    // urdfdom would turn some of the numbers into others, or take counts that exhaust the machine.
-    if (!checkUrdfValues(*robot, limits_, diagnostics_)) return std::nullopt;
+    // urdfdom would turn some of the numbers into others, or take counts that exhaust the machine. After a
+    // refused number the rest is still read, so that the file's other problems come out with it.
+    const UrdfValues values = checkUrdfValues(*robot, limits_, diagnostics_);
+    if (values == UrdfValues::kTooMany) return std::nullopt;
 
     urdf::ModelInterfaceSharedPtr urdf_model;
     {
       CapturedConsole console;
       urdf_model = urdf::parseURDF(xml);
-      if (!urdf_model) diagnostics_.error("urdfdom rejected the model: " + console.text());
+      // When it rejects a number already refused, its complaint adds nothing.
+      if (!urdf_model && values == UrdfValues::kFine)
+        diagnostics_.error("urdfdom rejected the model: " + console.text());
     }
     if (!urdf_model || !isTree(*urdf_model)) return std::nullopt;
 
@@ -147,7 +152,9 @@ class ModelParser {
     addTree(*urdf_model, *urdf_model->getRoot(), spec);
     readGazeboExtensions(robot, spec);
     spec.transmissions = readTransmissions(childrenNamed(*robot, "transmission"), diagnostics_);
-    checkMovingLinksHaveMass(spec);
+    repairBodyInertias(spec, diagnostics_);
+    reportUnmodelledTags();
+    reportUnusedTransmissions(spec);
     std::vector<PluginElement> found = std::move(model_plugins_);  // model plugins first, then sensors'
     found.insert(found.end(), sensor_plugins_.begin(), sensor_plugins_.end());
     declarePlugins(found, plugins_, spec, diagnostics_, limits_);
@@ -238,18 +245,15 @@ class ModelParser {
       Eigen::Matrix3d tensor;
       tensor << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
       inertial.inertia = frame.linear() * tensor * frame.linear().transpose();
-      if (const auto problem = inertiaProblem(inertial.mass, inertial.inertia)) {
-        diagnostics_.error("link [" + link.name + "] <inertial>: " + *problem);
-      }
       spec.inertial = inertial;
     }
     for (const auto& collision : link.collision_array) {
-      if (auto shape = makeShape(*collision->geometry, "link [" + link.name + "] <collision>")) {
+      if (auto shape = makeShape(*collision->geometry, "link [" + link.name + "] <collision>", false)) {
         spec.collisions.push_back({toIsometry(collision->origin), *shape, collision->name});
       }
     }
     for (const auto& visual : link.visual_array) {
-      if (auto shape = makeShape(*visual->geometry, "link [" + link.name + "] <visual>")) {
+      if (auto shape = makeShape(*visual->geometry, "link [" + link.name + "] <visual>", true)) {
         Visual v;
         v.origin = toIsometry(visual->origin);
         v.shape = *shape;
@@ -320,7 +324,9 @@ class ModelParser {
     return spec;
   }
 
-  std::optional<Shape> makeShape(const urdf::Geometry& geometry, const std::string& where) {
+  /// The shape; nullopt after an error, or after a warning for a `visual` whose mesh cannot be found (Gazebo
+  /// loads such a robot: that visual is not drawn).
+  std::optional<Shape> makeShape(const urdf::Geometry& geometry, const std::string& where, bool visual) {
     Shape shape;
     switch (geometry.type) {
       case urdf::Geometry::BOX: {
@@ -346,6 +352,12 @@ class ModelParser {
         shape.mesh_scale = Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z);
         std::string error;
         const auto path = resolver_.resolve(mesh.filename, &error);
+        std::error_code ec;
+        if (visual && path && !std::filesystem::exists(*path, ec)) error = "cannot find mesh [" + *path + "]";
+        if (visual && (!path || !std::filesystem::exists(*path, ec))) {
+          diagnostics_.warning(where + ": " + error + ": that visual is not drawn");
+          return std::nullopt;
+        }
         if (!path) {
           diagnostics_.error(where + ": " + error);
           return std::nullopt;
@@ -408,7 +420,7 @@ class ModelParser {
         if (!value) diagnostics_.error(line + "<gazebo> <static> must be true or false");
         spec.is_static = value.value_or(false);
       } else {
-        warnIgnored(line + "<gazebo> <" + std::string(tag->Name()) + ">", false);
+        ignoreTag(line + "<gazebo> ", tag->Name(), "", false);
       }
     }
   }
@@ -459,7 +471,7 @@ class ModelParser {
       } else if (name == "sensor") {
         makeSensor(tag, link.name, where);
       } else {
-        warnIgnored(where + "<" + name + ">", kIgnoredLinkTags.count(name) > 0);
+        ignoreTag(where, name, link.name, kIgnoredLinkTags.count(name) > 0);
       }
     }
   }
@@ -475,7 +487,7 @@ class ModelParser {
           diagnostics_.error(where + "<" + name + "> must be true or false");
         }
       } else {
-        warnIgnored(where + "<" + name + ">", kIgnoredJointTags.count(name) > 0);
+        ignoreTag(where, name, joint.name, kIgnoredJointTags.count(name) > 0);
       }
     }
   }
@@ -559,20 +571,38 @@ class ModelParser {
     return children;
   }
 
-  void checkMovingLinksHaveMass(const ModelSpec& spec) {
-    for (const auto& joint : spec.joints) {
-      if (!joint.moves()) continue;
-      const LinkSpec* child = spec.link(joint.child);
-      if (child && (!child->inertial || child->inertial->mass <= 0)) {
-        diagnostics_.error("link [" + child->name + "] moves on joint [" + joint.name +
-                           "] but has no mass: give it an <inertial>, or make the joint fixed");
-      }
+  /// A Gazebo tag bullet_sim does not model (`known`: ODE's contact and joint figures, ...) goes into the
+  /// model's one line about them; an unknown one, likely a typo, gets its own warning.
+  void ignoreTag(const std::string& where, const std::string& tag, const std::string& owner, bool known) {
+    if (known) {
+      unmodelled_[tag].push_back(owner);
+    } else {
+      diagnostics_.warning(where + "<" + tag + "> is not a Gazebo tag bullet_sim knows: ignored");
     }
   }
 
-  void warnIgnored(const std::string& what, bool known) {
-    diagnostics_.warning(what + (known ? " is a Gazebo tag bullet_sim does not model: ignored"
-                                       : " is not a Gazebo tag bullet_sim knows: ignored"));
+  /// One line for the model, listing each tag bullet_sim does not model and where it is.
+  void reportUnmodelledTags() {
+    if (unmodelled_.empty()) return;
+    std::string text;
+    for (const auto& [tag, owners] : unmodelled_)
+      text += std::string(text.empty() ? "" : "; ") + "<" + tag + "> on " + listed(owners);
+    diagnostics_.warning("Gazebo tags that bullet_sim does not model (ODE's) are ignored: " + text);
+  }
+
+  /// One line when the model has <transmission>s but no libgazebo_ros_control.so to read them.
+  void reportUnusedTransmissions(const ModelSpec& spec) {
+    if (spec.transmissions.empty()) return;
+    for (const PluginElement& element : model_plugins_) {
+      if (element.plugin.attribute("filename") == "libgazebo_ros_control.so") return;
+    }
+    std::vector<std::string> names;
+    for (const TransmissionSpec& transmission : spec.transmissions) names.push_back(transmission.name);
+    const bool one = names.size() == 1;
+    diagnostics_.warning(
+        std::string(one ? "<transmission> " : "<transmission>s ") + listed(names) + (one ? " is" : " are") +
+        " not used: only libgazebo_ros_control.so reads transmissions, and the robot declares "
+        "no <plugin> of it (Gazebo does not use them either)");
   }
 
   Diagnostics& diagnostics_;
@@ -586,6 +616,7 @@ class ModelParser {
   std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  ///< by material name
   std::vector<PluginElement> model_plugins_;
   std::vector<PluginElement> sensor_plugins_;
+  std::map<std::string, std::vector<std::string>> unmodelled_;  ///< see ignoreTag: tag -> links, joints
 };
 
 }  // namespace

@@ -97,7 +97,7 @@ std::optional<std::string> PackageResolver::resolve(const std::string& uri, std:
     const std::string relative = fs::path(uri.substr(model_scheme.size())).lexically_normal().string();
     std::string why;
     if (auto found = gazeboPaths().findModelFile(relative, &why)) return found;
-    if (error) *error = "cannot resolve [" + uri + "]: " + why;
+    if (error) *error = why;  // it names the model, which says more than the whole URI
     return std::nullopt;
   }
   if (uri.rfind(package_scheme, 0) != 0) return uri;

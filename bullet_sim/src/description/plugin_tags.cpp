@@ -75,6 +75,18 @@ std::string PluginTags::text(const std::string& tag, const std::string& fallback
   return node->text;
 }
 
+std::string PluginTags::frame(const std::string& tag, const std::string& fallback, bool gazebo_drops_slash) {
+  const std::string value = text(tag, fallback);
+  const auto start = value.find_first_not_of('/');
+  if (!has(tag) || start == 0 || value.empty()) return value;
+  const std::string bare = start == std::string::npos ? "" : value.substr(start);
+  if (!gazebo_drops_slash) {
+    diagnostics_.warning(where_ + " <" + tag + "> [" + value + "] is read as [" + bare +
+                         "]: tf2 frame ids have no leading / (Gazebo's plugin keeps it)");
+  }
+  return bare;
+}
+
 double PluginTags::number(const std::string& tag, double fallback) {
   const TagNode* node = find(tag);
   if (!node) return fallback;

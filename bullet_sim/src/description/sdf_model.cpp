@@ -172,16 +172,6 @@ JointSpec makeJoint(const WorldJointSpec& joint, const Eigen::Isometry3d& parent
   return spec;
 }
 
-void checkMasses(const ModelSpec& spec, Diagnostics& diagnostics) {
-  for (const auto& link : spec.links) {
-    if (!link.inertial) continue;
-    if (const auto problem = inertiaProblem(link.inertial->mass, link.inertial->inertia);
-        problem && (!spec.is_static || link.inertial->mass > 0)) {
-      diagnostics.error("link [" + link.name + "] <inertial>: " + *problem);
-    }
-  }
-}
-
 }  // namespace
 
 ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins, Diagnostics& diagnostics,
@@ -229,7 +219,7 @@ ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins,
   }
   checkModelValues(spec, limits, diagnostics);
   declarePlugins(elements, plugins, spec, diagnostics, limits);
-  checkMasses(spec, diagnostics);
+  repairBodyInertias(spec, diagnostics);
   return spec;
 }
 

@@ -198,7 +198,8 @@ void checkModelValues(const ModelSpec& model, const Limits& limits, Diagnostics&
   }
 }
 
-bool checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics) {
+UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits,
+                           Diagnostics& diagnostics) {
   size_t links = 0, moving_joints = 0, shapes = 0;
   for (auto* link = robot.FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
     ++links;
@@ -214,14 +215,14 @@ bool checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Di
   bool fine = withinCount(links, "max_links", "links", limits, diagnostics);
   fine &= withinCount(moving_joints, "max_moving_joints", "moving joints", limits, diagnostics);
   fine &= withinCount(shapes, "max_shapes", "collisions and visuals", limits, diagnostics);
-  if (!fine) return false;  // too many to look at each
+  if (!fine) return UrdfValues::kTooMany;  // too many to look at each
 
   ValueChecker values(limits, diagnostics);
   for (auto* link = robot.FirstChildElement("link"); link; link = link->NextSiblingElement("link"))
     checkLink(*link, values);
   for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint"))
     checkJoint(*joint, values);
-  return !values.failed();
+  return values.failed() ? UrdfValues::kRefused : UrdfValues::kFine;
 }
 
 }  // namespace bullet_sim

@@ -11,10 +11,17 @@
 
 namespace bullet_sim {
 
+/// What checkUrdfValues found.
+enum class UrdfValues {
+  kFine,
+  kRefused,  ///< a number: the model is refused, but the rest of the file can still be checked
+  kTooMany,  ///< a count: too many to look at each, so nothing more is read
+};
+
 /// Checks the counts of links, moving joints and shapes against `limits`, and every number of every <link>
 /// and <joint>: a number, finite, sizes positive, lengths, masses and inertias within `limits`. Each problem
-/// is an error naming the element and the text as written. Returns false when there was one.
-bool checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics);
+/// is an error naming the element and the text as written.
+UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics);
 
 /// The same bounds on a model read as numbers already (an SDF model to spawn, whose shapes and poses its
 /// reader checked): the counts of links, moving joints and shapes, masses, inertias and joint values.

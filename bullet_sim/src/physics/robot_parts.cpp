@@ -1,7 +1,5 @@
 #include "physics/robot_parts.h"
 
-#include <Eigen/Eigenvalues>
-
 namespace bullet_sim {
 
 PartLayout partitionAtMovingJoints(const ModelSpec& model) {
@@ -37,41 +35,6 @@ PartLayout partitionAtMovingJoints(const ModelSpec& model) {
     }
   }
   return layout;
-}
-
-Eigen::Isometry3d MassProperties::principalFrame(Eigen::Vector3d* moments) const {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal(inertia);
-  Eigen::Matrix3d axes = principal.eigenvectors();
-  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
-  *moments = principal.eigenvalues();
-  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
-  frame.translate(com);
-  frame.rotate(axes);
-  return frame;
-}
-
-MassProperties combineInertia(const ModelSpec& model,
-                              const std::vector<std::pair<std::string, Eigen::Isometry3d>>& placed_links) {
-  MassProperties total;
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  for (const auto& [name, frame] : placed_links) {
-    const LinkSpec& link = *model.link(name);
-    if (!link.inertial) continue;
-    total.mass += link.inertial->mass;
-    moment += link.inertial->mass * (frame * link.inertial->com);
-  }
-  if (total.mass <= 0) return total;
-  total.com = moment / total.mass;
-  for (const auto& [name, frame] : placed_links) {
-    const LinkSpec& link = *model.link(name);
-    if (!link.inertial) continue;
-    // Parallel axis theorem about the common centre of mass.
-    const Eigen::Vector3d d = frame * link.inertial->com - total.com;
-    total.inertia +=
-        frame.linear() * link.inertial->inertia * frame.linear().transpose() +
-        link.inertial->mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
-  }
-  return total;
 }
 
 }  // namespace bullet_sim

@@ -1,4 +1,4 @@
-// How a robot model splits into rigid parts, and the mass of a set of links: shared by the wheel models.
+// How a robot model splits into rigid parts (their mass: combineInertia): shared by the wheel models.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "bullet_sim/description/model_geometry.h"
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/physics/robot_body.h"
 
@@ -24,19 +25,5 @@ struct PartLayout {
 
 /// Splits `model` (which must outlive the layout: it points into its joints).
 PartLayout partitionAtMovingJoints(const ModelSpec& model);
-
-/// Mass [kg], centre of mass [m] and inertia about it [kg m^2] of links, each placed by its frame.
-struct MassProperties {
-  double mass = 0;
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
-
-  /// A frame at the centre of mass along the principal axes (right-handed); `moments` gets the principal
-  /// moments about those axes.
-  Eigen::Isometry3d principalFrame(Eigen::Vector3d* moments) const;
-};
-
-MassProperties combineInertia(const ModelSpec& model,
-                              const std::vector<std::pair<std::string, Eigen::Isometry3d>>& placed_links);
 
 }  // namespace bullet_sim

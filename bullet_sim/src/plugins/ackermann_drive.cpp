@@ -101,7 +101,7 @@ class GeometryReader {
         where_(where),
         config_(config),
         poses_(linkPosesAtZero(model_)),
-        base_inverse_(poses_.at(config.robot_base_frame).inverse()) {}
+        base_inverse_(poses_.at(config.base_link).inverse()) {}
 
   void read() {
     const JointSpec* left_hinge = steering("left_steering_joint", config_.left_steering_joint,
@@ -143,7 +143,7 @@ class GeometryReader {
     const Eigen::Vector3d axis = inBase(*joint).linear() * joint->axis;
     if (std::abs(axis.z()) < kMinVerticalAxis) {
       diagnostics_.error(where_ + " <" + tag + "> [" + joint_name + "] turns about " + vectorText(axis) +
-                         " in [" + config_.robot_base_frame + "]: a steering joint turns about the vertical");
+                         " in [" + config_.base_link + "]: a steering joint turns about the vertical");
     }
     if (joint->effort <= 0) {
       diagnostics_.error(
@@ -161,7 +161,7 @@ class GeometryReader {
   const JointSpec* wheel(const std::string& tag, const std::string& joint_name, AckermannJoint& out) {
     const JointSpec* joint = movingJoint(tag, joint_name);
     if (!joint) return nullptr;
-    out = {joint_name, wheelRollSign(poses_, config_.robot_base_frame, *joint), joint->effort};
+    out = {joint_name, wheelRollSign(poses_, config_.base_link, *joint), joint->effort};
     if (out.sign < 0) {
       diagnostics_.warning(where_ + " joint [" + joint_name + "] turns about " + vectorText(joint->axis) +
                            ", against the other wheels: it is driven with the opposite sign so the car rolls "
@@ -187,13 +187,12 @@ class GeometryReader {
     geometry.wheelbase = (left_kingpin.x() + right_kingpin.x()) / 2 - (left_rear.x() + right_rear.x()) / 2;
     if (geometry.steering_track <= 0 || geometry.rear_track <= 0) {
       diagnostics_.error(where_ + " the left joints must be to the left of the right ones in [" +
-                         config_.robot_base_frame +
-                         "]: are <left_steering_joint>/<right_steering_joint> or " +
+                         config_.base_link + "]: are <left_steering_joint>/<right_steering_joint> or " +
                          "<rear_left_joint>/<rear_right_joint> swapped?");
     }
     if (geometry.wheelbase <= 0) {
       diagnostics_.error(where_ + " the steering joints must be ahead of the rear wheels in [" +
-                         config_.robot_base_frame + "]");
+                         config_.base_link + "]");
     }
     for (const JointSpec* joint : {&rear_left, &rear_right}) {
       const LinkSpec* link = model_.link(joint->child);
@@ -210,9 +209,9 @@ class GeometryReader {
   /// The front wheels' roll signs and their distance apart, for those who drive them
   /// (ackermannJointCommands).
   void measureFront(const JointSpec& front_left, const JointSpec& front_right) {
-    config_.front_left = {front_left.name, wheelRollSign(poses_, config_.robot_base_frame, front_left),
+    config_.front_left = {front_left.name, wheelRollSign(poses_, config_.base_link, front_left),
                           front_left.effort};
-    config_.front_right = {front_right.name, wheelRollSign(poses_, config_.robot_base_frame, front_right),
+    config_.front_right = {front_right.name, wheelRollSign(poses_, config_.base_link, front_right),
                            front_right.effort};
     config_.geometry.front_track =
         inBase(front_left).translation().y() - inBase(front_right).translation().y();
@@ -253,11 +252,8 @@ AckermannConfig parseAckermann(const DeclarationSource& source) {
 
 void readAckermannGeometry(const ModelSpec& model, const std::string& where, AckermannConfig& config,
                            Diagnostics& diagnostics) {
-  if (!model.link(config.robot_base_frame)) {
-    diagnostics.error(where + " <robot_base_frame> [" + config.robot_base_frame + "] is not a link" +
-                      didYouMean(config.robot_base_frame, model.linkNames()));
-    return;
-  }
+  config.base_link =
+      frameLink(model, where, "robot_base_frame", config.robot_base_frame, model.root, diagnostics);
   GeometryReader(model, diagnostics, where, config).read();
 }
 

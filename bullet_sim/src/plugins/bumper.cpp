@@ -47,10 +47,10 @@ BumperConfig parseBumper(const DeclarationSource& source) {
   BumperConfig config;
   config.update_rate = sensor.update_rate;
   config.topic = tags.text("bumperTopicName", config.topic);
-  config.frame = tags.text("frameName", config.frame);
+  config.frame = tags.frame("frameName", config.frame);
   config.robot_namespace = tags.text("robotNamespace", "");
   tags.accept({"alwaysOn"});
-  if (config.frame != "world" && config.frame != "/world" && config.frame != "map") {
+  if (config.frame != "world" && config.frame != "map") {
     source.diagnostics.warning(tags.where() + " <frameName> [" + config.frame +
                                "]: contacts are in the world frame whatever the name, as in Gazebo");
   }

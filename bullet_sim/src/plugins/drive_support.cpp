@@ -14,13 +14,20 @@ std::string firstText(PluginTags& tags, const std::vector<std::string>& names, c
   return value;
 }
 
+/// firstText for frames (see PluginTags::frame).
+std::string firstFrame(PluginTags& tags, const std::vector<std::string>& names, const std::string& fallback) {
+  std::string value = fallback;
+  for (auto name = names.rbegin(); name != names.rend(); ++name) value = tags.frame(*name, value);
+  return value;
+}
+
 }  // namespace
 
 void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead& head) {
   head.command_topic = firstText(tags, names.command_topic, head.command_topic);
   head.odometry_topic = firstText(tags, names.odometry_topic, head.odometry_topic);
-  head.odometry_frame = firstText(tags, names.odometry_frame, head.odometry_frame);
-  head.robot_base_frame = firstText(tags, names.robot_base_frame, head.robot_base_frame);
+  head.odometry_frame = firstFrame(tags, names.odometry_frame, head.odometry_frame);
+  head.robot_base_frame = firstFrame(tags, names.robot_base_frame, head.robot_base_frame);
   for (auto name = names.update_rate.rbegin(); name != names.update_rate.rend(); ++name)
     head.update_rate = tags.positive(*name, head.update_rate, /*allow_zero=*/true);
   head.robot_namespace = tags.text("robotNamespace", "");
@@ -62,7 +69,7 @@ bool VelocityCommand::set(double linear, double angular, double sim_time) {
 
 DrivePlugin::DrivePlugin(const PluginDeclaration& declaration, const DriveConfigHead& head,
                          const PluginSetup& setup)
-    : Plugin(declaration, setup), base_frame_(head.robot_base_frame), command_(head.command_timeout) {
+    : Plugin(declaration, setup), base_frame_(head.base_link), command_(head.command_timeout) {
   Odometry& odometry = odometry_.next();
   odometry.frame_id = head.odometry_frame;
   odometry.child_frame_id = head.robot_base_frame;

@@ -5,17 +5,16 @@ namespace bullet_sim {
 GroundTruthConfig parseGroundTruth(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   GroundTruthConfig config;
-  config.body = tags.text("bodyName", "");
-  if (!source.model.link(config.body)) {
-    source.diagnostics.error(tags.where() + " <bodyName> [" + config.body + "] is not a link" +
-                             didYouMean(config.body, source.model.linkNames()));
-  }
+  if (!tags.has("bodyName"))
+    source.diagnostics.error(tags.where() + " has no <bodyName>: name the link to follow");
+  config.body = tags.frame("bodyName", source.model.root, /*gazebo_drops_slash=*/false);
+  config.link = frameLink(source, "bodyName", config.body, source.model.root);
   config.topic = tags.text("topicName", config.topic);
   config.robot_namespace = tags.text("robotNamespace", "");
   config.update_rate = tags.positive("updateRate", 0, /*allow_zero=*/true);
   config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-  config.frame = tags.text("frameName", config.frame);
-  if (config.frame != "world" && config.frame != "map" && config.frame != "/world") {
+  config.frame = tags.frame("frameName", config.frame);
+  if (config.frame != "world" && config.frame != "map") {
     source.diagnostics.warning(tags.where() + " <frameName> [" + config.frame +
                                "]: poses are given in the world frame, whatever the name");
   }
@@ -38,11 +37,11 @@ void GroundTruth::sense(const StepTime& time, const RobotBody& body, const RayCa
   if (!timer().due(time)) return;
   Odometry& odometry = odometry_.next();
   odometry.stamp = time.sim_time;
-  odometry.pose = body.linkPose(config_.body);
+  odometry.pose = body.linkPose(config_.link);
   odometry.pose.translation() += gaussian3(config_.noise_stddev);
   // p3d reports velocities in the world frame.
-  odometry.linear_velocity = body.linkLinearVelocity(config_.body) + gaussian3(config_.noise_stddev);
-  odometry.angular_velocity = body.linkAngularVelocity(config_.body) + gaussian3(config_.noise_stddev);
+  odometry.linear_velocity = body.linkLinearVelocity(config_.link) + gaussian3(config_.noise_stddev);
+  odometry.angular_velocity = body.linkAngularVelocity(config_.link) + gaussian3(config_.noise_stddev);
   odometry_.publish();
 }
 

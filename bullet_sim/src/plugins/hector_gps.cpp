@@ -23,8 +23,8 @@ HectorGpsConfig parseHectorGps(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   HectorGpsConfig config;
   config.robot_namespace = tags.text("robotNamespace", "");
-  config.link = readHectorBody(tags, source.model);
-  config.frame = tags.text("frameId", config.frame);
+  config.link = readHectorBody(source);
+  config.frame = tags.frame("frameId", config.frame, /*gazebo_drops_slash=*/false);
   config.fix_topic = tags.text("topicName", config.fix_topic);
   config.velocity_topic = tags.text("velocityTopicName", config.velocity_topic);
   config.update_rate = readHectorUpdateRate(tags, config.update_rate);

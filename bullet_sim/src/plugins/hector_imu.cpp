@@ -30,12 +30,10 @@ HectorImuConfig parseHectorImu(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   HectorImuConfig config;
   config.robot_namespace = tags.text("robotNamespace", "");
-  config.link = readHectorBody(tags, source.model);
-  config.frame = tags.text("frameId", config.link);
-  if (!source.model.link(config.frame)) {
-    source.diagnostics.error(tags.where() + " <frameId> [" + config.frame + "] is not a link" +
-                             didYouMean(config.frame, source.model.linkNames()));
-  }
+  std::string body;
+  config.link = readHectorBody(source, &body);
+  config.frame = tags.frame("frameId", body, /*gazebo_drops_slash=*/false);
+  if (tags.has("frameId")) frameLink(source, "frameId", config.frame);
   config.topic = tags.text("topicName", config.topic);
   config.bias_topic = tags.text("biasTopicName", config.topic.empty() ? "" : config.topic + "/bias");
   config.service = tags.text("serviceName", config.topic + "/calibrate");

@@ -58,13 +58,10 @@ SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, b
   return config;
 }
 
-std::string readHectorBody(PluginTags& tags, const ModelSpec& model) {
-  const std::string link = tags.text("bodyName", model.root);
-  if (!model.link(link)) {
-    tags.diagnostics().error(tags.where() + " <bodyName> [" + link + "] is not a link" +
-                             didYouMean(link, model.linkNames()));
-  }
-  return link;
+std::string readHectorBody(const DeclarationSource& source, std::string* name) {
+  const std::string body = source.tags.frame("bodyName", source.model.root, /*gazebo_drops_slash=*/false);
+  if (name) *name = body;
+  return frameLink(source, "bodyName", body, source.model.root);
 }
 
 double readHectorUpdateRate(PluginTags& tags, double fallback) {

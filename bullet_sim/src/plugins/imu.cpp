@@ -2,18 +2,6 @@
 
 namespace bullet_sim {
 
-namespace {
-
-void checkFrame(const ImuConfig& config, const ModelSpec& model, const std::string& where,
-                Diagnostics& diagnostics) {
-  if (!model.link(config.frame)) {
-    diagnostics.error(where + " <frameName> [" + config.frame + "] is not a link" +
-                      didYouMean(config.frame, model.linkNames()));
-  }
-}
-
-}  // namespace
-
 ImuConfig parseImuSensor(const DeclarationSource& source) {
   const SensorDeclaration& sensor = *source.declaration.sensor;
   PluginTags& tags = source.tags;
@@ -23,13 +11,13 @@ ImuConfig parseImuSensor(const DeclarationSource& source) {
   config.frame = sensor.link;
   config.update_rate = sensor.update_rate;
   config.topic = tags.text("topicName", config.topic);
-  config.frame = tags.text("frameName", config.frame);
+  config.frame = tags.frame("frameName", config.frame, /*gazebo_drops_slash=*/false);
   config.update_rate = tags.positive("updateRateHZ", config.update_rate, /*allow_zero=*/true);
   config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
   config.robot_namespace = tags.text("robotNamespace", "");
   tags.accept(
       {"alwaysOn", "updateRate", "bodyName", "xyzOffset", "rpyOffset", "initialOrientationAsReference"});
-  checkFrame(config, source.model, source.declaration.where(), source.diagnostics);
+  frameLink(source, "frameName", config.frame);
   return config;
 }
 
@@ -37,18 +25,17 @@ ImuConfig parseImuPlugin(const DeclarationSource& source) {
   PluginTags& tags = source.tags;
   const ModelSpec& model = source.model;
   ImuConfig config;
-  config.link = tags.text("bodyName", "");
-  if (!model.link(config.link)) {
-    source.diagnostics.error(tags.where() + " <bodyName> [" + config.link + "] is not a link" +
-                             didYouMean(config.link, model.linkNames()));
-  }
-  config.frame = tags.text("frameName", config.link);
+  if (!tags.has("bodyName"))
+    source.diagnostics.error(tags.where() + " has no <bodyName>: name the link it sits on");
+  const std::string body = tags.frame("bodyName", model.root, /*gazebo_drops_slash=*/false);
+  config.link = frameLink(source, "bodyName", body, model.root);
+  config.frame = tags.frame("frameName", body, /*gazebo_drops_slash=*/false);
   config.topic = tags.text("topicName", config.topic);
   config.update_rate = tags.positive("updateRate", 0, /*allow_zero=*/true);
   config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
   config.robot_namespace = tags.text("robotNamespace", "");
   tags.accept({"serviceName", "alwaysOn", "xyzOffsets", "rpyOffsets"});
-  if (model.link(config.link)) checkFrame(config, model, tags.where(), source.diagnostics);
+  if (config.frame != body) frameLink(source, "frameName", config.frame);
   return config;
 }
 

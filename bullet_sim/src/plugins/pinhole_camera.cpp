@@ -113,7 +113,7 @@ void readCameraPluginTags(PluginTags& tags, double sensor_rate, const std::array
   config.camera_name = tags.text("cameraName", "");
   config.image_topic = tags.text("imageTopicName", config.image_topic);
   config.info_topic = tags.text("cameraInfoTopicName", config.info_topic);
-  config.frame = tags.text("frameName", config.frame);
+  config.frame = tags.frame("frameName", config.frame);
   // The plugin publishes a frame when its period has passed since the last: the slower rate wins.
   const double plugin_rate = tags.positive("updateRate", 0, /*allow_zero=*/true);
   config.update_rate = sensor_rate;
@@ -140,11 +140,7 @@ void checkCamera(const DeclarationSource& source, const PinholeCameraConfig& con
                                std::to_string(config.renderedFocalLength()) +
                                ": camera_info carries the given one, the image is rendered with the other");
   }
-  if (!source.model.link(config.frame)) {
-    source.diagnostics.warning(where + " <frameName> [" + config.frame + "] is not a link of the robot" +
-                               didYouMean(config.frame, source.model.linkNames()) +
-                               ": its images are stamped with it anyway, as in Gazebo");
-  }
+  frameLink(source, "frameName", config.frame);
 }
 
 PinholeCameraConfig parseAnyCamera(const DeclarationSource& source, bool depth) {

@@ -18,8 +18,8 @@ void readHolonomicTags(const DeclarationSource& source, HolonomicConfig& config)
   config.robot_namespace = tags.text("robotNamespace", "");
   config.command_topic = tags.text("commandTopic", config.command_topic);
   config.odometry_topic = tags.text("odometryTopic", config.odometry_topic);
-  config.odometry_frame = tags.text("odometryFrame", config.odometry_frame);
-  config.robot_base_frame = tags.text("robotBaseFrame", config.robot_base_frame);
+  config.odometry_frame = tags.frame("odometryFrame", config.odometry_frame);
+  config.robot_base_frame = tags.frame("robotBaseFrame", config.robot_base_frame);
   config.update_rate = tags.number("odometryRate", config.update_rate);
   tags.accept({"alwaysOn"});
 }
@@ -28,6 +28,7 @@ PlanarMoveConfig parsePlanarMove(const DeclarationSource& source) {
   PlanarMoveConfig config;
   readHolonomicTags(source, config);
   config.command_timeout = source.tags.number("cmdTimeout", config.command_timeout);
+  frameLink(source, "robotBaseFrame", config.robot_base_frame, source.model.root);
   return config;
 }
 

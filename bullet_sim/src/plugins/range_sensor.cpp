@@ -24,7 +24,7 @@ RangeConfig parseRange(const DeclarationSource& source) {
                                "<gaussianNoise>");
   }
   config.topic = tags.text("topicName", config.topic);
-  config.frame = tags.text("frameName", sensor.link);
+  config.frame = tags.frame("frameName", sensor.link);
   const std::string radiation = tags.text("radiation", "ultrasound");
   config.infrared = radiation != "ultrasound";
   if (radiation != "ultrasound" && radiation != "infrared") {
@@ -40,11 +40,7 @@ RangeConfig parseRange(const DeclarationSource& source) {
   if (plugin_rate > 0 && (sensor.update_rate == 0 || plugin_rate < sensor.update_rate))
     config.update_rate = plugin_rate;
   tags.accept({"alwaysOn"});
-  if (!source.model.link(config.frame)) {
-    source.diagnostics.error(where + " <frameName> [" + config.frame + "] is not a link" +
-                             didYouMean(config.frame, source.model.linkNames()) +
-                             "; Gazebo would publish ranges in a frame tf lacks");
-  }
+  frameLink(source, "frameName", config.frame);
   return config;
 }
 

@@ -105,7 +105,7 @@ void readPluginTags(const std::string& filename, PluginTags& tags, RayLidarConfi
                   : filename == "libgazebo_ros_block_laser.so" ? RayLidarConfig::Output::kPointCloud
                                                                : RayLidarConfig::Output::kLaserScan;
   config.topic = tags.text("topicName", config.topic);
-  config.frame = tags.text("frameName", config.frame);
+  config.frame = tags.frame("frameName", config.frame);
   config.robot_namespace = tags.text("robotNamespace", "");
   if (velodyne) {
     config.range_min = tags.positive("min_range", config.range_min, /*allow_zero=*/true);
@@ -151,11 +151,7 @@ RayLidarConfig parseRayLidar(const DeclarationSource& source) {
   readPluginTags(source.declaration.filename, source.tags, config);
   if (config.range_max <= config.range_min)
     source.diagnostics.error(where + " <range> <max> must exceed <min>");
-  if (!source.model.link(config.frame)) {
-    source.diagnostics.error(where + " <frameName> [" + config.frame + "] is not a link" +
-                             didYouMean(config.frame, source.model.linkNames()) +
-                             "; Gazebo would publish scans in a frame tf lacks");
-  }
+  frameLink(source, "frameName", config.frame);
   return config;
 }
 

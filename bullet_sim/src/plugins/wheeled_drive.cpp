@@ -52,7 +52,7 @@ std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig
   Diagnostics& diagnostics = source.diagnostics;
   const std::string& where = source.tags.where();
   const auto poses = linkPosesAtZero(model);
-  const Eigen::Isometry3d base = poses.at(config.robot_base_frame);
+  const Eigen::Isometry3d base = poses.at(config.base_link);
   std::vector<double> signs;
   for (const auto& name : joints) {
     const JointSpec* joint = model.joint(name);
@@ -63,7 +63,7 @@ std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig
       signs.push_back(1);
       continue;
     }
-    signs.push_back(wheelRollSign(poses, config.robot_base_frame, *joint));
+    signs.push_back(wheelRollSign(poses, config.base_link, *joint));
     if (signs.back() < 0) {
       diagnostics.warning(where + " joint [" + name + "] turns about " + vectorText(joint->axis) +
                           ", against the other side: it is driven with the opposite sign so the robot rolls "
@@ -87,12 +87,7 @@ std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig
 /// Checks the wheels against the model (see checkSide) and wheelSeparation against their joints.
 void checkWheels(const DeclarationSource& source, DriveConfig& config) {
   checkWheelsDistinct(source, config);
-  if (!source.model.link(config.robot_base_frame)) {
-    source.diagnostics.error(source.tags.where() + " <robotBaseFrame> [" + config.robot_base_frame +
-                             "] is not a link" +
-                             didYouMean(config.robot_base_frame, source.model.linkNames()));
-    return;
-  }
+  config.base_link = frameLink(source, "robotBaseFrame", config.robot_base_frame, source.model.root);
   std::vector<double> left_y, right_y;
   config.left_signs = checkSide(source, config, config.left_joints, left_y);
   config.right_signs = checkSide(source, config, config.right_joints, right_y);

@@ -42,23 +42,21 @@ Limits limitsParam(const ros::NodeHandle& private_node) {
 
 WorldSpec loadWorldParam(const ros::NodeHandle& private_node, const Limits& limits) {
   const std::string name = private_node.param<std::string>("world", "empty.world");
-  const std::string fallback = private_node.param<std::string>("world_fallback", "");
+  const std::string fallback = private_node.param<std::string>("world_fallback", "empty.world");
   WorldOptions options;
   options.strict_models = private_node.param("strict_models", false);
-  const PackageResolver resolver = PackageResolver::fromEnvironment();
-  std::string error;
-  auto path = findWorldFile(name, resolver, &error);
-  if (!path && !fallback.empty()) {
-    ROS_WARN("~world: %s; falling back on %s, as gzserver does", error.c_str(), fallback.c_str());
-    path = findWorldFile(fallback, resolver, &error);
-  }
-  if (!path) throw std::runtime_error("~world: " + error);
-  std::vector<std::string> warnings;
   options.limits = limits;
-  WorldSpec world = loadWorld(*path, resolver, &warnings, options);
-  for (const auto& warning : warnings) ROS_WARN("%s", warning.c_str());
-  ROS_INFO("world %s", path->c_str());
-  return world;
+  std::vector<std::string> warnings;
+  std::string path;
+  try {
+    WorldSpec world =
+        loadWorldOrFallback(name, fallback, PackageResolver::fromEnvironment(), &warnings, options, &path);
+    for (const auto& warning : warnings) ROS_WARN("%s", warning.c_str());
+    ROS_INFO("world %s", path.c_str());
+    return world;
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("~world: ") + e.what());
+  }
 }
 
 }  // namespace

@@ -1,13 +1,15 @@
 // The ROS node `simulator` (registered as `gazebo`, as gzserver is): steps the core in sim time, publishes
 // /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
 //
-// Params: ~world [empty.world], ~world_fallback [none: the world loaded, with a warning, when ~world is not
-//   found, as gzserver falls back on worlds/empty.world], ~strict_models [false: an unknown model:// include
-//   is skipped with a warning; true: an error], ~step_size and ~real_time_factor [the world's <physics>: 1 ms,
-//   1; 0 = as fast as possible], ~paused [false], ~seed [0], ~pub_clock_frequency [1000 wall Hz], ~gui
-//   (accepted: rendering is headless), ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off]
-//   (numbered chase-view frames), ~model_states_rate (world_api.h), ~limits/<name> (description/limits.h:
-//   what a model or world may ask for).
+// Params: ~world [empty.world], ~world_fallback [empty.world: the world loaded, with a warning naming the
+// file
+//   and its problems, when ~world cannot be found or read, as gzserver falls back on worlds/empty.world; ""
+//   makes that an error, as ~strict_models does for a world found but refused], ~strict_models [false: an
+//   unknown model:// include is skipped with a warning; true: an error], ~step_size and ~real_time_factor
+//   [the world's <physics>: 1 ms, 1; 0 = as fast as possible], ~paused [false], ~seed [0],
+//   ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless), ~snapshot_dir
+//   [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames), ~model_states_rate
+//   (world_api.h), ~limits/<name> (description/limits.h: what a model or world may ask for).
 // Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
 //   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (world_api.h).
 #pragma once

@@ -433,7 +433,7 @@ struct Planar {
 /// frame.
 Planar axlePose(const Robot& robot, const WheeledDrive& drive) {
   const RobotBody& body = robot.body();
-  const Eigen::Isometry3d base = body.linkPose(drive.config().robot_base_frame);
+  const Eigen::Isometry3d base = body.linkPose(drive.config().base_link);
   std::vector<std::string> joints = drive.config().left_joints;
   joints.insert(joints.end(), drive.config().right_joints.begin(), drive.config().right_joints.end());
   Eigen::Vector3d midpoint = Eigen::Vector3d::Zero();

@@ -109,10 +109,12 @@ void declarePlugins(const std::vector<PluginElement>& elements, const PluginPars
 
 /// Parses a URDF string with its <gazebo> tags; `plugins` turns each <plugin> into its typed config (the
 /// plugin registry's parseModel overload passes the built-in plugins). Throws SpecError naming `source` and
-/// listing every problem (malformed XML with line number, urdfdom's complaint, a link with two parents or
-/// cut off from the root, a number that is not finite or beyond `limits`, too many links or shapes, missing
-/// meshes, references to missing links, bad plugin tags). Warnings (ignored tags, plugins not simulated,
-/// ...) are appended to `warnings` when given.
+/// listing every problem, of whatever kind (malformed XML with line number, urdfdom's complaint, a link with
+/// two parents or cut off from the root, a number that is not finite or beyond `limits`, a negative mass, too
+/// many links or shapes, missing collision meshes, references to missing links, bad plugin tags). What
+/// Gazebo accepts is a warning, appended to `warnings` when given: ignored tags, plugins not simulated, a
+/// missing visual mesh (not drawn), a frame naming no link (used as the frame_id), a body with no mass or a
+/// poor inertia (lumped as Gazebo does, then given a solid box's), transmissions nothing reads.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
                      const PluginParsers& plugins, std::vector<std::string>* warnings = nullptr,
                      const Limits& limits = Limits());
@@ -120,8 +122,8 @@ ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, con
 /// What parseModel reads, for tools that report problems instead of loading (urdf_doctor): never throws;
 /// every error and warning goes to `diagnostics`, and the model comes back as far as it could be read (a
 /// collision or visual whose mesh cannot be loaded is left out). nullopt when there is no model to read:
-/// malformed XML, a root element other than <robot>, a number or a count parseModel refuses, urdfdom
-/// rejected the file, or its joints do not form a tree.
+/// malformed XML, a root element other than <robot>, a count parseModel refuses, urdfdom rejected the file
+/// (often over a number already refused), or its joints do not form a tree.
 std::optional<ModelSpec> readModel(const std::string& urdf_xml, const PackageResolver& resolver,
                                    const PluginParsers& plugins, Diagnostics& diagnostics,
                                    const Limits& limits = Limits());

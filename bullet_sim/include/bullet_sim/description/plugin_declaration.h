@@ -59,6 +59,15 @@ struct DeclarationSource {
   const Limits& limits;  ///< counts (a lidar's rays, a camera's pixels) above these are errors
 };
 
+/// The link that frame tag `tag`, read as `frame`, names. When it names none, a warning says so and that the
+/// messages carry `frame` as their frame_id all the same, as Gazebo's do; `fallback` is returned, and named
+/// in the warning as the link measured instead unless it is "".
+std::string frameLink(const DeclarationSource& source, const std::string& tag, const std::string& frame,
+                      const std::string& fallback = "");
+/// The same, for a reader with no DeclarationSource: `where` heads the warning.
+std::string frameLink(const ModelSpec& model, const std::string& where, const std::string& tag,
+                      const std::string& frame, const std::string& fallback, Diagnostics& diagnostics);
+
 /// Turns declarations into typed configs; the plugin registry implements it.
 class PluginParsers {
  public:

@@ -39,6 +39,9 @@ class PluginTags {
   /// The tag's text. A topic tag (named ...Topic, ...TopicName, topicName or ..._topic) must not be empty:
   /// ROS has no topic of that name, so Gazebo's plugin fails to load; that is an error.
   std::string text(const std::string& tag, const std::string& fallback);
+  /// A tf frame or link name. A leading '/' is dropped: tf2 frame ids have none, and Gazebo's plugins drop it
+  /// too (tf::resolve) where `gazebo_drops_slash`; where they keep it, a warning says it is dropped.
+  std::string frame(const std::string& tag, const std::string& fallback, bool gazebo_drops_slash = true);
   double number(const std::string& tag, double fallback);
   /// A number that must be > 0 (or >= 0 with `allow_zero`).
   double positive(const std::string& tag, double fallback, bool allow_zero = false);

@@ -144,4 +144,13 @@ WorldModelSpec readSdfModelHere(const std::string& sdf_text, const std::string& 
 std::optional<std::string> findWorldFile(const std::string& name, const PackageResolver& resolver,
                                          std::string* error);
 
+/// The world `name` (found by findWorldFile), as gzserver loads one: when it cannot be found or read, the
+/// world `fallback` instead (unless it is ""), after a warning naming the file and listing its problems, as
+/// gzserver falls back on worlds/empty.world. With options.strict_models a world that is found but refused
+/// is an error: no fallback. `path`, when given, receives the file loaded. Throws std::runtime_error, listing
+/// the problems, when neither loads.
+WorldSpec loadWorldOrFallback(const std::string& name, const std::string& fallback,
+                              const PackageResolver& resolver, std::vector<std::string>* warnings,
+                              const WorldOptions& options = {}, std::string* path = nullptr);
+
 }  // namespace bullet_sim

@@ -17,6 +17,9 @@ struct DriveConfigHead : PluginConfig {
   std::string odometry_topic = "odom";
   std::string odometry_frame = "odom";
   std::string robot_base_frame = "base_footprint";
+  /// The link the odometry follows and the wheels are measured in: robot_base_frame's, or the root link when
+  /// it names none (Gazebo's drives follow the model, whose pose is its root link's).
+  std::string base_link = "base_footprint";
   bool publish_odometry = true;  ///< odometry on odometry_topic
   bool publish_odom_tf = true;   ///< odometry_frame -> robot_base_frame on /tf
   double command_timeout = 0;    ///< [s]; 0 = off (ours: Gazebo keeps the last command for ever)

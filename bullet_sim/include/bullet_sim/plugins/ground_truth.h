@@ -10,7 +10,8 @@
 namespace bullet_sim {
 
 struct GroundTruthConfig : PluginConfig {
-  std::string body;
+  std::string body;  ///< <bodyName>: the child_frame_id
+  std::string link;  ///< the link measured: body's, or the root when body names no link
   std::string topic = "ground_truth";
   std::string frame = "world";
   double noise_stddev = 0;  ///< [m], [m/s], [rad/s]

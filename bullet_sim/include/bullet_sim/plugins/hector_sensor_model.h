@@ -34,9 +34,10 @@ SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, b
 /// naming the tag when it is not three numbers.
 Eigen::Vector3d readVector3(PluginTags& tags, const std::string& tag, const Eigen::Vector3d& fallback);
 
-/// hector's body: <bodyName>, the root link when absent (Gazebo's canonical link); an error names a tag that
-/// names no link.
-std::string readHectorBody(PluginTags& tags, const ModelSpec& model);
+/// The link hector's plugin measures: <bodyName>, the root link when absent (Gazebo's canonical link) or,
+/// after a warning, when it names no link. `name`, when given, receives the name as written (the default
+/// frame_id).
+std::string readHectorBody(const DeclarationSource& source, std::string* name = nullptr);
 
 /// hector's update timer: updateRate [Hz] or updatePeriod [s]; `fallback` [Hz] when neither is given.
 double readHectorUpdateRate(PluginTags& tags, double fallback);

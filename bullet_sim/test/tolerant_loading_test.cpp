@@ -1,0 +1,254 @@
+// What Gazebo accepts, accepted with one warning each (issue 19, section 1): each tolerated form, written
+// into a small diff-drive robot that loads clean, loads with exactly one warning and the robot drives. A
+// file's errors, of whatever kind, come out together; an unreadable world falls back on the empty one.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "bullet_sim/description/sdf_model.h"
+#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
+#include "bullet_sim/simulation.h"
+#include "multi_sensor_robot.h"
+#include "test_support.h"
+
+namespace bullet_sim {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+using ::testing::IsEmpty;
+using ::testing::Not;
+
+/// The two-wheeler with a diff drive: it loads without a warning.
+std::string driveable() {
+  return test::withPlugin(test::readFile(test::fixture("robots/two_wheeler.urdf")), "drive",
+                          "libgazebo_ros_diff_drive.so",
+                          {{"leftJoint", "left_wheel_joint"},
+                           {"rightJoint", "right_wheel_joint"},
+                           {"wheelSeparation", "0.35"},
+                           {"wheelDiameter", "0.1"},
+                           {"robotBaseFrame", "base_footprint"},
+                           {"odometryFrame", "odom"}});
+}
+
+/// `urdf` with `xml` (elements) appended to its <robot>.
+std::string withElements(const std::string& urdf, const std::string& xml) {
+  const auto end = urdf.rfind("</robot>");
+  return urdf.substr(0, end) + xml + "\n</robot>\n";
+}
+
+/// `urdf` with the inertia of link `link` replaced by `moments` (ixx iyy izz), or its <inertial> removed.
+std::string withInertia(const std::string& urdf, const std::string& link, const char* moments[3]) {
+  return test::editUrdf(urdf, [&](tinyxml2::XMLElement& robot) {
+    for (auto* l = robot.FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+      if (link != l->Attribute("name")) continue;
+      if (!moments) {
+        l->DeleteChild(l->FirstChildElement("inertial"));
+        continue;
+      }
+      auto* inertia = l->FirstChildElement("inertial")->FirstChildElement("inertia");
+      inertia->SetAttribute("ixx", moments[0]);
+      inertia->SetAttribute("iyy", moments[1]);
+      inertia->SetAttribute("izz", moments[2]);
+    }
+  });
+}
+
+/// How far the robot's base goes in 1 s of a 0.3 m/s cmd_vel.
+double drivenDistance(const std::string& urdf) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  std::vector<std::string> warnings;
+  Robot& robot =
+      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
+  auto& drive = *robot.pluginsOf<WheeledDrive>().front();
+  const Eigen::Vector3d start = robot.body().linkPose("base_link").translation();
+  for (int i = 0; i < 1000; ++i) {
+    if (i % 100 == 0) drive.setCommand(0.3, 0, simulation.time());
+    simulation.step();
+  }
+  return (robot.body().linkPose("base_link").translation() - start).x();
+}
+
+struct Tolerated {
+  const char* name;
+  std::string urdf;
+  const char* warning;  ///< the one warning's telling part; nullptr: none, as in Gazebo
+};
+
+const char* kZero[3] = {"0", "0", "0"};
+const char* kNotPositiveDefinite[3] = {"-1.4e-4", "2.5e-4", "1.4e-4"};
+
+std::vector<Tolerated> toleratedForms() {
+  const std::string robot = driveable();
+  const std::string lidar =
+      "<gazebo reference='base_link'><sensor type='ray' name='lidar'><update_rate>10</update_rate><ray><scan>"
+      "<horizontal><samples>90</samples><resolution>1</resolution><min_angle>-3.14</min_angle>"
+      "<max_angle>3.14</max_angle></horizontal></scan><range><min>0.12</min><max>3.5</max></range></ray>"
+      "<plugin name='laser' filename='libgazebo_ros_laser.so'><topicName>scan</topicName>"
+      "<frameName>/laser_frame</frameName></plugin></sensor></gazebo>";
+  const std::string ode_tags = "<mu1>1</mu1><fdir1>1 0 0</fdir1><minDepth>0.001</minDepth><maxVel>0</maxVel>";
+  const std::string missing_visual =
+      "<link name='logo'><visual><geometry><mesh "
+      "filename='model://no_such_model/meshes/logo.dae'/></geometry>"
+      "</visual></link><joint name='logo_joint' type='fixed'><parent link='base_link'/><child link='logo'/>"
+      "</joint>";
+  return {
+      {"LeadingSlashOnFrames",
+       test::withPluginTags(robot, "diff_drive.so",
+                            {{"robotBaseFrame", "/base_footprint"}, {"odometryFrame", "/odom"}}),
+       nullptr},
+      {"BaseFrameNamingNoLink", test::withPluginTags(robot, "diff_drive.so", {{"robotBaseFrame", "chassis"}}),
+       "<robotBaseFrame> [chassis] is not a link of the robot: messages carry it as their frame_id all the "
+       "same, as Gazebo's do; link [base_footprint] is measured instead"},
+      {"LidarFrameNamingNoLink", withElements(robot, lidar),
+       "<frameName> [laser_frame] is not a link of the robot"},
+      {"ZeroInertia", withInertia(robot, "left_wheel", kZero),
+       "link [left_wheel]: inertia is not positive definite (principal moments 0 0 0 kg m^2); it is "
+       "simulated "
+       "as a solid box of 0.2 kg"},
+      {"InertiaNotPositiveDefinite", withInertia(robot, "left_wheel", kNotPositiveDefinite),
+       "link [left_wheel]: inertia is not positive definite"},
+      {"MovingLinkWithoutMass", withInertia(robot, "right_wheel", nullptr),
+       "link [right_wheel]: it has no mass; it is simulated as a solid box of 0.022 kg"},
+      {"MissingVisualMesh", withElements(robot, missing_visual),
+       "link [logo] <visual>: unknown model [no_such_model]"},
+      {"TransmissionWithoutRosControl",
+       withElements(robot,
+                    "<transmission name='left_tran'><type>transmission_interface/SimpleTransmission</type>"
+                    "<joint name='left_wheel_joint'><hardwareInterface>hardware_interface/"
+                    "VelocityJointInterface</hardwareInterface></joint><actuator name='left_motor'>"
+                    "<mechanicalReduction>1</mechanicalReduction></actuator></transmission>"),
+       "<transmission> [left_tran] is not used: only libgazebo_ros_control.so reads transmissions"},
+      {"OdeOnlyTagsOnEveryWheel",
+       withElements(robot, "<gazebo reference='left_wheel'>" + ode_tags +
+                               "</gazebo><gazebo reference='right_wheel'>" + ode_tags + "</gazebo>"),
+       "Gazebo tags that bullet_sim does not model (ODE's) are ignored: <fdir1> on [left_wheel] and "
+       "[right_wheel]; <maxVel> on [left_wheel] and [right_wheel]; <minDepth> on [left_wheel] and "
+       "[right_wheel]"},
+  };
+}
+
+TEST(TolerantLoading, TheRobotLoadsClean) { EXPECT_THAT(test::loadWarnings(driveable()), IsEmpty()); }
+
+TEST(TolerantLoading, EachFormGazeboAcceptsLoadsWithOneWarningAndDrives) {
+  for (const Tolerated& form : toleratedForms()) {
+    SCOPED_TRACE(form.name);
+    const std::vector<std::string> warnings = test::loadWarnings(form.urdf);
+    if (form.warning) {
+      EXPECT_THAT(warnings, ElementsAre(HasSubstr(form.warning)));
+    } else {
+      EXPECT_THAT(warnings, IsEmpty());
+    }
+    EXPECT_GT(drivenDistance(form.urdf), 0.25) << "drives forward";
+  }
+}
+
+TEST(TolerantLoading, FramesLoseTheirLeadingSlashAndKeepTheirNames) {
+  const std::vector<Tolerated> forms = toleratedForms();
+  const auto config = [&](int i) {
+    const ModelSpec model = parseModel(forms[i].urdf, "robot", PackageResolver::fromEnvironment());
+    return *model.plugins.front().configAs<DriveConfig>();
+  };
+  EXPECT_EQ(config(0).robot_base_frame, "base_footprint");
+  EXPECT_EQ(config(0).odometry_frame, "odom");
+  EXPECT_EQ(config(1).robot_base_frame, "chassis") << "the odometry's child_frame_id, as Gazebo's";
+  EXPECT_EQ(config(1).base_link, "base_footprint");
+  const ModelSpec lidar = parseModel(forms[2].urdf, "robot", PackageResolver::fromEnvironment(), nullptr);
+  const auto* scan = lidar.plugins.back().configAs<RayLidarConfig>();
+  ASSERT_TRUE(scan);
+  EXPECT_EQ(scan->frame, "laser_frame");
+  EXPECT_EQ(scan->link, "base_link");
+}
+
+TEST(TolerantLoading, FixedChildrenAreLumpedBeforeTheInertiaIsJudged) {
+  // A zero inertia on a link fixed to a sound one is no problem once lumped, as in Gazebo.
+  const char* zero[3] = {"0", "0", "0"};
+  const std::string urdf = withElements(
+      withInertia(driveable(), "left_wheel", nullptr),
+      "<link name='hub'><inertial><mass value='0.2'/><inertia ixx='1.4e-4' ixy='0' ixz='0' iyy='2.5e-4' "
+      "iyz='0' izz='1.4e-4'/></inertial></link><joint name='hub_joint' type='fixed'><parent "
+      "link='left_wheel'/><child link='hub'/></joint>");
+  EXPECT_THAT(test::loadWarnings(urdf), IsEmpty()) << "the wheel's mass is its hub's";
+  EXPECT_THAT(test::loadWarnings(withInertia(urdf, "hub", zero)),
+              ElementsAre(HasSubstr("link [left_wheel] with the links fixed to it, lumped as Gazebo does,")));
+}
+
+TEST(TolerantLoading, AnSdfModelsPoorInertiaIsMendedToo) {
+  const std::string sdf =
+      "<sdf version='1.6'><model name='crate'><link name='body'><inertial><mass>4</mass><inertia><ixx>0</ixx>"
+      "<iyy>0</iyy><izz>0</izz></inertia></inertial><collision name='c'><geometry><box><size>0.5 0.5 "
+      "0.5</size>"
+      "</box></geometry></collision></link></model></sdf>";
+  std::vector<std::string> warnings;
+  const ModelSpec crate = parseSdfModel(sdf, "crate.sdf", PackageResolver::fromEnvironment(),
+                                        PluginRegistry::builtin(), &warnings);
+  EXPECT_THAT(warnings,
+              ElementsAre(HasSubstr("link [body]: inertia is not positive definite (principal moments "
+                                    "0 0 0 kg m^2); it is simulated as a solid box of 4 kg")));
+  const Eigen::Vector3d moments = crate.link("body")->inertial->inertia.diagonal();
+  EXPECT_TRUE(moments.isApprox(Eigen::Vector3d::Constant(4.0 / 12 * 0.5), 1e-12)) << moments.transpose();
+}
+
+TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {
+  const std::string urdf = withElements(
+      test::withPluginTags(withInertia(driveable(), "right_wheel", nullptr), "diff_drive.so",
+                           {{"wheelDiameter", "-1"}}),
+      "<link name='bumper'><inertial><mass value='-1'/><inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' "
+      "izz='1'/></inertial><collision><geometry><mesh filename='package://bullet_sim/no_such.stl'/>"
+      "</geometry></collision><collision><geometry><box size='0.1 -0.1 0.1'/></geometry></collision></link>"
+      "<joint name='bumper_joint' type='fixed'><parent link='base_link'/><child link='bumper'/></joint>"
+      "<gazebo reference='bumpr'><mu1>1</mu1></gazebo>");
+  EXPECT_THAT(test::loadErrors(urdf),
+              testing::UnorderedElementsAre(
+                  HasSubstr("link [bumper] <collision> <box size=\"0.1 -0.1 0.1\">: [-0.1] must be positive"),
+                  HasSubstr("link [bumper] <inertial>: mass -1 kg is not positive"),
+                  HasSubstr("link [bumper] <collision>: cannot load mesh"),
+                  HasSubstr("<gazebo reference=\"bumpr\"> names no link or joint (did you mean [bumper]?)"),
+                  HasSubstr("<wheelDiameter> must be > 0, not -1")));
+}
+
+TEST(TolerantLoading, AnUnknownModelUriNamesTheModel) {
+  const std::string visual =
+      "<link name='logo'><visual><geometry><mesh filename='MESH'/></geometry></visual>"
+      "</link><joint name='logo_joint' type='fixed'><parent link='base_link'/>"
+      "<child link='logo'/></joint>";
+  const auto warningFor = [&](const std::string& uri) {
+    const auto warnings =
+        test::loadWarnings(withElements(driveable(), test::replaceAfter(visual, "", "MESH", uri)));
+    return warnings.empty() ? std::string() : warnings.front();
+  };
+  EXPECT_THAT(warningFor("model://no_such_model/meshes/logo.dae"),
+              AllOf(HasSubstr("unknown model [no_such_model]"), Not(HasSubstr("meshes/logo.dae"))));
+  EXPECT_THAT(warningFor("model://cafe_table/meshes/no_such.dae"),
+              HasSubstr("model [cafe_table] has no file [meshes/no_such.dae]"));
+}
+
+TEST(TolerantLoading, AWorldThatCannotBeReadFallsBackOnTheEmptyWorld) {
+  const PackageResolver resolver = PackageResolver::fromEnvironment();
+  const std::string broken = (std::filesystem::temp_directory_path() / "tolerant_broken.world").string();
+  std::ofstream(broken) << "<sdf version='1.6'><world name='w'><model name='m'></world></sdf>\n";
+  for (const std::string& name : {std::string("no_such.world"), broken}) {
+    SCOPED_TRACE(name);
+    std::vector<std::string> warnings;
+    std::string path;
+    const WorldSpec world = loadWorldOrFallback(name, "empty.world", resolver, &warnings, {}, &path);
+    EXPECT_THAT(path, HasSubstr("empty.world"));
+    EXPECT_THAT(warnings, ElementsAre(AllOf(HasSubstr("falling back on empty.world, as gzserver does"),
+                                            HasSubstr(name))));
+    EXPECT_THROW(loadWorldOrFallback(name, "", resolver, &warnings), std::runtime_error) << "no fallback";
+  }
+  WorldOptions strict;
+  strict.strict_models = true;
+  EXPECT_THROW(loadWorldOrFallback(broken, "empty.world", resolver, nullptr, strict), std::runtime_error)
+      << "strict: refused";
+  std::filesystem::remove(broken);
+}
+
+}  // namespace
+}  // namespace bullet_sim
