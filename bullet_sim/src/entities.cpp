@@ -160,17 +160,22 @@ std::pair<Robot*, std::string> Simulation::findBody(const std::string& name) con
 }
 
 std::pair<Robot*, int> Simulation::findJoint(const std::string& name) const {
+  std::vector<Robot*> models;  // the world's bodies, then the robots, as modelNames() lists them
+  for (const auto& placed : world_models_) {
+    if (placed.body) models.push_back(placed.body.get());
+  }
+  for (const auto& robot : robots_) models.push_back(robot.get());
   std::vector<std::string> known;
-  for (const auto& robot : robots_) {
+  for (Robot* robot : models) {
     for (const JointSpec& joint : robot->body().spec().joints) {
       if (!joint.moves()) continue;
       if (joint.name == name || scoped(robot->name(), joint.name) == name) {
-        return {robot.get(), robot->body().jointIndex(joint.name)};
+        return {robot, robot->body().jointIndex(joint.name)};
       }
       known.push_back(scoped(robot->name(), joint.name));
     }
   }
-  for (const auto& robot : robots_) {
+  for (Robot* robot : models) {
     const std::string prefix = robot->name() + "::";
     const bool scoped_here = name.rfind(prefix, 0) == 0;
     if (robot->body().spec().joint(scoped_here ? name.substr(prefix.size()) : name)) {
@@ -213,15 +218,9 @@ std::vector<NamedState> Simulation::modelStates() const {
 std::vector<NamedState> Simulation::linkStates() const {
   std::vector<NamedState> states;
   for (size_t i = 0; i < world_.models.size(); ++i) {
-    if (const Robot* body = world_models_[i].body.get()) {  // its one link
-      const std::string& link = body->body().spec().root;
-      states.push_back({scoped(world_.models[i].name, link), worldState({world_models_[i].body.get(), -1, link})});
-      continue;
-    }
     for (const auto& link : world_.models[i].links) {
-      states.push_back(
-          {scoped(world_.models[i].name, link.name),
-           {world_models_[i].pose * link.pose, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}});
+      states.push_back({scoped(world_.models[i].name, link.name),
+                        worldState({world_models_[i].body.get(), static_cast<int>(i), link.name})});
     }
   }
   for (const auto& robot : robots_) {
@@ -313,9 +312,10 @@ void Simulation::moveWorldModel(size_t model, const Eigen::Isometry3d& pose) {
 ModelProperties Simulation::modelProperties(const std::string& model) const {
   const Entity entity = findModel(model);
   ModelProperties properties;
-  if (!entity.robot) {
+  if (entity.world_model >= 0) {  // named as its file names them
     const WorldModelSpec& spec = world_.models[entity.world_model];
     properties.is_static = spec.is_static;
+    for (const auto& joint : spec.joints) properties.joint_names.push_back(joint.name);
     std::set<std::string> children;
     for (const auto& link : spec.links) {
       properties.body_names.push_back(link.name);
@@ -472,7 +472,7 @@ void Simulation::applyScheduled() {
                          wrench.torque + (com - pose.translation()).cross(wrench.force));
   }
   for (const ScheduledEffort& effort : efforts_) {
-    if (now >= effort.start) robot(effort.robot)->body().applyJointEffort(effort.joint, effort.effort);
+    if (now >= effort.start) findModel(effort.robot).robot->body().applyJointEffort(effort.joint, effort.effort);
   }
 }
 

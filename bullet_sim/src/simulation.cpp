@@ -162,7 +162,7 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     PlacedWorldModel& placed = world_models_.emplace_back();
     placed.pose = model.pose;
     if (!model.is_static) {
-      placed.body = makeWorldBody(model);
+      makeWorldBody(model, placed);
     } else if (!model.collisions.empty()) {
       placed.ray_body = rays_.addBody(model.collisions, model.pose, true);
     }
@@ -173,19 +173,21 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
 
 Simulation::~Simulation() = default;
 
-std::unique_ptr<Robot> Simulation::makeWorldBody(const WorldModelSpec& model) {
+void Simulation::makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& placed) {
   Diagnostics diagnostics(world_.source);
-  ModelSpec spec = toModelSpec(model, *options_.plugins, diagnostics);
+  ModelSpec spec =
+      toModelSpec(model, *options_.plugins, diagnostics, options_.limits, /*weld_unjoined=*/true);
   diagnostics.throwIfErrors();
   const Eigen::Isometry3d root = model.pose * spec.root_in_model;
   auto body = std::make_unique<MultiBodyRobot>(std::move(spec), model.name, physics_->bullet(), root);
-  auto robot = std::make_unique<Robot>(model.name, std::move(body), root);
-  const auto& parts = robot->body().parts();
-  for (size_t k = 0; k < parts.size(); ++k) {
-    robot->ray_bodies_.push_back(
-        parts[k].collisions.empty() ? kNoBody : rays_.addBody(parts[k].collisions, robot->body().partPose(k), false));
+  placed.body = std::make_unique<Robot>(model.name, std::move(body), root);
+  Robot& robot = *placed.body;
+  addRayBodies(robot);
+  placed.visual_link.assign(model.visuals.size(), 0);
+  for (size_t l = 0; l < model.links.size(); ++l) {
+    placed.link_to_model.push_back(robot.body().linkPose(model.links[l].name).inverse() * model.pose);
+    for (size_t visual : model.links[l].visual_indices) placed.visual_link.at(visual) = l;
   }
-  return robot;
 }
 
 std::vector<Robot*> Simulation::movingModels() {
@@ -202,6 +204,13 @@ Eigen::Isometry3d Simulation::worldModelPose(size_t model) const {
   if (!placed.body) return placed.pose;
   const RobotBody& body = placed.body->body();
   return body.linkPose(body.spec().root) * body.spec().root_in_model.inverse();
+}
+
+Eigen::Isometry3d Simulation::worldVisualFrame(size_t model, size_t visual) const {
+  const PlacedWorldModel& placed = world_models_.at(model);
+  if (!placed.body || placed.link_to_model.empty()) return worldModelPose(model);
+  const size_t link = placed.visual_link.at(visual);
+  return placed.body->body().linkPose(world_.models[model].links[link].name) * placed.link_to_model[link];
 }
 
 Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
@@ -255,13 +264,18 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   return *robots_.back();
 }
 
-void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics) {
+void Simulation::addRayBodies(Robot& robot) {
   const auto& parts = robot.body().parts();
   for (size_t k = 0; k < parts.size(); ++k) {
     robot.ray_bodies_.push_back(parts[k].collisions.empty()
                                     ? kNoBody
                                     : rays_.addBody(parts[k].collisions, robot.body().partPose(k), false));
   }
+}
+
+void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_namespace,
+                       Diagnostics& diagnostics) {
+  addRayBodies(robot);
   try {
     for (const auto& declaration : robot.body().spec().plugins) {
       const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;

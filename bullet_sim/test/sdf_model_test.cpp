@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/description/gazebo_names.h"
 #include "bullet_sim/description/sdf_model.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
@@ -158,16 +159,35 @@ TEST(SdfModel, AJointAwayFromItsChildsOriginPutsTheChildsFrameAtTheJoint) {
 TEST(SdfModel, WhatAUrdfCannotSayIsRefusedWithTheReason) {
   EXPECT_THAT(parseError(model(link("a") + link("b"))),
               HasSubstr("links [a], [b] of model [m] are joined to nothing"));
-  EXPECT_THAT(parseError(model(link("a") + R"(<joint name="hinge" type="revolute"><parent>world</parent>
-                                   <child>a</child><axis><xyz>0 0 1</xyz></axis></joint>)")),
-              HasSubstr("joint [hinge] moves link [a] against the world"));
   EXPECT_THAT(parseError(model(link("a") + link("b") + R"(<joint name="ball" type="ball"><parent>a</parent>
                                    <child>b</child></joint>)")),
               HasSubstr("joint [ball]: type [ball] is not supported"));
   EXPECT_THAT(parseError("<sdf version=\"1.6\"><world name=\"w\"/></sdf>"), HasSubstr("no <model> element"));
+}
+
+TEST(SdfModel, JointsToTheWorldHangTheModelFromALinkNamedWorld) {
   const ModelSpec fixed = parse(model(link("a") + R"(<joint name="bolt" type="fixed"><parent>world</parent>
                                         <child>a</child></joint>)"));
-  EXPECT_TRUE(fixed.is_static) << "a model fixed to the world never moves";
+  EXPECT_EQ(fixed.root, "world");
+  EXPECT_TRUE(hasFixedBase(fixed)) << "a model fixed to the world never moves";
+  EXPECT_FALSE(fixed.is_static) << "but it is not <static>: its other joints move";
+  const ModelSpec hinged =
+      parse(model(link("a") + R"(<joint name="hinge" type="revolute"><parent>world</parent>
+                                   <child>a</child><axis><xyz>0 0 1</xyz></axis></joint>)"));
+  EXPECT_EQ(hinged.root, "world");
+  ASSERT_NE(hinged.joint("hinge"), nullptr);
+  EXPECT_TRUE(hinged.joint("hinge")->moves());
+  EXPECT_EQ(hinged.joint("hinge")->parent, "world");
+}
+
+TEST(SdfModel, LinksAndCollisionsKeepTheirSdfNamesAsGazeboKeepsThem) {
+  const ModelSpec spec =
+      parse(model(link("a") + link("b", "0 0 1 0 0 0") +
+                  R"(<joint name="weld" type="fixed"><parent>a</parent><child>b</child></joint>)"));
+  std::vector<std::string> names;
+  for (const GazeboCollision& collision : gazeboCollisions(spec))
+    names.push_back(collision.gazebo_link + "::" + collision.name);
+  EXPECT_THAT(names, ElementsAre("a::c", "b::c")) << "no lumping, no _collision suffix";
 }
 
 }  // namespace

@@ -121,6 +121,9 @@ TEST(Settling, FreeWheelsDoNotCreep) {
   EXPECT_LT(creep(parse(freeWheeler())), 1e-3) << "two wheels and a caster ball";
   const std::string smartcar = test::expandXacro("smartcar_description", "urdf/smartcar.urdf.xacro");
   EXPECT_LT(creep(parse(withoutPlugins(smartcar))), 1e-3) << "the smartcar on four free wheels";
+  const std::string chair =
+      test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
+  EXPECT_LT(creep(parse(withoutPlugins(chair))), 1e-3) << "the wheelchair on free wheels and swivel casters";
 }
 
 /// A two-link arm whose root link is `world`, as MoveIt's setups write it: world -> base (fixed) -> arm.

@@ -1,5 +1,5 @@
-// A world's non-static model is a rigid body with its mass: robots push it, sensors see it where it is now,
-// reset_world puts it back, and the world API lists and moves it.
+// A world's non-static model is a body with its mass, jointed as its file says: robots push it, sensors see
+// it where it is now, reset_world puts it back, and the world API lists and moves it.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -25,9 +25,11 @@ WorldSpec crateWorld(std::vector<std::string>* warnings = nullptr, const std::st
       "<geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry></collision></link>"
       "</model><model name='crate'><pose>2 0 0.3 0 0 0</pose><link name='link'><inertial><mass>1</mass>"
       "<inertia><ixx>0.06</ixx><iyy>0.06</iyy><izz>0.06</izz></inertia></inertial>"
-      "<collision name='collision'><geometry>" + box + "</geometry></collision>"
-      "<visual name='visual'><geometry>" + box + "</geometry></visual></link></model>" + extra +
-      "</world></sdf>";
+      "<collision name='collision'><geometry>" +
+      box +
+      "</geometry></collision>"
+      "<visual name='visual'><geometry>" +
+      box + "</geometry></visual></link></model>" + extra + "</world></sdf>";
   return parseWorld(sdf, "crates.world", PackageResolver::fromEnvironment(), warnings);
 }
 
@@ -75,27 +77,166 @@ TEST(WorldBodies, ARobotPushesItAndALidarSeesItWhereItIsNow) {
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     if (!std::isfinite(scan.ranges[i])) continue;
     const double angle = scan.angle_min + i * scan.angle_increment;
-    const Eigen::Vector3d hit = scan.sensor_pose * (scan.ranges[i] * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0));
+    const Eigen::Vector3d hit =
+        scan.sensor_pose * (scan.ranges[i] * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0));
     const Eigen::Vector3d in_crate = simulation.modelState("crate").pose.inverse() * hit;
     on_crate += (in_crate.cwiseAbs().array() <= kCrate / 2 + 0.01).all();
   }
   EXPECT_GT(on_crate, 3);
 }
 
-TEST(WorldBodies, AMultiLinkModelIsStaticWithOneWarningSayingSo) {
-  const std::string door =
-      "<model name='door'><link name='frame'><collision name='c'><geometry><box><size>0.1 0.1 2</size></box>"
-      "</geometry></collision></link><link name='leaf'><pose>0.5 0 1 0 0 0</pose><collision name='c'>"
-      "<geometry><box><size>0.9 0.05 2</size></box></geometry></collision></link>"
-      "<joint name='hinge' type='revolute'><parent>frame</parent><child>leaf</child><axis><xyz>0 0 1</xyz>"
-      "</axis></joint></model>";
+// A door as Gazebo worlds write one: a frame fixed to the world and a 10 kg leaf of 1 m on a vertical hinge
+// at x = 2, y = 0.5, opening (0 to 90 degrees) away from a robot coming from the origin along +x.
+constexpr double kDoorOpen = M_PI / 2;  // [rad] the hinge's upper limit
+const std::string kDoor = R"(
+  <model name='door'><pose>2 0.5 0 0 0 0</pose>
+    <link name='frame'><pose>0 0.06 1 0 0 0</pose>
+      <collision name='post'><geometry><box><size>0.1 0.1 2</size></box></geometry></collision>
+      <visual name='post'><geometry><box><size>0.1 0.1 2</size></box></geometry></visual></link>
+    <link name='leaf'>
+      <inertial><pose>0 -0.5 0.95 0 0 0</pose><mass>10</mass>
+        <inertia><ixx>3.53</ixx><iyy>2.70</iyy><izz>0.835</izz></inertia></inertial>
+      <collision name='panel'><pose>0 -0.5 0.95 0 0 0</pose>
+        <geometry><box><size>0.05 1 1.8</size></box></geometry></collision>
+      <visual name='panel'><pose>0 -0.5 0.95 0 0 0</pose>
+        <geometry><box><size>0.05 1 1.8</size></box></geometry></visual></link>
+    <joint name='fixed_to_world' type='fixed'><parent>world</parent><child>frame</child></joint>
+    <joint name='hinge' type='revolute'><parent>frame</parent><child>leaf</child>
+      <axis><xyz>0 0 1</xyz><limit><lower>0</lower><upper>1.5707963</upper></limit>
+        <dynamics><damping>2</damping></dynamics></axis></joint>
+  </model>)";
+
+/// Where the leaf's panel is now: its centre's frame.
+Eigen::Isometry3d panelPose(const Simulation& simulation) {
+  return simulation.linkState("door::leaf").pose * Eigen::Translation3d(0, -0.5, 0.95);
+}
+
+/// How many of a scan's returns lie on a box of `size` at `pose` (within 1 cm).
+int returnsOn(const LaserScan& scan, const Eigen::Isometry3d& pose, const Eigen::Vector3d& size) {
+  int on = 0;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    if (!std::isfinite(scan.ranges[i])) continue;
+    const double angle = scan.angle_min + i * scan.angle_increment;
+    const Eigen::Vector3d hit =
+        scan.sensor_pose * (scan.ranges[i] * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0));
+    on += ((pose.inverse() * hit).cwiseAbs().array() <= size.array() / 2 + 0.01).all();
+  }
+  return on;
+}
+
+TEST(WorldBodies, ADoorIsAMultibodyThatARobotSwingsOpenWithinItsLimits) {
   std::vector<std::string> warnings;
-  Simulation simulation(crateWorld(&warnings, door));
-  EXPECT_TRUE(simulation.modelProperties("door").is_static);
-  int about_door = 0;
-  for (const auto& warning : warnings) about_door += warning.find("[door]") != std::string::npos;
-  EXPECT_EQ(about_door, 1);
-  EXPECT_THAT(warnings.at(0), HasSubstr("static obstacle"));
+  Simulation simulation(crateWorld(&warnings, kDoor));
+  EXPECT_THAT(warnings, ::testing::IsEmpty());
+  const ModelProperties door = simulation.modelProperties("door");
+  EXPECT_FALSE(door.is_static);
+  EXPECT_THAT(door.body_names, ::testing::ElementsAre("frame", "leaf"));
+  EXPECT_THAT(door.geom_names, ::testing::ElementsAre("post", "panel"));
+  EXPECT_THAT(door.joint_names, ::testing::ElementsAre("fixed_to_world", "hinge"));
+  EXPECT_NEAR(simulation.jointProperties("door::hinge").upper, kDoorOpen, 1e-6);
+  EXPECT_NEAR(simulation.linkProperties("door::leaf").mass, 10, 1e-12);
+  const Eigen::Isometry3d closed = panelPose(simulation);
+
+  Robot& chair = simulation.spawn("chair", test::wheelchair(), {});
+  auto* drive = chair.pluginsOf<WheeledDrive>().at(0);
+  double widest = 0;  // [rad] the hinge's largest angle
+  for (int i = 0; i < 12000 && simulation.jointProperties("door::hinge").position < 1.0; ++i) {
+    if (i % 100 == 0) drive->setCommand(0.5, 0, simulation.time());
+    simulation.step();
+    widest = std::max(widest, simulation.jointProperties("door::hinge").position);
+    ASSERT_GT(simulation.jointProperties("door::hinge").position, -0.01) << "the lower limit holds";
+  }
+  ASSERT_GT(widest, 1.0) << "pushed open by the chair";
+  EXPECT_LT(widest, kDoorOpen + 0.02) << "within its upper limit";
+  EXPECT_TRUE(simulation.linkState("door::frame")
+                  .pose.isApprox(Eigen::Isometry3d(Eigen::Translation3d(2, 0.56, 1)), 1e-6))
+      << "the frame is fixed to the world";
+  const Eigen::Vector3d hinge = simulation.linkState("door::leaf").pose.translation();
+  EXPECT_LT((hinge - Eigen::Vector3d(2, 0.5, 0)).norm(), 1e-3) << "the leaf turns about its hinge";
+
+  // A lidar beside the door sees the leaf where it is now, not where it was.
+  Robot& mast = simulation.spawn(
+      "mast", test::parseQuietly(test::readFile(test::fixture("robots/lidar_mast.urdf")), "mast"),
+      {.x = 2.6, .y = 2.2, .yaw = -M_PI / 2});
+  for (int i = 0; i < 200; ++i) simulation.step();
+  const LaserScan& scan = mast.pluginsOf<RayLidar>().at(0)->scan();
+  const Eigen::Vector3d panel(0.05, 1, 1.8);
+  EXPECT_GT(returnsOn(scan, panelPose(simulation), panel), 5);
+  EXPECT_EQ(returnsOn(scan, closed, panel), 0);
+
+  // Cameras draw it there too: its visual's frame turned with the leaf.
+  const size_t door_model = 2;  // after the ground and the crate
+  ASSERT_EQ(simulation.world().models.at(door_model).name, "door");
+  const Visual& leaf_visual = simulation.world().models[door_model].visuals.at(1);
+  EXPECT_TRUE((simulation.worldVisualFrame(door_model, 1) * leaf_visual.origin)
+                  .isApprox(panelPose(simulation), 1e-9));
+
+  simulation.resetWorld();
+  EXPECT_NEAR(simulation.jointProperties("door::hinge").position, 0, 1e-12) << "reset_world closes it";
+  EXPECT_TRUE(panelPose(simulation).isApprox(closed, 1e-9));
+}
+
+// Two links on a fixed joint, not fixed to the world: one rigid body, which falls, is moved and is listed as
+// Gazebo lists an SDF model's links.
+TEST(WorldBodies, TwoLinksOnAFixedJointMoveAsOne) {
+  const std::string dumbbell = R"(
+    <model name='dumbbell'><pose>-2 0 0.1 0 0 0</pose>
+      <link name='a'><collision name='ball'><geometry><sphere><radius>0.1</radius></sphere></geometry></collision></link>
+      <link name='b'><pose>0 1 0 0 0 0</pose>
+        <collision name='ball'><geometry><sphere><radius>0.1</radius></sphere></geometry></collision></link>
+      <joint name='bar' type='fixed'><parent>a</parent><child>b</child></joint>
+    </model>)";
+  std::vector<std::string> warnings;
+  Simulation simulation(crateWorld(&warnings, dumbbell));
+  EXPECT_THAT(warnings, ::testing::IsEmpty());
+  EXPECT_FALSE(simulation.modelProperties("dumbbell").is_static);
+  const auto b_in_a = [&] {
+    return simulation.linkState("dumbbell::a").pose.inverse() * simulation.linkState("dumbbell::b").pose;
+  };
+  EntityState lifted;
+  lifted.pose = Eigen::Translation3d(-2, 0, 1.1) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());
+  simulation.setModelState("dumbbell", lifted);
+  EXPECT_TRUE(simulation.linkState("dumbbell::b")
+                  .pose.translation()
+                  .isApprox(Eigen::Vector3d(-2, std::cos(0.3), 1.1 + std::sin(0.3)), 1e-9))
+      << "set_model_state moves both links";
+  simulation.setModelState("dumbbell", {Eigen::Isometry3d(Eigen::Translation3d(-2, 0, 1.1))});
+  for (int i = 0; i < 1000; ++i) simulation.step();
+  EXPECT_NEAR(simulation.linkState("dumbbell::a").pose.translation().z(), 0.1, 0.005) << "it fell 1 m";
+  EXPECT_NEAR(simulation.linkState("dumbbell::b").pose.translation().z(), 0.1, 0.005);
+  EXPECT_TRUE(b_in_a().isApprox(Eigen::Isometry3d(Eigen::Translation3d(0, 1, 0)), 1e-6)) << "rigidly";
+  std::vector<std::string> links;
+  for (const NamedState& state : simulation.linkStates()) links.push_back(state.name);
+  EXPECT_THAT(links, ::testing::IsSupersetOf({"dumbbell::a", "dumbbell::b"}));
+}
+
+TEST(WorldBodies, WhatBulletSimCannotSimulateGetsOneWarningSayingWhatItDoesInstead) {
+  const std::string ball =
+      "<model name='lamp'><pose>-2 2 1 0 0 0</pose><link name='arm'><collision name='c'><geometry>"
+      "<sphere><radius>0.1</radius></sphere></geometry></collision></link><link name='shade'><pose>0 0 -0.3 "
+      "0 0 0"
+      "</pose><collision "
+      "name='c'><geometry><sphere><radius>0.1</radius></sphere></geometry></collision></link>"
+      "<joint name='swivel' type='ball'><parent>arm</parent><child>shade</child></joint>"
+      "<joint name='hook' type='fixed'><parent>world</parent><child>arm</child></joint></model>";
+  const std::string loop =
+      "<model name='ring'><pose>-2 -2 1 0 0 0</pose><link name='a'/><link name='b'/>"
+      "<joint name='ab' type='revolute'><parent>a</parent><child>b</child><axis><xyz>0 0 "
+      "1</xyz></axis></joint>"
+      "<joint name='ba' type='revolute'><parent>b</parent><child>a</child><axis><xyz>0 0 "
+      "1</xyz></axis></joint>"
+      "</model>";
+  std::vector<std::string> warnings;
+  Simulation simulation(crateWorld(&warnings, ball + loop));
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_THAT(warnings[0], HasSubstr("joint [swivel]: type [ball] is not simulated"));
+  EXPECT_THAT(warnings[0], HasSubstr("held fixed"));
+  EXPECT_FALSE(simulation.modelProperties("lamp").is_static);
+  EXPECT_THAT(warnings[1],
+              HasSubstr("model [ring] is not static, but bullet_sim cannot simulate it as a body"));
+  EXPECT_THAT(warnings[1], HasSubstr("loop"));
+  EXPECT_THAT(warnings[1], HasSubstr("static obstacle"));
+  EXPECT_TRUE(simulation.modelProperties("ring").is_static);
 }
 
 }  // namespace

@@ -346,9 +346,9 @@ TEST(WorldSpec, ColoursComeFromDiffuseThenAmbientThenTheGazeboScript) {
   EXPECT_TRUE(contains(warnings[0], "did you mean [Gazebo/Green]")) << warnings[0];
 }
 
-// A non-static model of one link is a body (world_bodies_test simulates it); one of several links is made
-// static, with one warning saying so.
-TEST(WorldSpec, NonStaticModelIsABodyAndOneOfSeveralLinksStaticWithOneWarning) {
+// A non-static model is a body (world_bodies_test simulates it); links joined to nothing are welded into one,
+// with one warning saying so.
+TEST(WorldSpec, NonStaticModelIsABodyAndLinksJoinedToNothingAreWeldedWithOneWarning) {
   std::vector<std::string> warnings;
   const WorldSpec world = parse(R"(<sdf version="1.6"><world name="w">
     <model name="ball"><link name="l">
@@ -363,10 +363,10 @@ TEST(WorldSpec, NonStaticModelIsABodyAndOneOfSeveralLinksStaticWithOneWarning) {
                                 &warnings);
   ASSERT_EQ(world.models.size(), 2u);
   EXPECT_FALSE(world.models[0].is_static);
-  EXPECT_TRUE(world.models[1].is_static);
+  EXPECT_FALSE(world.models[1].is_static);
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_TRUE(contains(warnings[0], "model [pair] is not static, but has 2 links")) << warnings[0];
-  EXPECT_TRUE(contains(warnings[0], "static obstacle")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "model [pair]: links [b] are joined to nothing")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "welds them to [a] as one rigid body")) << warnings[0];
 }
 
 TEST(WorldSpec, PluginsAndJointsAreIgnoredWithWarnings) {

@@ -128,6 +128,10 @@ class Simulation {
   const Limits& limits() const { return options_.limits; }
   /// Where each of the world's models is now (parallel to world().models): the world API moves them.
   Eigen::Isometry3d worldModelPose(size_t model) const;
+  /// The frame in which visual `visual` of world model `model` has its origin now: the model's frame, or,
+  /// for a visual on a link that turned on a joint, that frame moved with the link. Its pose is this frame *
+  /// its origin.
+  Eigen::Isometry3d worldVisualFrame(size_t model, size_t visual) const;
 
   // Gazebo's world API (entities.h says how entities are named). A request that cannot be honoured throws
   // std::invalid_argument saying why, and changes nothing; a setter returns a note on what it left out, or
@@ -180,6 +184,10 @@ class Simulation {
     Eigen::Isometry3d pose;
     BodyId ray_body = kNoBody;
     std::unique_ptr<Robot> body;
+    /// A body's: per link of its WorldModelSpec, its pose in the file, inverted, times the model's there
+    /// (what makes the link's pose now the frame of its visuals' origins); per visual, its link.
+    std::vector<Eigen::Isometry3d> link_to_model;
+    std::vector<size_t> visual_link;
   };
   /// A scheduled wrench (world axes, about the link's centre of mass) or joint effort, between two sim times.
   struct ScheduledWrench {
@@ -197,10 +205,12 @@ class Simulation {
     return time_base_ + static_cast<double>(steps - steps_at_base_) * options_.physics.step_size;
   }
   void refreshRays();
-  /// The non-static world model `model` as a body at its pose in the file.
-  std::unique_ptr<Robot> makeWorldBody(const WorldModelSpec& model);
+  /// The non-static world model `model` as a body at its pose in the file, into `placed`.
+  void makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& placed);
   /// The robots and the world's bodies: what steps.
   std::vector<Robot*> movingModels();
+  /// Adds the parts of a robot or of a world's body to the ray caster (not yet committed).
+  void addRayBodies(Robot& robot);
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
   /// Applies the scheduled wrenches and efforts whose window holds the step that starts now; drops the ended.

@@ -19,6 +19,7 @@ std::string collisionName(const std::string& sdf_link, const std::string& base, 
 }  // namespace
 
 std::string gazeboLink(const ModelSpec& model, const std::string& link) {
+  if (model.names_from_sdf) return link;  // Gazebo lumps no SDF link
   std::string current = link;
   for (const JointSpec* joint = model.parentJoint(current); joint && !joint->moves();
        joint = model.parentJoint(current)) {
@@ -40,8 +41,9 @@ std::vector<GazeboCollision> gazeboCollisions(const ModelSpec& model) {
       const LinkSpec& link = model.links[l];
       for (size_t i = 0; i < link.collisions.size(); ++i) {
         const std::string& base = link.collisions[i].name.empty() ? link.name : link.collisions[i].name;
-        named.push_back(
-            {link.name, static_cast<int>(i), sdf_link.name, collisionName(sdf_link.name, base, count++)});
+        named.push_back({link.name, static_cast<int>(i), sdf_link.name,
+                         model.names_from_sdf ? base : collisionName(sdf_link.name, base, count)});
+        ++count;
       }
     }
   }

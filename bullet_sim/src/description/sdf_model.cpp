@@ -27,12 +27,15 @@ std::string text(const Eigen::Vector3d& v) {
   return out.str();
 }
 
-/// The model's links as a tree from its root (its first link that is no joint's child).
+constexpr char kWorld[] = "world";  // the parent of a joint to the world, and then the model's root link
+
+/// The model's links as a tree from its root: `kWorld` when a joint ties the model to the world, else its
+/// first link that is no joint's child.
 struct Tree {
   std::string root;
   std::vector<std::string> order;                           ///< parents before children
   std::map<std::string, const WorldJointSpec*> joint_into;  ///< per link but the root and the welded
-  std::vector<std::string> welded;  ///< a static model's other unjoined links, welded to the root
+  std::vector<std::string> welded;  ///< other links joined to nothing, welded to the root
 };
 
 const WorldLinkSpec* findLink(const WorldModelSpec& model, const std::string& name) {
@@ -42,17 +45,16 @@ const WorldLinkSpec* findLink(const WorldModelSpec& model, const std::string& na
   return nullptr;
 }
 
-/// The joints between links, checked; joints to the world are the caller's.
+/// The joints, checked: parent -> children.
 std::map<std::string, std::vector<std::string>> readJoints(const WorldModelSpec& model, Tree& tree,
                                                            Diagnostics& diagnostics) {
   std::vector<std::string> links;
   for (const auto& link : model.links) links.push_back(link.name);
   std::map<std::string, std::vector<std::string>> children;
   for (const auto& joint : model.joints) {
-    if (joint.parent == "world") continue;
     bool known = true;
     for (const std::string& link : {joint.parent, joint.child}) {
-      if (!findLink(model, link)) {
+      if (!findLink(model, link) && !(link == kWorld && link == joint.parent)) {
         diagnostics.error("joint [" + joint.name + "] names link [" + link + "], which model [" + model.name +
                           "] does not have" + didYouMean(link, links));
         known = false;
@@ -71,32 +73,52 @@ std::map<std::string, std::vector<std::string>> readJoints(const WorldModelSpec&
   return children;
 }
 
-Tree buildTree(const WorldModelSpec& model, bool is_static, Diagnostics& diagnostics) {
-  Tree tree;
-  std::map<std::string, std::vector<std::string>> children = readJoints(model, tree, diagnostics);
+/// The roots of the model's tree: its links that are no joint's child, after `kWorld` when a joint ties
+/// the model to it. Links joined to nothing but the first root are welded to it when `weld` allows, with a
+/// warning when the model is not static; else they are an error.
+std::vector<std::string> findRoots(const WorldModelSpec& model, const Tree& tree, bool is_static, bool weld,
+                                   std::vector<std::string>& root_children, Diagnostics& diagnostics) {
   std::vector<std::string> roots;
+  if (!root_children.empty()) roots.push_back(kWorld);  // children of kWorld
   for (const auto& link : model.links) {
     if (!tree.joint_into.count(link.name)) roots.push_back(link.name);
   }
+  if (roots.size() <= 1 || is_static) return roots;
+  const std::vector<std::string> loose(roots.begin() + 1, roots.end());
+  if (weld) {
+    diagnostics.warning("links " + listOf(loose) +
+                        " are joined to nothing: Gazebo moves each on its own, "
+                        "bullet_sim welds them to [" +
+                        roots.front() + "] as one rigid body");
+  } else {
+    const bool to_world = roots.front() == kWorld;  // then the rest are joined to nothing
+    diagnostics.error("links " + listOf(to_world ? loose : roots) + " of model [" + model.name +
+                      "] are joined to nothing: bullet_sim simulates a model's links as one tree; join them "
+                      "with joints (a fixed one for a rigid part), or make the model <static>");
+  }
+  return roots;
+}
+
+Tree buildTree(const WorldModelSpec& model, bool is_static, bool weld_unjoined, Diagnostics& diagnostics) {
+  Tree tree;
+  std::map<std::string, std::vector<std::string>> children = readJoints(model, tree, diagnostics);
+  const std::vector<std::string> roots =
+      findRoots(model, tree, is_static, weld_unjoined, children[kWorld], diagnostics);
   if (roots.empty()) {
     diagnostics.error("model [" + model.name +
                       "] has no link that is no joint's child: its joints form a loop");
     return {};
   }
   tree.root = roots.front();
-  if (roots.size() > 1 && is_static) {
+  if (is_static || weld_unjoined) {
     tree.welded.assign(roots.begin() + 1, roots.end());
     children[tree.root].insert(children[tree.root].end(), tree.welded.begin(), tree.welded.end());
-  } else if (roots.size() > 1) {
-    diagnostics.error("links " + listOf(roots) + " of model [" + model.name +
-                      "] are joined to nothing: bullet_sim simulates a model's links as one tree; join them "
-                      "with joints (a fixed one for a rigid part), or make the model <static>");
   }
   for (std::deque<std::string> next{tree.root}; !next.empty(); next.pop_front()) {
     tree.order.push_back(next.front());
     for (const auto& child : children[next.front()]) next.push_back(child);
   }
-  if (roots.size() == 1 || is_static) {
+  if (roots.size() == 1 || is_static || weld_unjoined) {
     std::vector<std::string> unreached;
     for (const auto& link : model.links) {
       if (std::find(tree.order.begin(), tree.order.end(), link.name) == tree.order.end()) {
@@ -175,35 +197,28 @@ JointSpec makeJoint(const WorldJointSpec& joint, const Eigen::Isometry3d& parent
 }  // namespace
 
 ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins, Diagnostics& diagnostics,
-                      const Limits& limits) {
+                      const Limits& limits, bool weld_unjoined) {
   ModelSpec spec;
   spec.name = model.name;
   spec.source = diagnostics.source();
   spec.is_static = model.is_static;
   spec.placement = model.pose;
-  for (const auto& joint : model.joints) {
-    if (joint.parent != "world") continue;
-    if (joint.type == JointSpec::Type::kFixed) {
-      spec.is_static = true;  // fixed to the world: it never moves
-    } else {
-      diagnostics.error(
-          "joint [" + joint.name + "] moves link [" + joint.child +
-          "] against the world: bullet_sim fixes a model to the world only rigidly; make the joint "
-          "fixed, or the model <static>");
-    }
-  }
-  const Tree tree = buildTree(model, spec.is_static, diagnostics);
+  spec.names_from_sdf = true;
+  const Tree tree = buildTree(model, spec.is_static, weld_unjoined, diagnostics);
   if (tree.root.empty()) return spec;
   std::map<std::string, Eigen::Isometry3d> frames;
   for (const std::string& name : tree.order) {
     const auto joint = tree.joint_into.find(name);
-    frames[name] = frameOf(*findLink(model, name), joint == tree.joint_into.end() ? nullptr : joint->second,
-                           diagnostics);
+    frames[name] = name == kWorld
+                       ? Eigen::Isometry3d::Identity()  // the world's link: at the model frame
+                       : frameOf(*findLink(model, name),
+                                 joint == tree.joint_into.end() ? nullptr : joint->second, diagnostics);
   }
   spec.root = tree.root;
   spec.root_in_model = frames.at(tree.root);
   for (const std::string& name : tree.order) {
-    spec.links.push_back(makeLink(model, *findLink(model, name), frames.at(name)));
+    spec.links.push_back(name == kWorld ? LinkSpec{kWorld}
+                                        : makeLink(model, *findLink(model, name), frames.at(name)));
     if (name == tree.root) continue;
     const auto joint = tree.joint_into.find(name);
     WorldJointSpec weld{"__weld_" + name, JointSpec::Type::kFixed, tree.root, name};

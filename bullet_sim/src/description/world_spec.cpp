@@ -18,6 +18,7 @@
 #include "bullet_sim/description/files.h"
 #include "bullet_sim/description/gazebo_materials.h"
 #include "bullet_sim/description/mesh.h"
+#include "bullet_sim/description/sdf_model.h"
 #include "description/tag_node_xml.h"
 #include "description/world_copies.h"
 
@@ -113,6 +114,12 @@ TagNode tagNodeOf(const sdf::ElementPtr& element) {
   node.line = element->LineNumber().value_or(0);
   return node;
 }
+
+/// A world's models run no plugins: what checks that a non-static one can be a body declares none.
+class NoPlugins : public PluginParsers {
+ public:
+  std::shared_ptr<const PluginConfig> parse(const DeclarationSource&) const override { return nullptr; }
+};
 
 /// Turns sdformat's DOM of one world, or of one model to spawn, into specs, collecting every problem in
 /// `diagnostics`.
@@ -214,19 +221,29 @@ class WorldConverter {
     spec.name = model.Name();
     spec.pose = resolvePose(model.SemanticPose(), "", "model [" + model.Name() + "]", model.Element());
     spec.is_static = model.Static();
-    // A world's non-static model is one rigid body; one with joints or several links stays static.
-    if (!spec.is_static && !spawning_ && (model.LinkCount() != 1 || model.ModelCount() > 0)) {
-      spec.is_static = true;
-      diagnostics_.warning(locate(model.Element()) + "model [" + model.Name() + "] is not static, but has " +
-                           std::to_string(model.LinkCount()) + " links and " +
-                           std::to_string(model.ModelCount()) +
-                           " nested models: bullet_sim simulates a world's moving model only as one rigid "
-                           "link, so this one is a static obstacle; spawn it with spawn_sdf_model to "
-                           "simulate its joints");
-    }
-    said_static_ = !model.Static() && spec.is_static;
     addContents(model, Eigen::Isometry3d::Identity(), model.Name(), spec);
+    if (!spec.is_static && !spawning_) checkBody(model, spec);
     return spec;
+  }
+
+  /// A world's non-static model is a body, jointed as its file says, when bullet_sim can simulate it as one;
+  /// else a static obstacle, with one warning that says why.
+  void checkBody(const sdf::Model& model, WorldModelSpec& spec) {
+    Diagnostics body(diagnostics_.source());
+    bullet_sim::toModelSpec(spec, NoPlugins(), body, limits_, /*weld_unjoined=*/true);
+    for (const Collision& collision : spec.collisions) {
+      if (collision.shape.type == Shape::Type::kPlane)
+        body.error("collision [" + collision.name + "] is a plane, which only static geometry may have");
+    }
+    const std::string at = locate(model.Element()) + "model [" + model.Name() + "]";
+    for (const std::string& warning : body.warnings()) diagnostics_.warning(at + ": " + warning);
+    if (body.errors().empty()) return;
+    std::string why;
+    for (const std::string& error : body.errors()) why += (why.empty() ? "" : "; ") + error;
+    diagnostics_.warning(at + " is not static, but bullet_sim cannot simulate it as a body (" + why +
+                         "): it is a static obstacle, as if it were <static>");
+    spec.is_static = true;
+    spec.joints.clear();
   }
 
   /// Adds the links, collisions and visuals of `model` (the top-level model or one nested in it, placed at
@@ -235,17 +252,17 @@ class WorldConverter {
   void addContents(const sdf::Model& model, const Eigen::Isometry3d& in_top_model, const std::string& scope,
                    WorldModelSpec& spec) {
     const std::string prefix = scope == spec.name ? "" : scope.substr(spec.name.size() + 2) + "::";
-    if (spawning_) {
+    if (spawning_ || !spec.is_static) {
       for (uint64_t j = 0; j < model.JointCount(); ++j) {
         addJoint(*model.JointByIndex(j), in_top_model, prefix, spec);
       }
-    } else if (model.JointCount() > 0 && !said_static_) {
+    } else if (model.JointCount() > 0) {
       std::string joints;
       for (uint64_t i = 0; i < model.JointCount(); ++i) {
         joints += (i ? ", [" : "[") + model.JointByIndex(i)->Name() + "]";
       }
       diagnostics_.warning(locate(model.Element()) + "model [" + scope + "]: joints " + joints +
-                           " ignored: world models are rigid, static obstacles");
+                           " ignored: the model is <static>, so they do not move");
     }
     for (const auto& plugin : children(model.Element(), "plugin")) {
       if (spawning_) {
@@ -352,15 +369,20 @@ class WorldConverter {
         {sdf::JointType::CONTINUOUS, JointSpec::Type::kContinuous},
         {sdf::JointType::PRISMATIC, JointSpec::Type::kPrismatic}};
     const auto type = kTypes.find(joint.Type());
-    if (type == kTypes.end()) {
-      diagnostics_.error(locate(joint.Element()) + owner + ": type [" +
-                         (joint.Element() ? joint.Element()->Get<std::string>("type") : "") +
+    const std::string type_name = joint.Element() ? joint.Element()->Get<std::string>("type") : "";
+    if (type == kTypes.end() && spawning_) {
+      diagnostics_.error(locate(joint.Element()) + owner + ": type [" + type_name +
                          "] is not supported; use fixed, revolute, continuous or prismatic");
       return;
     }
+    if (type == kTypes.end()) {  // a world's model still loads, as in Gazebo, with the joint rigid
+      diagnostics_.warning(locate(joint.Element()) + owner + ": type [" + type_name +
+                           "] is not simulated (bullet_sim has fixed, revolute, continuous and prismatic "
+                           "joints): it is held fixed");
+    }
     WorldJointSpec& placed = spec.joints.emplace_back();
     placed.name = prefix + joint.Name();
-    placed.type = type->second;
+    placed.type = type == kTypes.end() ? JointSpec::Type::kFixed : type->second;
     placed.parent = joint.ParentLinkName() == "world" ? "world" : prefix + joint.ParentLinkName();
     placed.child = prefix + joint.ChildLinkName();
     placed.pose = in_top_model * resolvePose(joint.SemanticPose(), "__model__", owner, joint.Element());
@@ -679,7 +701,6 @@ class WorldConverter {
   std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
   std::optional<std::vector<std::string>> resource_scripts_;              // see resourceScripts
   std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  // see scriptColour
-  bool said_static_ = false;  ///< the model being read was made static with a warning, which said why
   bool spawning_ = false;  ///< converting a model to spawn, not a world's
   size_t shapes_ = 0;      ///< collisions and visuals so far
   bool reported_shapes_ = false;

@@ -62,6 +62,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   world_->setGravity(toBullet(world.gravity));
   btContactSolverInfo& solver = world_->getSolverInfo();
   solver.m_numIterations = options_.solver_iterations;
+  solver.m_leastSquaresResidualThreshold = options_.solver_residual;
   // Multibody contacts start each step from the impulses of the last one, in full: a robot resting on four
   // free wheels is statically indeterminate, and a solve begun from zero leaves a residual that rolled it
   // on (a constant push, 2 mm/s^2 on the smartcar).

@@ -52,11 +52,12 @@ RobotSnapshot snapshotRobot(WorldSpec world, ModelSpec model, const SpawnPose& p
 Scene simulationScene(const Simulation& simulation, View view, const std::string& focus,
                       const std::vector<Polyline>& trails) {
   Scene scene;
-  std::vector<Eigen::Isometry3d> world_poses;
-  for (size_t m = 0; m < simulation.world().models.size(); ++m) {
-    world_poses.push_back(simulation.worldModelPose(m));
+  const WorldSpec& world = simulation.world();
+  for (size_t m = 0; m < world.models.size(); ++m) {  // where the world API and the physics put them
+    for (size_t v = 0; v < world.models[m].visuals.size(); ++v) {
+      scene.meshes.push_back(visualMesh(world.models[m].visuals[v], simulation.worldVisualFrame(m, v)));
+    }
   }
-  addWorld(scene, simulation.world(), world_poses);
   const std::vector<std::string> names = simulation.robotNames();
   Eigen::Isometry3d focus_pose = Eigen::Isometry3d::Identity();
   Eigen::AlignedBox3d focus_bounds;

@@ -136,16 +136,8 @@ Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
 }
 
 void addWorld(Scene& scene, const WorldSpec& world) {
-  std::vector<Eigen::Isometry3d> poses;
-  for (const WorldModelSpec& model : world.models) poses.push_back(model.pose);
-  addWorld(scene, world, poses);
-}
-
-void addWorld(Scene& scene, const WorldSpec& world, const std::vector<Eigen::Isometry3d>& model_poses) {
-  for (size_t m = 0; m < world.models.size(); ++m) {
-    for (const Visual& visual : world.models[m].visuals) {
-      scene.meshes.push_back(visualMesh(visual, model_poses.at(m)));
-    }
+  for (const WorldModelSpec& model : world.models) {
+    for (const Visual& visual : model.visuals) scene.meshes.push_back(visualMesh(visual, model.pose));
   }
 }
 

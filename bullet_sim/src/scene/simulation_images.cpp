@@ -27,8 +27,9 @@ SimulationImages::SimulationImages(const Simulation& simulation, RendererAccess 
     : simulation_(simulation), renderer_(std::move(renderer)) {
   const WorldSpec& world = simulation_.world();
   for (size_t m = 0; m < world.models.size(); ++m) {
-    for (const Visual& visual : world.models[m].visuals) {
-      world_visuals_.emplace_back(m, visual.origin);
+    for (size_t v = 0; v < world.models[m].visuals.size(); ++v) {
+      const Visual& visual = world.models[m].visuals[v];
+      world_visuals_.push_back({m, v, visual.origin});
       scene_.meshes.push_back(visualMesh(visual, Eigen::Isometry3d::Identity()));
     }
   }
@@ -62,7 +63,8 @@ const Scene& SimulationImages::sceneFor(const ImageRequest& request) {
   refreshRobots();
   scene_.meshes.resize(world_visuals_.size());
   for (size_t k = 0; k < world_visuals_.size(); ++k) {  // the world API may have moved world models
-    scene_.meshes[k].pose = simulation_.worldModelPose(world_visuals_[k].first) * world_visuals_[k].second;
+    const WorldVisual& visual = world_visuals_[k];
+    scene_.meshes[k].pose = simulation_.worldVisualFrame(visual.model, visual.index) * visual.origin;
   }
   for (const auto& [name, robot] : robots_) {
     for (const LinkVisuals& link : robot.links) {

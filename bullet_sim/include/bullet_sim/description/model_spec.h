@@ -77,6 +77,9 @@ struct ModelSpec {
   /// pose, as Gazebo does; identity for a URDF.
   Eigen::Isometry3d placement = Eigen::Isometry3d::Identity();
   std::string source;             ///< where the URDF came from, for messages
+  /// Read from SDF (sdf_model.h): Gazebo names its links and collisions as the file does. A URDF's
+  /// collisions are named by Gazebo's URDF conversion ("link_collision"), and fixed joints lump its links.
+  bool names_from_sdf = false;
   std::string root;               ///< root link
   std::vector<LinkSpec> links;    ///< the root first, then parents before children
   std::vector<JointSpec> joints;  ///< in the order of `links` (joint i + 1 leads to links[i + 1])

@@ -33,9 +33,6 @@ Eigen::AlignedBox3d addModel(Scene& scene, const ModelSpec& model,
 
 /// Adds every visual of the world's models, the ground plane included, where the world file puts them.
 void addWorld(Scene& scene, const WorldSpec& world);
-/// The same with each model at its pose in `model_poses` (parallel to world.models: where a simulation has
-/// them now, Simulation::worldModelPose).
-void addWorld(Scene& scene, const WorldSpec& world, const std::vector<Eigen::Isometry3d>& model_poses);
 
 /// Where the beams of a scan hit, in the world: one point per finite range (not +inf, no return, nor -inf,
 /// closer than range_min), placed with the scan's sensor_pose.

@@ -45,8 +45,13 @@ class SimulationImages final : public ImageSource {
   const Simulation& simulation_;
   RendererAccess renderer_;
   Scene scene_;
-  /// scene_.meshes starts with the world's visuals: each one's model and its origin in the model frame.
-  std::vector<std::pair<size_t, Eigen::Isometry3d>> world_visuals_;
+  /// A world model's visual: which one, and its origin in the model frame.
+  struct WorldVisual {
+    size_t model, index;
+    Eigen::Isometry3d origin;
+  };
+  /// scene_.meshes starts with the world's visuals.
+  std::vector<WorldVisual> world_visuals_;
   std::map<std::string, RobotVisuals> robots_;
 };
 
