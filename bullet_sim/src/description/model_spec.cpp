@@ -130,13 +130,16 @@ class ModelParser {
     }
     reportXacroLeftovers(robot);  // urdfdom skips such elements, so its own complaints still come out
     // urdfdom would turn some of the numbers into others, or take counts that exhaust the machine.
-    if (!checkUrdfValues(*robot, limits_, diagnostics_)) return std::nullopt;
+    const size_t errors_before = diagnostics_.errors().size();
+    if (!checkUrdfValues(*robot, limits_, diagnostics_, &bad_value_links_)) return std::nullopt;
+    const bool values_fine = diagnostics_.errors().size() == errors_before;
 
     urdf::ModelInterfaceSharedPtr urdf_model;
     {
       CapturedConsole console;
       urdf_model = urdf::parseURDF(xml);
-      if (!urdf_model) diagnostics_.error("urdfdom rejected the model: " + console.text());
+      // After a bad value, urdfdom's rejection only repeats it, without naming it.
+      if (!urdf_model && values_fine) diagnostics_.error("urdfdom rejected the model: " + console.text());
     }
     if (!urdf_model || !isTree(*urdf_model)) return std::nullopt;
 
@@ -238,7 +241,8 @@ class ModelParser {
       Eigen::Matrix3d tensor;
       tensor << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
       inertial.inertia = frame.linear() * tensor * frame.linear().transpose();
-      if (const auto problem = inertiaProblem(inertial.mass, inertial.inertia)) {
+      const auto problem = inertiaProblem(inertial.mass, inertial.inertia);
+      if (problem && !bad_value_links_.count(link.name)) {
         diagnostics_.error("link [" + link.name + "] <inertial>: " + *problem);
       }
       spec.inertial = inertial;
@@ -563,7 +567,7 @@ class ModelParser {
     for (const auto& joint : spec.joints) {
       if (!joint.moves()) continue;
       const LinkSpec* child = spec.link(joint.child);
-      if (child && (!child->inertial || child->inertial->mass <= 0)) {
+      if (child && (!child->inertial || child->inertial->mass <= 0) && !bad_value_links_.count(child->name)) {
         diagnostics_.error("link [" + child->name + "] moves on joint [" + joint.name +
                            "] but has no mass: give it an <inertial>, or make the joint fixed");
       }
@@ -580,6 +584,7 @@ class ModelParser {
   const PluginParsers& plugins_;
   const Limits& limits_;
   size_t triangles_ = 0;  ///< of every mesh shape so far
+  std::set<std::string> bad_value_links_;  ///< links with a number checkUrdfValues refused
   MeshCache meshes_{limits_};
   std::set<std::string> unknown_materials_;  ///< Gazebo material names warned about, once each
   std::optional<std::vector<std::string>> resource_scripts_;              ///< see applyMaterial

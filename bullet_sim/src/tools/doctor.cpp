@@ -22,6 +22,7 @@
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
+#include "description/urdf_values.h"
 
 namespace bullet_sim {
 
@@ -35,6 +36,11 @@ constexpr double kInertiaWarningRatio = 10;
 constexpr double kInertiaErrorRatio = 100;
 constexpr double kDensestMaterial = 22590;  // [kg/m^3] osmium, the densest element
 constexpr double kVisualGap = 0.01;  // [m] a collision farther than this from every visual is misplaced
+// Mirrored wheels: positions within this [m], plus a share of the track between them, are mirror images.
+constexpr double kMirrorTolerance = 0.01;
+constexpr double kMirrorShare = 0.05;
+// A wheel's axis points mostly along the line between the mirrored wheels (cos 45 degrees).
+constexpr double kAlongTrack = 0.7;
 // A pasted file can hold hundreds of look-alike characters; the first few locate the cause.
 constexpr size_t kMaxCharacterFindings = 5;
 
@@ -252,21 +258,51 @@ class Examination {
     for (const auto& warning : diagnostics.warnings()) add(Severity::kWarning, warning);
 
     checkFrameTags(*robot);
-    if (model) {
-      checkFootprint(*model);
-      const std::vector<Drive> drive_plugins = drives(*model);
-      checkDriveAxes(*model, drive_plugins);
-      checkDrivenJointLimits(drivenJoints(*model, drive_plugins), *robot);
-      checkRevoluteLimits(*model);
-      for (const auto& link : model->links) {
-        checkInertiaAgainstShapes(link);
-        checkCollisionsMeetVisuals(*model, link);
-      }
-    }
+    if (model) examineModel(*model, *robot);
     return report_;
   }
 
  private:
+  /// The doctor's own checks of what the loader read. Links whose shapes the loader dropped (a mesh it could
+  /// not load) or whose numbers it refused are left out of the checks that their shapes or numbers would
+  /// mislead: their fault is already reported.
+  void examineModel(const ModelSpec& model, const tinyxml2::XMLElement& robot) {
+    Diagnostics scratch(report_.source);  // the loader reported these values' problems
+    std::set<std::string> suspect;
+    checkUrdfValues(robot, limits_, scratch, &suspect);
+    const std::set<std::string> dropped = linksMissingShapes(model, robot);
+    suspect.insert(dropped.begin(), dropped.end());
+
+    if (dropped.empty()) checkFootprint(model);  // a lost wheel mesh would move the lowest point
+    const std::vector<Drive> drive_plugins = drives(model);
+    checkDriveAxes(model, drive_plugins);
+    checkMirroredWheelAxes(model, drive_plugins, dropped);
+    checkDrivenJointLimits(drivenJoints(model, drive_plugins), robot);
+    checkRevoluteLimits(model);
+    checkLimitRanges(model);
+    for (const auto& link : model.links) {
+      if (suspect.count(link.name)) continue;
+      checkInertiaAgainstShapes(link);
+      checkCollisionsMeetVisuals(model, link);
+    }
+  }
+
+  /// Links with fewer collisions or visuals in the model than in the XML: the loader could not load a mesh.
+  static std::set<std::string> linksMissingShapes(const ModelSpec& model, const tinyxml2::XMLElement& robot) {
+    std::set<std::string> missing;
+    for (auto* element = robot.FirstChildElement("link"); element;
+         element = element->NextSiblingElement("link")) {
+      const LinkSpec* link = element->Attribute("name") ? model.link(element->Attribute("name")) : nullptr;
+      if (!link) continue;
+      size_t collisions = 0, visuals = 0;
+      for (auto* c = element->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision"))
+        ++collisions;
+      for (auto* v = element->FirstChildElement("visual"); v; v = v->NextSiblingElement("visual")) ++visuals;
+      if (collisions != link->collisions.size() || visuals != link->visuals.size()) missing.insert(link->name);
+    }
+    return missing;
+  }
+
   void add(Severity severity, const std::string& text) { report_.findings.push_back({severity, text}); }
 
   DoctorReport unreadable(const std::string& why) {
@@ -420,6 +456,78 @@ class Examination {
     }
   }
 
+  /// A wheel as the geometry shows it: a joint that turns for ever (continuous, or revolute with a full turn
+  /// of range) and carries a round or mesh collision, or one the loader dropped (a mesh it could not load).
+  struct Wheel {
+    const JointSpec* joint;
+    Eigen::Vector3d position;  ///< of its link, in the root frame at the zero pose
+    Eigen::Vector3d axis;      ///< in the root frame
+  };
+
+  static std::vector<Wheel> wheelsOf(const ModelSpec& model, const std::set<std::string>& dropped) {
+    const auto poses = linkPosesAtZero(model);
+    std::vector<Wheel> wheels;
+    for (const auto& joint : model.joints) {
+      const bool turns = joint.type == JointSpec::Type::kContinuous ||
+                         (joint.type == JointSpec::Type::kRevolute && joint.upper - joint.lower >= kTwoPi);
+      const LinkSpec* link = model.link(joint.child);
+      if (!turns || !link || !poses.count(link->name)) continue;
+      const bool round = dropped.count(link->name) > 0 ||
+                         std::any_of(link->collisions.begin(), link->collisions.end(), [](const Collision& c) {
+                           return c.shape.type == Shape::Type::kCylinder ||
+                                  c.shape.type == Shape::Type::kSphere || c.shape.type == Shape::Type::kMesh;
+                         });
+      const Eigen::Isometry3d& pose = poses.at(link->name);
+      if (round) wheels.push_back({&joint, pose.translation(), pose.linear() * joint.axis});
+    }
+    return wheels;
+  }
+
+  /// The wheel mirroring `wheel` across the root's x-z plane, nearest first; nullptr when none does.
+  static const Wheel* mirrorOf(const Wheel& wheel, const std::vector<Wheel>& wheels) {
+    const Wheel* best = nullptr;
+    double best_gap = std::numeric_limits<double>::infinity();
+    for (const Wheel& other : wheels) {
+      const double track = std::abs(wheel.position.y() - other.position.y());
+      const Eigen::Vector3d mirrored(other.position.x(), -other.position.y(), other.position.z());
+      const double gap = (wheel.position - mirrored).norm();
+      if (&other == &wheel || track <= kMirrorTolerance || gap > kMirrorTolerance + kMirrorShare * track)
+        continue;
+      if (gap < best_gap) best = &other, best_gap = gap;
+    }
+    return best;
+  }
+
+  /// Mirrored wheels, found from the geometry alone, must turn about the same direction across the robot:
+  /// every drive (Gazebo's diff drive and skid steer, ros_control's diff_drive_controller) sends both sides
+  /// the same sign to go forward. The one turning about -y (REP 103: +y rolls a wheel forward) is reported;
+  /// wheels a drive plugin names are checkDriveAxes's.
+  void checkMirroredWheelAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins,
+                              const std::set<std::string>& dropped) {
+    std::set<std::string> driven;
+    for (const Drive& drive : drive_plugins) {
+      driven.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
+      driven.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
+    }
+    const std::vector<Wheel> wheels = wheelsOf(model, dropped);
+    for (const Wheel& wheel : wheels) {
+      const Wheel* mirror = mirrorOf(wheel, wheels);
+      if (!mirror || mirrorOf(*mirror, wheels) != &wheel) continue;  // pairs only, each way
+      if (driven.count(wheel.joint->name) && driven.count(mirror->joint->name)) continue;
+      const bool along_track = std::abs(wheel.axis.y()) >= kAlongTrack && std::abs(mirror->axis.y()) >= kAlongTrack;
+      if (!along_track || wheel.axis.y() >= 0 || mirror->axis.y() < 0) continue;
+      add(Severity::kError,
+          message("joint [" + wheel.joint->name + "]",
+                  "turns about " + vectorText(wheel.axis) + " in [" + model.root + "], while joint [" +
+                      mirror->joint->name + "], its mirror image across the robot, turns about " +
+                      vectorText(mirror->axis) +
+                      ": a drive (Gazebo's diff drive and skid steer, ros_control's diff_drive_controller) "
+                      "sends both sides the same sign to go forward, so these wheels turn against each other "
+                      "and the robot spins in place",
+                  "write <axis xyz=\"" + vectorText(-wheel.joint->axis) + "\"/>, so that both turn about +y"));
+    }
+  }
+
   /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>.
   std::set<std::string> drivenJoints(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
     std::set<std::string> driven;
@@ -469,6 +577,30 @@ class Examination {
                       " go beyond a full turn: URDF limits are radians and these look like degrees",
                   "write radians (180 degrees = 3.14159), or make the joint continuous if it turns freely, "
                   "as a wheel does"));
+    }
+  }
+
+  /// A revolute or prismatic joint whose range is empty or a single point cannot move: usually a wheel or a
+  /// hinge written as revolute with its <limit> left at URDF's lower = upper = 0.
+  void checkLimitRanges(const ModelSpec& model) {
+    for (const auto& joint : model.joints) {
+      if (joint.type != JointSpec::Type::kRevolute && joint.type != JointSpec::Type::kPrismatic) continue;
+      if (!std::isfinite(joint.lower) || !std::isfinite(joint.upper) || joint.lower < joint.upper) continue;
+      const std::string where = "joint [" + joint.name + "] <limit>";
+      if (joint.lower == joint.upper) {
+        add(Severity::kError,
+            message(where,
+                    "lower and upper are both " + number(joint.lower) +
+                        ", so the joint cannot move (URDF's lower and upper are 0 when left out)",
+                    "give the range it moves through, or make the joint fixed if it must not move, or "
+                    "continuous if it turns freely, as a wheel does"));
+      } else {
+        add(Severity::kError, message(where,
+                                      "lower " + number(joint.lower) + " is above upper " + number(joint.upper) +
+                                          ": no position lies within the limits",
+                                      "swap them: lower=\"" + number(joint.upper) + "\" upper=\"" +
+                                          number(joint.lower) + "\""));
+      }
     }
   }
 
@@ -577,7 +709,10 @@ size_t DoctorReport::errors() const {
 
 size_t DoctorReport::warnings() const { return findings.size() - errors(); }
 
-int DoctorReport::exitCode() const { return !readable ? 2 : errors() > 0 ? 1 : 0; }
+int DoctorReport::exitCode(bool warnings_as_errors) const {
+  if (!readable) return 2;
+  return errors() > 0 || (warnings_as_errors && warnings() > 0) ? 1 : 0;
+}
 
 std::string DoctorReport::text() const {
   std::string text;

@@ -36,8 +36,9 @@ struct DoctorReport {
 
   size_t errors() const;
   size_t warnings() const;
-  /// urdf_doctor's exit code: 0 clean or warnings only, 1 errors, 2 not readable.
-  int exitCode() const;
+  /// urdf_doctor's exit code: 0 clean or warnings only, 1 errors (or warnings, when they count as errors:
+  /// --warnings-as-errors), 2 not readable.
+  int exitCode(bool warnings_as_errors = false) const;
   /// One "source: error: ..." or "source: warning: ..." line per finding, then a summary line.
   std::string text() const;
 };
