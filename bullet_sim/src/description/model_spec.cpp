@@ -541,7 +541,8 @@ class ModelParser {
     if (auto* rate = element->FirstChildElement("update_rate")) {
       const auto value = parseDouble(rate->GetText());
       if (!value || *value < 0) {
-        diagnostics_.error(here + "<update_rate> must be a number >= 0 [Hz]");
+        diagnostics_.error(here + "<update_rate> must be a number >= 0 [Hz], not [" +
+                           (rate->GetText() ? rate->GetText() : "") + "]");
       } else {
         sensor.update_rate = *value;
       }
@@ -584,7 +585,8 @@ class ModelParser {
   const PluginParsers& plugins_;
   const Limits& limits_;
   size_t triangles_ = 0;  ///< of every mesh shape so far
-  std::set<std::string> bad_value_links_;  ///< links with a number checkUrdfValues refused
+  /// Links with a number checkUrdfValues refused: what urdfdom made of it is no further fault.
+  std::set<std::string> bad_value_links_;
   MeshCache meshes_{limits_};
   std::set<std::string> unknown_materials_;  ///< Gazebo material names warned about, once each
   std::optional<std::vector<std::string>> resource_scripts_;              ///< see applyMaterial

@@ -107,6 +107,11 @@ std::string vectorText(const Eigen::Vector3d& v) {
   return number(v.x()) + " " + number(v.y()) + " " + number(v.z());
 }
 
+/// A unit direction as a user writes it: components within rounding of 0 (a turn by 1.5707963) are 0.
+std::string directionText(const Eigen::Vector3d& v) {
+  return vectorText(v.unaryExpr([](double c) { return std::abs(c) < 1e-6 ? 0.0 : c; }));
+}
+
 std::string message(const std::string& element, const std::string& problem, const std::string& fix) {
   return element + ": " + problem + ". Fix: " + fix + ".";
 }
@@ -298,7 +303,8 @@ class Examination {
       for (auto* c = element->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision"))
         ++collisions;
       for (auto* v = element->FirstChildElement("visual"); v; v = v->NextSiblingElement("visual")) ++visuals;
-      if (collisions != link->collisions.size() || visuals != link->visuals.size()) missing.insert(link->name);
+      if (collisions != link->collisions.size() || visuals != link->visuals.size())
+        missing.insert(link->name);
     }
     return missing;
   }
@@ -472,11 +478,12 @@ class Examination {
                          (joint.type == JointSpec::Type::kRevolute && joint.upper - joint.lower >= kTwoPi);
       const LinkSpec* link = model.link(joint.child);
       if (!turns || !link || !poses.count(link->name)) continue;
-      const bool round = dropped.count(link->name) > 0 ||
-                         std::any_of(link->collisions.begin(), link->collisions.end(), [](const Collision& c) {
-                           return c.shape.type == Shape::Type::kCylinder ||
-                                  c.shape.type == Shape::Type::kSphere || c.shape.type == Shape::Type::kMesh;
-                         });
+      const bool round =
+          dropped.count(link->name) > 0 ||
+          std::any_of(link->collisions.begin(), link->collisions.end(), [](const Collision& c) {
+            return c.shape.type == Shape::Type::kCylinder || c.shape.type == Shape::Type::kSphere ||
+                   c.shape.type == Shape::Type::kMesh;
+          });
       const Eigen::Isometry3d& pose = poses.at(link->name);
       if (round) wheels.push_back({&joint, pose.translation(), pose.linear() * joint.axis});
     }
@@ -514,17 +521,19 @@ class Examination {
       const Wheel* mirror = mirrorOf(wheel, wheels);
       if (!mirror || mirrorOf(*mirror, wheels) != &wheel) continue;  // pairs only, each way
       if (driven.count(wheel.joint->name) && driven.count(mirror->joint->name)) continue;
-      const bool along_track = std::abs(wheel.axis.y()) >= kAlongTrack && std::abs(mirror->axis.y()) >= kAlongTrack;
+      const bool along_track =
+          std::abs(wheel.axis.y()) >= kAlongTrack && std::abs(mirror->axis.y()) >= kAlongTrack;
       if (!along_track || wheel.axis.y() >= 0 || mirror->axis.y() < 0) continue;
       add(Severity::kError,
-          message("joint [" + wheel.joint->name + "]",
-                  "turns about " + vectorText(wheel.axis) + " in [" + model.root + "], while joint [" +
-                      mirror->joint->name + "], its mirror image across the robot, turns about " +
-                      vectorText(mirror->axis) +
-                      ": a drive (Gazebo's diff drive and skid steer, ros_control's diff_drive_controller) "
-                      "sends both sides the same sign to go forward, so these wheels turn against each other "
-                      "and the robot spins in place",
-                  "write <axis xyz=\"" + vectorText(-wheel.joint->axis) + "\"/>, so that both turn about +y"));
+          message(
+              "joint [" + wheel.joint->name + "]",
+              "turns about " + directionText(wheel.axis) + " in [" + model.root + "], while joint [" +
+                  mirror->joint->name + "], its mirror image across the robot, turns about " +
+                  directionText(mirror->axis) +
+                  ": a drive (Gazebo's diff drive and skid steer, ros_control's diff_drive_controller) "
+                  "sends both sides the same sign to go forward, so these wheels turn against each other "
+                  "and the robot spins in place",
+              "write <axis xyz=\"" + directionText(-wheel.joint->axis) + "\"/>, so that both turn about +y"));
     }
   }
 
@@ -596,8 +605,8 @@ class Examination {
                     "continuous if it turns freely, as a wheel does"));
       } else {
         add(Severity::kError, message(where,
-                                      "lower " + number(joint.lower) + " is above upper " + number(joint.upper) +
-                                          ": no position lies within the limits",
+                                      "lower " + number(joint.lower) + " is above upper " +
+                                          number(joint.upper) + ": no position lies within the limits",
                                       "swap them: lower=\"" + number(joint.upper) + "\" upper=\"" +
                                           number(joint.lower) + "\""));
       }
