@@ -7,12 +7,12 @@
 //   - drive wheels (from the diff-drive or skid-steer plugin) whose axes point in opposite directions, and,
 //     without a drive plugin, mirrored wheels found from the geometry whose axes disagree;
 //   - frameName, bodyName and robotBaseFrame tags naming no link;
-//   - revolute limits beyond 2 pi (degrees written where URDF wants radians), and revolute or prismatic limits
-//     that are equal (the joint cannot move) or inverted;
+//   - revolute limits beyond 2 pi (degrees written where URDF wants radians), and revolute or prismatic
+//     limits that are equal (the joint cannot move) or inverted;
 //   - zero effort or velocity limits on a joint that a plugin drives;
 //   - inertia far from that of the link's collision shapes, and masses denser than any material;
-//   - collisions nowhere near their visuals (the seeds' collision origins that repeat the joint origin), and a
-//     primitive collision of another shape than its visual;
+//   - collisions nowhere near their visuals (the seeds' collision origins that repeat the joint origin),
+//     and a primitive collision of another shape than its visual;
 //   - characters such as U+00A0 (a non-breaking space from a web page), with line and column.
 #pragma once
 
