@@ -470,22 +470,41 @@ class Examination {
     Eigen::Vector3d axis;      ///< in the root frame
   };
 
+  /// The bounding box of a link's collisions placed at `pose`; empty without any (or with unloaded meshes).
+  static Eigen::AlignedBox3d collisionBox(const LinkSpec& link, const Eigen::Isometry3d& pose) {
+    Eigen::AlignedBox3d box;
+    for (const auto& collision : link.collisions)
+      box.extend(boundingBox(collision.shape, pose * collision.origin));
+    return box;
+  }
+
+  /// The wheels of a model: links on turning joints that carry a round collision (or lost a mesh) and reach
+  /// down to the robot's lowest collision (within half their height), as wheels on the ground do and arms
+  /// and flippers held up do not.
   static std::vector<Wheel> wheelsOf(const ModelSpec& model, const std::set<std::string>& dropped) {
     const auto poses = linkPosesAtZero(model);
+    double ground = std::numeric_limits<double>::infinity();
+    for (const auto& link : model.links) {
+      const Eigen::AlignedBox3d box = collisionBox(link, poses.at(link.name));
+      if (!box.isEmpty()) ground = std::min(ground, box.min().z());
+    }
     std::vector<Wheel> wheels;
     for (const auto& joint : model.joints) {
       const bool turns = joint.type == JointSpec::Type::kContinuous ||
                          (joint.type == JointSpec::Type::kRevolute && joint.upper - joint.lower >= kTwoPi);
       const LinkSpec* link = model.link(joint.child);
       if (!turns || !link || !poses.count(link->name)) continue;
+      const Eigen::Isometry3d& pose = poses.at(link->name);
+      const Eigen::AlignedBox3d box = collisionBox(*link, pose);
       const bool round =
-          dropped.count(link->name) > 0 ||
           std::any_of(link->collisions.begin(), link->collisions.end(), [](const Collision& c) {
             return c.shape.type == Shape::Type::kCylinder || c.shape.type == Shape::Type::kSphere ||
                    c.shape.type == Shape::Type::kMesh;
           });
-      const Eigen::Isometry3d& pose = poses.at(link->name);
-      if (round) wheels.push_back({&joint, pose.translation(), pose.linear() * joint.axis});
+      const bool on_ground =
+          !box.isEmpty() && box.min().z() <= ground + std::max(kMirrorTolerance, box.sizes().z() / 2);
+      if (dropped.count(link->name) || (round && on_ground))
+        wheels.push_back({&joint, pose.translation(), pose.linear() * joint.axis});
     }
     return wheels;
   }
