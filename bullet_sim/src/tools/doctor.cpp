@@ -273,38 +273,39 @@ class Examination {
   /// mislead: their fault is already reported.
   void examineModel(const ModelSpec& model, const tinyxml2::XMLElement& robot) {
     Diagnostics scratch(report_.source);  // the loader reported these values' problems
-    std::set<std::string> suspect;
-    checkUrdfValues(robot, limits_, scratch, &suspect);
-    const std::set<std::string> dropped = linksMissingShapes(model, robot);
-    suspect.insert(dropped.begin(), dropped.end());
+    std::set<std::string> refused;
+    checkUrdfValues(robot, limits_, scratch, &refused);
+    const std::set<std::string> lost_collisions = linksMissing(model, robot, "collision");
+    const std::set<std::string> lost_visuals = linksMissing(model, robot, "visual");
 
-    if (dropped.empty()) checkFootprint(model);  // a lost wheel mesh would move the lowest point
+    if (lost_collisions.empty()) checkFootprint(model);  // a lost wheel mesh would move the lowest point
     const std::vector<Drive> drive_plugins = drives(model);
     checkDriveAxes(model, drive_plugins);
-    checkMirroredWheelAxes(model, drive_plugins, dropped);
+    checkMirroredWheelAxes(model, drive_plugins, lost_collisions);
     checkDrivenJointLimits(drivenJoints(model, drive_plugins), robot);
     checkRevoluteLimits(model);
     checkLimitRanges(model);
     for (const auto& link : model.links) {
-      if (suspect.count(link.name)) continue;
+      if (refused.count(link.name) || lost_collisions.count(link.name)) continue;
       checkInertiaAgainstShapes(link);
-      checkCollisionsMeetVisuals(model, link);
+      if (!lost_visuals.count(link.name)) checkCollisionsMeetVisuals(model, link);
     }
   }
 
-  /// Links with fewer collisions or visuals in the model than in the XML: the loader could not load a mesh.
-  static std::set<std::string> linksMissingShapes(const ModelSpec& model, const tinyxml2::XMLElement& robot) {
+  /// Links with fewer `kind` elements ("collision" or "visual") in the model than in the XML: the loader
+  /// could not load a mesh of theirs.
+  static std::set<std::string> linksMissing(const ModelSpec& model, const tinyxml2::XMLElement& robot,
+                                            const char* kind) {
     std::set<std::string> missing;
     for (auto* element = robot.FirstChildElement("link"); element;
          element = element->NextSiblingElement("link")) {
       const LinkSpec* link = element->Attribute("name") ? model.link(element->Attribute("name")) : nullptr;
       if (!link) continue;
-      size_t collisions = 0, visuals = 0;
-      for (auto* c = element->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision"))
-        ++collisions;
-      for (auto* v = element->FirstChildElement("visual"); v; v = v->NextSiblingElement("visual")) ++visuals;
-      if (collisions != link->collisions.size() || visuals != link->visuals.size())
-        missing.insert(link->name);
+      size_t written = 0;
+      for (auto* shape = element->FirstChildElement(kind); shape; shape = shape->NextSiblingElement(kind))
+        ++written;
+      const size_t read = std::string(kind) == "collision" ? link->collisions.size() : link->visuals.size();
+      if (written != read) missing.insert(link->name);
     }
     return missing;
   }
@@ -432,6 +433,16 @@ class Examination {
     return found;
   }
 
+  /// The wheel joints that the drive plugins name, on either side.
+  static std::set<std::string> wheelJoints(const std::vector<Drive>& drive_plugins) {
+    std::set<std::string> joints;
+    for (const Drive& drive : drive_plugins) {
+      joints.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
+      joints.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
+    }
+    return joints;
+  }
+
   /// Every drive wheel must turn about the robot's +y (REP 103: a positive wheel speed rolls it forward).
   /// Gazebo's drives send the same sign to both sides, so one reversed wheel spins the robot in place.
   void checkDriveAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
@@ -530,11 +541,7 @@ class Examination {
   /// wheels a drive plugin names are checkDriveAxes's.
   void checkMirroredWheelAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins,
                               const std::set<std::string>& dropped) {
-    std::set<std::string> driven;
-    for (const Drive& drive : drive_plugins) {
-      driven.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
-      driven.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
-    }
+    const std::set<std::string> driven = wheelJoints(drive_plugins);
     const std::vector<Wheel> wheels = wheelsOf(model, dropped);
     for (const Wheel& wheel : wheels) {
       const Wheel* mirror = mirrorOf(wheel, wheels);
@@ -558,11 +565,7 @@ class Examination {
 
   /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>.
   std::set<std::string> drivenJoints(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
-    std::set<std::string> driven;
-    for (const Drive& drive : drive_plugins) {
-      driven.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
-      driven.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
-    }
+    std::set<std::string> driven = wheelJoints(drive_plugins);
     for (const auto& plugin : model.plugins) {
       if (const auto* holder = plugin.configAs<JointPositionConfig>())
         driven.insert(holder->joints.begin(), holder->joints.end());
@@ -620,8 +623,10 @@ class Examination {
             message(where,
                     "lower and upper are both " + number(joint.lower) +
                         ", so the joint cannot move (URDF's lower and upper are 0 when left out)",
-                    "give the range it moves through, or make the joint fixed if it must not move, or "
-                    "continuous if it turns freely, as a wheel does"));
+                    joint.type == JointSpec::Type::kRevolute
+                        ? "give the range it turns through, or make the joint fixed if it must not move, or "
+                          "continuous if it turns freely, as a wheel does"
+                        : "give the range it slides through, or make the joint fixed if it must not move"));
       } else {
         add(Severity::kError, message(where,
                                       "lower " + number(joint.lower) + " is above upper " +
