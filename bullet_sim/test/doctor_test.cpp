@@ -1,10 +1,15 @@
 // urdf_doctor: every defect of the seeds' own files (test/fixtures/doctor/, one per defect) is reported with
-// its element, reason and fix; the exit codes keep their contract; the robots we ship come out clean.
+// its element, reason and fix; so is every case of test/fixtures/doctor/cases.yaml (issue 19 section 3:
+// missing meshes and refused numbers do not stop the rest, mirrored wheel axes without a drive, joint ranges,
+// NaN, zero, negative and absurd values); the exit codes keep their contract; the robots we ship come out
+// clean.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <optional>
 #include <string>
 #include <vector>
@@ -102,7 +107,7 @@ const SeedDefect kSeedDefects[] = {
      1,
      std::nullopt,
      {{kError, {"<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"}},
-      {kError,
+      {kWarning,
        {"line 24: plugin [gazebo_rplidar] <frameName>laser_link</frameName>: names no link",
         "did you mean [laser_Link]?"}}}},
     {"Seed000UnexpandedMacroCallAndWhatItLeftOutAreBothReported",
@@ -172,6 +177,63 @@ const SeedDefect kSeedDefects[] = {
 
 INSTANTIATE_TEST_SUITE_P(Fixtures, DoctorSeed, ::testing::ValuesIn(kSeedDefects),
                          [](const ::testing::TestParamInfo<SeedDefect>& info) { return info.param.name; });
+
+/// A row of test/fixtures/doctor/cases.yaml (its header says what each field means).
+struct DoctorCase {
+  std::string file;
+  int exit_code = 0;
+  std::vector<std::string> said;
+  std::optional<size_t> errors;
+  std::optional<size_t> warnings;
+  std::string table_error;  ///< why the table could not be read: the one case then fails with it
+};
+
+std::vector<DoctorCase> loadDoctorCases() {
+  std::vector<DoctorCase> cases;
+  try {
+    for (const YAML::Node& node : YAML::LoadFile(fixture("doctor/cases.yaml"))) {
+      DoctorCase c;
+      c.file = node["file"].as<std::string>();
+      c.exit_code = node["exit"].as<int>();
+      c.said = node["said"].as<std::vector<std::string>>(std::vector<std::string>());
+      if (node["errors"]) c.errors = node["errors"].as<size_t>();
+      if (node["warnings"]) c.warnings = node["warnings"].as<size_t>();
+      cases.push_back(c);
+    }
+  } catch (const std::exception& error) {
+    cases = {DoctorCase{"cases.yaml", 0, {}, {}, {}, error.what()}};
+  }
+  return cases;
+}
+
+class DoctorTable : public ::testing::TestWithParam<DoctorCase> {};
+
+TEST_P(DoctorTable, GivesItsExitCodeAndFindings) {
+  const DoctorCase& c = GetParam();
+  ASSERT_EQ(c.table_error, "");
+  const DoctorReport report = examine(c.file);
+  EXPECT_EQ(report.exitCode(), c.exit_code) << report.text();
+  if (c.errors) {
+    EXPECT_EQ(report.errors(), *c.errors) << report.text();
+  }
+  if (c.warnings) {
+    EXPECT_EQ(report.warnings(), *c.warnings) << report.text();
+  }
+  for (const std::string& part : c.said) {
+    const auto count =
+        std::count_if(report.findings.begin(), report.findings.end(),
+                      [&](const DoctorFinding& f) { return f.message.find(part) != std::string::npos; });
+    EXPECT_EQ(count, 1) << part << "\n" << report.text();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, DoctorTable, ::testing::ValuesIn(loadDoctorCases()),
+                         [](const ::testing::TestParamInfo<DoctorCase>& info) {
+                           std::string name = info.param.file.substr(0, info.param.file.find('.'));
+                           std::replace_if(
+                               name.begin(), name.end(), [](char c) { return !std::isalnum(c); }, '_');
+                           return name;
+                         });
 
 TEST(DoctorSeed002, NonBreakingSpaceBetweenElementsIsAWarningWithLineAndColumn) {
   const std::string urdf = readFile(fixture("robots/minimal.urdf"));
@@ -281,6 +343,24 @@ const ToolRun kToolRuns[] = {
      "",
      0,
      {"0 errors, 1 warning"}},
+    {"OneOnWarningsThatCountAsErrors",
+     "bullet_sim",
+     "test/fixtures/doctor/warning_only_absurd_rate.urdf",
+     "--warnings-as-errors",
+     1,
+     {"warning: plugin [drive]: update rate 1e+06 Hz", "0 errors, 1 warning"}},
+    {"ZeroOnACleanFileWhenWarningsCountAsErrors",
+     "bullet_sim",
+     "test/fixtures/doctor/clean_two_wheeler.urdf",
+     "--warnings-as-errors",
+     0,
+     {"clean_two_wheeler.urdf: clean"}},
+    {"OneOnErrorsWithMissingMeshesAndTheRest",
+     "bullet_sim",
+     "test/fixtures/doctor/missing_meshes_and_other_faults.urdf",
+     "",
+     1,
+     {"no_such_wheel.stl", "<samples> must be > 0, not 0", "lower and upper are both 0.5"}},
     {"OneAndEveryProblem",
      "bullet_sim",
      "test/fixtures/robots/fail_two_problems.urdf",
@@ -305,6 +385,7 @@ const ToolRun kToolRuns[] = {
      "",
      2,
      {"/nonexistent/robot.urdf: error: the file cannot be read"}},
+    {"TwoOnAFolder", "bullet_sim", "test/fixtures/doctor", "--warnings-as-errors", 2, {"not readable"}},
 };
 
 INSTANTIATE_TEST_SUITE_P(Exits, DoctorTool, ::testing::ValuesIn(kToolRuns),

@@ -195,20 +195,23 @@ LinkSpec& linkNamed(ModelSpec& model, const std::string& name) {
 
 }  // namespace
 
-void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics) {
-  bool negative = false;
+void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics, const std::set<std::string>& refused_links) {
+  std::set<std::string> faulty = refused_links;  // links whose body is refused: nothing to mend
   for (const LinkSpec& link : model.links) {
     if (!link.inertial || !(link.inertial->mass < 0)) continue;
     std::ostringstream message;
     message << "link [" << link.name << "] <inertial>: mass " << link.inertial->mass << " kg is not positive";
     diagnostics.error(message.str());
-    negative = true;
+    faulty.insert(link.name);
   }
-  if (negative || model.is_static) return;  // refused, or nothing of it moves: nothing to mend
+  if (model.is_static) return;  // nothing of it moves
   const auto bodies = rigidBodies(model);
   double robot_mass = 0;
   for (const auto& body : bodies) robot_mass += std::max(0.0, combineInertia(model, body).mass);
   for (size_t k = model.root == "world" ? 1 : 0; k < bodies.size(); ++k) {
+    const bool refused = std::any_of(bodies[k].begin(), bodies[k].end(),
+                                     [&](const auto& placed) { return faulty.count(placed.first) > 0; });
+    if (refused) continue;
     const MassProperties lumped = combineInertia(model, bodies[k]);
     const bool has_mass = lumped.mass > 0;
     const std::optional<std::string> problem =

@@ -132,7 +132,7 @@ class ModelParser {
     reportXacroLeftovers(robot);  // urdfdom skips such elements, so its own complaints still come out
     // urdfdom would turn some of the numbers into others, or take counts that exhaust the machine. After a
     // refused number the rest is still read, so that the file's other problems come out with it.
-    const UrdfValues values = checkUrdfValues(*robot, limits_, diagnostics_);
+    const UrdfValues values = checkUrdfValues(*robot, limits_, diagnostics_, &bad_value_links_);
     if (values == UrdfValues::kTooMany) return std::nullopt;
 
     urdf::ModelInterfaceSharedPtr urdf_model;
@@ -152,7 +152,7 @@ class ModelParser {
     addTree(*urdf_model, *urdf_model->getRoot(), spec);
     readGazeboExtensions(robot, spec);
     spec.transmissions = readTransmissions(childrenNamed(*robot, "transmission"), diagnostics_);
-    repairBodyInertias(spec, diagnostics_);
+    repairBodyInertias(spec, diagnostics_, bad_value_links_);
     reportUnmodelledTags();
     reportUnusedTransmissions(spec);
     std::vector<PluginElement> found = std::move(model_plugins_);  // model plugins first, then sensors'
@@ -549,7 +549,8 @@ class ModelParser {
     if (auto* rate = element->FirstChildElement("update_rate")) {
       const auto value = parseDouble(rate->GetText());
       if (!value || *value < 0) {
-        diagnostics_.error(here + "<update_rate> must be a number >= 0 [Hz]");
+        diagnostics_.error(here + "<update_rate> must be a number >= 0 [Hz], not [" +
+                           (rate->GetText() ? rate->GetText() : "") + "]");
       } else {
         sensor.update_rate = *value;
       }
@@ -610,6 +611,8 @@ class ModelParser {
   const PluginParsers& plugins_;
   const Limits& limits_;
   size_t triangles_ = 0;  ///< of every mesh shape so far
+  /// Links with a number checkUrdfValues refused: what urdfdom made of it is no further fault.
+  std::set<std::string> bad_value_links_;
   MeshCache meshes_{limits_};
   std::set<std::string> unknown_materials_;  ///< Gazebo material names warned about, once each
   std::optional<std::vector<std::string>> resource_scripts_;              ///< see applyMaterial

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -66,7 +67,8 @@ class ValueChecker {
     check(geometry->FirstChildElement("mesh"), "scale", Kind::kScale, 3, where);
   }
 
-  bool failed() const { return failed_; }
+  /// How many numbers were refused so far.
+  size_t failures() const { return failures_; }
 
  private:
   std::optional<std::string> numberProblem(const std::string& word, Kind kind) const {
@@ -103,12 +105,12 @@ class ValueChecker {
 
   void fail(const std::string& message) {
     diagnostics_.error(message);
-    failed_ = true;
+    ++failures_;
   }
 
   const Limits& limits_;
   Diagnostics& diagnostics_;
-  bool failed_ = false;
+  size_t failures_ = 0;
 };
 
 void checkLink(const tinyxml2::XMLElement& link, ValueChecker& values) {
@@ -198,8 +200,8 @@ void checkModelValues(const ModelSpec& model, const Limits& limits, Diagnostics&
   }
 }
 
-UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits,
-                           Diagnostics& diagnostics) {
+UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics,
+                           std::set<std::string>* bad_links) {
   size_t links = 0, moving_joints = 0, shapes = 0;
   for (auto* link = robot.FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
     ++links;
@@ -218,11 +220,15 @@ UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limi
   if (!fine) return UrdfValues::kTooMany;  // too many to look at each
 
   ValueChecker values(limits, diagnostics);
-  for (auto* link = robot.FirstChildElement("link"); link; link = link->NextSiblingElement("link"))
+  for (auto* link = robot.FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
+    const size_t failures = values.failures();
     checkLink(*link, values);
+    if (bad_links && values.failures() > failures && link->Attribute("name"))
+      bad_links->insert(link->Attribute("name"));
+  }
   for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint"))
     checkJoint(*joint, values);
-  return values.failed() ? UrdfValues::kRefused : UrdfValues::kFine;
+  return values.failures() > 0 ? UrdfValues::kRefused : UrdfValues::kFine;
 }
 
 }  // namespace bullet_sim

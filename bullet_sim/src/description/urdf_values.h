@@ -5,6 +5,9 @@
 
 #include <tinyxml2.h>
 
+#include <set>
+#include <string>
+
 #include "bullet_sim/description/diagnostics.h"
 #include "bullet_sim/description/limits.h"
 #include "bullet_sim/description/model_spec.h"
@@ -20,8 +23,13 @@ enum class UrdfValues {
 
 /// Checks the counts of links, moving joints and shapes against `limits`, and every number of every <link>
 /// and <joint>: a number, finite, sizes positive, lengths, masses and inertias within `limits`. Each problem
-/// is an error naming the element and the text as written.
-UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics);
+/// is an error naming the element and the text as written. kTooMany when the counts are above the limits:
+/// then the values are not checked, and the file is too large to read further. After a bad value, the rest of
+/// the file is still read (every problem at once); the loader refuses it for the error. `bad_links`, when
+/// given, receives the links with a refused number of their own: their other faults (a zero mass, a singular
+/// inertia) are what urdfdom made of that number, not more faults to report.
+UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics,
+                           std::set<std::string>* bad_links = nullptr);
 
 /// The same bounds on a model read as numbers already (an SDF model to spawn, whose shapes and poses its
 /// reader checked): the counts of links, moving joints and shapes, masses, inertias and joint values.

@@ -22,6 +22,7 @@
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
+#include "description/urdf_values.h"
 
 namespace bullet_sim {
 
@@ -35,6 +36,11 @@ constexpr double kInertiaWarningRatio = 10;
 constexpr double kInertiaErrorRatio = 100;
 constexpr double kDensestMaterial = 22590;  // [kg/m^3] osmium, the densest element
 constexpr double kVisualGap = 0.01;  // [m] a collision farther than this from every visual is misplaced
+// Mirrored wheels: positions within this [m], plus a share of the track between them, are mirror images.
+constexpr double kMirrorTolerance = 0.01;
+constexpr double kMirrorShare = 0.05;
+// A wheel's axis points mostly along the line between the mirrored wheels (cos 45 degrees).
+constexpr double kAlongTrack = 0.7;
 // A pasted file can hold hundreds of look-alike characters; the first few locate the cause.
 constexpr size_t kMaxCharacterFindings = 5;
 
@@ -99,6 +105,11 @@ std::string number(double value) {
 
 std::string vectorText(const Eigen::Vector3d& v) {
   return number(v.x()) + " " + number(v.y()) + " " + number(v.z());
+}
+
+/// A unit direction as a user writes it: components within rounding of 0 (a turn by 1.5707963) are 0.
+std::string directionText(const Eigen::Vector3d& v) {
+  return vectorText(v.unaryExpr([](double c) { return std::abs(c) < 1e-6 ? 0.0 : c; }));
 }
 
 std::string message(const std::string& element, const std::string& problem, const std::string& fix) {
@@ -252,22 +263,60 @@ class Examination {
     for (const auto& warning : diagnostics.warnings()) add(Severity::kWarning, warning);
 
     checkFrameTags(*robot);
-    if (model) {
-      checkFootprint(*model);
-      const std::vector<Drive> drive_plugins = drives(*model);
-      checkDriveAxes(*model, drive_plugins);
-      checkDrivenJointLimits(drivenJoints(*model, drive_plugins), *robot);
-      checkRevoluteLimits(*model);
-      for (const auto& link : model->links) {
-        checkInertiaAgainstShapes(link);
-        checkCollisionsMeetVisuals(*model, link);
-      }
-    }
+    if (model) examineModel(*model, *robot);
     return report_;
   }
 
  private:
+  /// The doctor's own checks of what the loader read. Links whose shapes the loader dropped (a mesh it could
+  /// not load) or whose numbers it refused are left out of the checks that their shapes or numbers would
+  /// mislead: their fault is already reported.
+  void examineModel(const ModelSpec& model, const tinyxml2::XMLElement& robot) {
+    Diagnostics scratch(report_.source);  // the loader reported these values' problems
+    std::set<std::string> refused;
+    checkUrdfValues(robot, limits_, scratch, &refused);
+    const std::set<std::string> lost_collisions = linksMissing(model, robot, "collision");
+    const std::set<std::string> lost_visuals = linksMissing(model, robot, "visual");
+
+    if (lost_collisions.empty()) checkFootprint(model);  // a lost wheel mesh would move the lowest point
+    const std::vector<Drive> drive_plugins = drives(model);
+    checkDriveAxes(model, drive_plugins);
+    checkMirroredWheelAxes(model, drive_plugins, lost_collisions);
+    checkDrivenJointLimits(drivenJoints(model, drive_plugins), robot);
+    checkRevoluteLimits(model);
+    checkLimitRanges(model);
+    for (const auto& link : model.links) {
+      if (refused.count(link.name) || lost_collisions.count(link.name)) continue;
+      checkInertiaAgainstShapes(link);
+      if (!lost_visuals.count(link.name)) checkCollisionsMeetVisuals(model, link);
+    }
+  }
+
+  /// Links with fewer `kind` elements ("collision" or "visual") in the model than in the XML: the loader
+  /// could not load a mesh of theirs.
+  static std::set<std::string> linksMissing(const ModelSpec& model, const tinyxml2::XMLElement& robot,
+                                            const char* kind) {
+    std::set<std::string> missing;
+    for (auto* element = robot.FirstChildElement("link"); element;
+         element = element->NextSiblingElement("link")) {
+      const LinkSpec* link = element->Attribute("name") ? model.link(element->Attribute("name")) : nullptr;
+      if (!link) continue;
+      size_t written = 0;
+      for (auto* shape = element->FirstChildElement(kind); shape; shape = shape->NextSiblingElement(kind))
+        ++written;
+      const size_t read = std::string(kind) == "collision" ? link->collisions.size() : link->visuals.size();
+      if (written != read) missing.insert(link->name);
+    }
+    return missing;
+  }
+
   void add(Severity severity, const std::string& text) { report_.findings.push_back({severity, text}); }
+
+  /// Whether a finding so far says `text`.
+  bool reported(const std::string& text) const {
+    return std::any_of(report_.findings.begin(), report_.findings.end(),
+                       [&](const DoctorFinding& f) { return f.message.find(text) != std::string::npos; });
+  }
 
   DoctorReport unreadable(const std::string& why) {
     report_.readable = false;
@@ -324,8 +373,10 @@ class Examination {
       frame.erase(frame.find_last_not_of(" \t\n") + 1);
       if (std::find(links.begin(), links.end(), frame) != links.end()) continue;
       if (frame == "world" || frame == "map") continue;  // global frames (a bumper's default is world)
+      if (reported("<" + std::string(tag) + "> [" + frame + "] is not a link")) continue;  // by the loader
       const std::string suggestion = closestName(frame, links);
-      add(Severity::kError,
+      // A warning, as the loader's: Gazebo takes the name as the frame_id.
+      add(Severity::kWarning,
           message("line " + std::to_string(element->GetLineNum()) + ": plugin [" + plugin_name + "] <" + tag +
                       ">" + frame + "</" + tag + ">",
                   "names no link, so Gazebo loads nothing or publishes in a frame no one has",
@@ -390,6 +441,16 @@ class Examination {
     return found;
   }
 
+  /// The wheel joints that the drive plugins name, on either side.
+  static std::set<std::string> wheelJoints(const std::vector<Drive>& drive_plugins) {
+    std::set<std::string> joints;
+    for (const Drive& drive : drive_plugins) {
+      joints.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
+      joints.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
+    }
+    return joints;
+  }
+
   /// Every drive wheel must turn about the robot's +y (REP 103: a positive wheel speed rolls it forward).
   /// Gazebo's drives send the same sign to both sides, so one reversed wheel spins the robot in place.
   void checkDriveAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
@@ -420,13 +481,99 @@ class Examination {
     }
   }
 
+  /// A wheel as the geometry shows it: a joint that turns for ever (continuous, or revolute with a full turn
+  /// of range) and carries a round or mesh collision, or one the loader dropped (a mesh it could not load).
+  struct Wheel {
+    const JointSpec* joint;
+    Eigen::Vector3d position;  ///< of its link, in the root frame at the zero pose
+    Eigen::Vector3d axis;      ///< in the root frame
+  };
+
+  /// The bounding box of a link's collisions placed at `pose`; empty without any (or with unloaded meshes).
+  static Eigen::AlignedBox3d collisionBox(const LinkSpec& link, const Eigen::Isometry3d& pose) {
+    Eigen::AlignedBox3d box;
+    for (const auto& collision : link.collisions)
+      box.extend(boundingBox(collision.shape, pose * collision.origin));
+    return box;
+  }
+
+  /// The wheels of a model: links on turning joints that carry a round collision (or lost a mesh) and reach
+  /// down to the robot's lowest collision (within half their height), as wheels on the ground do and arms
+  /// and flippers held up do not.
+  static std::vector<Wheel> wheelsOf(const ModelSpec& model, const std::set<std::string>& dropped) {
+    const auto poses = linkPosesAtZero(model);
+    double ground = std::numeric_limits<double>::infinity();
+    for (const auto& link : model.links) {
+      const Eigen::AlignedBox3d box = collisionBox(link, poses.at(link.name));
+      if (!box.isEmpty()) ground = std::min(ground, box.min().z());
+    }
+    std::vector<Wheel> wheels;
+    for (const auto& joint : model.joints) {
+      const bool turns = joint.type == JointSpec::Type::kContinuous ||
+                         (joint.type == JointSpec::Type::kRevolute && joint.upper - joint.lower >= kTwoPi);
+      const LinkSpec* link = model.link(joint.child);
+      if (!turns || !link || !poses.count(link->name)) continue;
+      const Eigen::Isometry3d& pose = poses.at(link->name);
+      const Eigen::AlignedBox3d box = collisionBox(*link, pose);
+      const bool round =
+          std::any_of(link->collisions.begin(), link->collisions.end(), [](const Collision& c) {
+            return c.shape.type == Shape::Type::kCylinder || c.shape.type == Shape::Type::kSphere ||
+                   c.shape.type == Shape::Type::kMesh;
+          });
+      const bool on_ground =
+          !box.isEmpty() && box.min().z() <= ground + std::max(kMirrorTolerance, box.sizes().z() / 2);
+      if (dropped.count(link->name) || (round && on_ground))
+        wheels.push_back({&joint, pose.translation(), pose.linear() * joint.axis});
+    }
+    return wheels;
+  }
+
+  /// The wheel mirroring `wheel` across the root's x-z plane, nearest first; nullptr when none does.
+  static const Wheel* mirrorOf(const Wheel& wheel, const std::vector<Wheel>& wheels) {
+    const Wheel* best = nullptr;
+    double best_gap = std::numeric_limits<double>::infinity();
+    for (const Wheel& other : wheels) {
+      const double track = std::abs(wheel.position.y() - other.position.y());
+      const Eigen::Vector3d mirrored(other.position.x(), -other.position.y(), other.position.z());
+      const double gap = (wheel.position - mirrored).norm();
+      if (&other == &wheel || track <= kMirrorTolerance || gap > kMirrorTolerance + kMirrorShare * track)
+        continue;
+      if (gap < best_gap) best = &other, best_gap = gap;
+    }
+    return best;
+  }
+
+  /// Mirrored wheels, found from the geometry alone, must turn about the same direction across the robot:
+  /// every drive (Gazebo's diff drive and skid steer, ros_control's diff_drive_controller) sends both sides
+  /// the same sign to go forward. The one turning about -y (REP 103: +y rolls a wheel forward) is reported;
+  /// wheels a drive plugin names are checkDriveAxes's.
+  void checkMirroredWheelAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins,
+                              const std::set<std::string>& dropped) {
+    const std::set<std::string> driven = wheelJoints(drive_plugins);
+    const std::vector<Wheel> wheels = wheelsOf(model, dropped);
+    for (const Wheel& wheel : wheels) {
+      const Wheel* mirror = mirrorOf(wheel, wheels);
+      if (!mirror || mirrorOf(*mirror, wheels) != &wheel) continue;  // pairs only, each way
+      if (driven.count(wheel.joint->name) && driven.count(mirror->joint->name)) continue;
+      const bool along_track =
+          std::abs(wheel.axis.y()) >= kAlongTrack && std::abs(mirror->axis.y()) >= kAlongTrack;
+      if (!along_track || wheel.axis.y() >= 0 || mirror->axis.y() < 0) continue;
+      add(Severity::kError,
+          message(
+              "joint [" + wheel.joint->name + "]",
+              "turns about " + directionText(wheel.axis) + " in [" + model.root + "], while joint [" +
+                  mirror->joint->name + "], its mirror image across the robot, turns about " +
+                  directionText(mirror->axis) +
+                  ": a drive (Gazebo's diff drive and skid steer, ros_control's diff_drive_controller) "
+                  "sends both sides the same sign to go forward, so these wheels turn against each other "
+                  "and the robot spins in place",
+              "write <axis xyz=\"" + directionText(-wheel.joint->axis) + "\"/>, so that both turn about +y"));
+    }
+  }
+
   /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>.
   std::set<std::string> drivenJoints(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
-    std::set<std::string> driven;
-    for (const Drive& drive : drive_plugins) {
-      driven.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
-      driven.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
-    }
+    std::set<std::string> driven = wheelJoints(drive_plugins);
     for (const auto& plugin : model.plugins) {
       if (const auto* holder = plugin.configAs<JointPositionConfig>())
         driven.insert(holder->joints.begin(), holder->joints.end());
@@ -469,6 +616,32 @@ class Examination {
                       " go beyond a full turn: URDF limits are radians and these look like degrees",
                   "write radians (180 degrees = 3.14159), or make the joint continuous if it turns freely, "
                   "as a wheel does"));
+    }
+  }
+
+  /// A revolute or prismatic joint whose range is empty or a single point cannot move: usually a wheel or a
+  /// hinge written as revolute with its <limit> left at URDF's lower = upper = 0.
+  void checkLimitRanges(const ModelSpec& model) {
+    for (const auto& joint : model.joints) {
+      if (joint.type != JointSpec::Type::kRevolute && joint.type != JointSpec::Type::kPrismatic) continue;
+      if (!std::isfinite(joint.lower) || !std::isfinite(joint.upper) || joint.lower < joint.upper) continue;
+      const std::string where = "joint [" + joint.name + "] <limit>";
+      if (joint.lower == joint.upper) {
+        add(Severity::kError,
+            message(where,
+                    "lower and upper are both " + number(joint.lower) +
+                        ", so the joint cannot move (URDF's lower and upper are 0 when left out)",
+                    joint.type == JointSpec::Type::kRevolute
+                        ? "give the range it turns through, or make the joint fixed if it must not move, or "
+                          "continuous if it turns freely, as a wheel does"
+                        : "give the range it slides through, or make the joint fixed if it must not move"));
+      } else {
+        add(Severity::kError, message(where,
+                                      "lower " + number(joint.lower) + " is above upper " +
+                                          number(joint.upper) + ": no position lies within the limits",
+                                      "swap them: lower=\"" + number(joint.upper) + "\" upper=\"" +
+                                          number(joint.lower) + "\""));
+      }
     }
   }
 
@@ -577,7 +750,10 @@ size_t DoctorReport::errors() const {
 
 size_t DoctorReport::warnings() const { return findings.size() - errors(); }
 
-int DoctorReport::exitCode() const { return !readable ? 2 : errors() > 0 ? 1 : 0; }
+int DoctorReport::exitCode(bool warnings_as_errors) const {
+  if (!readable) return 2;
+  return errors() > 0 || (warnings_as_errors && warnings() > 0) ? 1 : 0;
+}
 
 std::string DoctorReport::text() const {
   std::string text;

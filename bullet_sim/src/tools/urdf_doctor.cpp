@@ -1,6 +1,7 @@
 // urdf_doctor FILE [name:=value ...]: says what in a URDF or xacro makes the simulation misbehave, and how to
-// fix it. Exit status 0 when clean or warnings only, 1 on errors, 2 when the file cannot be read, expanded or
-// parsed. ROS-free: it needs ROS_PACKAGE_PATH for package:// URIs and the xacro executable for .xacro files.
+// fix it. Exit status 0 when clean or warnings only, 1 on errors (or warnings, with --warnings-as-errors), 2
+// when the file cannot be read, expanded or parsed. ROS-free: it needs ROS_PACKAGE_PATH for package:// URIs
+// and the xacro executable for .xacro files.
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -18,12 +19,13 @@ namespace bullet_sim {
 namespace {
 
 constexpr char kUsage[] =
-    "usage: urdf_doctor [--limit NAME=VALUE]... FILE [name:=value ...]\n"
+    "usage: urdf_doctor [--warnings-as-errors] [--limit NAME=VALUE]... FILE [name:=value ...]\n"
     "\n"
     "Checks a URDF, or a .xacro expanded with the xacro executable and the name:=value arguments, and\n"
     "reports each problem with the element, the reason and the fix. What the simulator refuses is an\n"
     "error here, with the same message; --limit sets one of its limits as the simulator's\n"
     "~limits/NAME parameter does (e.g. --limit max_links=2000).\n"
+    "--warnings-as-errors: warnings count as errors for the exit status.\n"
     "Exit status: 0 clean or warnings only, 1 errors, 2 the file cannot be read, expanded or parsed.\n";
 
 bool endsWith(const std::string& text, const std::string& end) {
@@ -53,6 +55,7 @@ DoctorReport examineFile(const std::string& file, const std::vector<std::string>
 int main(int argc, char** argv) {
   using bullet_sim::UsageError;
   bool help = false;
+  bool warnings_as_errors = false;
   bullet_sim::Limits limits;
   std::vector<std::string> words;  // FILE, then name:=value arguments for xacro
   const bullet_sim::ToolOption positional{
@@ -62,7 +65,9 @@ int main(int argc, char** argv) {
         words.push_back(word);
       }};
   try {
-    bullet_sim::parseCommandLine(argc, argv, {bullet_sim::limitOption(limits)}, &help, &positional);
+    const bullet_sim::ToolOption strict{"--warnings-as-errors",
+                                        [&](const std::string&) { warnings_as_errors = true; }, false, true};
+    bullet_sim::parseCommandLine(argc, argv, {strict, bullet_sim::limitOption(limits)}, &help, &positional);
     if (!help && words.empty()) throw UsageError("FILE is missing");
   } catch (const UsageError& error) {
     std::cerr << "urdf_doctor: " << error.what() << "\n\n" << bullet_sim::kUsage;
@@ -75,5 +80,5 @@ int main(int argc, char** argv) {
   const bullet_sim::DoctorReport report = bullet_sim::examineFile(
       words.front(), std::vector<std::string>(words.begin() + 1, words.end()), limits);
   std::cout << report.text();
-  return report.exitCode();
+  return report.exitCode(warnings_as_errors);
 }

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,7 +57,9 @@ std::vector<std::vector<std::pair<std::string, Eigen::Isometry3d>>> rigidBodies(
 /// lumped mass or inertia is not physically valid (zero mass, inertia zero or not positive definite) gets,
 /// after one warning naming its first link and the value, a solid box's: its mass (when there is none, 1% of
 /// the robot's, at least 0.01 kg) filling its collisions' bounding box. A static model, and the root of one
-/// fixed to the world (a root link named world), need none.
-void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics);
+/// fixed to the world (a root link named world), need none; nor a body holding a link of negative mass or one
+/// of `refused_links`, whose numbers were refused already (what urdfdom made of them is no further fault).
+void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics,
+                        const std::set<std::string>& refused_links = {});
 
 }  // namespace bullet_sim

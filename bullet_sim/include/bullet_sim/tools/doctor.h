@@ -1,16 +1,18 @@
 // urdf_doctor's checks: what in a URDF makes Gazebo (or bullet_sim) misbehave without saying so. ROS-free.
 //
-// Beyond what parseModel rejects (malformed XML, urdfdom's complaints, missing meshes, unexpanded macro
-// calls, <gazebo reference> to a missing link, invalid inertia, massless moving links), it finds:
+// Beyond what the loader (readModel) refuses or warns about, with its own code and messages (malformed XML,
+// urdfdom's complaints, missing meshes, NaN, zero, negative and absurd numbers, the plugins' tags, unexpanded
+// macro calls, <gazebo reference> to a missing link, invalid inertia, massless moving links), it finds:
 //   - a base_footprint root whose robot does not stand on z = 0 (it falls or sinks at spawn in Gazebo);
-//   - drive wheels (from the diff-drive or skid-steer plugin) whose axes point in opposite directions;
+//   - drive wheels (from the diff-drive or skid-steer plugin) whose axes point in opposite directions, and,
+//     without a drive plugin, mirrored wheels found from the geometry whose axes disagree;
 //   - frameName, bodyName and robotBaseFrame tags naming no link;
-//   - revolute limits beyond 2 pi (degrees written where URDF wants radians);
+//   - revolute limits beyond 2 pi (degrees written where URDF wants radians), and revolute or prismatic
+//     limits that are equal (the joint cannot move) or inverted;
 //   - zero effort or velocity limits on a joint that a plugin drives;
 //   - inertia far from that of the link's collision shapes, and masses denser than any material;
-//   - collisions nowhere near their visuals (the seeds' collision origins that repeat the joint origin), and
-//   a
-//     primitive collision of another shape than its visual;
+//   - collisions nowhere near their visuals (the seeds' collision origins that repeat the joint origin),
+//     and a primitive collision of another shape than its visual;
 //   - characters such as U+00A0 (a non-breaking space from a web page), with line and column.
 #pragma once
 
@@ -36,8 +38,9 @@ struct DoctorReport {
 
   size_t errors() const;
   size_t warnings() const;
-  /// urdf_doctor's exit code: 0 clean or warnings only, 1 errors, 2 not readable.
-  int exitCode() const;
+  /// urdf_doctor's exit code: 0 clean or warnings only, 1 errors (or warnings, when they count as errors:
+  /// --warnings-as-errors), 2 not readable.
+  int exitCode(bool warnings_as_errors = false) const;
   /// One "source: error: ..." or "source: warning: ..." line per finding, then a summary line.
   std::string text() const;
 };
