@@ -480,6 +480,13 @@ void RayCaster::commit() {
   impl.top_changed = false;
 }
 
+/// A unit direction's component below float's resolution (a robot tilted by 1e-15 rad as it settles), as 0.
+/// Embree's coherent traversal bounds a packet by the reciprocals of its directions, and a packet whose
+/// reciprocals span 1e7 to 1e14 culled walls it should hit (Lidar.ATiltedLidarSeesTheWallsWhereTheyAre).
+namespace {
+float hairToZero(float component) { return std::abs(component) < 1e-7f ? 0.0f : component; }
+}  // namespace
+
 void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vector3f>& directions,
                      double max_range, BodyId ignore, std::vector<double>& ranges) const {
   const Impl& impl = *impl_;
@@ -488,8 +495,8 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
 
   CastContext context;
   rtcInitIntersectContext(&context.embree);
-  // Not RTC_INTERSECT_CONTEXT_FLAG_COHERENT: Embree's coherent packet traversal culled a box wall 0.2 m
-  // ahead for rays whose direction had a 5e-15 z component (a robot tilted by that much).
+  // A scan's rays share their origin: coherent traversal casts them 3x faster (but see hairToZero).
+  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   unsigned ray_mask = ~0u;
   if (ignore != kNoBody) {
     // A body with its own mask bit is skipped by the ray mask at no cost. Masks have too few bits for every
@@ -519,9 +526,9 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
       packet.ray.org_x[lane] = ray_origin.x();
       packet.ray.org_y[lane] = ray_origin.y();
       packet.ray.org_z[lane] = ray_origin.z();
-      packet.ray.dir_x[lane] = direction.x();
-      packet.ray.dir_y[lane] = direction.y();
-      packet.ray.dir_z[lane] = direction.z();
+      packet.ray.dir_x[lane] = hairToZero(direction.x());
+      packet.ray.dir_y[lane] = hairToZero(direction.y());
+      packet.ray.dir_z[lane] = hairToZero(direction.z());
       packet.ray.tnear[lane] = 0;
       packet.ray.tfar[lane] = ray_length;
       packet.ray.time[lane] = 0;
