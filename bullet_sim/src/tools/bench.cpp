@@ -690,8 +690,9 @@ Figures measure(const Options& options) {
   std::optional<TemporaryFile> box_world;
   if (options.boxes > 0) box_world.emplace(boxWorld(options.boxes, kBoxClearance), ".world");
   const std::string world_file = box_world ? box_world->path() : findWorld(options.world, resolver);
-  const WorldLoad world_load = measureWorldLoad(world_file, resolver);
-  WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});
+  WorldSpec world;
+  const WorldLoad world_load =
+      measureWorldLoad(world_file, resolver, world, &warnings, WorldOptions{false, options.limits});
   addObstacles(world, options);
   Figures figures = drive(options, model, world, warnings);
   figures.world_file = world_file;

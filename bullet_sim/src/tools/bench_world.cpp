@@ -55,12 +55,13 @@ std::string boxWorld(int n, double clearance) {
   return sdf.str();
 }
 
-WorldLoad measureWorldLoad(const std::string& world_file, const PackageResolver& resolver) {
+WorldLoad measureWorldLoad(const std::string& world_file, const PackageResolver& resolver, WorldSpec& world,
+                           std::vector<std::string>* warnings, const WorldOptions& options) {
   WorldLoad load;
   const auto start = std::chrono::steady_clock::now();
-  WorldSpec world = loadWorld(world_file, resolver, nullptr);
+  world = loadWorld(world_file, resolver, warnings, options);
   load.load_s = secondsSince(start);
-  Simulation simulation(std::move(world));
+  Simulation simulation(world);
   simulation.step();
   load.first_step_s = secondsSince(start);
   load.rss_mb = currentRssMb();

@@ -33,7 +33,10 @@ struct WorldLoad {
   double first_step_s = 0;  ///< and then building the simulation and stepping it once
   double rss_mb = 0;        ///< this process's resident memory after that step
 };
-WorldLoad measureWorldLoad(const std::string& world_file, const PackageResolver& resolver);
+/// Reads `world_file` into `world` (as loadWorld does, with its `warnings` and `options`) and measures it: the
+/// world is read once, so a bench's startup_s carries one reading, as the node's does.
+WorldLoad measureWorldLoad(const std::string& world_file, const PackageResolver& resolver, WorldSpec& world,
+                           std::vector<std::string>* warnings, const WorldOptions& options);
 
 /// The resident memory of a simulation of `world` before `model` is first spawned, and after it was spawned,
 /// run for 0.5 s (its lidars scan) and deleted `cycles` times, each time giving freed memory back
