@@ -132,13 +132,7 @@ double drivenDistance(Simulation& simulation, Robot& robot) {
 
 TEST(BadInput, TheLoaderAndUrdfDoctorGiveTheSameMessageAndTheRobotDrivesOn) {
   Simulation simulation(test::shippedWorld("empty.world"));
-  const std::string driver_urdf = test::withPlugin(test::readFile(test::fixture("robots/two_wheeler.urdf")),
-                                                   "drive", "libgazebo_ros_diff_drive.so",
-                                                   {{"leftJoint", "left_wheel_joint"},
-                                                    {"rightJoint", "right_wheel_joint"},
-                                                    {"wheelSeparation", "0.35"},
-                                                    {"wheelDiameter", "0.1"},
-                                                    {"robotBaseFrame", "base_footprint"}});
+  const std::string driver_urdf = test::twoWheelerWithDiffDrive({{"robotBaseFrame", "base_footprint"}});
   Robot& driver = simulation.spawn("driver", test::parseQuietly(driver_urdf, "two_wheeler.urdf"), {});
   for (const Case& c : loadCases()) {
     SCOPED_TRACE(describe(c));

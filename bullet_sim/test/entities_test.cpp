@@ -44,15 +44,9 @@ ModelSpec fixtureRobot(const std::string& file) {
 
 /// two_wheeler.urdf with a diff drive on `wheel_model` wheels whose motors have `torque` [N m].
 ModelSpec twoWheeler(const std::string& wheel_model, const std::string& torque = "5") {
-  return test::parseQuietly(test::withPlugin(test::readFile(test::fixture("robots/two_wheeler.urdf")),
-                                             "drive", "libgazebo_ros_diff_drive.so",
-                                             {{"leftJoint", "left_wheel_joint"},
-                                              {"rightJoint", "right_wheel_joint"},
-                                              {"wheelSeparation", "0.35"},
-                                              {"wheelDiameter", "0.1"},
-                                              {"wheelTorque", torque},
-                                              {"wheelModel", wheel_model}}),
-                            "two_wheeler.urdf");
+  return test::parseQuietly(
+      test::twoWheelerWithDiffDrive({{"wheelTorque", torque}, {"wheelModel", wheel_model}}),
+      "two_wheeler.urdf");
 }
 
 EntityState at(double x, double y, double z, double yaw) {

@@ -12,13 +12,7 @@ namespace {
 
 /// two_wheeler.urdf with a diff drive on `wheel_model` wheels (that drive holds the wheels still).
 ModelSpec twoWheeler(const std::string& wheel_model) {
-  const std::string urdf = test::withPlugin(test::readFile(test::fixture("robots/two_wheeler.urdf")), "drive",
-                                            "libgazebo_ros_diff_drive.so",
-                                            {{"leftJoint", "left_wheel_joint"},
-                                             {"rightJoint", "right_wheel_joint"},
-                                             {"wheelSeparation", "0.35"},
-                                             {"wheelDiameter", "0.1"},
-                                             {"wheelModel", wheel_model}});
+  const std::string urdf = test::twoWheelerWithDiffDrive({{"wheelModel", wheel_model}});
   return test::parseQuietly(urdf, "two_wheeler.urdf");
 }
 

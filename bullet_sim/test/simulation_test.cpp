@@ -555,15 +555,7 @@ namespace bullet_sim {
 namespace {
 
 /// two_wheeler.urdf with a diff drive that publishes its wheels' tf.
-std::string twoWheelerWithWheelTf() {
-  return test::withPlugin(test::readFile(test::fixture("robots/two_wheeler.urdf")), "drive",
-                          "libgazebo_ros_diff_drive.so",
-                          {{"leftJoint", "left_wheel_joint"},
-                           {"rightJoint", "right_wheel_joint"},
-                           {"wheelSeparation", "0.35"},
-                           {"wheelDiameter", "0.1"},
-                           {"publishWheelTF", "true"}});
-}
+std::string twoWheelerWithWheelTf() { return test::twoWheelerWithDiffDrive({{"publishWheelTF", "true"}}); }
 
 TEST(Simulation, PublishWheelTfGivesEachWheelInItsParentAtItsJointAngle) {
   Simulation simulation(test::shippedWorld("empty.world"));

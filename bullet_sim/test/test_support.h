@@ -145,6 +145,17 @@ inline std::string fixture(const std::string& relative) {
   return packageFile("bullet_sim", "test/fixtures/" + relative);
 }
 
+/// two_wheeler.urdf with a diff drive named "drive" on its wheels, and `more` tags for it.
+inline std::string twoWheelerWithDiffDrive(const Tags& more = {}) {
+  Tags tags = {{"leftJoint", "left_wheel_joint"},
+               {"rightJoint", "right_wheel_joint"},
+               {"wheelSeparation", "0.35"},
+               {"wheelDiameter", "0.1"}};
+  tags.insert(tags.end(), more.begin(), more.end());
+  return withPlugin(readFile(fixture("robots/two_wheeler.urdf")), "drive", "libgazebo_ros_diff_drive.so",
+                    tags);
+}
+
 /// Replaces the first `from` after `anchor` in `text`; fails the test when either is missing.
 inline std::string replaceAfter(std::string text, const std::string& anchor, const std::string& from,
                                 const std::string& to) {

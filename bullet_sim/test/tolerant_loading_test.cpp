@@ -27,14 +27,7 @@ using ::testing::Not;
 
 /// The two-wheeler with a diff drive: it loads without a warning.
 std::string driveable() {
-  return test::withPlugin(test::readFile(test::fixture("robots/two_wheeler.urdf")), "drive",
-                          "libgazebo_ros_diff_drive.so",
-                          {{"leftJoint", "left_wheel_joint"},
-                           {"rightJoint", "right_wheel_joint"},
-                           {"wheelSeparation", "0.35"},
-                           {"wheelDiameter", "0.1"},
-                           {"robotBaseFrame", "base_footprint"},
-                           {"odometryFrame", "odom"}});
+  return test::twoWheelerWithDiffDrive({{"robotBaseFrame", "base_footprint"}, {"odometryFrame", "odom"}});
 }
 
 /// `urdf` with `xml` (elements) appended to its <robot>.
