@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """sweep on a Ray cluster of its own: `ray start --head --num-cpus 2` on 127.0.0.1 with its own ports and temp
 dir, joined with --address, runs the 8 cells of drive_matrix.yaml with the results that running them one by one
-gives; stopping the cluster leaves no process of it behind."""
+gives; a run whose worker is lost runs again (or, with --retries 0, is reported lost); stopping the cluster
+leaves no process of it behind."""
 import csv
 import json
 import os
@@ -63,6 +64,12 @@ class SweepOnRay(unittest.TestCase):
                                     "--out", os.path.join(folder, "flaky"), "--no-progress", "--scenario",
                                     write_flaky_scenario(folder)], env=env, capture_output=True, text=True,
                                    timeout=120)
+            no_retry = os.path.join(folder, "no_retry")
+            os.makedirs(no_retry)
+            lost = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", address, "--retries", "0",
+                                   "--out", os.path.join(no_retry, "out"), "--no-progress", "--scenario",
+                                   write_flaky_scenario(no_retry)], env=env, capture_output=True, text=True,
+                                  timeout=120)
         finally:
             stop_processes(temp_dir)
         self.assertEqual(processes_with(temp_dir), {})
@@ -76,6 +83,7 @@ class SweepOnRay(unittest.TestCase):
         with open(os.path.join(out, "results.json")) as file:
             self.assertEqual(len(json.load(file)), 8)
         self.check_retries(folder, flaky)
+        self.check_lost(os.path.join(no_retry, "out"), lost)
         for index in range(8):
             alone = os.path.join(folder, "alone", str(index))
             run = subprocess.run(["rosrun", "bullet_sim", "scenario", "--matrix", MATRIX, "--index", str(index),
@@ -100,6 +108,15 @@ class SweepOnRay(unittest.TestCase):
         self.assertEqual(rows[1]["exit_code"], -11)  # SIGSEGV
         self.assertIn("crashing on purpose", rows[1]["log_tail"])
         self.assertIn("cell 1: crash (exit code -11)", flaky.stderr)
+
+    def check_lost(self, out, lost):
+        """With --retries 0, the run whose worker was lost is lost: it began once, and is no timeout."""
+        self.assertEqual(lost.returncode, 2, lost.stdout + lost.stderr)
+        with open(os.path.join(out, "results.json")) as file:
+            row = json.load(file)[0]
+        self.assertEqual((row["status"], row["attempts"]), ("lost", 1))
+        self.assertIn("The worker died unexpectedly while executing this task", row["message"])
+        self.assertIn("cell 0: lost: The worker died", lost.stderr)
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ from bullet_sim_sweep.runs import LOG_TAIL, run_cell
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1", "[::1]")
 STARTS_POLL_TIMEOUT = 5.0  # [s] the sweep waits for the record of starts once a second
+STARTS_READY_TIMEOUT = 60.0  # [s] for that record's actor to start
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 
 
@@ -77,16 +78,18 @@ class Cells:
         self.ray = ray
         here = NodeAffinitySchedulingStrategy(ray.get_runtime_context().get_node_id(), soft=False)
         self.starts = ray.remote(Starts).options(num_cpus=0, scheduling_strategy=here).remote()
+        self.began = []  # (cell, node id, host, time) in order
+        # Up before the first run tells it where it began: a note to an actor still starting is lost with its run.
+        self.new_starts(timeout=STARTS_READY_TIMEOUT)
         task = ray.remote(run_cell).options(num_cpus=1, max_retries=retries, retry_exceptions=False,
                                             scheduling_strategy="SPREAD")
         self.pending = {task.remote(index, command, env, timeout, self.starts): index
                         for index, command in commands.items()}
-        self.began = []  # (cell, node id, host, time) in order
 
-    def new_starts(self):
+    def new_starts(self, timeout=STARTS_POLL_TIMEOUT):
         """The starts noted since the last call."""
         try:
-            new = self.ray.get(self.starts.since.remote(len(self.began)), timeout=STARTS_POLL_TIMEOUT)
+            new = self.ray.get(self.starts.since.remote(len(self.began)), timeout=timeout)
         except (self.ray.exceptions.RayError, self.ray.exceptions.GetTimeoutError):
             return []
         self.began += new
@@ -103,7 +106,8 @@ class Cells:
             except self.ray.exceptions.RayError as error:  # lost more than --retries times, or never loaded
                 self.new_starts()
                 reason, text = worker_error(error)
-                began = any(start[0] == index for start in self.began)
+                began = isinstance(error, self.ray.exceptions.WorkerCrashedError) or any(
+                    start[0] == index for start in self.began)  # its worker died while running it
                 runs.append((index, {"exit_code": None, "timed_out": False, "wall_s": 0.0, "host": "", "node": "",
                                      "result": None, "files": {}, "ray_error": reason, "began": began,
                                      "log": text}))
