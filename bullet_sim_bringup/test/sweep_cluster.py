@@ -118,6 +118,8 @@ class SweepOnTwoNodes(unittest.TestCase):
         self.assertEqual({row["node"] for row in rows}, {self.head_id, self.second_id})
         for row in rows:  # each run wrote into a temporary folder of its node: its files came back through Ray
             self.assertTrue(os.path.isfile(os.path.join(out, "cells", "%04d" % int(row["index"]), "result.json")))
+        for temp_dir in (self.head_dir, self.second_dir):  # where the runs wrote, emptied once the files left
+            self.assertEqual(os.listdir(os.path.join(temp_dir, "bullet_sim_runs")), [])
         nodes = {node["node_id"]: node for node in read_summary(out)["nodes"]}
         self.assertEqual(set(nodes), {self.head_id, self.second_id})
         for node_id, node in nodes.items():

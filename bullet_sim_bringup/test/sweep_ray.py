@@ -39,6 +39,17 @@ os.execv(%(real)r, [%(real)r] + arguments)
 """
 
 
+# A stand-in for `scenario` that loses its Ray worker on cell 0 and passes every other cell at once.
+LOSING_SCENARIO = """#!/usr/bin/env python3
+import os, signal, sys
+arguments = sys.argv[1:]
+if "--index" not in arguments:  # --list
+    os.execv(%(real)r, [%(real)r] + arguments)
+if arguments[arguments.index("--index") + 1] == "0":
+    os.kill(os.getppid(), signal.SIGKILL)
+"""
+
+
 def write_flaky_scenario(folder):
     return write_stand_in(folder, "flaky_scenario", FLAKY_SCENARIO)
 
@@ -64,12 +75,10 @@ class SweepOnRay(unittest.TestCase):
                                     "--out", os.path.join(folder, "flaky"), "--no-progress", "--scenario",
                                     write_flaky_scenario(folder)], env=env, capture_output=True, text=True,
                                    timeout=120)
-            no_retry = os.path.join(folder, "no_retry")
-            os.makedirs(no_retry)
             lost = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", address, "--retries", "0",
-                                   "--out", os.path.join(no_retry, "out"), "--no-progress", "--scenario",
-                                   write_flaky_scenario(no_retry)], env=env, capture_output=True, text=True,
-                                  timeout=120)
+                                   "--out", os.path.join(folder, "lost"), "--no-progress", "--scenario",
+                                   write_stand_in(folder, "losing_scenario", LOSING_SCENARIO)], env=env,
+                                  capture_output=True, text=True, timeout=120)
         finally:
             stop_processes(temp_dir)
         self.assertEqual(processes_with(temp_dir), {})
@@ -83,7 +92,7 @@ class SweepOnRay(unittest.TestCase):
         with open(os.path.join(out, "results.json")) as file:
             self.assertEqual(len(json.load(file)), 8)
         self.check_retries(folder, flaky)
-        self.check_lost(os.path.join(no_retry, "out"), lost)
+        self.check_lost(os.path.join(folder, "lost"), lost)
         for index in range(8):
             alone = os.path.join(folder, "alone", str(index))
             run = subprocess.run(["rosrun", "bullet_sim", "scenario", "--matrix", MATRIX, "--index", str(index),

@@ -2,13 +2,16 @@
 when each cell's runs began (a cell whose run began twice was run again after a lost worker or node)."""
 import os
 import re
+import sys
+import tempfile
+import threading
 import time
 
 from bullet_sim_sweep.runs import LOG_TAIL, run_cell
 
-LOOPBACK = ("127.0.0.1", "localhost", "::1", "[::1]")
 STARTS_POLL_TIMEOUT = 5.0  # [s] the sweep waits for the record of starts once a second
 STARTS_READY_TIMEOUT = 60.0  # [s] for that record's actor to start
+JOIN_TIMEOUT = 60.0  # [s] for ray.init
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 
 
@@ -30,21 +33,49 @@ class Starts:
 
 
 def start_ray(address, cpus):
-    host = address.rsplit(":", 1)[0] if address else "127.0.0.1"
+    """Ray, joined to the cluster at `address`, or a local instance of `cpus` CPUs."""
     if not address:
         # A local instance keeps to the loopback address rather than the machine's own IP.
         os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
     import ray
     options = dict(include_dashboard=False, log_to_driver=False, logging_level="WARNING")
+    if address:
+        join(ray, address, options)
+        return ray
     try:
-        if address:
-            ray.init(address=address, **options)
-        else:
-            ray.init(num_cpus=cpus, **options)
+        ray.init(num_cpus=cpus, **options)
     except Exception as error:  # Ray raises ConnectionError, RuntimeError or ValueError, with long texts
-        where = "the Ray cluster at %s" % address if address else "a local Ray instance on %s" % host
-        raise SweepError("could not join %s: %s" % (where, first_line(error)))
+        raise SweepError("could not start a local Ray instance: %s" % first_line(error))
     return ray
+
+
+def join(ray, address, options):
+    """ray.init(address): Ray's warnings while it connects are held back (and shown once it has joined), and a
+    listener that is no Ray cluster, on which Ray would wait for minutes, is said in one line after JOIN_TIMEOUT."""
+    terminal = os.dup(2)
+    held = tempfile.TemporaryFile()
+    os.dup2(held.fileno(), 2)
+    why = "could not join the Ray cluster at %s within %.0f s: is it a Ray %s cluster, with the same " \
+          "RAY_AUTH_MODE?" % (address, JOIN_TIMEOUT, ray.__version__)
+    watchdog = threading.Timer(JOIN_TIMEOUT, give_up, [terminal, why])
+    watchdog.daemon = True
+    watchdog.start()
+    try:
+        ray.init(address=address, **options)
+    except Exception as error:  # Ray raises ConnectionError, RuntimeError or ValueError, with long texts
+        raise SweepError("could not join the Ray cluster at %s: %s" % (address, first_line(error)))
+    finally:
+        watchdog.cancel()
+        os.dup2(terminal, 2)
+        os.close(terminal)
+    held.seek(0)
+    sys.stderr.write(held.read().decode(errors="replace"))
+    held.close()
+
+
+def give_up(terminal, message):
+    os.write(terminal, ("sweep: %s\n" % message).encode())
+    os._exit(2)
 
 
 def first_line(error):
