@@ -13,7 +13,7 @@ import unittest
 import rospkg
 import rostest
 
-from sweep_support import RAY_ENV, processes_with, start_head, stop_processes, write_stand_in
+from sweep_support import RAY_ENV, SWEEP, processes_with, start_head, write_stand_in
 
 MATRIX = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test/fixtures/scenarios/drive_matrix.yaml")
 
@@ -65,22 +65,22 @@ class SweepOnRay(unittest.TestCase):
         self.assertEqual(processes_with(temp_dir), {})
         # A cluster of this machine alone, on the loopback address.
         env = dict(os.environ, RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER="0", **RAY_ENV)
+        head, address = start_head(temp_dir, 2, env)
         try:
-            address = start_head(temp_dir, 2, env)
             out = os.path.join(folder, "sweep")
-            sweep = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", address,
+            sweep = subprocess.run(SWEEP + [MATRIX, "--address", address,
                                     "--out", out, "--no-progress"], env=env, capture_output=True, text=True,
                                    timeout=120)
-            flaky = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", address,
+            flaky = subprocess.run(SWEEP + [MATRIX, "--address", address,
                                     "--out", os.path.join(folder, "flaky"), "--no-progress", "--scenario",
                                     write_flaky_scenario(folder)], env=env, capture_output=True, text=True,
                                    timeout=120)
-            lost = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", address, "--retries", "0",
+            lost = subprocess.run(SWEEP + [MATRIX, "--address", address, "--retries", "0",
                                    "--out", os.path.join(folder, "lost"), "--no-progress", "--scenario",
                                    write_stand_in(folder, "losing_scenario", LOSING_SCENARIO)], env=env,
                                   capture_output=True, text=True, timeout=120)
         finally:
-            stop_processes(temp_dir)
+            head.stop()
         self.assertEqual(processes_with(temp_dir), {})
         # v = 0.4 m/s falls 0.4 m short of the region and the final pose: a check fails, so the sweep exits 1.
         self.assertEqual(sweep.returncode, 1, sweep.stdout + sweep.stderr)

@@ -1,9 +1,10 @@
 """What the sweep tests share: Ray nodes on this machine that a test starts and stops by their PIDs (never with
-`ray stop`, which ends every Ray process of the machine), and a stand-in for `scenario`."""
+`ray stop`, which ends every Ray process of the machine) and that end with it, and a stand-in for `scenario`."""
 import os
 import signal
 import socket
 import subprocess
+import threading
 import time
 
 STOP_GRACE = 3.0  # [s] a cluster's processes get after SIGTERM
@@ -11,6 +12,8 @@ START_TIMEOUT = 90  # [s] for `ray start`
 POLL = 0.1  # [s]
 # Ray without its usage report and without the token auth of shared clusters.
 RAY_ENV = {"RAY_USAGE_STATS_ENABLED": "0", "RAY_AUTH_MODE": "disabled"}
+# `rosrun bullet_sim sweep`, ending with the test's process should that be killed (rosrun execs the tool).
+SWEEP = ["setpriv", "--pdeathsig", "KILL", "rosrun", "bullet_sim", "sweep"]
 
 
 def free_ports(count):
@@ -72,24 +75,48 @@ def node_ports():
             "--max-worker-port", str(ports[5] + 100)]
 
 
+class RayNode:
+    """A Ray node of `ray start --block` with its own ports and temp dir. Its processes end with stop(), or with
+    this test's process if it is killed first: `ray start` gets SIGKILL then (setpriv --pdeathsig) and its reaper
+    ends its process group."""
+
+    def __init__(self, arguments, temp_dir, env):
+        self.temp_dir = temp_dir
+        command = ["setpriv", "--pdeathsig", "KILL", "ray", "start", "--block", "--temp-dir", temp_dir,
+                   "--disable-usage-stats"] + arguments + node_ports()
+        self.process = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                        stdin=subprocess.DEVNULL, text=True, start_new_session=True)
+        self.output = []
+        threading.Thread(target=lambda: self.output.extend(self.process.stdout), daemon=True).start()
+        deadline = time.monotonic() + START_TIMEOUT
+        while not any("Ray runtime started" in line for line in self.output):
+            if self.process.poll() is not None or time.monotonic() > deadline:
+                self.stop()
+                raise RuntimeError("ray start: " + "".join(self.output))
+            time.sleep(POLL)
+
+    def stop(self):
+        """Ends the node (SIGTERM to `ray start`, then SIGKILL) and whatever of it is left, each by its PID."""
+        if self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(timeout=STOP_GRACE * 3)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait(timeout=STOP_GRACE)
+        stop_processes(self.temp_dir)
+
+
 def start_head(temp_dir, cpus, env):
-    """`ray start --head` on a free port with its own temp dir; returns its address, 127.0.0.1:PORT."""
+    """The head node, on a free port; returns it and its address, 127.0.0.1:PORT."""
     port, dashboard_port = free_ports(2)
-    command = ["ray", "start", "--head", "--port", str(port), "--num-cpus", str(cpus), "--temp-dir", temp_dir,
-               "--include-dashboard", "false", "--dashboard-port", str(dashboard_port), "--disable-usage-stats"]
-    started = subprocess.run(command + node_ports(), env=env, capture_output=True, text=True, timeout=START_TIMEOUT)
-    if started.returncode != 0:
-        raise RuntimeError("ray start --head: " + started.stdout + started.stderr)
-    return "127.0.0.1:%d" % port
+    return RayNode(["--head", "--port", str(port), "--num-cpus", str(cpus), "--include-dashboard", "false",
+                    "--dashboard-port", str(dashboard_port)], temp_dir, env), "127.0.0.1:%d" % port
 
 
 def start_node(address, temp_dir, cpus, env):
-    """`ray start --address` of one more node with its own ports and temp dir."""
-    command = ["ray", "start", "--address", address, "--num-cpus", str(cpus), "--temp-dir", temp_dir,
-               "--disable-usage-stats"]
-    started = subprocess.run(command + node_ports(), env=env, capture_output=True, text=True, timeout=START_TIMEOUT)
-    if started.returncode != 0:
-        raise RuntimeError("ray start --address: " + started.stdout + started.stderr)
+    """One more node, joined to the head at `address`."""
+    return RayNode(["--address", address, "--num-cpus", str(cpus)], temp_dir, env)
 
 
 def raylet_of(temp_dir):
