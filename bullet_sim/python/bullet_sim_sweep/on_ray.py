@@ -140,6 +140,6 @@ class Cells:
                 began = isinstance(error, self.ray.exceptions.WorkerCrashedError) or any(
                     start[0] == index for start in self.began)  # its worker died while running it
                 runs.append((index, {"exit_code": None, "timed_out": False, "wall_s": 0.0, "host": "", "node": "",
-                                     "result": None, "files": {}, "ray_error": reason, "began": began,
+                                     "result": None, "files": {}, "no_run": reason, "began": began,
                                      "log": text}))
         return runs

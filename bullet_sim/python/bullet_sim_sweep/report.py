@@ -22,10 +22,9 @@ def row_of(index, values, status, run, starts):
     row.update({"axis:" + axis: value for axis, value in values.items()})
     result = run.get("result") or {}
     row.update({"status": status, "exit_code": run["exit_code"],
-                "message": run.get("ray_error") or result.get("message", ""), "wall_s": round(run["wall_s"], 4),
+                "message": run.get("no_run") or result.get("message", ""), "wall_s": round(run["wall_s"], 4),
                 "ended_s": round(run["ended_s"], 3), "host": run["host"], "node": run["node"],
-                "attempts": len(starts),
-                "began_on": " ".join(start[1] for start in starts)})
+                "attempts": len(starts), "began_on": " ".join(start[1] for start in starts)})
     timing = result.get("timing") or {}
     row["rtf"] = timing.get("rtf")
     for number, check in enumerate(result.get("checks", [])):
@@ -118,7 +117,7 @@ def node_table(rows, starts, nodes, alive_at_start, runs_s):
     (from the sweep's start to its last run's end)."""
     table = []
     for node, state in nodes.items():
-        gave = [row for row in rows if row["node"] == node]
+        gave = [row for row in rows if row["node"] == node and row["status"] != "never_started"]
         began = sum(1 for start in starts if start[1] == node)
         if node not in alive_at_start and not began:
             continue

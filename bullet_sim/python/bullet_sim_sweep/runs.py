@@ -83,6 +83,11 @@ def run_cell(index, command, env, timeout, starts):
     import ray
     context = ray.get_runtime_context()
     node = context.get_node_id()
+    if not os.access(command[0], os.X_OK):  # else taskset's exit code 1 would read as a failed check
+        return {"exit_code": None, "timed_out": False, "wall_s": 0.0, "host": os.uname().nodename, "node": node,
+                "result": None, "files": {}, "began": False, "log": None,
+                "no_run": "no scenario executable [%s] on this node (%s): is the workspace at the same path on "
+                             "every node?" % (command[0], os.uname().nodename)}
     note_start(starts, index, node)
     # Under the node's Ray temp dir: what a lost worker leaves behind stays with the node's Ray files.
     runs = os.path.join(context.get_temp_dir(), "bullet_sim_runs")
@@ -118,7 +123,7 @@ def status_of(run):
     """pass, fail (a check failed), error (could not run), crash (killed, or an exit code no run gives),
     timeout, never_started (Ray could not begin it: a worker that cannot load the task, a node lost before) or
     lost (it began, but its worker or node was lost more than --retries times)."""
-    if run.get("ray_error"):
+    if run.get("no_run"):
         return "lost" if run["began"] else "never_started"
     if run["timed_out"]:
         return "timeout"
