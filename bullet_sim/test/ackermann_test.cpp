@@ -12,7 +12,7 @@
 #include <tuple>
 
 #include "bullet_sim/plugins/ackermann_drive.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

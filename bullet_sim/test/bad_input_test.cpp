@@ -14,12 +14,12 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/sdf_model.h"
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/tools/process_stats.h"
-#include "description/child_process.h"
+#include "assets/child_process.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -390,7 +390,7 @@ TEST(BadInput, FilesThatBreakALibraryAreLoadErrorsNamingTheFile) {
       EXPECT_THAT(error, HasSubstr("the importer (assimp) ran out of the memory it may use on it")) << found;
     ++replayed;
   }
-  for (const fs::path& found : filesIn(crashes / "fuzz_world_spec" / "library")) {
+  for (const fs::path& found : filesIn(crashes / "fuzz_world" / "library")) {
     EXPECT_THROW(
         parseWorld(test::readFile(found.string()), found.string(), PackageResolver::fromEnvironment(), nullptr),
         SpecError)

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/model_geometry.h"
-#include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/model/model_geometry.h"
+#include "bullet_sim/model/model.h"
 #include "bullet_sim/plugins/ackermann_drive.h"
 #include "bullet_sim/plugins/imu.h"
 #include "bullet_sim/plugins/pinhole_camera.h"

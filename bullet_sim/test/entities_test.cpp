@@ -8,7 +8,7 @@
 
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/scene/simulation_images.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/gazebo_materials.h"
-#include "bullet_sim/description/model_geometry.h"
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/assets/gazebo_materials.h"
+#include "bullet_sim/model/model_geometry.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/model/world.h"
 #include "test_support.h"
 
 namespace bullet_sim {

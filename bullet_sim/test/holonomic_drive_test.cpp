@@ -10,7 +10,7 @@
 #include "bullet_sim/plugins/hector_gps.h"
 #include "bullet_sim/plugins/hector_imu.h"
 #include "bullet_sim/plugins/planar_move.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "multi_sensor_robot.h"
 #include "test_support.h"
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/plugins/ros_control/joint_trajectory.h"
 
 namespace bullet_sim {

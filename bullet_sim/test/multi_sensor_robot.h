@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim::test {

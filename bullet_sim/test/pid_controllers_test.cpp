@@ -10,7 +10,7 @@
 #include "bullet_sim/plugins/ros_control/pid.h"
 #include "bullet_sim/plugins/ros_control/pid_joint_controllers.h"
 #include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -8,14 +8,14 @@
 #include <cstdio>
 #include <functional>
 
-#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/recording.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene_builder.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

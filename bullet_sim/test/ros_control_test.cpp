@@ -7,9 +7,9 @@
 #include <cmath>
 
 #include "bullet_sim/plugins/ros_control/diff_drive_controller.h"
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -6,12 +6,12 @@
 
 #include <cmath>
 
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/gazebo_names.h"
-#include "bullet_sim/description/sdf_model.h"
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/model/gazebo_names.h"
+#include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

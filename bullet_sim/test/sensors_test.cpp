@@ -8,13 +8,13 @@
 #include <limits>
 #include <map>
 
-#include "bullet_sim/description/gazebo_names.h"
+#include "bullet_sim/model/gazebo_names.h"
 #include "bullet_sim/plugins/bumper.h"
 #include "bullet_sim/plugins/hector_gps.h"
 #include "bullet_sim/plugins/hector_imu.h"
 #include "bullet_sim/plugins/range_sensor.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "multi_sensor_robot.h"
 #include "test_support.h"
 

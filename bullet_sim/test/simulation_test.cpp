@@ -7,12 +7,12 @@
 #include <cmath>
 #include <set>
 
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/plugins/joint_position.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/package_resolver.h"
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/assets/package_resolver.h"
+#include "bullet_sim/model/world.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/ros_control/controller_manager.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "bullet_sim/tools/subprocess.h"
 
 namespace bullet_sim::test {

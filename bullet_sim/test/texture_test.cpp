@@ -12,8 +12,8 @@
 #include <regex>
 #include <set>
 
-#include "bullet_sim/description/gazebo_materials.h"
-#include "bullet_sim/description/mesh.h"
+#include "bullet_sim/assets/gazebo_materials.h"
+#include "bullet_sim/assets/mesh.h"
 #include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/scene_builder.h"

@@ -7,12 +7,12 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bullet_sim/description/sdf_model.h"
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/model/sdf_model.h"
+#include "bullet_sim/model/world.h"
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "multi_sensor_robot.h"
 #include "test_support.h"
 

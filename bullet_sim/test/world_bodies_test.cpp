@@ -5,7 +5,7 @@
 
 #include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/plugins/wheeled_drive.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <utility>
 
-#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/model/model_geometry.h"
 
 namespace bullet_sim {
 

@@ -4,7 +4,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "bullet_sim/description/gazebo_names.h"
+#include "bullet_sim/model/gazebo_names.h"
 
 namespace bullet_sim {
 

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "bullet_sim/description/gazebo_names.h"
-#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/model/gazebo_names.h"
+#include "bullet_sim/model/model_geometry.h"
 
 namespace bullet_sim {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/model/model_geometry.h"
 
 namespace bullet_sim {
 

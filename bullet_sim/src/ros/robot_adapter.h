@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 
 namespace camera_info_manager {
 class CameraInfoManager;

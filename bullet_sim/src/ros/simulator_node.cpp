@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/tools/process_stats.h"
 

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "bullet_sim/description/package_resolver.h"
-#include "bullet_sim/description/sdf_model.h"
+#include "bullet_sim/assets/package_resolver.h"
+#include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace bullet_sim {

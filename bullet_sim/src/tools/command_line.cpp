@@ -9,8 +9,8 @@
 #include <iterator>
 #include <sstream>
 
-#include "bullet_sim/description/files.h"
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/common/files.h"
+#include "bullet_sim/model/world.h"
 #include "bullet_sim/tools/subprocess.h"
 
 namespace bullet_sim {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/limits.h"
-#include "bullet_sim/description/package_resolver.h"
+#include "bullet_sim/common/limits.h"
+#include "bullet_sim/assets/package_resolver.h"
 
 namespace bullet_sim {
 
@@ -57,7 +57,7 @@ std::string runXacro(const std::string& file, const std::vector<std::string>& ar
 /// The whole of a URDF file: a regular file of at most limits.max_description_bytes; a Failure otherwise.
 std::string readUrdfFile(const std::string& path, const Limits& limits = Limits());
 
-/// --limit NAME=VALUE (repeatable): sets one of `limits` (description/limits.h); a UsageError names the
+/// --limit NAME=VALUE (repeatable): sets one of `limits` (common/limits.h); a UsageError names the
 /// limits there are when NAME is none of them.
 ToolOption limitOption(Limits& limits);
 

@@ -2,7 +2,7 @@
 // touches the sensor's collisions, at every sensor update (empty while nothing touches).
 //
 // Sensor tags (SDF's): update_rate [0 = every step], contact/collision (one or more), named as Gazebo names
-//   them once it has lumped fixed joints (description/gazebo_names.h), within the link the sensor lands in.
+//   them once it has lumped fixed joints (model/gazebo_names.h), within the link the sensor lands in.
 //   A name written for the link before lumping ("bumper_link_collision" for a lumped bumper_link), which
 //   Gazebo never finds (its bumper stays silent), is taken to mean that collision, with a warning that gives
 //   Gazebo's name; a name matching nothing is a warning with a suggestion, and reports nothing, as in Gazebo.

@@ -9,9 +9,9 @@
 #include <random>
 #include <string>
 
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/parameter_tree.h"
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/plugins/parameter_tree.h"
+#include "bullet_sim/model/world.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/image_source.h"
 #include "bullet_sim/plugins/ports.h"

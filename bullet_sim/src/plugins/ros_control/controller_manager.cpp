@@ -4,7 +4,7 @@
 #include <map>
 #include <regex>
 
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace bullet_sim {

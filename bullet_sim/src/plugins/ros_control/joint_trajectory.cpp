@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 
 namespace bullet_sim {
 

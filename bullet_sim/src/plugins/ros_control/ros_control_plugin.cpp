@@ -2,7 +2,7 @@
 
 #include <set>
 
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace bullet_sim {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 
 namespace bullet_sim {
 

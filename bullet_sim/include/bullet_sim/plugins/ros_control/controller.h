@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 #include "bullet_sim/plugins/ports.h"
 #include "bullet_sim/plugins/ros_control/robot_hardware.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 #include "bullet_sim/plugins/ports.h"
 #include "bullet_sim/plugins/ros_control/controller.h"
 #include "bullet_sim/plugins/ros_control/robot_hardware.h"

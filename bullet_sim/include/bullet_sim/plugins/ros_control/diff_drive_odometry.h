@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <deque>
 
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 
 namespace bullet_sim {
 

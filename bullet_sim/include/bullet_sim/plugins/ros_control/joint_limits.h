@@ -5,8 +5,8 @@
 
 #include <limits>
 
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 
 namespace bullet_sim {
 

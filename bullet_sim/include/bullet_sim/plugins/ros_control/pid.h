@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 
 namespace bullet_sim {
 

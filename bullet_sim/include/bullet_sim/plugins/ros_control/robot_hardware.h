@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/ros_control/joint_limits.h"
 #include "bullet_sim/plugins/ros_control/pid.h"
