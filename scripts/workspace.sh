@@ -57,7 +57,9 @@ build() {
   # The compat/ packages (gazebo_msgs, ...) are built only where the system lacks the real ones.
   "$REPO/scripts/compat_packages.sh" "$REPO/compat" "$WS"
   log "building $WS"
-  # ccache lets a second tree of the same sources (a worktree, the plugin test's scratch copy) reuse the objects.
+  # ccache lets a second tree of the same sources (a worktree, the plugin test's scratch copy) reuse the objects:
+  # it relates paths to the workspace, and leaves the build folder out of what it hashes.
+  export CCACHE_BASEDIR=$WS CCACHE_NOHASHDIR=true
   catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
     -DCMAKE_C_COMPILER_LAUNCHER=ccache
 }
@@ -80,6 +82,7 @@ run_tests() {
   local results=$WS/build/test_results
   rm -rf "$results"
   log "running the test suite"
+  export CCACHE_BASEDIR=$WS CCACHE_NOHASHDIR=true  # see build()
   # run_tests exits 0 even when tests fail; catkin_test_results is the verdict.
   catkin_make -C "$WS" --source "$REPO" run_tests
   log "test results"

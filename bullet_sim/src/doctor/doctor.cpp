@@ -19,9 +19,8 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/model.h"
-#include "bullet_sim/plugins/joint_position.h"
+#include "bullet_sim/plugins/drive_support.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
 #include "model/urdf_values.h"
 
 namespace bullet_sim {
@@ -282,7 +281,7 @@ class Examination {
     const std::vector<Drive> drive_plugins = drives(model);
     checkDriveAxes(model, drive_plugins);
     checkMirroredWheelAxes(model, drive_plugins, lost_collisions);
-    checkDrivenJointLimits(drivenJoints(model, drive_plugins), robot);
+    checkDrivenJointLimits(drivenJoints(model), robot);
     checkRevoluteLimits(model);
     checkLimitRanges(model);
     for (const auto& link : model.links) {
@@ -429,15 +428,25 @@ class Examination {
 
   struct Drive {
     std::string plugin;
-    const DriveConfig& config;
+    DrivenJoints joints;
   };
 
-  /// The diff-drive and skid-steer plugins, as a spawn reads them (readModel reported their tag problems).
-  static std::vector<Drive> drives(const ModelSpec& model) {
+  /// What each plugin drives, as its plugin type tells (readModel reported their tag problems).
+  static std::vector<Drive> drivenByPlugins(const ModelSpec& model) {
     std::vector<Drive> found;
     for (const auto& plugin : model.plugins) {
-      if (const auto* config = plugin.configAs<DriveConfig>()) found.push_back({plugin.name, *config});
+      const PluginType* type = PluginRegistry::builtin().typeOf(plugin);
+      if (type && type->driven) found.push_back({plugin.name, type->driven(plugin)});
     }
+    return found;
+  }
+
+  /// The plugins that send one sign to each side's wheels (Gazebo's diff drive and skid steer).
+  static std::vector<Drive> drives(const ModelSpec& model) {
+    std::vector<Drive> found = drivenByPlugins(model);
+    found.erase(std::remove_if(found.begin(), found.end(),
+                               [](const Drive& drive) { return drive.joints.left_wheels.empty(); }),
+                found.end());
     return found;
   }
 
@@ -445,8 +454,8 @@ class Examination {
   static std::set<std::string> wheelJoints(const std::vector<Drive>& drive_plugins) {
     std::set<std::string> joints;
     for (const Drive& drive : drive_plugins) {
-      joints.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
-      joints.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
+      joints.insert(drive.joints.left_wheels.begin(), drive.joints.left_wheels.end());
+      joints.insert(drive.joints.right_wheels.begin(), drive.joints.right_wheels.end());
     }
     return joints;
   }
@@ -457,11 +466,11 @@ class Examination {
     const auto poses = linkPosesAtZero(model);
     for (const Drive& drive : drive_plugins) {
       std::vector<const JointSpec*> forward, backward;
-      for (const auto& side : {drive.config.left_joints, drive.config.right_joints}) {
+      for (const auto& side : {drive.joints.left_wheels, drive.joints.right_wheels}) {
         for (const auto& name : side) {
           const JointSpec* joint = model.joint(name);
           if (!joint || !joint->moves()) continue;  // readModel reported it
-          (wheelRollSign(poses, drive.config.robot_base_frame, *joint) > 0 ? forward : backward)
+          (wheelRollSign(poses, drive.joints.base_frame, *joint) > 0 ? forward : backward)
               .push_back(joint);
         }
       }
@@ -475,7 +484,7 @@ class Examination {
                                   "of driving (bullet_sim compensates and says so, Gazebo does not)";
         add(Severity::kError, message("joint [" + joint->name + "]",
                                       "turns about " + vectorText(joint->axis) + ", backwards (-y) in [" +
-                                          drive.config.robot_base_frame + "], " + against,
+                                          drive.joints.base_frame + "], " + against,
                                       "write <axis xyz=\"" + vectorText(-joint->axis) + "\"/>"));
       }
     }
@@ -572,12 +581,10 @@ class Examination {
   }
 
   /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>.
-  std::set<std::string> drivenJoints(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
-    std::set<std::string> driven = wheelJoints(drive_plugins);
-    for (const auto& plugin : model.plugins) {
-      if (const auto* holder = plugin.configAs<JointPositionConfig>())
-        driven.insert(holder->joints.begin(), holder->joints.end());
-    }
+  static std::set<std::string> drivenJoints(const ModelSpec& model) {
+    std::set<std::string> driven;
+    for (const Drive& plugin : drivenByPlugins(model))
+      driven.insert(plugin.joints.motors.begin(), plugin.joints.motors.end());
     return driven;
   }
 
