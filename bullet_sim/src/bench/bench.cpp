@@ -30,6 +30,7 @@
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "bullet_sim/tools/process_stats.h"
+#include "bullet_sim/tools/urdf_edits.h"
 #include "bench/bench_world.h"
 #include "tools/command_line.h"
 
@@ -289,27 +290,24 @@ void overrideScan(tinyxml2::XMLElement* sensor, int samples, int channels) {
 
 /// The URDF with the wheel model and lidar options applied to its <gazebo> blocks. Text that is not XML is
 /// returned as it is, for parseModel to report.
-std::string applyRobotOptions(const std::string& urdf, const Options& options) {
+std::string applyRobotOptions(const std::string& description, const Options& options) {
   const bool lidar = options.lidar_samples > 0 || options.lidar_rate;
-  if (!options.wheel_model && !lidar) return urdf;
+  int drives = 0;
+  const std::string urdf =
+      options.wheel_model ? withWheelModel(description, *options.wheel_model, &drives) : description;
+  if (options.wheel_model && drives == 0) {
+    throw Failure("--wheel-model: " + options.robot +
+                  " has no libgazebo_ros_diff_drive.so, libgazebo_ros_skid_steer_drive.so or "
+                  "libgazebo_ros_ackermann_drive.so plugin to set <wheelModel> in; bench drives robots through one");
+  }
+  if (!lidar) return urdf;
   tinyxml2::XMLDocument document;
   if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement())
     return urdf;
 
-  int drives = 0, sensors = 0;
+  int sensors = 0;
   for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
        gazebo = gazebo->NextSiblingElement("gazebo")) {
-    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin;
-         plugin = plugin->NextSiblingElement("plugin")) {
-      const char* filename = plugin->Attribute("filename");
-      const std::string name = filename ? filename : "";
-      if (!options.wheel_model ||
-          (name != "libgazebo_ros_diff_drive.so" && name != "libgazebo_ros_skid_steer_drive.so")) {
-        continue;
-      }
-      child(plugin, "wheelModel")->SetText(options.wheel_model->c_str());
-      ++drives;
-    }
     for (auto* sensor = gazebo->FirstChildElement("sensor"); sensor;
          sensor = sensor->NextSiblingElement("sensor")) {
       const char* type = sensor->Attribute("type");
@@ -319,12 +317,7 @@ std::string applyRobotOptions(const std::string& urdf, const Options& options) {
       ++sensors;
     }
   }
-  if (options.wheel_model && drives == 0) {
-    throw Failure("--wheel-model: " + options.robot +
-                  " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin to set "
-                  "<wheelModel> in; bench drives robots through one");
-  }
-  if (lidar && sensors == 0) {
+  if (sensors == 0) {
     throw Failure(
         "--lidar / --lidar-rate: " + options.robot +
         " declares no <sensor type=\"ray\"> in a <gazebo> block; add one, or leave these options out");
