@@ -255,7 +255,7 @@ class Examination {
     }
     reportLookAlikes(look_alikes);
 
-    Diagnostics diagnostics(report_.source);
+    Diagnostics diagnostics(report_.source, /*strict=*/true);  // what Gazebo forgives silently is an error here
     const std::optional<ModelSpec> model =
         readModel(xml_, resolver_, PluginRegistry::builtin(), diagnostics, limits_);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);

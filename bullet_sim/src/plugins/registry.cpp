@@ -190,8 +190,8 @@ std::unique_ptr<Plugin> PluginRegistry::create(const PluginDeclaration& declarat
 }
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings, const Limits& limits) {
-  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings, limits);
+                     std::vector<std::string>* warnings, const Limits& limits, bool strict) {
+  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings, limits, strict);
 }
 
 }  // namespace bullet_sim

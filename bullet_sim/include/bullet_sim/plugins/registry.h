@@ -153,6 +153,7 @@ void capUpdateRate(PluginConfig& config, const DeclarationSource& source);
 
 /// parseModel with the built-in plugins.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits());
+                     std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits(),
+                     bool strict = false);
 
 }  // namespace bullet_sim
