@@ -115,6 +115,7 @@ BULLET_SIM_PLUGIN_FOLDER(bumper) {
   PluginType type = pluginType<Bumper>("libgazebo_ros_bumper.so", parseBumper, {});
   type.sensor_types = {"contact"};
   type.rate = {RateRule::From::kSensor, {}, 0};
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));
 }
 

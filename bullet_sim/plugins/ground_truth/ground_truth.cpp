@@ -46,6 +46,7 @@ void GroundTruth::sense(const StepTime& time, const RobotBody& body, const RayCa
 BULLET_SIM_PLUGIN_FOLDER(ground_truth) {
   PluginType type = pluginType<GroundTruth>("libgazebo_ros_p3d.so", parseGroundTruth, {});
   type.rate = {RateRule::From::kTags, {"updateRate"}, 0};
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));
 }
 

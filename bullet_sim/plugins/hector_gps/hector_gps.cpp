@@ -130,6 +130,7 @@ void HectorGps::onReset() {
 BULLET_SIM_PLUGIN_FOLDER(hector_gps) {
   PluginType type = pluginType<HectorGps>("libhector_gazebo_ros_gps.so", parseHectorGps, {});
   type.needs = kNeedGeodesy;
+  type.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(type));
 }
 

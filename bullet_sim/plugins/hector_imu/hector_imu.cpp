@@ -137,6 +137,7 @@ void HectorImu::onReset() {
 BULLET_SIM_PLUGIN_FOLDER(hector_imu) {
   PluginType type = pluginType<HectorImu>("libhector_gazebo_ros_imu.so", parseHectorImu, {});
   type.needs = kNeedGravity;
+  type.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(type));
 }
 

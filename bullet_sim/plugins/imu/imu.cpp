@@ -66,11 +66,13 @@ BULLET_SIM_PLUGIN_FOLDER(imu) {
   PluginType model_plugin = pluginType<Imu>("libgazebo_ros_imu.so", parseImuPlugin, {});
   model_plugin.rate = {RateRule::From::kTags, {"updateRate"}, 0};
   model_plugin.needs = kNeedGravity;
+  model_plugin.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(model_plugin));
   PluginType sensor_plugin = pluginType<Imu>("libgazebo_ros_imu_sensor.so", parseImuSensor, {});
   sensor_plugin.sensor_types = {"imu"};
   sensor_plugin.rate = {RateRule::From::kTagsOverSensor, {"updateRateHZ"}, 0};
   sensor_plugin.needs = kNeedGravity;
+  sensor_plugin.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(sensor_plugin));
 }
 

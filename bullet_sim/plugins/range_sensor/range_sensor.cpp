@@ -88,6 +88,7 @@ BULLET_SIM_PLUGIN_FOLDER(range_sensor) {
   // The plugin throttles the sensor's updates: the slower rate wins.
   type.rate = {RateRule::From::kSlowerOfSensorAndTags, {"updateRate"}, 0};
   type.needs = kNeedOwnRayBody;
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));
 }
 

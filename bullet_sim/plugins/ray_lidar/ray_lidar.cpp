@@ -250,6 +250,11 @@ BULLET_SIM_PLUGIN_FOLDER(ray_lidar) {
     type.sensor_types = {"ray", "gpu_ray"};
     type.rate = {RateRule::From::kSensor, {"updateRate"}, 0};
     type.needs = kNeedOwnRayBody;
+    // gazebo_ros_laser and gpu_laser search tf_prefix up from their namespace; the block laser and
+    // velodyne_simulator's plugins read <namespace>/tf_prefix only.
+    const std::string name = filename;
+    if (name != "libgazebo_ros_laser.so" && name != "libgazebo_ros_gpu_laser.so")
+      type.tf_prefix = TfPrefixRule::kNamespaceParam;
     registrar.add(std::move(type));
   }
 }

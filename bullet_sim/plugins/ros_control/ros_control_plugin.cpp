@@ -248,6 +248,7 @@ void RosControl::onReset() {
 BULLET_SIM_PLUGIN_FOLDER(ros_control) {
   PluginType type = pluginType<RosControl>("libgazebo_ros_control.so", parseRosControl, {});
   type.needs = kNeedParameters;
+  type.tf_prefix = TfPrefixRule::kNone;  // its controllers name their frames as their parameters say
   type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery& query) {
     const auto& config = *declaration.configAs<RosControlConfig>();
     const std::string ns = rosControlNamespace(config, query.robot_name, query.robot_namespace);

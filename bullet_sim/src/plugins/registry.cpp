@@ -132,6 +132,7 @@ std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSourc
     const ParseHead head = readHead(*type, source);
     std::shared_ptr<PluginConfig> config = type->parse(source, head);
     capUpdateRate(*config, source);
+    config->global_frames = source.tags.globalFrames();
     source.tags.finish();  // one warning for each tag the parser did not read
     return config;
   }

@@ -170,7 +170,8 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
   std::unique_ptr<RobotAdapter> adapter;
   try {
     adapter =
-        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, [this] { return simulation_->time(); });
+        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, frame_owners_,
+                                             [this] { return simulation_->time(); });
   } catch (...) {
     simulation_->remove(name);
     throw;

@@ -274,6 +274,7 @@ void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_nam
       setup.seed = options_.seed;
       setup.robot_namespace = robot_namespace;
       setup.diagnostics = &diagnostics;
+      if (type) setup.tf_prefix = type->tf_prefix;
       if (needs & kNeedGravity) setup.gravity = physics_->gravity();
       if (needs & kNeedOwnRayBody) {
         const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;

@@ -73,6 +73,7 @@ struct PluginType {
   TagTable tags;
   RateRule rate;
   unsigned needs = 0;  ///< the Need flags of what it takes from the world at spawn (PluginSetup)
+  TfPrefixRule tf_prefix = TfPrefixRule::kSearched;  ///< how its frames take a tf_prefix
   ConfigParser parse;  ///< reads its own tags; the registry then warns once about each other tag
   PluginFactory create;
   /// What it drives (empty for most plugins).
