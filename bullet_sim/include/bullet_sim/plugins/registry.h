@@ -38,6 +38,7 @@ struct DrivenJoints {
   std::string base_frame;                 ///< the frame the wheels' directions are judged in
   /// Joints moved by a motor whose effort or speed is the URDF <limit>: a zero limit freezes them.
   std::vector<std::string> motors;
+  std::string motors_note;  ///< what the doctor adds about them ("" for nothing)
 };
 
 /// What decides a robot's wheel-ground model, for a plugin that has a say in it.
