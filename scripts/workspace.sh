@@ -110,7 +110,13 @@ for path in glob.glob(sys.argv[1] + "/*/*.xml"):
     # rostest-*.xml has a case per test node and can say "ok" for a node whose own cases (rosunit-*.xml) fail:
     # passes count from the former only, failures from both.
     summary_only = "/rosunit-" in path
-    for case in ET.parse(path).iter("testcase"):
+    try:
+        cases = list(ET.parse(path).iter("testcase"))
+    except ET.ParseError:  # a test killed at its time limit leaves an empty or cut file: a failure
+        print("unreadable test result (the test was killed?): " + path, file=sys.stderr)
+        failed += 1
+        continue
+    for case in cases:
         bad = case.find("failure") is not None or case.find("error") is not None
         failed += bad
         passed += not bad and not summary_only and case.find("skipped") is None
