@@ -32,6 +32,7 @@ DEBIAN_PACKAGES=(
 )
 XACRO_VERSION=1.13.3
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
+COACD_VERSION=1.0.14  # splits moving collision meshes into convex parts
 
 install_dependencies() {
   install_debian_packages "${DEBIAN_PACKAGES[@]}"
@@ -42,6 +43,10 @@ install_dependencies() {
   if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("ray"))' 2>/dev/null)" != "$RAY_VERSION" ]; then
     log "installing ray $RAY_VERSION from PyPI into /usr/bin/python3"
     as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "ray==$RAY_VERSION"
+  fi
+  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("coacd"))' 2>/dev/null)" != "$COACD_VERSION" ]; then
+    log "installing coacd $COACD_VERSION from PyPI into /usr/bin/python3"
+    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "coacd==$COACD_VERSION"
   fi
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/description/convex_decomposition.h"
 #include "bullet_sim/description/model_spec.h"
 #include "bullet_sim/description/world_spec.h"
 #include "bullet_sim/entities.h"
@@ -60,6 +61,8 @@ struct SimulationOptions {
   ImageSourceFactory images;
   /// A spawn pose farther than max_length from the origin is refused.
   Limits limits;
+  /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
+  std::string convex_cache_dir = convexCacheDir();
 };
 
 /// A spawned robot: its physics and its plugins.
@@ -233,6 +236,7 @@ class Simulation {
   SimulationOptions options_;
   std::unique_ptr<PhysicsWorld> physics_;
   RayCaster rays_;
+  ConvexDecomposer decomposer_{options_.convex_cache_dir};
   std::unique_ptr<ImageSource> images_;         ///< outlives the robots' cameras
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
