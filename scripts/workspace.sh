@@ -34,6 +34,7 @@ XACRO_VERSION=1.13.3
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
 KUBERNETES_VALIDATE_VERSION=1.37.0  # sweep_kubernetes.test checks the Kubernetes recipe against its schemas
 JSCPD_VERSION=4.0.5  # scripts/duplicates.sh finds repeated code with it (npm)
+COACD_VERSION=1.0.14  # splits moving collision meshes into convex parts
 
 install_dependencies() {
   install_debian_packages "${DEBIAN_PACKAGES[@]}"
@@ -55,6 +56,10 @@ install_dependencies() {
     log "installing kubernetes-validate $KUBERNETES_VALIDATE_VERSION from PyPI into /usr/bin/python3"
     as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location \
       "kubernetes-validate==$KUBERNETES_VALIDATE_VERSION"
+  fi
+  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("coacd"))' 2>/dev/null)" != "$COACD_VERSION" ]; then
+    log "installing coacd $COACD_VERSION from PyPI into /usr/bin/python3"
+    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "coacd==$COACD_VERSION"
   fi
 }
 

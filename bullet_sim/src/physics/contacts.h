@@ -29,9 +29,15 @@ CollisionNames robotCollisionNames(const std::string& robot, const std::vector<G
 /// Makes `object`'s user pointer point at `names`, which must outlive it.
 void nameCollisions(btCollisionObject& object, const CollisionNames& names);
 
-/// What child `child` of `object` touches in `world`'s contact manifolds, after a step of `dt` [s]: the
-/// points that touch (no gap, or a force), grouped by the other collision.
-std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int child,
-                                         double dt);
+/// What children `first` to `first + count - 1` of `object` (one collision: a mesh may be several convex
+/// parts) touch in `world`'s contact manifolds, after a step of `dt` [s]: the points that touch (no gap, or a
+/// force), grouped by the other collision.
+std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int first,
+                                         int count, double dt);
+/// What child `child` of `object` touches.
+inline std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object,
+                                                int child, double dt) {
+  return contactsOf(world, object, child, 1, dt);
+}
 
 }  // namespace bullet_sim

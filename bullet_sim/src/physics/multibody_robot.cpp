@@ -12,6 +12,7 @@
 #include "bullet_shapes.h"
 #include "bullet_sim/common/diagnostics.h"
 #include "physics/robot_parts.h"
+#include "physics/self_collision.h"
 
 namespace bullet_sim {
 
@@ -98,19 +99,24 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   body_ = std::make_unique<btMultiBody>(links, frames_[0].mass, toBullet(frames_[0].principal_inertia),
                                         /*fixedBase=*/hasFixedBase(spec_), /*canSleep=*/false);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
-  bool self_collide = false;
-  for (const auto& link : spec_.links) self_collide |= link.self_collide;
+  std::vector<bool> self_collide;
+  for (const RobotPart& part : parts_) {
+    const auto flagged = [&](const std::string& link) { return spec_.link(link)->self_collide; };
+    self_collide.push_back(std::any_of(part.links.begin(), part.links.end(), flagged));
+  }
+  self_collision_ = std::make_unique<SelfCollisionRule>(std::move(self_collide), parent_part_);
   for (int k = 1; k <= links; ++k) setupJoint(k);
   body_->finalizeMultiDof();
   body_->setLinearDamping(0);
   body_->setAngularDamping(0);
   body_->setUseGyroTerm(true);
-  body_->setHasSelfCollision(self_collide);
+  body_->setHasSelfCollision(self_collision_->any());
   world_.addMultiBody(body_.get());
   const std::vector<GazeboCollision> gazebo = gazeboCollisions(spec_);
   for (int k = 0; k <= links; ++k) {
     collision_names_.push_back(robotCollisionNames(name_, gazebo, parts_[k].sources));
   }
+  child_ranges_.resize(parts_.size());
   for (int k = 0; k <= links; ++k) addCollider(k);
 
   for (auto& joint : joints_) {
@@ -152,7 +158,7 @@ void MultiBodyRobot::setupJoint(int k) {
 }
 
 void MultiBodyRobot::addCollider(int k) {
-  auto collider = std::make_unique<btMultiBodyLinkCollider>(body_.get(), k - 1);
+  auto collider = std::make_unique<RuledLinkCollider>(body_.get(), k - 1, *self_collision_);
   if (parts_[k].collisions.empty()) {
     // Bullet solves a link's motors in its collider's simulation island, so a part without collisions still
     // gets a collider: a point that collides with nothing.
@@ -164,10 +170,16 @@ void MultiBodyRobot::addCollider(int k) {
   } else {
     btCompoundShape* compound = shapes_->makeCompound();
     const Eigen::Isometry3d bullet_to_part = frames_[k].part_to_bullet.inverse();
-    for (const auto& collision : parts_[k].collisions) {
-      compound->addChildShape(toBullet(bullet_to_part * collision.origin),
-                              shapes_->make(collision.shape, true));
+    CollisionNames by_child;  // a mesh's convex parts are children of their own
+    for (size_t c = 0; c < parts_[k].collisions.size(); ++c) {
+      const Collision& collision = parts_[k].collisions[c];
+      const int first = compound->getNumChildShapes();
+      const int count =
+          shapes_->addTo(*compound, toBullet(bullet_to_part * collision.origin), collision.shape, true);
+      child_ranges_[k].emplace_back(first, count);
+      by_child.names.insert(by_child.names.end(), count, collision_names_[k].names.at(c));
     }
+    collision_names_[k] = std::move(by_child);
     collider->setCollisionShape(compound);
     const SurfaceSpec& surface = spec_.link(parts_[k].root_link)->surface;
     collider->setFriction(surface.mu1);
@@ -411,7 +423,8 @@ std::vector<CollisionContact> MultiBodyRobot::contacts(const CollisionSource& so
   const auto& sources = parts_[part].sources;
   const auto found = std::find(sources.begin(), sources.end(), source);
   if (found == sources.end()) return {};
-  return contactsOf(world_, *colliders_[part], static_cast<int>(found - sources.begin()), dt_);
+  const auto [first, count] = child_ranges_[part].at(found - sources.begin());
+  return contactsOf(world_, *colliders_[part], first, count, dt_);
 }
 
 }  // namespace bullet_sim

@@ -20,6 +20,7 @@ class btCollisionShape;
 namespace bullet_sim {
 
 class BulletShapes;
+class SelfCollisionRule;
 
 /// Bullet collision filter groups: the robots' parts test only static geometry and other robots.
 enum CollisionGroup : int { kStaticGroup = 1, kRobotGroup = 2 };
@@ -103,9 +104,12 @@ class MultiBodyRobot : public PhysicsRobot {
 
   std::unique_ptr<Scratch> scratch_;
   std::unique_ptr<BulletShapes> shapes_;
+  std::unique_ptr<SelfCollisionRule> self_collision_;  ///< which parts collide; the colliders ask it
   std::unique_ptr<btMultiBody> body_;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;  ///< per part
-  std::vector<CollisionNames> collision_names_;                      ///< per part, for contacts
+  std::vector<CollisionNames> collision_names_;                      ///< per part, by child, for contacts
+  /// Per part, per collision: its first compound child and how many it has (a mesh's convex parts).
+  std::vector<std::vector<std::pair<int, int>>> child_ranges_;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> constraints_;
   std::vector<Eigen::Isometry3d> part_poses_;  ///< world pose of each part's frame, after the last step
 };

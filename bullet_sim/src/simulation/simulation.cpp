@@ -166,6 +166,7 @@ void Simulation::makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& pl
   Diagnostics diagnostics(world_.source);
   ModelSpec spec =
       toModelSpec(model, *options_.plugins, diagnostics, options_.limits, /*weld_unjoined=*/true);
+  decomposer_.attach(spec, options_.limits, diagnostics);
   diagnostics.throwIfErrors();
   const Eigen::Isometry3d root = model.pose * spec.root_in_model;
   auto body = std::make_unique<MultiBodyRobot>(std::move(spec), model.name, physics_->bullet(), root);
@@ -226,6 +227,7 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (model.is_static) {  // a static model is rigid: its joints do not move
     for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
   }
+  decomposer_.attach(model, options_.limits, diagnostics);
   std::unique_ptr<PhysicsRobot> body;
   if (wheel_model == "raycast") {
     body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);

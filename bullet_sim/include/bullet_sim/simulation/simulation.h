@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/model/convex_decomposition.h"
 #include "bullet_sim/model/model.h"
 #include "bullet_sim/model/world.h"
 #include "bullet_sim/simulation/entities.h"
@@ -59,6 +60,8 @@ struct SimulationOptions {
   ImageSourceFactory images;
   /// A spawn pose farther than max_length from the origin is refused.
   Limits limits;
+  /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
+  std::string convex_cache_dir = convexCacheDir();
 };
 
 /// One of a robot's outputs whose samples are `Sample`s: the plugin publishing it, its topic and its stream.
@@ -285,6 +288,7 @@ class Simulation {
   SimulationOptions options_;
   std::unique_ptr<PhysicsWorld> physics_;
   RayCaster rays_;
+  ConvexDecomposer decomposer_{options_.convex_cache_dir};
   std::unique_ptr<ImageSource> images_;         ///< outlives the robots' cameras
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
