@@ -14,8 +14,8 @@
 
 #include "bullet_sim/model/convex_decomposition.h"
 #include "bullet_sim/assets/mesh.h"
-#include "bullet_sim/plugins/ros_control/joint_trajectory_controller.h"
-#include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
+#include "plugins/ros_control/joint_trajectory_controller.h"
+#include "plugins/ros_control/ros_control_plugin.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
@@ -230,7 +230,7 @@ class SixAxisArm {
     const ModelSpec model = test::parseQuietly(test::readFile(path), path);
     robot_ = &simulation_.spawn("arm", model, SpawnPose{}, &warnings);
     for (const auto& warning : warnings) ADD_FAILURE() << "unexpected spawn warning: " << warning;
-    ControllerManager& manager = robot_->pluginsOf<RosControl>().at(0)->controllerManager();
+    ControllerManager& manager = test::pluginsOf<RosControl>(*robot_).at(0)->controllerManager();
     test::startControllers(manager, {"arm_controller"}, simulation_.time());
     controller_ = &dynamic_cast<JointTrajectoryController&>(*manager.find("arm_controller"));
     for (const auto& link : kLinks) {
