@@ -30,7 +30,7 @@ DEBIAN_PACKAGES=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
 )
-XACRO_VERSION=1.13.3
+XACRO_VERSION=2.1.1  # Noetic's dialect through the xacro package's script (xacro/xacro)
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
 
 install_dependencies() {
