@@ -26,7 +26,7 @@ DEBIAN_PACKAGES=(
   ros-message-generation libtrajectory-msgs-dev libactionlib-msgs-dev python3-actionlib-msgs libstd-msgs-dev
   libactionlib-dev python3-actionlib
   python3-std-msgs python3-rospy python3-rosparam python3-rosservice
-  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make
+  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make ccache
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
 )
@@ -57,7 +57,9 @@ build() {
   # The compat/ packages (gazebo_msgs, ...) are built only where the system lacks the real ones.
   "$REPO/scripts/compat_packages.sh" "$REPO/compat" "$WS"
   log "building $WS"
-  catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  # ccache lets a second tree of the same sources (a worktree, the plugin test's scratch copy) reuse the objects.
+  catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
+    -DCMAKE_C_COMPILER_LAUNCHER=ccache
 }
 
 source_workspace() {
