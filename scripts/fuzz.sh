@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes bullet_sim's readers with libFuzzer (clang-14) under AddressSanitizer and UndefinedBehaviorSanitizer:
-# fuzz_model_spec (the URDF reader and urdf_doctor), fuzz_world_spec (the SDF readers of worlds and of models to
+# fuzz_model (the URDF reader and urdf_doctor), fuzz_world (the SDF readers of worlds and of models to
 # spawn) and fuzz_mesh (the mesh importer), in bullet_sim/fuzz/.
 #
 #   scripts/fuzz.sh [SECONDS [TARGET...]]  fuzz each target (default: all) for SECONDS (default 600), at the
@@ -24,7 +24,7 @@ source "$REPO/scripts/lib.sh"
 FUZZ=$REPO/bullet_sim/fuzz
 DIR=${BULLET_SIM_FUZZ_DIR:-$(workspace_of "$REPO")/build_fuzz}
 WS=$DIR/ws
-TARGETS=(fuzz_model_spec fuzz_world_spec fuzz_mesh)
+TARGETS=(fuzz_model fuzz_world fuzz_mesh)
 CI_MUTATIONS=100     # new inputs per target in the CI's short run, after its corpus
 CI_SEED=1
 export PATH=/usr/bin:/usr/local/bin:$PATH
@@ -63,7 +63,7 @@ ci_build() {
   for target in "${TARGETS[@]}"; do
     clang++-14 -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
       -I"$REPO/bullet_sim/include" -I/usr/include/eigen3 "$FUZZ/$target.cpp" -o "$(binary "$target")" \
-      "$lib/libbullet_sim_tools.a" -L"$lib" -lbullet_sim_core -ltinyxml2 -Wl,-rpath,"$lib" ||
+      "$lib/libbullet_sim_doctor.a" "$lib/libbullet_sim_tools.a" -L"$lib" -lbullet_sim_core -ltinyxml2 -Wl,-rpath,"$lib" ||
       { echo "FAILED: building $target" >&2; exit 1; }
   done
 }
@@ -82,18 +82,18 @@ seed() {
   log "seeding bullet_sim/fuzz/corpus"
   local corpus=$FUZZ/corpus
   rm -rf "$corpus"
-  mkdir -p "$corpus"/{fuzz_model_spec,fuzz_world_spec,fuzz_mesh}
+  mkdir -p "$corpus"/{fuzz_model,fuzz_world,fuzz_mesh}
   for description in smartwheelchair_model/urdf/smartwheelchair_model.urdf.xacro smartcar_description/urdf/smartcar.urdf.xacro \
     yahboomcar_description/urdf/yahboomcar.urdf.xacro tianracer_description/urdf/tianracer.urdf.xacro \
     rover_description/urdf/rover.urdf.xacro; do
-    xacro "$REPO/$description" >"$corpus/fuzz_model_spec/$(basename "$description" .urdf.xacro).urdf"
+    xacro "$REPO/$description" >"$corpus/fuzz_model/$(basename "$description" .urdf.xacro).urdf"
   done
   cp "$REPO"/bullet_sim/test/fixtures/robots/*.urdf "$REPO"/bullet_sim/test/fixtures/doctor/*.urdf \
-    "$REPO"/bullet_sim/test/fixtures/bad_input/*.urdf "$corpus/fuzz_model_spec/"
+    "$REPO"/bullet_sim/test/fixtures/bad_input/*.urdf "$corpus/fuzz_model/"
   cp "$REPO"/bullet_sim/worlds/*.world "$REPO"/bullet_sim_bringup/worlds/*.world "$REPO"/bullet_sim/test/fixtures/worlds/*.world \
-    "$corpus/fuzz_world_spec/"
+    "$corpus/fuzz_world/"
   for model in "$REPO"/bullet_sim/models/*/model.sdf "$REPO"/bullet_sim/test/fixtures/models/*.sdf; do
-    cp "$model" "$corpus/fuzz_world_spec/$(basename "$(dirname "$model")")_$(basename "$model")"
+    cp "$model" "$corpus/fuzz_world/$(basename "$(dirname "$model")")_$(basename "$model")"
   done
   # fuzz_mesh takes one byte for the format (0 STL, 1 OBJ, 2 COLLADA), then the file.
   for mesh in "$REPO"/*/meshes/*.stl "$REPO"/bullet_sim/test/fixtures/worlds/meshes/*.stl; do

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/mesh.h"
+#include "bullet_sim/assets/mesh.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;

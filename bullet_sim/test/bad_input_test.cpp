@@ -14,12 +14,12 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/sdf_model.h"
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
+#include "plugins/wheeled_drive/wheeled_drive.h"
 #include "bullet_sim/tools/process_stats.h"
-#include "description/child_process.h"
+#include "assets/child_process.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -121,7 +121,7 @@ std::string describe(const Case& c) {
 
 /// Where the two-wheeler's base is, after driving it straight at 0.3 m/s for 1 s from where it stands.
 double drivenDistance(Simulation& simulation, Robot& robot) {
-  auto& drive = *robot.pluginsOf<WheeledDrive>().front();
+  auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
   const Eigen::Vector3d start = robot.body().linkPose("base_link").translation();
   for (int i = 0; i < 1000; ++i) {
     if (i % 100 == 0) drive.setCommand(0.3, 0, simulation.time());
@@ -224,7 +224,7 @@ TEST(BadInput, AbsurdCommandsLeaveTheRobotFinite) {
     SCOPED_TRACE(wheel_model);
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot = simulation.spawn("chair", test::wheelchair(wheel_model), {});
-    auto& drive = *robot.pluginsOf<WheeledDrive>().front();
+    auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
     for (const auto& [linear, angular] : {std::pair{1e308, 0.0}, {0.0, -1e308}, {1e30, 1e30}}) {
       for (int i = 0; i < 500; ++i) {
         if (i % 100 == 0) {
@@ -390,7 +390,7 @@ TEST(BadInput, FilesThatBreakALibraryAreLoadErrorsNamingTheFile) {
       EXPECT_THAT(error, HasSubstr("the importer (assimp) ran out of the memory it may use on it")) << found;
     ++replayed;
   }
-  for (const fs::path& found : filesIn(crashes / "fuzz_world_spec" / "library")) {
+  for (const fs::path& found : filesIn(crashes / "fuzz_world" / "library")) {
     EXPECT_THROW(
         parseWorld(test::readFile(found.string()), found.string(), PackageResolver::fromEnvironment(), nullptr),
         SpecError)

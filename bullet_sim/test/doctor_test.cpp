@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/tools/doctor.h"
+#include "bullet_sim/doctor/doctor.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "bullet_sim/description/mesh.h"
+#include "bullet_sim/assets/mesh.h"
 
 namespace bullet_sim {
 namespace {

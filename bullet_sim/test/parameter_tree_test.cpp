@@ -2,8 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 
 namespace bullet_sim {
 namespace {

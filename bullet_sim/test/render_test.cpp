@@ -8,14 +8,14 @@
 #include <cstdio>
 #include <functional>
 
-#include "bullet_sim/description/model_geometry.h"
-#include "bullet_sim/plugins/ray_lidar.h"
+#include "bullet_sim/model/model_geometry.h"
+#include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/recording.h"
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/scene_builder.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -257,7 +257,7 @@ TEST(Render, APlanOfTheWheelchairShowsItsSeatAndBackrest) {
 TEST(Render, LidarHitsAreDrawnWhereTheBeamsHit) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   Robot& mast = simulation.spawn("mast", lidarMast(), {});
-  RayLidar* lidar = mast.pluginsOf<RayLidar>().at(0);
+  RayLidar* lidar = test::pluginsOf<RayLidar>(mast).at(0);
   ASSERT_TRUE(test::stepUntil(
       simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan"));
 

@@ -3,8 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "bullet_sim/description/model_geometry.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/model/model_geometry.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

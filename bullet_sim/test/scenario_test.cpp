@@ -16,7 +16,7 @@ extern "C" {
 #include <thread>
 
 #include "bullet_sim/physics/clearance.h"
-#include "bullet_sim/tools/scenario_spec.h"
+#include "bullet_sim/scenario/scenario_file.h"
 #include "bullet_sim/tools/xacro_cache.h"
 #include "test_support.h"
 

@@ -6,7 +6,7 @@
 
 #include <sstream>
 
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
 namespace bullet_sim {

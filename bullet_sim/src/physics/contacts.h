@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/gazebo_names.h"
+#include "bullet_sim/model/gazebo_names.h"
 #include "bullet_sim/physics/robot_body.h"
 
 class btCollisionObject;

@@ -10,7 +10,7 @@
 #include <cmath>
 
 #include "bullet_shapes.h"
-#include "bullet_sim/description/diagnostics.h"
+#include "bullet_sim/common/diagnostics.h"
 #include "physics/robot_parts.h"
 
 namespace bullet_sim {

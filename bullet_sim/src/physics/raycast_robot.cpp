@@ -8,8 +8,8 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
 #include "bullet_shapes.h"
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/model/model_geometry.h"
 #include "physics/multibody_robot.h"
 
 namespace bullet_sim {

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "bullet_sim/description/model_geometry.h"
-#include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/model/model_geometry.h"
+#include "bullet_sim/model/model.h"
 #include "bullet_sim/physics/robot_body.h"
 
 namespace bullet_sim {

@@ -20,10 +20,10 @@
 #include <array>
 #include <stdexcept>
 
-#include "bullet_sim/description/diagnostics.h"
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/package_resolver.h"
-#include "bullet_sim/plugins/ackermann_drive.h"
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/assets/package_resolver.h"
+#include "plugins/ackermann_drive/ackermann_drive.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace {

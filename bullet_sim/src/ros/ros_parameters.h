@@ -2,7 +2,7 @@
 // and pid_gains) comes from here, as a ParameterTree.
 #pragma once
 
-#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/plugins/parameter_tree.h"
 
 namespace bullet_sim {
 

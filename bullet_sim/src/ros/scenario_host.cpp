@@ -8,8 +8,8 @@
 #include <iostream>
 
 #include "bullet_sim/render/offscreen_renderer.h"
-#include "bullet_sim/tools/scenario_command.h"
-#include "bullet_sim/tools/scenario_run.h"
+#include "bullet_sim/scenario/scenario_command.h"
+#include "bullet_sim/scenario/scenario_run.h"
 #include "simulator_node.h"
 
 namespace bullet_sim {

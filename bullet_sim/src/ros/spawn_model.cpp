@@ -14,8 +14,8 @@
 #include <stdexcept>
 
 #include "bullet_sim/SpawnModel.h"
-#include "bullet_sim/description/files.h"
-#include "bullet_sim/description/limits.h"
+#include "bullet_sim/common/files.h"
+#include "bullet_sim/common/limits.h"
 
 namespace {
 

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "bullet_sim/description/package_resolver.h"
-#include "bullet_sim/description/sdf_model.h"
+#include "bullet_sim/assets/package_resolver.h"
+#include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace bullet_sim {
@@ -213,7 +213,8 @@ std::string WorldApi::spawn(const gazebo_msgs::SpawnModel::Request& request, boo
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   ModelSpec model;
   if (root == "robot") {
-    model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits());
+    model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits(),
+                       node_.param("strict_models", false));
   } else if (root == "sdf" && sdf_too) {
     model = parseSdfModel(request.model_xml, source, resolver, PluginRegistry::builtin(), &warnings,
                           simulation_.limits());

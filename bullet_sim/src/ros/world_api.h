@@ -41,7 +41,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 
 namespace bullet_sim {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/limits.h"
-#include "bullet_sim/description/package_resolver.h"
+#include "bullet_sim/common/limits.h"
+#include "bullet_sim/assets/package_resolver.h"
 
 namespace bullet_sim {
 
@@ -57,18 +57,23 @@ std::string runXacro(const std::string& file, const std::vector<std::string>& ar
 /// The whole of a URDF file: a regular file of at most limits.max_description_bytes; a Failure otherwise.
 std::string readUrdfFile(const std::string& path, const Limits& limits = Limits());
 
-/// --limit NAME=VALUE (repeatable): sets one of `limits` (description/limits.h); a UsageError names the
+/// --limit NAME=VALUE (repeatable): sets one of `limits` (common/limits.h); a UsageError names the
 /// limits there are when NAME is none of them.
 ToolOption limitOption(Limits& limits);
 
 /// The world file for a --world option (see findWorldFile); bullet_sim's empty.world when `name` is empty.
 std::string findWorld(const std::string& name, const PackageResolver& resolver);
 
-/// A tool's whole main: `usage` on --help (exit 0) or after a UsageError (exit 2), then `run`, whose
-/// exceptions are reported on stderr (exit 1). A SpecError lists every problem of the file, one per line.
+/// With --list-plugins anywhere on the command line: prints the plugin registry the tool was built with (one
+/// "folder filename [sensor types]" line per plugin type) and returns true, for the tool to exit 0.
+bool listPlugins(int argc, char** argv);
+
+/// A tool's whole main: --list-plugins, `usage` on --help (exit 0) or after a UsageError (exit 2), then `run`,
+/// whose exceptions are reported on stderr (exit 1). A SpecError lists every problem of the file, one per line.
 template <typename Options>
 int toolMain(const char* tool, const char* usage, int argc, char** argv, Options (*parse)(int, char**),
              int (*run)(const Options&)) {
+  if (listPlugins(argc, argv)) return EXIT_SUCCESS;
   Options options;
   try {
     options = parse(argc, argv);

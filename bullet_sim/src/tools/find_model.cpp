@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/package_resolver.h"
+#include "bullet_sim/assets/package_resolver.h"
 #include "tools/command_line.h"
 
 namespace bullet_sim {

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/model/world.h"
 #include "bullet_sim/physics/robot_body.h"
 
 namespace bullet_sim {

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/model/world.h"
 
 class btCollisionObject;
 class btCollisionShape;

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/geometry.h"
-#include "bullet_sim/description/model_spec.h"
+#include "bullet_sim/model/geometry.h"
+#include "bullet_sim/model/model.h"
 
 namespace bullet_sim {
 

@@ -13,8 +13,8 @@
 #include <random>
 #include <string>
 
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/plugin_tags.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/model/plugin_tags.h"
 
 namespace bullet_sim {
 

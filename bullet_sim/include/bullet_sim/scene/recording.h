@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bullet_sim/scene/scene.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 
 namespace bullet_sim {
 

@@ -10,7 +10,7 @@
 #include "bullet_sim/scene/image.h"
 #include "bullet_sim/scene/scene.h"
 #include "bullet_sim/scene/scene_renderer.h"
-#include "bullet_sim/simulation.h"
+#include "bullet_sim/simulation/simulation.h"
 
 namespace bullet_sim {
 

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "bullet_sim/description/mesh.h"
+#include "bullet_sim/assets/mesh.h"
 #include "bullet_sim/scene/camera.h"
 
 namespace bullet_sim {

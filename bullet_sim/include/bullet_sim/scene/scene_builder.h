@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "bullet_sim/description/geometry.h"
-#include "bullet_sim/description/model_spec.h"
-#include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/model/geometry.h"
+#include "bullet_sim/model/model.h"
+#include "bullet_sim/model/world.h"
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/scene/scene.h"
 

@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "bullet_sim/description/geometry.h"
+#include "bullet_sim/model/geometry.h"
 
 namespace bullet_sim {
 

@@ -1,0 +1,42 @@
+// Shapes, collisions and visuals shared by robot and world specs.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <string>
+
+#include "bullet_sim/assets/mesh.h"
+
+namespace bullet_sim {
+
+struct Shape {
+  enum class Type { kBox, kCylinder, kSphere, kMesh, kPlane };
+  Type type = Type::kBox;
+  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();       ///< kBox: full extents [m]
+  double radius = 0;                                        ///< kCylinder (along local z), kSphere [m]
+  double length = 0;                                        ///< kCylinder [m]
+  Eigen::Vector3d plane_normal = Eigen::Vector3d::UnitZ();  ///< kPlane: infinite plane through the origin
+  std::string mesh_path;                                    ///< kMesh: resolved absolute path
+  Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();
+  std::shared_ptr<const TriangleMesh> mesh;  ///< kMesh: loaded, scale applied
+};
+
+struct Collision {
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< in the owning link's or model's frame
+  Shape shape;
+  /// A URDF collision's name attribute ("" when it has none); a world's collision's scoped Gazebo name,
+  /// model::link::collision.
+  std::string name;
+};
+
+struct Visual {
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  Shape shape;
+  Eigen::Vector4d rgba{0.7, 0.7, 0.7, 1.0};
+  std::string material;  ///< e.g. "Gazebo/Gray" when the colour came from a Gazebo material name
+  MeshPaint paint = MeshPaint::kOwn;  ///< how `rgba` meets a mesh's own colours and textures
+};
+
+}  // namespace bullet_sim

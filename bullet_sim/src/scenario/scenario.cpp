@@ -1,0 +1,85 @@
+// scenario: one run of a scenario file (or of a matrix's cell), judged by its checks. ROS-free: a timeline
+// scenario runs in this process; a launch scenario starts a ROS master, the simulator and the user's nodes as
+// processes of its own, and stops every one of them. The exit code is the verdict.
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+#include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/scenario/scenario_command.h"
+#include "tools/command_line.h"
+#include "scenario/scenario_launch.h"
+
+namespace bullet_sim {
+namespace {
+
+constexpr char kUsage[] =
+    "usage: scenario FILE.yaml [--out DIR] [--seed N] [--video]\n"
+    "       scenario --matrix M.yaml --index N [--out DIR] [--seed N] [--video]\n"
+    "       scenario --matrix M.yaml --list\n"
+    "\n"
+    "Runs the scenario FILE (or cell N of the matrix M, numbered from 0) and writes into DIR\n"
+    "(default scenario_out/<name>): result.json (the verdict, every check's measured value, the\n"
+    "RTF, the wall time, the seed and the versions), trajectory.csv (each robot's root link every\n"
+    "record_period), top.png (a plan with the trails) and, with --video, video.mp4 (the chase view).\n"
+    "A timeline scenario runs in this process, without a ROS master, and is deterministic; a launch\n"
+    "scenario starts its own master on a free port, the simulator and the launch file, and stops\n"
+    "them all when it ends. --seed replaces the scenario's seed. --list prints the matrix's cells\n"
+    "as JSON. The README's Scenarios section describes the files.\n"
+    "Exit status: 0 every check passed, 1 a check failed, 2 the scenario could not run.\n";
+
+/// --list: the matrix's size, axes and every cell's values, as JSON on stdout.
+int listMatrix(const ScenarioCommand& command) {
+  const Matrix matrix = loadMatrix(command.matrix);
+  nlohmann::ordered_json json;
+  json["name"] = matrix.name;
+  json["scenario"] = matrix.scenario;
+  json["axes"] = matrix.axes;
+  json["count"] = matrix.count;
+  json["cells"] = nlohmann::ordered_json::array();
+  for (int i = 0; i < matrix.count; ++i) {
+    nlohmann::ordered_json values = nlohmann::ordered_json::object();
+    for (const auto& [axis, value] : matrix.cell(i).values) values[axis] = value;
+    json["cells"].push_back({{"index", i}, {"values", values}});
+  }
+  std::cout << json.dump(2) << "\n";
+  return 0;
+}
+
+int run(const ScenarioCommand& command) {
+  if (command.list) return listMatrix(command);
+  RunContext context;
+  std::optional<ScenarioSpec> spec;
+  std::string out = outputFolder(command, nullptr);
+  try {
+    const PackageResolver resolver = PackageResolver::fromEnvironment();
+    spec = commandScenario(command, resolver, &context);
+    context.spec = &*spec;
+    out = outputFolder(command, &*spec);
+    const Verdict verdict =
+        spec->launch ? runLaunch(*spec, command, out) : runTimeline(*spec, context, out, command.video);
+    std::ifstream result(out + "/result.json");
+    const auto json = nlohmann::json::parse(result, nullptr, false);
+    const std::string message = json.is_object() ? json.value("message", "") : "";
+    (verdict == Verdict::kPass ? std::cout : std::cerr)
+        << "scenario " << spec->name << ": " << message << " (" << out << "/result.json)\n";
+    return static_cast<int>(verdict);
+  } catch (const std::exception& error) {
+    std::cerr << "scenario: could not run: " << error.what() << "\n";
+    try {
+      writeErrorResult(out, context, error.what());
+    } catch (const std::exception&) {
+    }
+    return static_cast<int>(Verdict::kError);
+  }
+}
+
+}  // namespace
+}  // namespace bullet_sim
+
+int main(int argc, char** argv) {
+  return bullet_sim::toolMain("scenario", bullet_sim::kUsage, argc, argv, bullet_sim::parseScenarioCommand,
+                              bullet_sim::run);
+}

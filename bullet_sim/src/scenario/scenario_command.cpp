@@ -1,0 +1,76 @@
+#include "bullet_sim/scenario/scenario_command.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "tools/command_line.h"
+
+namespace bullet_sim {
+
+ScenarioCommand parseScenarioCommand(int argc, char** argv) {
+  ScenarioCommand command;
+  using Value = const std::string&;
+  const auto whole = [](Value text, const std::string& option, double high) {
+    const double number = parseNumber(text, option);
+    if (number < 0 || number > high || number != std::floor(number))
+      throw UsageError(option + " [" + text + "]: give a whole number from 0");
+    return number;
+  };
+  const ToolOption file{"file", [&](Value value) {
+                          if (!command.file.empty()) throw UsageError("give one scenario FILE");
+                          command.file = value;
+                        }};
+  parseCommandLine(
+      argc, argv,
+      {{"--out", [&](Value value) { command.out = value; }},
+       {"--seed", [&](Value value) { command.seed = static_cast<uint64_t>(whole(value, "--seed", 9007199254740992.0)); }},
+       {"--matrix", [&](Value value) { command.matrix = value; }},
+       {"--index", [&](Value value) { command.index = static_cast<int>(whole(value, "--index", 1e6)); }},
+       {"--video", [&](Value) { command.video = true; }, false, /*flag=*/true},
+       {"--list", [&](Value) { command.list = true; }, false, /*flag=*/true}},
+      &command.help, &file);
+  if (command.help) return command;
+  if (command.matrix.empty() == command.file.empty()) throw UsageError("give a scenario FILE, or --matrix M.yaml --index N");
+  if (!command.matrix.empty() && !command.index && !command.list)
+    throw UsageError("--matrix needs --index N (the cell to run), or --list");
+  if (command.index && command.matrix.empty()) throw UsageError("--index goes with --matrix");
+  if (command.list && command.matrix.empty()) throw UsageError("--list goes with --matrix");
+  return command;
+}
+
+std::vector<std::string> scenarioArguments(const ScenarioCommand& command) {
+  std::vector<std::string> words;
+  if (!command.file.empty()) words.push_back(command.file);
+  if (!command.matrix.empty()) words.insert(words.end(), {"--matrix", command.matrix});
+  if (command.index) words.insert(words.end(), {"--index", std::to_string(*command.index)});
+  if (command.seed) words.insert(words.end(), {"--seed", std::to_string(*command.seed)});
+  if (!command.out.empty()) words.insert(words.end(), {"--out", command.out});
+  if (command.video) words.push_back("--video");
+  return words;
+}
+
+ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver, RunContext* context) {
+  ScenarioSpec spec;
+  if (command.matrix.empty()) {
+    spec = loadScenario(command.file, resolver);
+  } else {
+    const Matrix matrix = loadMatrix(command.matrix);
+    const MatrixCell cell = matrix.cell(*command.index);
+    spec = parseScenario(cell.yaml, matrix.scenario, resolver);
+    context->matrix = {{command.matrix, cell.index}};
+    context->matrix_values = cell.values;
+  }
+  if (command.seed) spec.seed = *command.seed;
+  return spec;
+}
+
+std::string outputFolder(const ScenarioCommand& command, const ScenarioSpec* spec) {
+  if (!command.out.empty()) return command.out;
+  if (spec) return "scenario_out/" + spec->name;
+  // A scenario that could not be read: named after its file, or its matrix and cell.
+  const std::string file = command.matrix.empty() ? command.file : command.matrix;
+  const std::string stem = std::filesystem::path(file).stem().string();
+  return "scenario_out/" + stem + (command.index ? "_" + std::to_string(*command.index) : "");
+}
+
+}  // namespace bullet_sim

@@ -1,0 +1,389 @@
+#include "bullet_sim/simulation/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+#include "bullet_sim/model/model_geometry.h"
+#include "bullet_sim/model/sdf_model.h"
+#include "physics/multibody_robot.h"
+#include "physics/raycast_robot.h"
+
+namespace bullet_sim {
+
+namespace {
+
+Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
+  Eigen::Isometry3d root = Eigen::Isometry3d::Identity();
+  root.translate(Eigen::Vector3d(pose.x, pose.y, 0));
+  root.rotate(Eigen::AngleAxisd(pose.yaw, Eigen::Vector3d::UnitZ()) *
+              Eigen::AngleAxisd(pose.pitch, Eigen::Vector3d::UnitY()) *
+              Eigen::AngleAxisd(pose.roll, Eigen::Vector3d::UnitX()));
+  if (pose.z || (hasFixedBase(model) && !model.is_static)) {  // fixed to the world where it is put
+    root.translation().z() = pose.z.value_or(0.0);
+    return root;
+  }
+  double lowest = std::numeric_limits<double>::infinity();
+  const auto links = linkPosesAtZero(model);
+  for (const auto& link : model.links) {
+    for (const auto& collision : link.collisions) {
+      lowest = std::min(lowest, lowestPoint(collision.shape, root * links.at(link.name) * collision.origin));
+    }
+  }
+  if (std::isfinite(lowest)) root.translation().z() = -lowest;
+  return root;
+}
+
+/// The same primitive of the same size within 1 mm, or the same mesh file at the same scale.
+bool sameShape(const Shape& a, const Shape& b) {
+  constexpr double kTolerance = 0.001;  // [m] saved worlds round sizes (Gazebo writes 6 significant digits)
+  if (a.type != b.type) return false;
+  switch (a.type) {
+    case Shape::Type::kBox:
+      return (a.box_size - b.box_size).cwiseAbs().maxCoeff() < kTolerance;
+    case Shape::Type::kCylinder:
+      return std::abs(a.radius - b.radius) < kTolerance && std::abs(a.length - b.length) < kTolerance;
+    case Shape::Type::kSphere:
+      return std::abs(a.radius - b.radius) < kTolerance;
+    case Shape::Type::kMesh:  // a saved world names it model://..., the URDF package://...
+      return std::filesystem::path(a.mesh_path).filename() == std::filesystem::path(b.mesh_path).filename() &&
+             a.mesh_scale.isApprox(b.mesh_scale);
+    case Shape::Type::kPlane:
+      return false;
+  }
+  return false;
+}
+
+/// Whether `world_model` is a saved copy of `model` in the way of its spawn at `root`: it has exactly the
+/// robot's collision shapes, matched one to one (Gazebo saves each URDF collision as one SDF collision, at
+/// whatever joint angles it had), and its bounding box overlaps the robot's.
+bool isCopyInTheWay(const WorldModelSpec& world_model, const ModelSpec& model,
+                    const Eigen::Isometry3d& root) {
+  std::vector<const Shape*> unmatched;
+  Eigen::AlignedBox3d robot_box;
+  const auto links = linkPosesAtZero(model);
+  for (const auto& link : model.links) {
+    for (const auto& collision : link.collisions) {
+      unmatched.push_back(&collision.shape);
+      robot_box.extend(boundingBox(collision.shape, root * links.at(link.name) * collision.origin));
+    }
+  }
+  if (unmatched.empty() || unmatched.size() != world_model.collisions.size()) return false;
+  Eigen::AlignedBox3d copy_box;
+  for (const auto& collision : world_model.collisions) {
+    const auto match = std::find_if(unmatched.begin(), unmatched.end(),
+                                    [&](const Shape* shape) { return sameShape(*shape, collision.shape); });
+    if (match == unmatched.end()) return false;
+    unmatched.erase(match);
+    copy_box.extend(boundingBox(collision.shape, world_model.pose * collision.origin));
+  }
+  return robot_box.intersects(copy_box);
+}
+
+/// Every number of a spawn pose finite, and its position within max_length of the origin.
+void checkSpawnPose(const SpawnPose& pose, const Limits& limits, Diagnostics& diagnostics) {
+  const std::pair<const char*, double> lengths[] = {{"x", pose.x}, {"y", pose.y}, {"z", pose.z.value_or(0)}};
+  for (const auto& [name, value] : lengths) {
+    if (auto problem = boundProblem(value, limits.max_length, "max_length", "m"))
+      diagnostics.error(std::string("spawn pose ") + name + " " + *problem);
+  }
+  const std::pair<const char*, double> angles[] = {
+      {"roll", pose.roll}, {"pitch", pose.pitch}, {"yaw", pose.yaw}};
+  for (const auto& [name, value] : angles) {
+    if (!std::isfinite(value))
+      diagnostics.error(std::string("spawn pose ") + name + " [" + std::to_string(value) +
+                        "] is not a finite number");
+  }
+}
+
+/// The wheel-ground model of a robot named `name`: contact for a static one; else what its plugins ask for
+/// (its drive's, ros_control's rule), else contact.
+std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
+                         const SimulationOptions& options, Diagnostics& diagnostics) {
+  if (hasFixedBase(model)) return "contact";
+  const WheelModelQuery query{model, name, pose.robot_namespace, options.parameters, diagnostics};
+  return options.plugins->wheelModel(query).value_or("contact");
+}
+
+}  // namespace
+
+SpawnPose spawnPoseFrom(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation,
+                        bool place_on_ground, Diagnostics& diagnostics) {
+  SpawnPose spawn;
+  if (!position.allFinite()) {
+    std::ostringstream message;
+    message << "spawn position [" << position.transpose() << "] is not finite";
+    diagnostics.error(message.str());
+    return spawn;
+  }
+  if (!orientation.coeffs().allFinite()) {
+    std::ostringstream message;
+    message << "spawn orientation (x y z w) [" << orientation.coeffs().transpose() << "] is not finite";
+    diagnostics.error(message.str());
+    return spawn;
+  }
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  if (orientation.norm() > 1e-12) {
+    rotation = orientation.normalized().toRotationMatrix();
+  } else {
+    diagnostics.warning("spawn orientation (x y z w) [0 0 0 0] is no rotation: the identity is used");
+  }
+  spawn.x = position.x();
+  spawn.y = position.y();
+  spawn.yaw = std::atan2(rotation(1, 0), rotation(0, 0));
+  spawn.pitch = std::asin(-std::clamp(rotation(2, 0), -1.0, 1.0));
+  spawn.roll = std::atan2(rotation(2, 1), rotation(2, 2));
+  if (!place_on_ground) spawn.z = position.z();
+  return spawn;
+}
+
+Robot::Robot(std::string name, std::unique_ptr<PhysicsRobot> body, const Eigen::Isometry3d& spawn_pose)
+    : name_(std::move(name)), body_(std::move(body)), spawn_pose_(spawn_pose) {}
+
+Robot::~Robot() = default;
+
+Simulation::Simulation(WorldSpec world, SimulationOptions options)
+    : world_(std::move(world)), options_(options) {
+  physics_ = std::make_unique<PhysicsWorld>(world_, options_.physics);
+  for (const auto& model : world_.models) {
+    PlacedWorldModel& placed = world_models_.emplace_back();
+    placed.pose = model.pose;
+    if (!model.is_static) {
+      makeWorldBody(model, placed);
+    } else if (!model.collisions.empty()) {
+      placed.ray_body = rays_.addBody(model.collisions, model.pose, true);
+    }
+  }
+  rays_.commit();
+  if (options_.images) images_ = options_.images(*this);
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& placed) {
+  Diagnostics diagnostics(world_.source);
+  ModelSpec spec =
+      toModelSpec(model, *options_.plugins, diagnostics, options_.limits, /*weld_unjoined=*/true);
+  diagnostics.throwIfErrors();
+  const Eigen::Isometry3d root = model.pose * spec.root_in_model;
+  auto body = std::make_unique<MultiBodyRobot>(std::move(spec), model.name, physics_->bullet(), root);
+  placed.body = std::make_unique<Robot>(model.name, std::move(body), root);
+  Robot& robot = *placed.body;
+  addRayBodies(robot);
+  placed.visual_link.assign(model.visuals.size(), 0);
+  for (size_t l = 0; l < model.links.size(); ++l) {
+    placed.link_to_model.push_back(robot.body().linkPose(model.links[l].name).inverse() * model.pose);
+    for (size_t visual : model.links[l].visual_indices) placed.visual_link.at(visual) = l;
+  }
+}
+
+std::vector<Robot*> Simulation::movingModels() {
+  std::vector<Robot*> moving;
+  for (auto& placed : world_models_) {
+    if (placed.body) moving.push_back(placed.body.get());
+  }
+  for (auto& robot : robots_) moving.push_back(robot.get());
+  return moving;
+}
+
+Eigen::Isometry3d Simulation::worldModelPose(size_t model) const {
+  const PlacedWorldModel& placed = world_models_.at(model);
+  if (!placed.body) return placed.pose;
+  const RobotBody& body = placed.body->body();
+  return body.linkPose(body.spec().root) * body.spec().root_in_model.inverse();
+}
+
+Eigen::Isometry3d Simulation::worldVisualFrame(size_t model, size_t visual) const {
+  const PlacedWorldModel& placed = world_models_.at(model);
+  if (!placed.body || placed.link_to_model.empty()) return worldModelPose(model);
+  const size_t link = placed.visual_link.at(visual);
+  return placed.body->body().linkPose(world_.models[model].links[link].name) * placed.link_to_model[link];
+}
+
+Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
+                         std::vector<std::string>* warnings) {
+  Diagnostics diagnostics(model.source);
+  if (name.empty()) diagnostics.error("a robot needs a name");
+  if (robot(name))
+    diagnostics.error("a robot named [" + name + "] already exists: delete it first, or choose another name");
+  checkSpawnPose(pose, options_.limits, diagnostics);
+  diagnostics.throwIfErrors();
+  const Eigen::Isometry3d root = rootPose(model, pose);
+  for (const auto& world_model : world_.models) {
+    if (world_model.name == name) {
+      diagnostics.error("the world already holds a model named [" + name +
+                        "]: was the world saved with the robot in it? Remove it from the .world file");
+    } else if (isCopyInTheWay(world_model, model, root)) {
+      diagnostics.error("the world's model [" + world_model.name + "] has the collision shapes of robot [" +
+                        name + "] where it spawns: was the world saved with the robot in it? Remove [" +
+                        world_model.name + "] from the .world file, or spawn the robot elsewhere");
+    }
+  }
+  const std::string wheel_model = wheelModelOf(model, name, pose, options_, diagnostics);
+  diagnostics.throwIfErrors();
+  if (model.is_static) {  // a static model is rigid: its joints do not move
+    for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
+  }
+  std::unique_ptr<PhysicsRobot> body;
+  if (wheel_model == "raycast") {
+    body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);
+  } else {
+    body = std::make_unique<MultiBodyRobot>(std::move(model), name, physics_->bullet(), root);
+  }
+  auto robot = std::make_unique<Robot>(name, std::move(body), root);
+  robot->wheel_model_ = wheel_model;
+  for (const auto& [joint, position] : pose.joints) {
+    const int index = robot->body().jointIndex(joint);
+    if (index < 0) {
+      diagnostics.error("initial position for [" + joint + "], which is not a moving joint" +
+                        didYouMean(joint, robot->body().spec().jointNames()));
+    } else if (auto problem = boundProblem(position, options_.limits.max_length, "max_length", "")) {
+      diagnostics.error("initial position for [" + joint + "] " + *problem);
+    } else {
+      robot->spawn_joints_.emplace_back(index, position);
+    }
+  }
+  diagnostics.throwIfErrors();
+  robot->body().reset(root, robot->spawn_joints_);
+  equip(*robot, pose.robot_namespace, diagnostics);
+  if (warnings)
+    warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
+  robots_.push_back(std::move(robot));
+  return *robots_.back();
+}
+
+void Simulation::addRayBodies(Robot& robot) {
+  const auto& parts = robot.body().parts();
+  for (size_t k = 0; k < parts.size(); ++k) {
+    robot.ray_bodies_.push_back(parts[k].collisions.empty()
+                                    ? kNoBody
+                                    : rays_.addBody(parts[k].collisions, robot.body().partPose(k), false));
+  }
+}
+
+void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_namespace,
+                       Diagnostics& diagnostics) {
+  addRayBodies(robot);
+  try {
+    for (const auto& declaration : robot.body().spec().plugins) {
+      const PluginType* type = options_.plugins->typeOf(declaration);
+      const unsigned needs = type ? type->needs : 0;
+      PluginSetup setup{robot.body(), robot.name()};
+      setup.seed = options_.seed;
+      setup.robot_namespace = robot_namespace;
+      setup.diagnostics = &diagnostics;
+      if (type) setup.tf_prefix = type->tf_prefix;
+      if (needs & kNeedGravity) setup.gravity = physics_->gravity();
+      if (needs & kNeedOwnRayBody) {
+        const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
+        if (part >= 0) setup.own_ray_body = robot.ray_bodies_[part];
+      }
+      if (needs & kNeedImages) setup.images = images_.get();
+      if (needs & kNeedGeodesy) setup.spherical_coordinates = world_.spherical_coordinates;
+      if (needs & kNeedParameters) setup.parameters = options_.parameters;
+      robot.plugins_.push_back(options_.plugins->create(declaration, setup));
+    }
+  } catch (const std::exception& e) {
+    diagnostics.error(e.what());
+  }
+  if (!diagnostics.errors().empty()) {
+    for (BodyId body : robot.ray_bodies_) {
+      if (body != kNoBody) rays_.removeBody(body);
+    }
+  }
+  rays_.commit();
+  diagnostics.throwIfErrors();
+}
+
+bool Simulation::remove(const std::string& name) {
+  const auto found =
+      std::find_if(robots_.begin(), robots_.end(), [&](const auto& r) { return r->name() == name; });
+  if (found == robots_.end()) return false;
+  for (BodyId body : (*found)->ray_bodies_) {
+    if (body != kNoBody) rays_.removeBody(body);
+  }
+  rays_.commit();
+  clearScheduled(name);
+  robots_.erase(found);
+  physics_->releaseMemory();
+  return true;
+}
+
+Robot* Simulation::robot(const std::string& name) {
+  for (auto& robot : robots_) {
+    if (robot->name() == name) return robot.get();
+  }
+  return nullptr;
+}
+
+const Robot* Simulation::robot(const std::string& name) const {
+  for (const auto& robot : robots_) {
+    if (robot->name() == name) return robot.get();
+  }
+  return nullptr;
+}
+
+std::vector<std::string> Simulation::robotNames() const {
+  std::vector<std::string> names;
+  for (const auto& robot : robots_) names.push_back(robot->name());
+  return names;
+}
+
+void Simulation::step() {
+  const StepTime time{timeAfter(steps_ + 1), options_.physics.step_size};
+  applyScheduled();
+  bool rays_due = false;
+  for (auto& robot : robots_) {
+    for (auto& plugin : robot->plugins_) {
+      plugin->applyCommands(time, *robot->body_);
+      rays_due |= plugin->castsRays(time);
+    }
+    robot->body_->beforeStep();
+  }
+  for (auto& placed : world_models_) {
+    if (placed.body) placed.body->body_->beforeStep();
+  }
+  physics_->step();
+  for (Robot* moving : movingModels()) moving->body_->afterStep();
+  if (rays_due) refreshRays();
+  for (auto& robot : robots_) {
+    for (auto& plugin : robot->plugins_) plugin->sense(time, *robot->body_, rays_);
+  }
+  ++steps_;
+}
+
+void Simulation::refreshRays() {
+  for (Robot* robot : movingModels()) {
+    for (size_t k = 0; k < robot->ray_bodies_.size(); ++k) {
+      if (robot->ray_bodies_[k] != kNoBody) rays_.setPose(robot->ray_bodies_[k], robot->body_->partPose(k));
+    }
+  }
+  rays_.commit();
+}
+
+void Simulation::resetWorld() {
+  for (size_t i = 0; i < world_models_.size(); ++i) {
+    const Eigen::Isometry3d& in_file = world_.models[i].pose;
+    if (Robot* body = world_models_[i].body.get()) {
+      body->body_->reset(body->spawn_pose_, {});
+    } else if (world_models_[i].pose.matrix() != in_file.matrix()) {
+      moveWorldModel(i, in_file);
+    }
+  }
+  for (auto& robot : robots_) {
+    robot->body_->reset(robot->spawn_pose_, robot->spawn_joints_);
+    for (auto& plugin : robot->plugins_) plugin->reset();
+  }
+  physics_->forgetContacts();
+  refreshRays();
+}
+
+void Simulation::resetSimulation() {
+  resetWorld();
+  steps_ = steps_at_base_ = 0;
+  time_base_ = 0;
+}
+
+}  // namespace bullet_sim
