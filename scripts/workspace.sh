@@ -30,7 +30,7 @@ DEBIAN_PACKAGES=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
 )
-XACRO_VERSION=1.13.3
+XACRO_VERSION=2.1.1  # Noetic's dialect through the xacro package's script (xacro/xacro)
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
 KUBERNETES_VALIDATE_VERSION=1.37.0  # sweep_kubernetes.test checks the Kubernetes recipe against its schemas
 JSCPD_VERSION=4.0.5  # scripts/duplicates.sh finds repeated code with it (npm)
