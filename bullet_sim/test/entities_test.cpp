@@ -6,7 +6,6 @@
 
 #include <cmath>
 
-#include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
@@ -58,11 +57,11 @@ EntityState at(double x, double y, double z, double yaw) {
 double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)); }
 
 /// The mast's beam along its +x after its next scan.
-double rangeAhead(Simulation& simulation, const RayLidar& lidar) {
-  const uint64_t scans = lidar.scanCount();
+double rangeAhead(Simulation& simulation, const Stream<LaserScan>& lidar) {
+  const uint64_t scans = lidar.count();
   test::stepUntil(
-      simulation, [&] { return lidar.scanCount() > scans; }, 1.0, "a scan");
-  return lidar.scan().ranges[90];
+      simulation, [&] { return lidar.count() > scans; }, 1.0, "a scan");
+  return lidar.latest().ranges[90];
 }
 
 TEST(Entities, WorldModelsAreModelsBeforeTheRobotsWithTheirLinks) {
@@ -87,7 +86,7 @@ TEST(Entities, ATeleportedRobotIsWhereTheLidarSeesIt) {
     Simulation simulation(crateWorld(/*weightless=*/true));
     Robot& mast = simulation.spawn("mast", fixtureRobot("lidar_mast.urdf"), {});
     Robot& robot = simulation.spawn("robot", twoWheeler(wheel_model), {.x = -2});
-    const RayLidar& lidar = *test::pluginsOf<RayLidar>(mast).at(0);
+    const Stream<LaserScan>& lidar = *mast.outputs<LaserScan>().at(0).stream;
     EXPECT_NEAR(rangeAhead(simulation, lidar), 1.5, 1e-4) << "the crate";
     const int left = robot.body().jointIndex("left_wheel_joint");
     simulation.setModelConfiguration("robot", {{"left_wheel_joint", 0.7}});
@@ -106,7 +105,7 @@ TEST(Entities, ATeleportedRobotIsWhereTheLidarSeesIt) {
 TEST(Entities, AStaticWorldModelMovesForTheLidarAndResetWorldPutsItBack) {
   Simulation simulation(crateWorld());
   Robot& mast = simulation.spawn("mast", fixtureRobot("lidar_mast.urdf"), {});
-  const RayLidar& lidar = *test::pluginsOf<RayLidar>(mast).at(0);
+  const Stream<LaserScan>& lidar = *mast.outputs<LaserScan>().at(0).stream;
   EXPECT_NEAR(rangeAhead(simulation, lidar), 1.5, 1e-4);
   EXPECT_EQ(simulation.setModelState("crate", at(1.5, 0, 0.5, 0)), "");
   EXPECT_NEAR(rangeAhead(simulation, lidar), 1.0, 1e-4);

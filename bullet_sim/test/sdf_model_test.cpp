@@ -98,12 +98,12 @@ TEST(SdfModel, ASpawnedSdfModelScansTheRoomAndItsJointTurnsTheHead) {
   Robot& robot = simulation.spawn("pan_lidar", parse(panLidar()), {.z = 0.1});  // the root link, 0.1 m up
   EXPECT_TRUE(simulation.modelState("pan_lidar").pose.translation().isApprox(Eigen::Vector3d::Zero(), 1e-9))
       << "the model frame is 0.1 m below its root link";
-  const RayLidar& lidar = *test::pluginsOf<RayLidar>(robot).at(0);
+  const Stream<LaserScan>& lidar = *robot.outputs<LaserScan>().at(0).stream;
   const auto ahead = [&] {
-    const uint64_t scans = lidar.scanCount();
+    const uint64_t scans = lidar.count();
     test::stepUntil(
-        simulation, [&] { return lidar.scanCount() > scans; }, 1.0, "a scan");
-    return lidar.scan().ranges[90];
+        simulation, [&] { return lidar.count() > scans; }, 1.0, "a scan");
+    return lidar.latest().ranges[90];
   };
   // The test room's inner faces are at x = 3 and y = 2; the sensor sits 0.02 m ahead of the pan axis.
   EXPECT_NEAR(ahead(), 3.0 - 0.02, 1e-3);

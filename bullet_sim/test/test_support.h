@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "bullet_sim/model/model.h"
@@ -33,6 +35,29 @@ std::vector<T*> pluginsOf(const Robot& robot) {
     if (auto* typed = dynamic_cast<T*>(plugin.get())) found.push_back(typed);
   }
   return found;
+}
+
+/// The stream of `plugin`'s output of `Sample`s on `topic` (relative to its namespace), or of its first output
+/// of that type when `topic` is "" (a camera's colour image before its depth image); throws when there is none.
+template <class Sample>
+const Stream<Sample>& streamOf(const Plugin& plugin, const std::string& topic = "") {
+  for (const OutputPort& port : plugin.ports().outputs) {
+    const auto* stream = std::get_if<const Stream<Sample>*>(&port.stream);
+    if (stream && (topic.empty() || port.topic == topic)) return **stream;
+  }
+  throw std::runtime_error("plugin [" + plugin.name() + "] has no such output [" + topic + "]");
+}
+
+/// The latest sample of `plugin`'s output (streamOf).
+template <class Sample>
+const Sample& latestOf(const Plugin& plugin, const std::string& topic = "") {
+  return streamOf<Sample>(plugin, topic).latest();
+}
+
+/// How many samples `plugin`'s output (streamOf) published.
+template <class Sample>
+uint64_t countOf(const Plugin& plugin, const std::string& topic = "") {
+  return streamOf<Sample>(plugin, topic).count();
 }
 
 /// Runs a shell command line, as a user would type it; its exit status, stdout and stderr.

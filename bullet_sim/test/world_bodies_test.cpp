@@ -3,7 +3,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "plugins/ray_lidar/ray_lidar.h"
 #include "plugins/wheeled_drive/wheeled_drive.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
@@ -72,7 +71,7 @@ TEST(WorldBodies, ARobotPushesItAndALidarSeesItWhereItIsNow) {
   }
   const Eigen::Vector3d crate = crateAt(simulation);
   ASSERT_GT(crate.x(), 3) << "pushed on by the chair from x = 2";
-  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
+  const LaserScan& scan = mast.outputs<LaserScan>().at(0).stream->latest();
   int on_crate = 0;  // returns on the crate's faces where it is now
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     if (!std::isfinite(scan.ranges[i])) continue;
@@ -159,7 +158,7 @@ TEST(WorldBodies, ADoorIsAMultibodyThatARobotSwingsOpenWithinItsLimits) {
       "mast", test::parseQuietly(test::readFile(test::fixture("robots/lidar_mast.urdf")), "mast"),
       {.x = 2.6, .y = 2.2, .yaw = -M_PI / 2});
   for (int i = 0; i < 200; ++i) simulation.step();
-  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
+  const LaserScan& scan = mast.outputs<LaserScan>().at(0).stream->latest();
   const Eigen::Vector3d panel(0.05, 1, 1.8);
   EXPECT_GT(returnsOn(scan, panelPose(simulation), panel), 5);
   EXPECT_EQ(returnsOn(scan, closed, panel), 0);
