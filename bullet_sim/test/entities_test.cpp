@@ -227,6 +227,27 @@ TEST(Entities, AWrenchForDurationTChangesAFreeBodysVelocityByForceTimesTOverMass
       ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("static")));
 }
 
+TEST(Entities, AScheduledWrenchGoesWithItsRobotAndWithTheWorldApiThatScheduledIt) {
+  Simulation simulation(crateWorld(/*weightless=*/true));
+  const BodyWrench push{"box", "", {}, Eigen::Vector3d(1, 0, 0), {}, {0, -1}};  // until cleared
+  WorldApi world(simulation);
+  simulation.spawn("box", fixtureRobot("minimal.urdf"), {.z = 3});
+  world.applyBodyWrench(push);
+  simulation.remove("box");
+  simulation.spawn("box", fixtureRobot("minimal.urdf"), {.z = 3});
+  for (int i = 0; i < 100; ++i) simulation.step();
+  EXPECT_TRUE(world.modelState("box").linear.isZero()) << "a new robot of the removed one's name";
+  {
+    WorldApi gone(simulation);
+    gone.applyBodyWrench(push);
+  }
+  for (int i = 0; i < 100; ++i) simulation.step();
+  EXPECT_TRUE(world.modelState("box").linear.isZero()) << "the world API that scheduled it is gone";
+  world.applyBodyWrench(push);
+  for (int i = 0; i < 100; ++i) simulation.step();
+  EXPECT_NEAR(world.modelState("box").linear.x(), 1 * 0.1 / 1.0, 1e-9) << "1 N on 1 kg for 0.1 s";
+}
+
 TEST(Entities, AJointEffortForDurationTSpinsAFreeWheelByEffortTimesTOverItsInertia) {
   for (const auto& wheel_model : test::kWheelModels) {
     SCOPED_TRACE(wheel_model);
