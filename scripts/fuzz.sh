@@ -63,7 +63,7 @@ ci_build() {
   for target in "${TARGETS[@]}"; do
     clang++-14 -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
       -I"$REPO/bullet_sim/include" -I/usr/include/eigen3 "$FUZZ/$target.cpp" -o "$(binary "$target")" \
-      "$lib/libbullet_sim_tools.a" -L"$lib" -lbullet_sim_core -ltinyxml2 -Wl,-rpath,"$lib" ||
+      "$lib/libbullet_sim_doctor.a" "$lib/libbullet_sim_tools.a" -L"$lib" -lbullet_sim_core -ltinyxml2 -Wl,-rpath,"$lib" ||
       { echo "FAILED: building $target" >&2; exit 1; }
   done
 }

@@ -32,12 +32,18 @@ DEBIAN_PACKAGES=(
 )
 XACRO_VERSION=1.13.3
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
+JSCPD_VERSION=4.0.5  # scripts/duplicates.sh finds repeated code with it (npm)
 
 install_dependencies() {
   install_debian_packages "${DEBIAN_PACKAGES[@]}"
   if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("xacro"))' 2>/dev/null)" != "$XACRO_VERSION" ]; then
     log "installing xacro $XACRO_VERSION from PyPI into /usr/bin/python3"
     as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "xacro==$XACRO_VERSION"
+  fi
+  command -v npm >/dev/null || install_debian_packages nodejs npm
+  if [ "$(jscpd --version 2>/dev/null)" != "$JSCPD_VERSION" ]; then
+    log "installing jscpd $JSCPD_VERSION from npm"
+    as_root npm install --global --no-fund --no-audit "jscpd@$JSCPD_VERSION"
   fi
   if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("ray"))' 2>/dev/null)" != "$RAY_VERSION" ]; then
     log "installing ray $RAY_VERSION from PyPI into /usr/bin/python3"
@@ -57,7 +63,9 @@ build() {
   # The compat/ packages (gazebo_msgs, ...) are built only where the system lacks the real ones.
   "$REPO/scripts/compat_packages.sh" "$REPO/compat" "$WS"
   log "building $WS"
-  # ccache lets a second tree of the same sources (a worktree, the plugin test's scratch copy) reuse the objects.
+  # ccache lets a second tree of the same sources (a worktree, the plugin test's scratch copy) reuse the objects:
+  # it relates paths to the workspace, and leaves the build folder out of what it hashes.
+  export CCACHE_BASEDIR=$WS CCACHE_NOHASHDIR=true
   catkin_make -C "$WS" --source "$REPO" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
     -DCMAKE_C_COMPILER_LAUNCHER=ccache
 }
@@ -80,6 +88,7 @@ run_tests() {
   local results=$WS/build/test_results
   rm -rf "$results"
   log "running the test suite"
+  export CCACHE_BASEDIR=$WS CCACHE_NOHASHDIR=true  # see build()
   # run_tests exits 0 even when tests fail; catkin_test_results is the verdict.
   catkin_make -C "$WS" --source "$REPO" run_tests
   log "test results"
@@ -111,6 +120,8 @@ PY
     echo "FAILED: no gtest ran (is googletest installed?)" >&2
     exit 1
   fi
+  log "repeated code (scripts/duplicates.sh)"
+  "$REPO/scripts/duplicates.sh" || status=1
   # The fuzz targets replay their committed corpus and crashes, then fuzz briefly with a fixed seed.
   log "fuzz targets (scripts/fuzz.sh --ci)"
   "$REPO/scripts/fuzz.sh" --ci || status=1

@@ -17,7 +17,7 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
+#include "plugins/wheeled_drive/wheeled_drive.h"
 #include "bullet_sim/tools/process_stats.h"
 #include "assets/child_process.h"
 #include "test_support.h"
@@ -121,7 +121,7 @@ std::string describe(const Case& c) {
 
 /// Where the two-wheeler's base is, after driving it straight at 0.3 m/s for 1 s from where it stands.
 double drivenDistance(Simulation& simulation, Robot& robot) {
-  auto& drive = *robot.pluginsOf<WheeledDrive>().front();
+  auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
   const Eigen::Vector3d start = robot.body().linkPose("base_link").translation();
   for (int i = 0; i < 1000; ++i) {
     if (i % 100 == 0) drive.setCommand(0.3, 0, simulation.time());
@@ -224,7 +224,7 @@ TEST(BadInput, AbsurdCommandsLeaveTheRobotFinite) {
     SCOPED_TRACE(wheel_model);
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot = simulation.spawn("chair", test::wheelchair(wheel_model), {});
-    auto& drive = *robot.pluginsOf<WheeledDrive>().front();
+    auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
     for (const auto& [linear, angular] : {std::pair{1e308, 0.0}, {0.0, -1e308}, {1e30, 1e30}}) {
       for (int i = 0; i < 500; ++i) {
         if (i % 100 == 0) {

@@ -15,12 +15,12 @@
 
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/model.h"
-#include "bullet_sim/plugins/ackermann_drive.h"
-#include "bullet_sim/plugins/imu.h"
-#include "bullet_sim/plugins/pinhole_camera.h"
-#include "bullet_sim/plugins/ray_lidar.h"
+#include "plugins/ackermann_drive/ackermann_drive.h"
+#include "plugins/imu/imu.h"
+#include "plugins/pinhole_camera/pinhole_camera.h"
+#include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
+#include "plugins/wheeled_drive/wheeled_drive.h"
 #include "test_support.h"
 
 namespace bullet_sim {

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "bullet_sim/plugins/ray_lidar.h"
+#include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/world_api.h"
 #include "test_support.h"
@@ -89,7 +89,7 @@ TEST(Entities, ATeleportedRobotIsWhereTheLidarSeesIt) {
     WorldApi world(simulation);
     Robot& mast = simulation.spawn("mast", fixtureRobot("lidar_mast.urdf"), {});
     Robot& robot = simulation.spawn("robot", twoWheeler(wheel_model), {.x = -2});
-    const RayLidar& lidar = *mast.pluginsOf<RayLidar>().at(0);
+    const RayLidar& lidar = *test::pluginsOf<RayLidar>(mast).at(0);
     EXPECT_NEAR(rangeAhead(simulation, lidar), 1.5, 1e-4) << "the crate";
     const int left = robot.body().jointIndex("left_wheel_joint");
     world.setModelConfiguration("robot", {{"left_wheel_joint", 0.7}});
@@ -109,7 +109,7 @@ TEST(Entities, AStaticWorldModelMovesForTheLidarAndResetWorldPutsItBack) {
   Simulation simulation(crateWorld());
   WorldApi world(simulation);
   Robot& mast = simulation.spawn("mast", fixtureRobot("lidar_mast.urdf"), {});
-  const RayLidar& lidar = *mast.pluginsOf<RayLidar>().at(0);
+  const RayLidar& lidar = *test::pluginsOf<RayLidar>(mast).at(0);
   EXPECT_NEAR(rangeAhead(simulation, lidar), 1.5, 1e-4);
   EXPECT_EQ(world.setModelState("crate", at(1.5, 0, 0.5, 0)), "");
   EXPECT_NEAR(rangeAhead(simulation, lidar), 1.0, 1e-4);

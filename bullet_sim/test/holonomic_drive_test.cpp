@@ -6,10 +6,10 @@
 
 #include <cmath>
 
-#include "bullet_sim/plugins/force_based_move.h"
-#include "bullet_sim/plugins/hector_gps.h"
-#include "bullet_sim/plugins/hector_imu.h"
-#include "bullet_sim/plugins/planar_move.h"
+#include "plugins/force_based_move/force_based_move.h"
+#include "plugins/hector_gps/hector_gps.h"
+#include "plugins/hector_imu/hector_imu.h"
+#include "plugins/planar_move/planar_move.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "multi_sensor_robot.h"
 #include "test_support.h"
@@ -56,7 +56,7 @@ const SpawnPose kStart{.x = 0.5, .y = -0.3, .yaw = 0.4};
 TEST(PlanarMove, FollowsTheClosedFormOfAHolonomicArc) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", multiSensorRobot(), kStart);
-  PlanarMove& planar_move = *robot.pluginsOf<PlanarMove>().at(0);
+  PlanarMove& planar_move = *test::pluginsOf<PlanarMove>(robot).at(0);
   drive(simulation, planar_move, twist(0.3, 0.2, 0.5), 4.0);
   const Planar truth = holonomicArc({kStart.x, kStart.y, kStart.yaw}, 0.3, 0.2, 0.5, 4.0);
   const Planar base = planar(robot.body().linkPose("base_footprint"));
@@ -69,7 +69,7 @@ TEST(PlanarMove, FollowsTheClosedFormOfAHolonomicArc) {
 TEST(PlanarMove, OdometryIsTheBasePoseAndAgreesWithItsTf) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", multiSensorRobot(), kStart);
-  PlanarMove& planar_move = *robot.pluginsOf<PlanarMove>().at(0);
+  PlanarMove& planar_move = *test::pluginsOf<PlanarMove>(robot).at(0);
   const auto& outputs = planar_move.ports().outputs;
   ASSERT_EQ(outputs.size(), 2u);
   EXPECT_EQ(outputs[0].topic, "odom");
@@ -98,7 +98,7 @@ TEST(PlanarMove, StopsAfterCmdTimeoutAndIgnoresNonFiniteCommands) {
       test::withPluginTags(multiSensorUrdf(), "libgazebo_ros_planar_move.so", {{"cmdTimeout", "0.5"}});
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "timeout"), {});
-  PlanarMove& planar_move = *robot.pluginsOf<PlanarMove>().at(0);
+  PlanarMove& planar_move = *test::pluginsOf<PlanarMove>(robot).at(0);
   ASSERT_TRUE(planar_move.setCommand(twist(0.4, 0, 0), simulation.time()));
   EXPECT_FALSE(planar_move.setCommand(twist(NAN, 0, 0), simulation.time()));
   for (int i = 0; i < 2000; ++i) simulation.step();
@@ -109,8 +109,8 @@ TEST(PlanarMove, StopsAfterCmdTimeoutAndIgnoresNonFiniteCommands) {
 TEST(ForceBasedMove, ReachesTheCommandedVelocitiesAndDeadReckonsItsOdometry) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", multiSensorRobot("force_based"), kStart);
-  ASSERT_TRUE(robot.pluginsOf<PlanarMove>().size() == 1 && robot.pluginsOf<ForceBasedMove>().size() == 1);
-  ForceBasedMove& force_based = *robot.pluginsOf<ForceBasedMove>().at(0);
+  ASSERT_TRUE(test::pluginsOf<PlanarMove>(robot).size() == 1 && test::pluginsOf<ForceBasedMove>(robot).size() == 1);
+  ForceBasedMove& force_based = *test::pluginsOf<ForceBasedMove>(robot).at(0);
   const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
   drive(simulation, force_based, twist(0.3, 0.2, 0.5), 3.0);
   const Eigen::Isometry3d base = robot.body().linkPose("base_footprint");
@@ -160,8 +160,8 @@ TEST(HectorImu, WithoutErrorsMatchesTheGroundTruthWhileTurning) {
        {"rateGaussianNoise", "0 0 0"}, {"yawDrift", "0"}, {"yawGaussianNoise", "0"}});
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "ideal imu"), kStart);
-  drive(simulation, *robot.pluginsOf<PlanarMove>().at(0), twist(0.3, 0.2, 0.5), 2.0);
-  const ImuSample& sample = robot.pluginsOf<HectorImu>().at(0)->sample();
+  drive(simulation, *test::pluginsOf<PlanarMove>(robot).at(0), twist(0.3, 0.2, 0.5), 2.0);
+  const ImuSample& sample = test::pluginsOf<HectorImu>(robot).at(0)->sample();
   // On the turning axis, moving at v in its frame and turning at w: it feels w x v and gravity.
   EXPECT_LT((sample.angular_velocity - Eigen::Vector3d(0, 0, 0.5)).norm(), 1e-3);
   EXPECT_LT((sample.linear_acceleration - Eigen::Vector3d(-0.5 * 0.2, 0.5 * 0.3, 9.81)).norm(), 0.01);
@@ -176,8 +176,8 @@ TEST(HectorGps, TheVelocityReadsNorthAndWest) {
                                             std::make_pair(twist(0, 0.3, 0), Eigen::Vector3d(0, 0.3, 0))}) {
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "gps"), {});
-    drive(simulation, *robot.pluginsOf<PlanarMove>().at(0), command, 1.0);
-    const Vector3Sample& velocity = robot.pluginsOf<HectorGps>().at(0)->velocity();
+    drive(simulation, *test::pluginsOf<PlanarMove>(robot).at(0), command, 1.0);
+    const Vector3Sample& velocity = test::pluginsOf<HectorGps>(robot).at(0)->velocity();
     EXPECT_LT((velocity.vector - north_west).norm(), 1e-3) << velocity.vector.transpose();
     EXPECT_EQ(velocity.frame_id, "gps_link");
   }

@@ -96,7 +96,7 @@ inline ModelSpec multiSensorRobot(const std::string& drive = "planar") {
 /// The plugin of type T named `name` (its sensor's name for a sensor's plugin).
 template <class T>
 T& pluginNamed(const Robot& robot, const std::string& name) {
-  for (T* plugin : robot.pluginsOf<T>()) {
+  for (T* plugin : test::pluginsOf<T>(robot)) {
     if (plugin->name() == name) return *plugin;
   }
   throw std::runtime_error("no plugin [" + name + "]");

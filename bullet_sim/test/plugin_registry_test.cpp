@@ -15,20 +15,21 @@ namespace {
 /// libtest_altimeter.so: publishes a link's pose as odometry at updateRate [Hz]; a Twist's linear.z sets an
 /// offset [m] added to the height it reports, and its calibrate service takes the offset away.
 struct AltimeterConfig : PluginConfig {
-  std::string link;
-  std::string topic = "altitude";
+  std::string topic;
 };
 
-AltimeterConfig parseAltimeter(const DeclarationSource& source) {
-  AltimeterConfig config;
-  config.link = source.tags.text("linkName", "");
+const TagTable kAltimeterTags = {
+    {"linkName", TagType::kText, "", "", "", "the link whose height it reports"},
+    {"topicName", TagType::kTopic, "altitude", "", "", "where it publishes"},
+};
+
+void parseAltimeter(const DeclarationSource& source, AltimeterConfig& config) {
+  config.link = source.tags.text("linkName");
   if (!source.model.link(config.link)) {
     source.diagnostics.error(source.tags.where() + " <linkName> [" + config.link + "] is not a link" +
                              didYouMean(config.link, source.model.linkNames()));
   }
-  config.topic = source.tags.text("topicName", config.topic);
-  config.update_rate = source.tags.positive("updateRate", 0, /*allow_zero=*/true);
-  return config;
+  config.topic = source.tags.text("topicName");
 }
 
 class Altimeter : public Plugin {
@@ -64,7 +65,9 @@ class Altimeter : public Plugin {
 
 PluginRegistry withAltimeter() {
   PluginRegistry registry = PluginRegistry::builtin();
-  registry.add(pluginType<Altimeter>("libtest_altimeter.so", {}, parseAltimeter));
+  PluginType type = pluginType<Altimeter>("libtest_altimeter.so", parseAltimeter, kAltimeterTags);
+  type.rate = {RateRule::From::kTags, {"updateRate"}, 0};
+  registry.add(std::move(type));
   return registry;
 }
 
@@ -109,9 +112,9 @@ TEST(PluginRegistry, ItsTagProblemsAreReportedWithTheFilesOthers) {
     FAIL() << "a plugin naming a missing link was accepted";
   } catch (const SpecError& error) {
     EXPECT_EQ(error.problems(),
-              (std::vector<std::string>{
-                  "plugin [altimeter] <linkName> [base_lnik] is not a link (did you mean [base_link]?)",
-                  "plugin [altimeter] <updateRate> must be a number, not [fast]"}));
+              (std::vector<std::string>{  // the registry's head first, then the plugin's own tags
+                  "plugin [altimeter] <updateRate> must be a number, not [fast]",
+                  "plugin [altimeter] <linkName> [base_lnik] is not a link (did you mean [base_link]?)"}));
   }
 }
 
@@ -124,7 +127,7 @@ TEST(PluginRegistry, TheSimulationBuildsItAndItsOutputFollowsFreeFall) {
   SpawnPose pose;
   pose.z = 10.0;  // [m] high enough to fall freely for the whole test
   Robot& robot = simulation.spawn("dropped", std::move(model), pose);
-  ASSERT_EQ(robot.pluginsOf<Altimeter>().size(), 1u);
+  ASSERT_EQ(test::pluginsOf<Altimeter>(robot).size(), 1u);
   const Plugin& altimeter = *robot.plugins().front();
   ASSERT_EQ(altimeter.ports().outputs.size(), 1u);
   EXPECT_EQ(altimeter.ports().outputs.front().topic, "altitude");

@@ -9,7 +9,7 @@
 #include <functional>
 
 #include "bullet_sim/model/model_geometry.h"
-#include "bullet_sim/plugins/ray_lidar.h"
+#include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/recording.h"
@@ -257,7 +257,7 @@ TEST(Render, APlanOfTheWheelchairShowsItsSeatAndBackrest) {
 TEST(Render, LidarHitsAreDrawnWhereTheBeamsHit) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   Robot& mast = simulation.spawn("mast", lidarMast(), {});
-  RayLidar* lidar = mast.pluginsOf<RayLidar>().at(0);
+  RayLidar* lidar = test::pluginsOf<RayLidar>(mast).at(0);
   ASSERT_TRUE(test::stepUntil(
       simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan"));
 

@@ -9,7 +9,7 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/gazebo_names.h"
 #include "bullet_sim/model/sdf_model.h"
-#include "bullet_sim/plugins/ray_lidar.h"
+#include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/simulation/world_api.h"
 #include "test_support.h"
@@ -99,7 +99,7 @@ TEST(SdfModel, ASpawnedSdfModelScansTheRoomAndItsJointTurnsTheHead) {
   Robot& robot = simulation.spawn("pan_lidar", parse(panLidar()), {.z = 0.1});  // the root link, 0.1 m up
   EXPECT_TRUE(world.modelState("pan_lidar").pose.translation().isApprox(Eigen::Vector3d::Zero(), 1e-9))
       << "the model frame is 0.1 m below its root link";
-  const RayLidar& lidar = *robot.pluginsOf<RayLidar>().at(0);
+  const RayLidar& lidar = *test::pluginsOf<RayLidar>(robot).at(0);
   const auto ahead = [&] {
     const uint64_t scans = lidar.scanCount();
     test::stepUntil(

@@ -9,11 +9,11 @@
 #include <map>
 
 #include "bullet_sim/model/gazebo_names.h"
-#include "bullet_sim/plugins/bumper.h"
-#include "bullet_sim/plugins/hector_gps.h"
-#include "bullet_sim/plugins/hector_imu.h"
-#include "bullet_sim/plugins/range_sensor.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
+#include "plugins/bumper/bumper.h"
+#include "plugins/hector_gps/hector_gps.h"
+#include "plugins/hector_imu/hector_imu.h"
+#include "plugins/range_sensor/range_sensor.h"
+#include "plugins/wheeled_drive/wheeled_drive.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "multi_sensor_robot.h"
 #include "test_support.h"
@@ -178,7 +178,7 @@ std::vector<ImuSample> imuSamples(Simulation& simulation, const HectorImu& imu, 
 TEST(HectorImu, AtRestReadsGravityUpAndNoRotationWithinItsNoise) {
   Simulation simulation(test::shippedWorld("empty.world"), {.seed = 3});
   Robot& robot = simulation.spawn("robot", multiSensorRobot(), {.x = 1, .yaw = 0.7});
-  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  const HectorImu& imu = *test::pluginsOf<HectorImu>(robot).at(0);
   for (int i = 0; i < 500; ++i) simulation.step();  // settled
   const std::vector<ImuSample> samples = imuSamples(simulation, imu, 4.0);
   ASSERT_EQ(samples.size(), 200u) << "50 Hz";
@@ -205,7 +205,7 @@ TEST(HectorImu, AtRestReadsGravityUpAndNoRotationWithinItsNoise) {
 TEST(HectorImu, WithoutErrorsMatchesTheGroundTruth) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", parseExpecting(idealImu(), "ideal"), {.x = 1, .yaw = 0.7});
-  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  const HectorImu& imu = *test::pluginsOf<HectorImu>(robot).at(0);
   for (int i = 0; i < 500; ++i) simulation.step();
   for (const ImuSample& sample : imuSamples(simulation, imu, 1.0)) {
     const Eigen::Quaterniond truth(robot.body().linkPose("imu_link").linear());
@@ -220,7 +220,7 @@ TEST(HectorImu, OffsetsShowInTheReadingAndTheBiasTopic) {
   Simulation simulation(test::shippedWorld("empty.world"));
   const std::string urdf = idealImu({{"rateOffset", "0.1 0 0"}, {"accelOffset", "0 0.2 0"}});
   Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "offsets"), {});
-  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  const HectorImu& imu = *test::pluginsOf<HectorImu>(robot).at(0);
   for (int i = 0; i < 500; ++i) simulation.step();
   EXPECT_NEAR(imu.sample().angular_velocity.x(), 0.1, 1e-3);
   EXPECT_NEAR(imu.sample().linear_acceleration.y(), 0.2, 1e-3);
@@ -235,7 +235,7 @@ TEST(HectorImu, CalibrateZeroesTheRateDrift) {
   Simulation simulation(test::shippedWorld("empty.world"), {.seed = 5});
   const std::string urdf = idealImu({{"rateDrift", "0.1 0.1 0.1"}});
   Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "drift"), {});
-  const HectorImu& imu = *robot.pluginsOf<HectorImu>().at(0);
+  const HectorImu& imu = *test::pluginsOf<HectorImu>(robot).at(0);
   for (int i = 0; i < 100; ++i) simulation.step();
   EXPECT_GT(imu.bias().angular_velocity.norm(), 0.01) << "drawn from N(0, 0.1^2) per axis";
   const auto& ports = imu.ports().services;
@@ -253,12 +253,12 @@ TEST(HectorImu, TheSameSeedGivesTheSameReadings) {
     Simulation simulation(test::shippedWorld("empty.world"), {.seed = seed});
     Robot& robot = simulation.spawn("robot", multiSensorRobot(), {});
     std::vector<double> readings;
-    for (const ImuSample& sample : imuSamples(simulation, *robot.pluginsOf<HectorImu>().at(0), 0.5)) {
+    for (const ImuSample& sample : imuSamples(simulation, *test::pluginsOf<HectorImu>(robot).at(0), 0.5)) {
       readings.push_back(sample.linear_acceleration.x());
       readings.push_back(sample.orientation.z());
     }
     simulation.resetSimulation();
-    const ImuSample after_reset = imuSamples(simulation, *robot.pluginsOf<HectorImu>().at(0), 0.5).back();
+    const ImuSample after_reset = imuSamples(simulation, *test::pluginsOf<HectorImu>(robot).at(0), 0.5).back();
     EXPECT_EQ(after_reset.linear_acceleration.x(), readings[readings.size() - 2])
         << "a reset replays the run";
     return readings;
@@ -317,7 +317,7 @@ NavSatFixSample firstFix(const std::string& urdf, const SpawnPose& pose,
                          WorldSpec world = test::shippedWorld("empty.world")) {
   Simulation simulation(std::move(world));
   Robot& robot = simulation.spawn("robot", parseExpecting(urdf, "gps"), pose);
-  const HectorGps& gps = *robot.pluginsOf<HectorGps>().at(0);
+  const HectorGps& gps = *test::pluginsOf<HectorGps>(robot).at(0);
   test::stepUntil(simulation, [&] { return gps.fixCount() > 0; }, 1.0, "a fix");
   return gps.fix();
 }
@@ -391,7 +391,7 @@ TEST(HectorGps, DriftIsSeededAndShowsInTheCovariance) {
   const auto fixes = [](uint64_t seed) {
     Simulation simulation(test::shippedWorld("empty.world"), {.seed = seed});
     Robot& robot = simulation.spawn("robot", multiSensorRobot(), {});
-    const HectorGps& gps = *robot.pluginsOf<HectorGps>().at(0);
+    const HectorGps& gps = *test::pluginsOf<HectorGps>(robot).at(0);
     std::vector<double> latitudes;
     while (latitudes.size() < 20) {
       const uint64_t count = gps.fixCount();
@@ -509,8 +509,8 @@ TEST(Bumper, ARobotDrivenIntoAWallReportsItsBumperTouchingItAndNothingBefore) {
     Simulation simulation(test::shippedWorld("test_room.world"));
     Robot& robot = simulation.spawn("car", test::parseQuietly(bumperCar(kLumpedBumper, wheel_model), "car"),
                                     {.x = 2.0});
-    const Bumper& bumper = *robot.pluginsOf<Bumper>().at(0);
-    WheeledDrive& drive = *robot.pluginsOf<WheeledDrive>().at(0);
+    const Bumper& bumper = *test::pluginsOf<Bumper>(robot).at(0);
+    WheeledDrive& drive = *test::pluginsOf<WheeledDrive>(robot).at(0);
     const auto front = [&] { return robot.body().linkPose("bumper_link").translation().x() + 0.01; };
     uint64_t seen = 0;
     int empty_updates = 0;

@@ -9,9 +9,9 @@
 
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model_geometry.h"
-#include "bullet_sim/plugins/joint_position.h"
-#include "bullet_sim/plugins/ray_lidar.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
+#include "plugins/joint_position/joint_position.h"
+#include "plugins/ray_lidar/ray_lidar.h"
+#include "plugins/wheeled_drive/wheeled_drive.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
 
@@ -112,7 +112,7 @@ class WheelchairDrive : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
     robot_ = &simulation_.spawn("wheelchair", test::wheelchair(GetParam()), {});
-    drive_ = robot_->pluginsOf<WheeledDrive>().at(0);
+    drive_ = test::pluginsOf<WheeledDrive>(*robot_).at(0);
     start_ = axleFrame(*robot_, *drive_);
   }
   /// Where the drive axle has gone since spawn, in the spawn frame.
@@ -209,7 +209,7 @@ TEST(Simulation, SeedStyleReversedWheelAxisIsCompensated) {
     EXPECT_THAT(said, HasSubstr("driven with the opposite sign"));
 
     const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
-    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0, 2.0);
+    drive(simulation, *test::pluginsOf<WheeledDrive>(robot).at(0), 0.5, 0, 2.0);
     const Planar actual = travelled(robot, start);
     EXPECT_GT(actual.x, 0.8);
     EXPECT_LT(std::abs(actual.y), 0.02);
@@ -225,7 +225,7 @@ void checkSkidSteer(ModelSpec (*load)(const std::string&), double v, double w) {
     for (const double turn : {0.0, w}) {
       Simulation simulation(test::shippedWorld("empty.world"));
       Robot& robot = simulation.spawn("car", model, {});
-      WheeledDrive& drive_plugin = *robot.pluginsOf<WheeledDrive>().at(0);
+      WheeledDrive& drive_plugin = *test::pluginsOf<WheeledDrive>(robot).at(0);
       const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
       const double seconds = 3;
       drive(simulation, drive_plugin, turn == 0 ? v : 0, turn, seconds);
@@ -263,7 +263,7 @@ TEST(Simulation, PanTiltHoldsItsPositionAgainstGravity) {
     SCOPED_TRACE(wheel_model);
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot = simulation.spawn("car", test::yahboomcar(wheel_model), {});
-    auto* pan_tilt = robot.pluginsOf<JointPosition>().at(0);
+    auto* pan_tilt = test::pluginsOf<JointPosition>(robot).at(0);
     for (int i = 0; i < 1000; ++i) simulation.step();
     EXPECT_NEAR(robot.body().jointPosition(robot.body().jointIndex("jq2_Joint")), 0, 0.01);
     ASSERT_TRUE(pan_tilt->setTarget("jq1_Joint", 0.5));
@@ -284,7 +284,7 @@ double roomDistance(const Eigen::Vector3d& origin, const Eigen::Vector3d& direct
 
 /// The first scan of the robot's lidar.
 LaserScan firstScan(Simulation& simulation, Robot& robot) {
-  RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
+  RayLidar* lidar = test::pluginsOf<RayLidar>(robot).at(0);
   test::stepUntil(
       simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan");
   return lidar->scan();
@@ -364,7 +364,7 @@ TEST(Lidar, MultiChannelReturnsLieOnTheRoomsWallsAndFloor) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   Robot& robot =
       simulation.spawn("mast", fixtureRobot("velodyne_mast.urdf"), {.x = 0.4, .y = -0.2, .yaw = 0.3});
-  RayLidar* lidar = robot.pluginsOf<RayLidar>().at(0);
+  RayLidar* lidar = test::pluginsOf<RayLidar>(robot).at(0);
   ASSERT_EQ(lidar->config().output, RayLidarConfig::Output::kPointCloud2);
   ASSERT_EQ(lidar->config().channels, 16);
   ASSERT_TRUE(test::stepUntil(
@@ -396,7 +396,7 @@ TEST(Lidar, ThePluginFilenameChoosesTheMessage) {
         test::replaceAfter(velodyne, "<plugin", "libgazebo_ros_velodyne_laser.so", filename);
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot = simulation.spawn("mast", test::parseQuietly(urdf, filename), {});
-    EXPECT_EQ(robot.pluginsOf<RayLidar>().at(0)->config().output, output) << filename;
+    EXPECT_EQ(test::pluginsOf<RayLidar>(robot).at(0)->config().output, output) << filename;
   }
 }
 
@@ -408,10 +408,10 @@ struct RunResult {
 RunResult runWheelchair(uint64_t seed, const std::string& wheel_model) {
   Simulation simulation(test::shippedWorld("test_room.world"), {.seed = seed});
   Robot& robot = simulation.spawn("chair", test::wheelchair(wheel_model), {});
-  drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.4, 0.3, 1.0);
+  drive(simulation, *test::pluginsOf<WheeledDrive>(robot).at(0), 0.4, 0.3, 1.0);
   RunResult result;
   for (const auto& link : robot.body().spec().links) result.poses.push_back(robot.body().linkPose(link.name));
-  result.ranges = robot.pluginsOf<RayLidar>().at(0)->scan().ranges;
+  result.ranges = test::pluginsOf<RayLidar>(robot).at(0)->scan().ranges;
   return result;
 }
 
@@ -442,7 +442,7 @@ TEST(Simulation, InitialJointPositionsApplyAtSpawnAndAfterAReset) {
     EXPECT_NEAR(position("front_left_joint"), 1.0, 1e-9);
     EXPECT_NEAR(position("rear_right_joint"), 0.5, 1e-9);
     EXPECT_NEAR(position("front_right_joint"), 0.0, 1e-9);
-    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0, 0.5);
+    drive(simulation, *test::pluginsOf<WheeledDrive>(robot).at(0), 0.5, 0, 0.5);
     simulation.resetSimulation();
     EXPECT_NEAR(position("front_left_joint"), 1.0, 1e-9);
     EXPECT_NEAR(position("rear_right_joint"), 0.5, 1e-9);
@@ -478,7 +478,7 @@ TEST(Simulation, ResetSimulationRestoresPosesAndTime) {
     Simulation simulation(test::shippedWorld("empty.world"));
     Robot& robot = simulation.spawn("chair", test::wheelchair(wheel_model), {.x = 1, .yaw = 0.5});
     const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
-    drive(simulation, *robot.pluginsOf<WheeledDrive>().at(0), 0.5, 0.5, 1.0);
+    drive(simulation, *test::pluginsOf<WheeledDrive>(robot).at(0), 0.5, 0.5, 1.0);
     ASSERT_GT((robot.body().linkPose("base_footprint").translation() - start.translation()).norm(), 0.2);
     simulation.resetSimulation();
     EXPECT_EQ(simulation.time(), 0.0);
@@ -533,13 +533,13 @@ TEST(Simulation, RobotsShareTheWorldAndSeeEachOther) {
   Robot& chair = simulation.spawn("chair", test::wheelchair(), {.x = 1.5, .yaw = M_PI / 2});
   Robot& car = simulation.spawn("car", test::smartcar(), {.x = -2});
   const Eigen::Isometry3d car_start = car.body().linkPose("base_footprint");
-  auto* drive = car.pluginsOf<WheeledDrive>().at(0);
+  auto* drive = test::pluginsOf<WheeledDrive>(car).at(0);
   for (int i = 0; i < 1000; ++i) {
     if (i % 100 == 0) drive->setCommand(-0.2, 0, simulation.time());
     simulation.step();
   }
   EXPECT_LT(travelled(car, car_start).x, -0.15) << "each robot follows its own commands";
-  const LaserScan& scan = mast.pluginsOf<RayLidar>().at(0)->scan();
+  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
   const float ahead = scan.ranges[90];  // beam 90 of 181 points along +x, at the chair's body
   EXPECT_TRUE(std::isfinite(ahead));
   EXPECT_LT(ahead, 1.5);
@@ -560,7 +560,7 @@ std::string twoWheelerWithWheelTf() { return test::twoWheelerWithDiffDrive({{"pu
 TEST(Simulation, PublishWheelTfGivesEachWheelInItsParentAtItsJointAngle) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", test::parseQuietly(twoWheelerWithWheelTf(), "two_wheeler"), {});
-  WheeledDrive& drive = *robot.pluginsOf<WheeledDrive>().at(0);
+  WheeledDrive& drive = *test::pluginsOf<WheeledDrive>(robot).at(0);
   const Stream<TransformSample>* wheel_tf = nullptr;
   for (const auto& port : drive.ports().outputs) {
     const auto* stream = std::get_if<const Stream<TransformSample>*>(&port.stream);

@@ -16,13 +16,24 @@
 #include "bullet_sim/assets/package_resolver.h"
 #include "bullet_sim/model/world.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/plugins/ros_control/controller_manager.h"
+#include "plugins/ros_control/controller_manager.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "bullet_sim/tools/subprocess.h"
 
 namespace bullet_sim::test {
 
 using CommandResult = ProcessOutput;
+
+/// The plugins of concrete type T (e.g. WheeledDrive, RayLidar) of a robot: for tests of that plugin, which
+/// may look inside it. Everyone else reads a robot's typed outputs (Robot::outputs).
+template <class T>
+std::vector<T*> pluginsOf(const Robot& robot) {
+  std::vector<T*> found;
+  for (const auto& plugin : robot.plugins()) {
+    if (auto* typed = dynamic_cast<T*>(plugin.get())) found.push_back(typed);
+  }
+  return found;
+}
 
 /// Runs a shell command line, as a user would type it; its exit status, stdout and stderr.
 inline CommandResult run(const std::string& command) {

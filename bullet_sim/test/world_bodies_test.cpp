@@ -3,8 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "bullet_sim/plugins/ray_lidar.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
+#include "plugins/ray_lidar/ray_lidar.h"
+#include "plugins/wheeled_drive/wheeled_drive.h"
 #include "bullet_sim/simulation/world_api.h"
 #include "test_support.h"
 
@@ -68,14 +68,14 @@ TEST(WorldBodies, ARobotPushesItAndALidarSeesItWhereItIsNow) {
   Robot& mast = simulation.spawn(
       "mast", test::parseQuietly(test::readFile(test::fixture("robots/lidar_mast.urdf")), "mast"),
       {.x = 3, .y = -2, .yaw = M_PI / 2});
-  auto* drive = chair.pluginsOf<WheeledDrive>().at(0);
+  auto* drive = test::pluginsOf<WheeledDrive>(chair).at(0);
   for (int i = 0; i < 8000 && crateAt(world).x() < 3; ++i) {
     if (i % 100 == 0) drive->setCommand(0.5, 0, simulation.time());
     simulation.step();
   }
   const Eigen::Vector3d crate = crateAt(world);
   ASSERT_GT(crate.x(), 3) << "pushed on by the chair from x = 2";
-  const LaserScan& scan = mast.pluginsOf<RayLidar>().at(0)->scan();
+  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
   int on_crate = 0;  // returns on the crate's faces where it is now
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     if (!std::isfinite(scan.ranges[i])) continue;
@@ -142,7 +142,7 @@ TEST(WorldBodies, ADoorIsAMultibodyThatARobotSwingsOpenWithinItsLimits) {
   const Eigen::Isometry3d closed = panelPose(world);
 
   Robot& chair = simulation.spawn("chair", test::wheelchair(), {});
-  auto* drive = chair.pluginsOf<WheeledDrive>().at(0);
+  auto* drive = test::pluginsOf<WheeledDrive>(chair).at(0);
   double widest = 0;  // [rad] the hinge's largest angle
   for (int i = 0; i < 12000 && world.jointProperties("door::hinge").position < 1.0; ++i) {
     if (i % 100 == 0) drive->setCommand(0.5, 0, simulation.time());
@@ -163,7 +163,7 @@ TEST(WorldBodies, ADoorIsAMultibodyThatARobotSwingsOpenWithinItsLimits) {
       "mast", test::parseQuietly(test::readFile(test::fixture("robots/lidar_mast.urdf")), "mast"),
       {.x = 2.6, .y = 2.2, .yaw = -M_PI / 2});
   for (int i = 0; i < 200; ++i) simulation.step();
-  const LaserScan& scan = mast.pluginsOf<RayLidar>().at(0)->scan();
+  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
   const Eigen::Vector3d panel(0.05, 1, 1.8);
   EXPECT_GT(returnsOn(scan, panelPose(world), panel), 5);
   EXPECT_EQ(returnsOn(scan, closed, panel), 0);

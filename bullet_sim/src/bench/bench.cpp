@@ -15,6 +15,7 @@
 #include <ctime>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -22,9 +23,6 @@
 #include <tuple>
 #include <vector>
 
-#include "bullet_sim/plugins/pinhole_camera.h"
-#include "bullet_sim/plugins/ray_lidar.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
 #include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/robot_snapshot.h"
@@ -32,6 +30,7 @@
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "bullet_sim/tools/process_stats.h"
+#include "bullet_sim/tools/urdf_edits.h"
 #include "bench/bench_world.h"
 #include "tools/command_line.h"
 
@@ -291,27 +290,24 @@ void overrideScan(tinyxml2::XMLElement* sensor, int samples, int channels) {
 
 /// The URDF with the wheel model and lidar options applied to its <gazebo> blocks. Text that is not XML is
 /// returned as it is, for parseModel to report.
-std::string applyRobotOptions(const std::string& urdf, const Options& options) {
+std::string applyRobotOptions(const std::string& description, const Options& options) {
   const bool lidar = options.lidar_samples > 0 || options.lidar_rate;
-  if (!options.wheel_model && !lidar) return urdf;
+  int drives = 0;
+  const std::string urdf =
+      options.wheel_model ? withWheelModel(description, *options.wheel_model, &drives) : description;
+  if (options.wheel_model && drives == 0) {
+    throw Failure("--wheel-model: " + options.robot +
+                  " has no libgazebo_ros_diff_drive.so, libgazebo_ros_skid_steer_drive.so or "
+                  "libgazebo_ros_ackermann_drive.so plugin to set <wheelModel> in; bench drives robots through one");
+  }
+  if (!lidar) return urdf;
   tinyxml2::XMLDocument document;
   if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement())
     return urdf;
 
-  int drives = 0, sensors = 0;
+  int sensors = 0;
   for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
        gazebo = gazebo->NextSiblingElement("gazebo")) {
-    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin;
-         plugin = plugin->NextSiblingElement("plugin")) {
-      const char* filename = plugin->Attribute("filename");
-      const std::string name = filename ? filename : "";
-      if (!options.wheel_model ||
-          (name != "libgazebo_ros_diff_drive.so" && name != "libgazebo_ros_skid_steer_drive.so")) {
-        continue;
-      }
-      child(plugin, "wheelModel")->SetText(options.wheel_model->c_str());
-      ++drives;
-    }
     for (auto* sensor = gazebo->FirstChildElement("sensor"); sensor;
          sensor = sensor->NextSiblingElement("sensor")) {
       const char* type = sensor->Attribute("type");
@@ -321,12 +317,7 @@ std::string applyRobotOptions(const std::string& urdf, const Options& options) {
       ++sensors;
     }
   }
-  if (options.wheel_model && drives == 0) {
-    throw Failure("--wheel-model: " + options.robot +
-                  " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin to set "
-                  "<wheelModel> in; bench drives robots through one");
-  }
-  if (lidar && sensors == 0) {
+  if (sensors == 0) {
     throw Failure(
         "--lidar / --lidar-rate: " + options.robot +
         " declares no <sensor type=\"ray\"> in a <gazebo> block; add one, or leave these options out");
@@ -381,17 +372,27 @@ void addObstacles(WorldSpec& world, const Options& options) {
   }
 }
 
-/// The model without its lidars, for timing the physics alone.
+/// The model without its ray sensors, for timing the physics alone.
 ModelSpec withoutLidars(ModelSpec model) {
   auto& plugins = model.plugins;
-  plugins.erase(
-      std::remove_if(plugins.begin(), plugins.end(),
-                     [](const PluginDeclaration& plugin) { return plugin.configAs<RayLidarConfig>(); }),
-      plugins.end());
+  plugins.erase(std::remove_if(plugins.begin(), plugins.end(),
+                               [](const PluginDeclaration& plugin) {
+                                 return plugin.sensor && isRaySensor(plugin.sensor->type);
+                               }),
+                plugins.end());
   return model;
 }
 
-/// `model` with --camera's camera on its root link, 0.3 m ahead and 1 m up, looking along the link's x.
+TagNode tagNode(std::string name, std::string text, std::vector<TagNode> children = {}) {
+  TagNode node;
+  node.name = std::move(name);
+  node.text = std::move(text);
+  node.children = std::move(children);
+  return node;
+}
+
+/// `model` with --camera's camera on its root link, 0.3 m ahead and 1 m up, looking along the link's x: its
+/// <sensor> and <plugin> read by the registry, as a URDF's would be.
 ModelSpec withCamera(ModelSpec model, const Options::Camera& camera) {
   SensorDeclaration sensor;
   sensor.name = "bench_camera";
@@ -399,21 +400,20 @@ ModelSpec withCamera(ModelSpec model, const Options::Camera& camera) {
   sensor.link = model.root;
   sensor.pose = Eigen::Translation3d(0.3, 0, 1.0);
   sensor.update_rate = camera.rate;
-  auto config = std::make_shared<PinholeCameraConfig>();
-  config->link = config->frame = model.root;
-  config->pose = sensor.pose;
-  config->update_rate = camera.rate;
-  config->width = camera.width;
-  config->height = camera.height;
-  config->near_clip = 0.05;
-  config->far_clip = 50;
-  config->depth = camera.depth;
-  config->camera_name = "bench_camera";
+  const TagNode image = tagNode("image", "", {tagNode("width", std::to_string(camera.width)),
+                                              tagNode("height", std::to_string(camera.height))});
+  const TagNode clip = tagNode("clip", "", {tagNode("near", "0.05"), tagNode("far", "50")});
+  const TagNode sensor_node = tagNode("sensor", "", {tagNode("camera", "", {image, clip})});
+  const TagNode plugin_node = tagNode("plugin", "", {tagNode("cameraName", "bench_camera")});
   PluginDeclaration declaration;
   declaration.name = "bench_camera_controller";
   declaration.filename = camera.depth ? "libgazebo_ros_openni_kinect.so" : "libgazebo_ros_camera.so";
   declaration.sensor = sensor;
-  declaration.config = config;
+  Diagnostics diagnostics("bench's camera");
+  PluginTags tags(&plugin_node, declaration.where(), diagnostics);
+  const DeclarationSource source{declaration, tags, &sensor_node, model, diagnostics, Limits()};
+  declaration.config = PluginRegistry::builtin().parse(source);
+  diagnostics.throwIfErrors();
   model.plugins.push_back(declaration);
   return model;
 }
@@ -431,11 +431,12 @@ struct Planar {
 /// Where the drive axle is, as a unicycle sees it: the midpoint of the drive plugin's wheels on the ground,
 /// heading along the base frame's x axis. A diff-drive robot turns about this point, not about its base
 /// frame.
-Planar axlePose(const Robot& robot, const WheeledDrive& drive) {
+Planar axlePose(const Robot& robot, const DrivenJoints& drive) {
   const RobotBody& body = robot.body();
-  const Eigen::Isometry3d base = body.linkPose(drive.config().base_link);
-  std::vector<std::string> joints = drive.config().left_joints;
-  joints.insert(joints.end(), drive.config().right_joints.begin(), drive.config().right_joints.end());
+  const ModelSpec& spec = body.spec();
+  const Eigen::Isometry3d base = body.linkPose(spec.link(drive.base_frame) ? drive.base_frame : spec.root);
+  std::vector<std::string> joints = drive.left_wheels;
+  joints.insert(joints.end(), drive.right_wheels.begin(), drive.right_wheels.end());
   Eigen::Vector3d midpoint = Eigen::Vector3d::Zero();
   for (const auto& joint : joints) {
     midpoint +=
@@ -475,14 +476,45 @@ double median(std::vector<double> values) {
   return values.size() % 2 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
 }
 
-WheeledDrive& driveOf(const Robot& robot, const std::string& source) {
-  const auto drives = robot.pluginsOf<WheeledDrive>();
-  if (drives.empty()) {
-    throw Failure(source +
-                  " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin: bench "
-                  "drives the robot through one");
+/// A robot's wheeled drive: the wheels its plugin type says it drives, and its cmd_vel.
+struct Drive {
+  DrivenJoints joints;
+  const InputHandler<Twist>* command = nullptr;
+};
+
+Drive driveOf(const Robot& robot, const std::string& source) {
+  const auto& declarations = robot.body().spec().plugins;
+  for (size_t i = 0; i < declarations.size() && i < robot.plugins().size(); ++i) {
+    const PluginType* type = PluginRegistry::builtin().typeOf(declarations[i]);
+    if (!type || !type->driven) continue;
+    DrivenJoints joints = type->driven(declarations[i]);
+    if (!joints.drive || joints.left_wheels.empty()) continue;
+    for (const RobotInput<Twist>& input : robot.inputs<Twist>()) {
+      if (input.plugin == robot.plugins()[i].get()) return {std::move(joints), input.handler};
+    }
   }
-  return *drives.front();
+  throw Failure(source +
+                " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin: bench "
+                "drives the robot through one");
+}
+
+/// Whether anyone wants the outputs a plugin computes only on demand (a camera's): as if subscribed or not.
+void setDemand(const Robot& robot, bool wanted) {
+  for (const auto& plugin : robot.plugins()) {
+    for (const OutputPort& port : plugin->ports().outputs) {
+      if (port.demand) port.demand->wanted = wanted;
+    }
+  }
+}
+
+/// The frames the robot's cameras rendered: per camera, the most of any of its image outputs.
+uint64_t cameraFrames(const Robot& robot) {
+  std::map<const Plugin*, uint64_t> frames;
+  for (const RobotOutput<CameraImage>& output : robot.outputs<CameraImage>())
+    frames[output.plugin] = std::max(frames[output.plugin], output.stream->count());
+  uint64_t total = 0;
+  for (const auto& [camera, count] : frames) total += count;
+  return total;
 }
 
 /// One spawn, settle and drive.
@@ -505,20 +537,15 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
   simulation_options.images = imagesFrom(benchRenderer);
   Simulation simulation(world, simulation_options);
   Robot& robot = simulation.spawn(model.name, model, options.pose, &warnings);
-  WheeledDrive& drive = driveOf(robot, model.source);
-  const std::vector<PinholeCamera*> cameras = robot.pluginsOf<PinholeCamera>();
-  for (const PinholeCamera* camera : cameras) {
-    for (const OutputPort& port : camera->ports().outputs) {
-      if (port.demand) port.demand->wanted = cameras_wanted;
-    }
-  }
-  run.wheel_model = drive.config().wheel_model;
+  const Drive drive = driveOf(robot, model.source);
+  setDemand(robot, cameras_wanted);
+  run.wheel_model = robot.wheelModel();
 
   simulation.step();
   run.startup_s = processAge().value_or(NAN);
   run.startup_cpu_s = cpuSeconds();
   for (long i = 1; i < std::lround(kSettleTime / options.step); ++i) simulation.step();
-  run.settled = axlePose(robot, drive);
+  run.settled = axlePose(robot, drive.joints);
 
   const long steps = std::lround(options.duration / options.step);
   const long resend = std::max(1L, std::lround(kCommandPeriod / options.step));
@@ -526,43 +553,21 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
   const Clock::time_point start = Clock::now();
   const double cpu_start = threadCpuSeconds();
   for (long i = 0; i < steps; ++i) {
-    if (i % resend == 0) drive.setCommand(options.v, options.w, simulation.time());
+    if (i % resend == 0) (*drive.command)(Twist{{options.v, 0, 0}, {0, 0, options.w}}, simulation.time());
     simulation.step();
-    if (i + 1 == spin_up) run.after_spin_up = axlePose(robot, drive);
+    if (i + 1 == spin_up) run.after_spin_up = axlePose(robot, drive.joints);
   }
   run.wall_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
-  run.end = axlePose(robot, drive);
-  for (const PinholeCamera* camera : cameras) run.camera_frames += camera->frameCount();
+  run.end = axlePose(robot, drive.joints);
+  run.camera_frames = cameraFrames(robot);
   return run;
-}
-
-/// A lidar's rays as the simulation casts them: the sensor frame in the world and the unit directions.
-struct LidarRays {
-  std::string link;
-  Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
-  std::vector<Eigen::Vector3f> directions;  ///< in the world frame
-  double range_max = 0;                     ///< [m]
-  double update_rate = 0;                   ///< [Hz]
-};
-
-/// The rays a lidar casts per scan, its own directions turned into the world.
-LidarRays lidarRays(const RayLidar& lidar, const RobotBody& body) {
-  const RayLidarConfig& config = lidar.config();
-  LidarRays rays;
-  rays.link = config.link;
-  rays.sensor = body.linkPose(config.link) * config.pose;
-  rays.range_max = config.range_max;
-  rays.update_rate = config.update_rate;
-  const Eigen::Matrix3f rotation = rays.sensor.linear().cast<float>();
-  for (const Eigen::Vector3f& direction : lidar.directions()) rays.directions.push_back(rotation * direction);
-  return rays;
 }
 
 /// Rays per wall second of a RayCaster holding the world and the robot's parts where they are, casting every
 /// lidar's rays in turn on this thread, each lidar skipping the part it sits on: `repeat` measurements.
 std::vector<double> measureRays(const WorldSpec& world, const Robot& robot,
-                                const std::vector<LidarRays>& lidars, int repeat) {
+                                const std::vector<RayPattern>& lidars, int repeat) {
   RayCaster caster;
   for (const auto& model : world.models) {
     if (!model.collisions.empty()) caster.addBody(model.collisions, model.pose, /*is_static=*/true);
@@ -581,7 +586,7 @@ std::vector<double> measureRays(const WorldSpec& world, const Robot& robot,
     double rays = 0;
     const Clock::time_point start = Clock::now();
     do {
-      for (const LidarRays& lidar : lidars) {
+      for (const RayPattern& lidar : lidars) {
         const BodyId own = part_bodies[body.partOf(lidar.link)];
         caster.cast(lidar.sensor.translation(), lidar.directions, lidar.range_max, own, ranges);
         rays += static_cast<double>(lidar.directions.size());
@@ -646,7 +651,7 @@ double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x,
 struct Figures {
   std::string world_file;
   std::vector<DriveRun> lidar_runs, physics_runs, camera_runs, idle_camera_runs;
-  std::vector<LidarRays> lidars;
+  std::vector<RayPattern> lidars;
   std::vector<double> rays_per_s;
   double peak_rss_before_render_mb = 0;
   WorldLoad world_load;
@@ -705,8 +710,7 @@ Figures measure(const Options& options) {
   Simulation settled(world, simulation_options);
   const Robot& robot = settled.spawn(model.name, model, options.pose);
   for (long i = 0; i < std::lround(kSettleTime / options.step); ++i) settled.step();
-  for (const RayLidar* lidar : robot.pluginsOf<RayLidar>())
-    figures.lidars.push_back(lidarRays(*lidar, robot.body()));
+  for (const auto& [plugin, sensor] : robot.sensors<RaySensor>()) figures.lidars.push_back(sensor->rayPattern(robot.body()));
   if (!figures.lidars.empty()) figures.rays_per_s = measureRays(world, robot, figures.lidars, options.repeat);
   figures.peak_rss_before_render_mb = peakRssMb();
   figures.render = measureRender(settled, robot.name(), options);

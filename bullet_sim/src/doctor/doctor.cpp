@@ -10,6 +10,7 @@
 #include <cstring>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -19,9 +20,8 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/model.h"
-#include "bullet_sim/plugins/joint_position.h"
+#include "bullet_sim/plugins/drive_support.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
 #include "model/urdf_values.h"
 
 namespace bullet_sim {
@@ -256,7 +256,7 @@ class Examination {
     }
     reportLookAlikes(look_alikes);
 
-    Diagnostics diagnostics(report_.source);
+    Diagnostics diagnostics(report_.source, /*strict=*/true);  // what Gazebo forgives silently is an error here
     const std::optional<ModelSpec> model =
         readModel(xml_, resolver_, PluginRegistry::builtin(), diagnostics, limits_);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);
@@ -282,7 +282,7 @@ class Examination {
     const std::vector<Drive> drive_plugins = drives(model);
     checkDriveAxes(model, drive_plugins);
     checkMirroredWheelAxes(model, drive_plugins, lost_collisions);
-    checkDrivenJointLimits(drivenJoints(model, drive_plugins), robot);
+    checkDrivenJointLimits(drivenJoints(model), robot);
     checkRevoluteLimits(model);
     checkLimitRanges(model);
     for (const auto& link : model.links) {
@@ -429,15 +429,25 @@ class Examination {
 
   struct Drive {
     std::string plugin;
-    const DriveConfig& config;
+    DrivenJoints joints;
   };
 
-  /// The diff-drive and skid-steer plugins, as a spawn reads them (readModel reported their tag problems).
-  static std::vector<Drive> drives(const ModelSpec& model) {
+  /// What each plugin drives, as its plugin type tells (readModel reported their tag problems).
+  static std::vector<Drive> drivenByPlugins(const ModelSpec& model) {
     std::vector<Drive> found;
     for (const auto& plugin : model.plugins) {
-      if (const auto* config = plugin.configAs<DriveConfig>()) found.push_back({plugin.name, *config});
+      const PluginType* type = PluginRegistry::builtin().typeOf(plugin);
+      if (type && type->driven) found.push_back({plugin.name, type->driven(plugin)});
     }
+    return found;
+  }
+
+  /// The plugins that send one sign to each side's wheels (Gazebo's diff drive and skid steer).
+  static std::vector<Drive> drives(const ModelSpec& model) {
+    std::vector<Drive> found = drivenByPlugins(model);
+    found.erase(std::remove_if(found.begin(), found.end(),
+                               [](const Drive& drive) { return drive.joints.left_wheels.empty(); }),
+                found.end());
     return found;
   }
 
@@ -445,8 +455,8 @@ class Examination {
   static std::set<std::string> wheelJoints(const std::vector<Drive>& drive_plugins) {
     std::set<std::string> joints;
     for (const Drive& drive : drive_plugins) {
-      joints.insert(drive.config.left_joints.begin(), drive.config.left_joints.end());
-      joints.insert(drive.config.right_joints.begin(), drive.config.right_joints.end());
+      joints.insert(drive.joints.left_wheels.begin(), drive.joints.left_wheels.end());
+      joints.insert(drive.joints.right_wheels.begin(), drive.joints.right_wheels.end());
     }
     return joints;
   }
@@ -457,11 +467,11 @@ class Examination {
     const auto poses = linkPosesAtZero(model);
     for (const Drive& drive : drive_plugins) {
       std::vector<const JointSpec*> forward, backward;
-      for (const auto& side : {drive.config.left_joints, drive.config.right_joints}) {
+      for (const auto& side : {drive.joints.left_wheels, drive.joints.right_wheels}) {
         for (const auto& name : side) {
           const JointSpec* joint = model.joint(name);
           if (!joint || !joint->moves()) continue;  // readModel reported it
-          (wheelRollSign(poses, drive.config.robot_base_frame, *joint) > 0 ? forward : backward)
+          (wheelRollSign(poses, drive.joints.base_frame, *joint) > 0 ? forward : backward)
               .push_back(joint);
         }
       }
@@ -475,7 +485,7 @@ class Examination {
                                   "of driving (bullet_sim compensates and says so, Gazebo does not)";
         add(Severity::kError, message("joint [" + joint->name + "]",
                                       "turns about " + vectorText(joint->axis) + ", backwards (-y) in [" +
-                                          drive.config.robot_base_frame + "], " + against,
+                                          drive.joints.base_frame + "], " + against,
                                       "write <axis xyz=\"" + vectorText(-joint->axis) + "\"/>"));
       }
     }
@@ -571,17 +581,18 @@ class Examination {
     }
   }
 
-  /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>.
-  std::set<std::string> drivenJoints(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
-    std::set<std::string> driven = wheelJoints(drive_plugins);
-    for (const auto& plugin : model.plugins) {
-      if (const auto* holder = plugin.configAs<JointPositionConfig>())
-        driven.insert(holder->joints.begin(), holder->joints.end());
+  /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>, with what the
+  /// plugin adds about them.
+  static std::map<std::string, std::string> drivenJoints(const ModelSpec& model) {
+    std::map<std::string, std::string> driven;
+    for (const Drive& plugin : drivenByPlugins(model)) {
+      for (const std::string& joint : plugin.joints.motors) driven.emplace(joint, plugin.joints.motors_note);
     }
     return driven;
   }
 
-  void checkDrivenJointLimits(const std::set<std::string>& driven, const tinyxml2::XMLElement& robot) {
+  void checkDrivenJointLimits(const std::map<std::string, std::string>& driven,
+                              const tinyxml2::XMLElement& robot) {
     // Read from the XML: the spec cannot tell a <limit effort="0"> from no <limit> at all.
     for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
       const char* name = joint->Attribute("name");
@@ -599,7 +610,8 @@ class Examination {
               "line " + std::to_string(limit->GetLineNum()) + ": joint [" + std::string(name) + "] <limit>",
               "its " + which +
                   " 0, yet a plugin drives it: a motor that honours the URDF limits "
-                  "(ros_control, Gazebo's SetForce, bullet_sim's joint holder) cannot move it",
+                  "(ros_control, Gazebo's SetForce, bullet_sim's joint holder) cannot move it" +
+                  (driven.at(name).empty() ? "" : "; " + driven.at(name)),
               "give the motor's real figures, e.g. effort=\"0.2\" [N m] velocity=\"5\" [rad/s] for a "
               "hobby servo"));
     }

@@ -54,6 +54,7 @@ DoctorReport examineFile(const std::string& file, const std::vector<std::string>
 
 int main(int argc, char** argv) {
   using bullet_sim::UsageError;
+  if (bullet_sim::listPlugins(argc, argv)) return 0;
   bool help = false;
   bool warnings_as_errors = false;
   bullet_sim::Limits limits;

@@ -1,7 +1,9 @@
 #include "model/tag_node_xml.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace bullet_sim {
 
@@ -41,15 +43,76 @@ TagNode readTagNode(const tinyxml2::XMLElement& element) {
   return node;
 }
 
+const char* tagTypeName(TagType type) {
+  switch (type) {
+    case TagType::kText: return "text";
+    case TagType::kTopic: return "topic";
+    case TagType::kFrame: return "frame";
+    case TagType::kNumber: return "number";
+    case TagType::kPositive: return "number >= 0";
+    case TagType::kFlag: return "true/false";
+    case TagType::kList: return "list";
+    case TagType::kIgnored: return "ignored";
+  }
+  return "";
+}
+
+const TagRow* TagTable::row(const std::string& name) const {
+  const auto found = std::find_if(rows_.begin(), rows_.end(), [&](const TagRow& row) { return row.name == name; });
+  return found == rows_.end() ? nullptr : &*found;
+}
+
+void TagTable::add(TagRow row) {
+  const auto same = std::find_if(rows_.begin(), rows_.end(), [&](const TagRow& known) { return known.name == row.name; });
+  if (same != rows_.end()) {
+    *same = std::move(row);
+  } else {
+    rows_.push_back(std::move(row));
+  }
+}
+
 PluginTags::PluginTags(const TagNode* element, std::string where, Diagnostics& diagnostics)
     : element_(element), where_(std::move(where)), diagnostics_(diagnostics) {}
+
+void PluginTags::useTable(const TagTable* table) {
+  table_ = table;
+  if (!table_) return;
+  for (const TagRow& row : table_->rows()) {
+    if (row.type == TagType::kIgnored) read_.insert(row.name);
+  }
+}
 
 const TagNode* PluginTags::find(const std::string& tag) {
   read_.insert(tag);
   return element_ ? element_->child(tag) : nullptr;
 }
 
-bool PluginTags::has(const std::string& tag) const { return element_ && element_->child(tag); }
+const TagRow* PluginTags::checkedRow(const std::string& tag, std::initializer_list<TagType> types) const {
+  if (!table_) return nullptr;
+  const TagRow* row = table_->row(tag);
+  if (!row) throw std::logic_error(where_ + " reads <" + tag + ">, which its plugin's tag table lacks");
+  if (std::find(types.begin(), types.end(), row->type) == types.end()) {
+    throw std::logic_error(where_ + " reads <" + tag + "> otherwise than as its tag table's " +
+                           tagTypeName(row->type));
+  }
+  return row;
+}
+
+double PluginTags::rowNumber(const std::string& tag, std::initializer_list<TagType> types) const {
+  const TagRow* row = checkedRow(tag, types);
+  if (!row) throw std::logic_error(where_ + " reads <" + tag + "> with the table's default, without a table");
+  try {
+    return std::stod(row->fallback);
+  } catch (const std::exception&) {
+    throw std::logic_error(where_ + " <" + tag + ">'s table default [" + row->fallback + "] is no number");
+  }
+}
+
+bool PluginTags::has(const std::string& tag) const {
+  if (table_ && !table_->row(tag))
+    throw std::logic_error(where_ + " asks for <" + tag + ">, which its plugin's tag table lacks");
+  return element_ && element_->child(tag);
+}
 
 namespace {
 
@@ -65,6 +128,16 @@ bool isTopicTag(const std::string& tag) {
 }  // namespace
 
 std::string PluginTags::text(const std::string& tag, const std::string& fallback) {
+  checkedRow(tag, {TagType::kText, TagType::kTopic});
+  return rawText(tag, fallback);
+}
+
+std::string PluginTags::text(const std::string& tag) {
+  const TagRow* row = checkedRow(tag, {TagType::kText, TagType::kTopic});
+  return rawText(tag, row ? row->fallback : "");
+}
+
+std::string PluginTags::rawText(const std::string& tag, const std::string& fallback) {
   const TagNode* node = find(tag);
   if (!node) return fallback;
   if (node->text.empty() && isTopicTag(tag)) {
@@ -76,10 +149,12 @@ std::string PluginTags::text(const std::string& tag, const std::string& fallback
 }
 
 std::string PluginTags::frame(const std::string& tag, const std::string& fallback, bool gazebo_drops_slash) {
-  const std::string value = text(tag, fallback);
+  checkedRow(tag, {TagType::kFrame});
+  const std::string value = rawText(tag, fallback);
   const auto start = value.find_first_not_of('/');
   if (!has(tag) || start == 0 || value.empty()) return value;
   const std::string bare = start == std::string::npos ? "" : value.substr(start);
+  global_frames_.insert(bare);
   if (!gazebo_drops_slash) {
     diagnostics_.warning(where_ + " <" + tag + "> [" + value + "] is read as [" + bare +
                          "]: tf2 frame ids have no leading / (Gazebo's plugin keeps it)");
@@ -88,6 +163,13 @@ std::string PluginTags::frame(const std::string& tag, const std::string& fallbac
 }
 
 double PluginTags::number(const std::string& tag, double fallback) {
+  checkedRow(tag, {TagType::kNumber});
+  return rawNumber(tag, fallback);
+}
+
+double PluginTags::number(const std::string& tag) { return rawNumber(tag, rowNumber(tag, {TagType::kNumber})); }
+
+double PluginTags::rawNumber(const std::string& tag, double fallback) {
   const TagNode* node = find(tag);
   if (!node) return fallback;
   std::istringstream in(node->text);
@@ -99,8 +181,17 @@ double PluginTags::number(const std::string& tag, double fallback) {
   return parsed;
 }
 
+double PluginTags::positive(const std::string& tag) {
+  return positive(tag, rowNumber(tag, {TagType::kPositive}));
+}
+
+double PluginTags::nonNegative(const std::string& tag) {
+  return positive(tag, rowNumber(tag, {TagType::kPositive}), /*allow_zero=*/true);
+}
+
 double PluginTags::positive(const std::string& tag, double fallback, bool allow_zero) {
-  const double value = number(tag, fallback);
+  checkedRow(tag, {TagType::kPositive});
+  const double value = rawNumber(tag, fallback);
   if (value < 0 || (!allow_zero && value == 0)) {
     std::ostringstream message;
     message << where_ << " <" << tag << "> must be " << (allow_zero ? ">= 0" : "> 0") << ", not " << value;
@@ -121,7 +212,15 @@ double PluginTags::capped(const std::string& tag, double fallback, double limit,
   return limit;
 }
 
+bool PluginTags::flag(const std::string& tag) {
+  const TagRow* row = checkedRow(tag, {TagType::kFlag});
+  if (!row || (row->fallback != "true" && row->fallback != "false"))
+    throw std::logic_error(where_ + " <" + tag + "> has no true/false default in its tag table");
+  return flag(tag, row->fallback == "true");
+}
+
 bool PluginTags::flag(const std::string& tag, bool fallback) {
+  checkedRow(tag, {TagType::kFlag});
   const TagNode* node = find(tag);
   if (!node) return fallback;
   if (node->text == "true" || node->text == "1") return true;
@@ -131,7 +230,8 @@ bool PluginTags::flag(const std::string& tag, bool fallback) {
 }
 
 std::vector<std::string> PluginTags::list(const std::string& tag) {
-  std::string value = text(tag, "");
+  checkedRow(tag, {TagType::kList});
+  std::string value = rawText(tag, "");
   for (char& c : value) {
     if (c == ',') c = ' ';
   }
@@ -142,7 +242,10 @@ std::vector<std::string> PluginTags::list(const std::string& tag) {
 }
 
 void PluginTags::accept(std::initializer_list<const char*> tags) {
-  for (const char* tag : tags) read_.insert(tag);
+  for (const char* tag : tags) {
+    checkedRow(tag, {TagType::kIgnored});
+    read_.insert(tag);
+  }
 }
 
 void PluginTags::finish() {

@@ -23,6 +23,10 @@ std::string firstFrame(PluginTags& tags, const std::vector<std::string>& names, 
 
 }  // namespace
 
+std::optional<std::string> driveWheelModel(const PluginDeclaration& declaration) {
+  return declaration.configAs<DriveConfigHead>()->wheel_model;
+}
+
 void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead& head) {
   head.command_topic = firstText(tags, names.command_topic, head.command_topic);
   head.odometry_topic = firstText(tags, names.odometry_topic, head.odometry_topic);
@@ -30,7 +34,6 @@ void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead
   head.robot_base_frame = firstFrame(tags, names.robot_base_frame, head.robot_base_frame);
   for (auto name = names.update_rate.rbegin(); name != names.update_rate.rend(); ++name)
     head.update_rate = tags.positive(*name, head.update_rate, /*allow_zero=*/true);
-  head.robot_namespace = tags.text("robotNamespace", "");
   head.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
   head.wheel_model = tags.text("wheelModel", head.wheel_model);
   if (head.wheel_model != "contact" && head.wheel_model != "raycast") {

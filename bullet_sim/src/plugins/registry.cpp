@@ -4,103 +4,83 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "bullet_sim/plugins/ackermann_drive.h"
-#include "bullet_sim/plugins/bumper.h"
-#include "bullet_sim/plugins/drive_support.h"
-#include "bullet_sim/plugins/force_based_move.h"
-#include "bullet_sim/plugins/ground_truth.h"
-#include "bullet_sim/plugins/hector_gps.h"
-#include "bullet_sim/plugins/hector_imu.h"
-#include "bullet_sim/plugins/imu.h"
-#include "bullet_sim/plugins/joint_position.h"
-#include "bullet_sim/plugins/joint_states.h"
-#include "bullet_sim/plugins/pinhole_camera.h"
-#include "bullet_sim/plugins/planar_move.h"
-#include "bullet_sim/plugins/range_sensor.h"
-#include "bullet_sim/plugins/ray_lidar.h"
-#include "bullet_sim/plugins/ros_control/diff_drive_controller.h"
-#include "bullet_sim/plugins/ros_control/joint_command_controllers.h"
-#include "bullet_sim/plugins/ros_control/joint_state_controller.h"
-#include "bullet_sim/plugins/ros_control/joint_trajectory_controller.h"
-#include "bullet_sim/plugins/ros_control/pid_joint_controllers.h"
-#include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
-#include "bullet_sim/plugins/wheeled_drive.h"
-
 namespace bullet_sim {
+
+/// Calls every plugin folder's registration function (builtin_plugins.cpp, which the build writes).
+void registerBuiltinPlugins(PluginRegistry& registry);
 
 namespace {
 
-const std::vector<std::string> kRaySensors = {"ray", "gpu_ray"};
-const std::vector<std::string> kCameraSensors = {"camera", "wideanglecamera"};
-
-PluginRegistry makeBuiltin() {
-  PluginRegistry registry;
-  for (PluginType type : {
-           pluginType<WheeledDrive>("libgazebo_ros_diff_drive.so", {}, parseDiffDrive),
-           pluginType<WheeledDrive>("libgazebo_ros_skid_steer_drive.so", {}, parseSkidSteer),
-           pluginType<AckermannDrive>("libgazebo_ros_ackermann_drive.so", {}, parseAckermann),  // ROS 2's
-           pluginType<JointStates>("libgazebo_ros_joint_state_publisher.so", {}, parseJointStates),
-           pluginType<JointPosition>("libgazebo_ros_joint_pose_trajectory.so", {}, parseJointPosition),
-           pluginType<GroundTruth>("libgazebo_ros_p3d.so", {}, parseGroundTruth),
-           pluginType<Imu>("libgazebo_ros_imu.so", {}, parseImuPlugin),
-           pluginType<Imu>("libgazebo_ros_imu_sensor.so", {"imu"}, parseImuSensor),
-           pluginType<RayLidar>("libgazebo_ros_laser.so", kRaySensors, parseRayLidar),
-           pluginType<RayLidar>("libgazebo_ros_gpu_laser.so", kRaySensors, parseRayLidar),
-           pluginType<RayLidar>("libgazebo_ros_velodyne_laser.so", kRaySensors, parseRayLidar),
-           pluginType<RayLidar>("libgazebo_ros_velodyne_gpu_laser.so", kRaySensors, parseRayLidar),
-           pluginType<RayLidar>("libgazebo_ros_block_laser.so", kRaySensors, parseRayLidar),
-           pluginType<PinholeCamera>("libgazebo_ros_camera.so", kCameraSensors, parseCamera),
-           pluginType<PinholeCamera>("libgazebo_ros_openni_kinect.so", {"depth"}, parseDepthCamera),
-           pluginType<PinholeCamera>("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera),
-           pluginType<RangeSensor>("libgazebo_ros_range.so", {"ray"}, parseRange),
-           pluginType<HectorImu>("libhector_gazebo_ros_imu.so", {}, parseHectorImu),
-           pluginType<HectorGps>("libhector_gazebo_ros_gps.so", {}, parseHectorGps),
-           pluginType<Bumper>("libgazebo_ros_bumper.so", {"contact"}, parseBumper),
-           pluginType<PlanarMove>("libgazebo_ros_planar_move.so", {}, parsePlanarMove),
-           // hector_gazebo_plugins' force-based move:
-           pluginType<ForceBasedMove>("libgazebo_ros_force_based_move.so", {}, parseForceBasedMove),
-           pluginType<RosControl>("libgazebo_ros_control.so", {}, parseRosControl),
-       }) {
-    registry.add(std::move(type));
+/// The head's rows, which every type's table starts with.
+TagTable headTable(const PluginType& type) {
+  TagTable head{{"robotNamespace", TagType::kText, "", "",
+                 "the ROS namespace of the plugin's topics, services and frames' prefix",
+                 "spawn_model's -robot_namespace replaces it, as gazebo_ros's does"}};
+  const bool sensor_rate = type.rate.from == RateRule::From::kSensor;
+  for (const std::string& tag : type.rate.tags) {
+    if (type.tags.row(tag)) continue;  // the plugin documents it itself
+    head.add({tag, sensor_rate ? TagType::kIgnored : TagType::kPositive,
+              type.rate.from == RateRule::From::kTags ? std::to_string(type.rate.fallback) : "the sensor's",
+              "Hz", "how often the plugin publishes (0: every step)",
+              sensor_rate ? "the sensor's <update_rate> rules" : ""});
   }
-  return registry;
+  for (const TagRow& row : type.tags.rows()) head.add(row);
+  return head;
 }
 
-ControllerRegistry makeBuiltinControllers() {
-  using Joints = JointGroupCommandController;
-  using Pid = PidJointController;
-  using Trajectory = JointTrajectoryController;
-  constexpr auto kEffort = JointInterface::kEffort, kVelocity = JointInterface::kVelocity,
-                 kPosition = JointInterface::kPosition;
-  ControllerRegistry registry;
-  for (ControllerType type : {
-           controllerType<JointStateController>("joint_state_controller/JointStateController"),
-           controllerType<DiffDriveController>("diff_drive_controller/DiffDriveController"),
-           controllerType<Joints>("velocity_controllers/JointVelocityController", kVelocity, true),
-           controllerType<Joints>("position_controllers/JointPositionController", kPosition, true),
-           controllerType<Joints>("effort_controllers/JointEffortController", kEffort, true),
-           controllerType<Pid>("effort_controllers/JointPositionController", Pid::Target::kPosition),
-           controllerType<Pid>("effort_controllers/JointVelocityController", Pid::Target::kVelocity),
-           controllerType<Joints>("velocity_controllers/JointGroupVelocityController", kVelocity, false),
-           controllerType<Joints>("position_controllers/JointGroupPositionController", kPosition, false),
-           controllerType<Joints>("effort_controllers/JointGroupEffortController", kEffort, false),
-           controllerType<Trajectory>("position_controllers/JointTrajectoryController", kPosition),
-           controllerType<Trajectory>("velocity_controllers/JointTrajectoryController", kVelocity),
-           controllerType<Trajectory>("effort_controllers/JointTrajectoryController", kEffort),
-       }) {
-    registry.add(std::move(type));
+/// The parse head: namespace, rate, and a sensor's link and pose, read for every plugin alike.
+ParseHead readHead(const PluginType& type, const DeclarationSource& source) {
+  PluginTags& tags = source.tags;
+  ParseHead head;
+  head.robot_namespace = tags.text("robotNamespace", "");
+  const double sensor_rate = source.declaration.sensor ? source.declaration.sensor->update_rate : 0.0;
+  if (const auto& sensor = source.declaration.sensor) {
+    head.sensor = true;
+    head.link = sensor->link;
+    head.pose = sensor->pose;
   }
-  return registry;
+  std::optional<double> tag_rate;
+  for (const std::string& tag : type.rate.tags) {
+    if (type.rate.from == RateRule::From::kSensor || !tags.has(tag)) continue;  // ignored rows: nothing to read
+    const double value = tags.positive(tag, 0, /*allow_zero=*/true);
+    if (!tag_rate) tag_rate = value;
+  }
+  switch (type.rate.from) {
+    case RateRule::From::kParser: break;
+    case RateRule::From::kTags: head.update_rate = tag_rate.value_or(type.rate.fallback); break;
+    case RateRule::From::kSensor: head.update_rate = sensor_rate; break;
+    case RateRule::From::kTagsOverSensor: head.update_rate = tag_rate.value_or(sensor_rate); break;
+    case RateRule::From::kSlowerOfSensorAndTags:
+      head.update_rate = sensor_rate;
+      if (tag_rate && *tag_rate > 0 && (sensor_rate == 0 || *tag_rate < sensor_rate)) head.update_rate = *tag_rate;
+      break;
+  }
+  return head;
 }
 
 }  // namespace
 
+void ParseHead::applyTo(PluginConfig& config) const {
+  config.robot_namespace = robot_namespace;
+  if (update_rate) config.update_rate = *update_rate;
+  if (sensor) {
+    config.link = link;
+    config.pose = pose;
+  }
+}
+
 const PluginRegistry& PluginRegistry::builtin() {
-  static const PluginRegistry registry = makeBuiltin();
+  static const PluginRegistry registry = [] {
+    PluginRegistry built;
+    registerBuiltinPlugins(built);
+    return built;
+  }();
   return registry;
 }
 
 void PluginRegistry::add(PluginType type) {
+  type.table_checked = !type.tags.rows().empty();
+  type.tags = headTable(type);
   auto same = std::find_if(types_.begin(), types_.end(), [&](const PluginType& known) {
     return known.filename == type.filename && known.sensor_types == type.sensor_types;
   });
@@ -109,6 +89,11 @@ void PluginRegistry::add(PluginType type) {
   } else {
     types_.push_back(std::move(type));
   }
+}
+
+void PluginRegistrar::add(PluginType type) {
+  type.folder = folder_;
+  registry_.add(std::move(type));
 }
 
 const PluginType* PluginRegistry::find(const std::string& filename, const std::string* sensor_type) const {
@@ -122,15 +107,36 @@ const PluginType* PluginRegistry::find(const std::string& filename, const std::s
   return nullptr;
 }
 
+const PluginType* PluginRegistry::typeOf(const PluginDeclaration& declaration) const {
+  const auto& sensor = declaration.sensor;
+  return find(declaration.filename, sensor ? &sensor->type : nullptr);
+}
+
+std::string PluginRegistry::listing() const {
+  std::vector<std::string> lines;
+  for (const PluginType& type : types_) {
+    std::string line = type.folder + " " + type.filename;
+    for (const std::string& sensor : type.sensor_types) line += " " + sensor;
+    lines.push_back(line);
+  }
+  std::sort(lines.begin(), lines.end());
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  return text;
+}
+
 std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSource& source) const {
   const PluginDeclaration& declaration = source.declaration;
-  const auto& sensor = declaration.sensor;
-  if (const PluginType* type = find(declaration.filename, sensor ? &sensor->type : nullptr)) {
-    auto config = type->parse(source);
+  if (const PluginType* type = typeOf(declaration)) {
+    if (type->table_checked) source.tags.useTable(&type->tags);
+    const ParseHead head = readHead(*type, source);
+    std::shared_ptr<PluginConfig> config = type->parse(source, head);
+    capUpdateRate(*config, source);
+    config->global_frames = source.tags.globalFrames();
     source.tags.finish();  // one warning for each tag the parser did not read
     return config;
   }
-  if (sensor) {
+  if (const auto& sensor = declaration.sensor) {
     source.diagnostics.warning(declaration.where() + " of type [" + sensor->type + "] with plugin [" +
                                declaration.filename + "] is not simulated by bullet_sim: ignored");
   } else {
@@ -143,7 +149,8 @@ std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSourc
 void PluginRegistry::checkModel(const ModelSpec& model, Diagnostics& diagnostics) const {
   std::vector<const PluginDeclaration*> drives;
   for (const auto& plugin : model.plugins) {
-    if (plugin.configAs<DriveConfigHead>()) drives.push_back(&plugin);
+    const PluginType* type = typeOf(plugin);
+    if (type && type->driven && type->driven(plugin).drive) drives.push_back(&plugin);
   }
   if (drives.size() > 1) {
     std::string names;
@@ -151,6 +158,15 @@ void PluginRegistry::checkModel(const ModelSpec& model, Diagnostics& diagnostics
     diagnostics.error("the robot has " + std::to_string(drives.size()) + " drives, " + names +
                       ": they would fight over its wheels and both publish its odometry; keep one");
   }
+}
+
+std::optional<std::string> PluginRegistry::wheelModel(const WheelModelQuery& query) const {
+  for (const auto& plugin : query.model.plugins) {
+    const PluginType* type = typeOf(plugin);
+    if (!type || !type->wheel_model) continue;
+    if (auto model = type->wheel_model(plugin, query)) return model;
+  }
+  return std::nullopt;
 }
 
 void capUpdateRate(PluginConfig& config, const DeclarationSource& source) {
@@ -166,8 +182,7 @@ void capUpdateRate(PluginConfig& config, const DeclarationSource& source) {
 
 std::unique_ptr<Plugin> PluginRegistry::create(const PluginDeclaration& declaration,
                                                const PluginSetup& setup) const {
-  const auto& sensor = declaration.sensor;
-  const PluginType* type = find(declaration.filename, sensor ? &sensor->type : nullptr);
+  const PluginType* type = typeOf(declaration);
   if (!type) {
     throw std::invalid_argument(declaration.where() + " filename [" + declaration.filename +
                                 "] was parsed by another plugin registry than the simulation's");
@@ -175,37 +190,9 @@ std::unique_ptr<Plugin> PluginRegistry::create(const PluginDeclaration& declarat
   return type->create(declaration, setup);
 }
 
-const ControllerRegistry& ControllerRegistry::builtin() {
-  static const ControllerRegistry registry = makeBuiltinControllers();
-  return registry;
-}
-
-void ControllerRegistry::add(ControllerType type) {
-  auto same = std::find_if(types_.begin(), types_.end(),
-                           [&](const ControllerType& known) { return known.name == type.name; });
-  if (same != types_.end()) {
-    *same = std::move(type);
-  } else {
-    types_.push_back(std::move(type));
-  }
-}
-
-const ControllerType* ControllerRegistry::find(const std::string& name) const {
-  for (const auto& type : types_) {
-    if (type.name == name) return &type;
-  }
-  return nullptr;
-}
-
-std::vector<std::string> ControllerRegistry::names() const {
-  std::vector<std::string> names;
-  for (const auto& type : types_) names.push_back(type.name);
-  return names;
-}
-
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings, const Limits& limits) {
-  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings, limits);
+                     std::vector<std::string>* warnings, const Limits& limits, bool strict) {
+  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings, limits, strict);
 }
 
 }  // namespace bullet_sim

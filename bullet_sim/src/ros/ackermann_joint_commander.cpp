@@ -23,7 +23,7 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model.h"
 #include "bullet_sim/assets/package_resolver.h"
-#include "bullet_sim/plugins/ackermann_drive.h"
+#include "plugins/ackermann_drive/ackermann_drive.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace {

@@ -214,7 +214,8 @@ std::string GazeboServices::spawn(const gazebo_msgs::SpawnModel::Request& reques
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   ModelSpec model;
   if (root == "robot") {
-    model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits());
+    model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits(),
+                       node_.param("strict_models", false));
   } else if (root == "sdf" && sdf_too) {
     model = parseSdfModel(request.model_xml, source, resolver, PluginRegistry::builtin(), &warnings,
                           simulation_.limits());

@@ -288,30 +288,29 @@ std::optional<BoolCommand> fromMessage(const std_msgs::Bool& message) {
 
 }  // namespace
 
+FramePrefix::FramePrefix(std::string prefix, std::set<std::string> global_frames)
+    : prefix_(withoutSlashes(prefix)), global_frames_(std::move(global_frames)) {}
+
 std::string FramePrefix::operator()(const std::string& frame) const {
   const std::string bare = withoutSlashes(frame);
-  if (prefix_.empty() || bare == "world" || bare == "map") return bare;
+  if (prefix_.empty() || global_frames_.count(bare)) return bare;
   return prefix_ + "/" + bare;
 }
 
 struct RobotAdapter::Connection {
   mutable ros::NodeHandle handle;  // advertise and subscribe are not const
-  const FramePrefix& frames;
+  FramePrefix frames;
   Connections& into;
 };
 
 RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
-                           tf2_ros::TransformBroadcaster& tf, std::function<double()> sim_time)
+                           tf2_ros::TransformBroadcaster& tf, FrameOwners& owners,
+                           std::function<double()> sim_time)
     : robot_name_(robot.name()),
       namespace_(withoutSlashes(robot_namespace)),
-      frames_(""),
       tf_(tf),
+      owners_(owners),
       sim_time_(std::move(sim_time)) {
-  std::string prefix = namespace_;
-  for (const auto& plugin : robot.plugins()) {
-    if (prefix.empty() && plugin->prefixesFrames()) prefix = withoutSlashes(plugin->robotNamespace());
-  }
-  frames_ = FramePrefix(prefix);
   for (const auto& plugin : robot.plugins()) {
     connect(*plugin, plugin->ports(), fixed_);
     watched_.push_back({plugin.get(), plugin->portGroupsRevision()});
@@ -320,8 +319,7 @@ RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
 }
 
 void RobotAdapter::connect(const Plugin& plugin, const PluginPorts& ports, Connections& into) {
-  const Connection connection{handleFor(plugin.robotNamespace()), plugin.prefixesFrames() ? frames_ : unprefixed_,
-                              into};
+  const Connection connection{handleFor(plugin.robotNamespace()), framesOf(plugin), into};
   try {
     for (const auto& port : ports.inputs) subscribe(connection, port);
     for (const auto& port : ports.outputs) advertise(connection, port);
@@ -454,7 +452,7 @@ void RobotAdapter::broadcast(const Connection& plugin, const Stream<TransformSam
                           geometry_msgs::TransformStamped transform = tf2::eigenToTransform(frame.pose);
                           transform.header = header(sample.stamp, frames(frame.parent));
                           transform.child_frame_id = frames(frame.child);
-                          tf_.sendTransform(transform);
+                          sendTransform(transform);
                         }
                       }});
 }
@@ -517,6 +515,39 @@ void RobotAdapter::subscribe(const Connection& plugin, const InputPort& port) {
 ros::NodeHandle RobotAdapter::handleFor(const std::string& plugin_namespace) const {
   const std::string ns = namespace_.empty() ? withoutSlashes(plugin_namespace) : namespace_;
   return ns.empty() ? ros::NodeHandle() : ros::NodeHandle("/" + ns);
+}
+
+FramePrefix RobotAdapter::framesOf(const Plugin& plugin) const {
+  const ros::NodeHandle handle = handleFor(plugin.robotNamespace());
+  std::string prefix;
+  switch (plugin.tfPrefixRule()) {
+    case TfPrefixRule::kSearched: {  // tf::getPrefixParam
+      std::string key;
+      if (handle.searchParam("tf_prefix", key)) handle.getParam(key, prefix);
+      break;
+    }
+    case TfPrefixRule::kNamespaceParam: handle.getParam("tf_prefix", prefix); break;
+    case TfPrefixRule::kNone: break;
+  }
+  return FramePrefix(prefix, plugin.globalFrames());
+}
+
+void RobotAdapter::sendTransform(const geometry_msgs::TransformStamped& transform) {
+  const auto [owner, first] = owners_.robot_of.emplace(transform.child_frame_id, robot_name_);
+  if (!first && owner->second != robot_name_ &&
+      owners_.warned.insert(transform.child_frame_id + " " + robot_name_).second) {
+    ROS_WARN("robots [%s] and [%s] both publish frame [%s] on /tf: set the tf_prefix parameter in each robot's "
+             "namespace (e.g. <param name=\"tf_prefix\" value=\"%s\"/> in its <group ns>), which its plugins "
+             "and robot_state_publisher read",
+             owner->second.c_str(), robot_name_.c_str(), transform.child_frame_id.c_str(), robot_name_.c_str());
+  }
+  tf_.sendTransform(transform);
+}
+
+RobotAdapter::~RobotAdapter() {
+  for (auto it = owners_.robot_of.begin(); it != owners_.robot_of.end();) {
+    it = it->second == robot_name_ ? owners_.robot_of.erase(it) : std::next(it);
+  }
 }
 
 void RobotAdapter::publish() {

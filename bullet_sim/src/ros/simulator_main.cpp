@@ -4,6 +4,7 @@
 
 #include <iostream>
 
+#include "bullet_sim/plugins/registry.h"
 #include "exit_guard.h"
 #include "master_watch.h"
 #include "simulator_node.h"
@@ -15,6 +16,11 @@ constexpr double kMasterSilenceSeconds = 3;
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) != "--list-plugins") continue;
+    std::cout << bullet_sim::PluginRegistry::builtin().listing();  // what this build simulates
+    return 0;
+  }
   ros::init(argc, argv, "gazebo", ros::init_options::NoSigintHandler);
   const bullet_sim::ExitGuard guard(kExitGraceSeconds);
   try {

@@ -170,7 +170,8 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
   std::unique_ptr<RobotAdapter> adapter;
   try {
     adapter =
-        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, [this] { return simulation_->time(); });
+        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, frame_owners_,
+                                             [this] { return simulation_->time(); });
   } catch (...) {
     simulation_->remove(name);
     throw;
@@ -217,7 +218,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     pose_problems.throwIfErrors();
     warnings = pose_problems.warnings();
     ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings,
-                                 simulation_->limits());
+                                 simulation_->limits(), private_.param("strict_models", false));
     if (!request.robot_namespace.empty()) pose.robot_namespace = request.robot_namespace;
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];

@@ -90,6 +90,7 @@ class SimulatorNode final : public SimulationHost {
   ros::NodeHandle private_;
   RosParameters parameters_;  ///< what plugins read at run time; outlives the simulation
   std::unique_ptr<Simulation> simulation_;
+  FrameOwners frame_owners_;  ///< outlives the adapters, which release their frames
   std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
   std::unique_ptr<WorldApi> world_api_;  ///< before gazebo_services_, which serves it
   std::unique_ptr<GazeboServices> gazebo_services_;

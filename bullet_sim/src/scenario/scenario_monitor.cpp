@@ -4,7 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "bullet_sim/plugins/ray_lidar.h"
 
 namespace bullet_sim {
 
@@ -49,7 +48,10 @@ ScenarioMonitor::ScenarioMonitor(const ScenarioSpec& spec, const Simulation& sim
       continue;
     }
     for (const auto& name : robots_) {
-      if ((check.robot.empty() || check.robot == name) && simulation.robot(name)->pluginsOf<RayLidar>().empty())
+      const Robot& robot = *simulation.robot(name);
+      const bool lidar = !robot.outputs<LaserScan>().empty() || !robot.outputs<PointCloud>().empty() ||
+                         !robot.outputs<LegacyPointCloud>().empty();
+      if ((check.robot.empty() || check.robot == name) && !lidar)
         problems.push_back(where + ": robot [" + name + "] has no lidar; use from: geometry");
     }
   }
@@ -119,25 +121,45 @@ void ScenarioMonitor::recordClearance(const Robot& robot, double time, RobotReco
   record.clearance_time = time;
 }
 
-void ScenarioMonitor::recordLidar(const Robot& robot, double time, RobotRecord& record) {
-  for (const RayLidar* lidar : robot.pluginsOf<RayLidar>()) {
-    for (const OutputPort& port : lidar->ports().outputs) {
-      const auto* scans = std::get_if<const Stream<LaserScan>*>(&port.stream);
-      if (!scans) continue;
-      uint64_t& seen = scans_seen_[robot.name() + "/" + lidar->name() + "/" + port.topic];
-      if ((*scans)->count() == seen) continue;
-      seen = (*scans)->count();
-      const LaserScan& scan = (*scans)->latest();
-      for (const float range : scan.ranges) {
-        if (range == INFINITY || std::isnan(range)) continue;
-        const double measured = range == -INFINITY ? scan.range_min : range;  // closer than range_min
-        if (!record.min_lidar_range || measured < *record.min_lidar_range) {
-          record.min_lidar_range = measured;
-          record.lidar_time = time;
-        }
+namespace {
+
+/// The ranges [m] a scan or cloud measured; a hit closer than a scan's range_min counts as range_min.
+std::vector<double> measuredRanges(const LaserScan& scan) {
+  std::vector<double> ranges;
+  for (const float range : scan.ranges) {
+    if (range == INFINITY || std::isnan(range)) continue;
+    ranges.push_back(range == -INFINITY ? scan.range_min : range);
+  }
+  return ranges;
+}
+
+std::vector<double> measuredRanges(const PointCloud& cloud) {
+  std::vector<double> ranges;
+  for (const Eigen::Vector3f& point : cloud.points) ranges.push_back(point.norm());
+  return ranges;
+}
+
+}  // namespace
+
+template <class Sample>
+void ScenarioMonitor::recordRanges(const Robot& robot, double time, RobotRecord& record) {
+  for (const RobotOutput<Sample>& output : robot.outputs<Sample>()) {
+    uint64_t& seen = scans_seen_[robot.name() + "/" + output.plugin->name() + "/" + output.topic];
+    if (output.stream->count() == seen) continue;
+    seen = output.stream->count();
+    for (const double measured : measuredRanges(output.stream->latest())) {
+      if (!record.min_lidar_range || measured < *record.min_lidar_range) {
+        record.min_lidar_range = measured;
+        record.lidar_time = time;
       }
     }
   }
+}
+
+void ScenarioMonitor::recordLidar(const Robot& robot, double time, RobotRecord& record) {
+  recordRanges<LaserScan>(robot, time, record);
+  recordRanges<PointCloud>(robot, time, record);
+  recordRanges<LegacyPointCloud>(robot, time, record);
 }
 
 void ScenarioMonitor::recordContacts(const Simulation& simulation, const Robot& robot, RobotRecord& record) {

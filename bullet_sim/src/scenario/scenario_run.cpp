@@ -13,6 +13,7 @@
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/scenario/video_writer.h"
+#include "bullet_sim/tools/urdf_edits.h"
 #include "bullet_sim/tools/xacro_cache.h"
 
 namespace bullet_sim {
@@ -30,38 +31,6 @@ std::string readFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read robot.description [" + path + "]");
   return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-/// The URDF with <wheelModel> set in its drive plugins; text that is not XML is left for parseModel to report.
-std::string withWheelModel(const std::string& urdf, const std::string& wheel_model) {
-  tinyxml2::XMLDocument document;
-  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
-  for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
-       gazebo = gazebo->NextSiblingElement("gazebo")) {
-    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin; plugin = plugin->NextSiblingElement("plugin")) {
-      const std::string name = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
-      if (name != "libgazebo_ros_diff_drive.so" && name != "libgazebo_ros_skid_steer_drive.so" &&
-          name != "libgazebo_ros_ackermann_drive.so") {
-        continue;
-      }
-      tinyxml2::XMLElement* tag = plugin->FirstChildElement("wheelModel");
-      (tag ? tag : plugin->InsertNewChildElement("wheelModel"))->SetText(wheel_model.c_str());
-    }
-  }
-  tinyxml2::XMLPrinter printer;
-  document.Print(&printer);
-  return printer.CStr();
-}
-
-/// Every Twist input of a robot's plugins: where its cmd_vel goes.
-std::vector<const InputHandler<Twist>*> twistInputs(const Robot& robot) {
-  std::vector<const InputHandler<Twist>*> inputs;
-  for (const auto& plugin : robot.plugins()) {
-    for (const InputPort& port : plugin->ports().inputs) {
-      if (const auto* handler = std::get_if<InputHandler<Twist>>(&port.sink)) inputs.push_back(handler);
-    }
-  }
-  return inputs;
 }
 
 }  // namespace
@@ -106,7 +75,7 @@ TimelineDriver::TimelineDriver(const ScenarioSpec& spec, const Simulation& simul
     }
   }
   for (const auto& name : robots_) {
-    if (!segments_.empty() && twistInputs(*simulation.robot(name)).empty()) {
+    if (!segments_.empty() && simulation.robot(name)->inputs<Twist>().empty()) {
       throw ScenarioError("scenario " + spec.source + ": robot [" + name +
                           "] takes no cmd_vel: its description declares no drive plugin for the timeline to drive");
     }
@@ -127,7 +96,7 @@ void TimelineDriver::beforeStep(const Simulation& simulation) {
       break;
     }
     const Robot* robot = simulation.robot(name);
-    for (const auto* input : twistInputs(*robot)) (*input)(command, now);
+    for (const RobotInput<Twist>& input : robot->inputs<Twist>()) (*input.handler)(command, now);
   }
 }
 

@@ -5,8 +5,6 @@
 #include <map>
 #include <sstream>
 
-#include "bullet_sim/plugins/pinhole_camera.h"
-#include "bullet_sim/plugins/ray_lidar.h"
 #include "bullet_sim/scene/scene_builder.h"
 #include "bullet_sim/scene/simulation_images.h"
 
@@ -18,12 +16,49 @@ constexpr double kLidarHitSize = 4;  // [px]
 // [m] A plan outlines what stands this much above what lies beside it: a seat, a table top, a wall.
 constexpr double kPlanOutlineStep = 0.02;
 
-std::string noScanWarning(const RayLidar& lidar) {
+/// The sample counts of every output of a robot that holds hits to draw: scans and point clouds.
+struct ScanCounts {
+  std::vector<RobotOutput<LaserScan>> scans;
+  std::vector<RobotOutput<PointCloud>> clouds;
+  std::vector<RobotOutput<LegacyPointCloud>> legacy_clouds;
+
+  explicit ScanCounts(const Robot& robot)
+      : scans(robot.outputs<LaserScan>()),
+        clouds(robot.outputs<PointCloud>()),
+        legacy_clouds(robot.outputs<LegacyPointCloud>()) {}
+
+  /// Calls `visit(plugin, count)` for each output.
+  template <class Visit>
+  void forEach(Visit visit) const {
+    for (const auto& output : scans) visit(*output.plugin, output.stream->count());
+    for (const auto& output : clouds) visit(*output.plugin, output.stream->count());
+    for (const auto& output : legacy_clouds) visit(*output.plugin, output.stream->count());
+  }
+};
+
+std::string noScanWarning(const Plugin& sensor) {
   std::ostringstream warning;
-  warning << "lidar [" << lidar.name() << "] on link [" << lidar.config().link << "] produced no scan within "
-          << kSnapshotMaxSimTime << " s of sim time (its update_rate is " << lidar.config().update_rate
-          << " Hz), so its hits are not drawn";
+  warning << sensor.where() << " produced no scan within " << kSnapshotMaxSimTime
+          << " s of sim time (its update_rate is " << sensor.updateRate() << " Hz), so its hits are not drawn";
   return warning.str();
+}
+
+/// Every scan and point cloud a robot published last, as hits; red: no shipped robot or world uses it.
+std::vector<PointSet> robotHits(const Robot& robot, View view) {
+  const Eigen::Vector4d red(1, 0, 0, 1);
+  std::vector<PointSet> hits;
+  for (const auto& output : robot.outputs<LaserScan>()) {
+    if (output.stream->count() > 0) hits.push_back(lidarHits(output.stream->latest(), red, kLidarHitSize));
+  }
+  for (const auto& output : robot.outputs<PointCloud>()) {
+    if (output.stream->count() > 0) hits.push_back(cloudHits(output.stream->latest(), red, kLidarHitSize));
+  }
+  for (const auto& output : robot.outputs<LegacyPointCloud>()) {
+    if (output.stream->count() > 0) hits.push_back(cloudHits(output.stream->latest(), red, kLidarHitSize));
+  }
+  // A plan looks down on table tops and wall tops, which would hide the hits beneath them.
+  for (PointSet& set : hits) set.overlay = view == View::kTop;
+  return hits;
 }
 
 }  // namespace
@@ -34,17 +69,17 @@ RobotSnapshot snapshotRobot(WorldSpec world, ModelSpec model, const SpawnPose& p
   const std::string name = model.name;
   Robot& robot = simulation.spawn(name, std::move(model), pose, &snapshot.warnings);
 
-  const std::vector<RayLidar*> lidars = robot.pluginsOf<RayLidar>();
+  const ScanCounts scans(robot);
   const auto max_steps = std::lround(kSnapshotMaxSimTime / simulation.stepSize());
   const auto all_scanned = [&] {
-    return std::all_of(lidars.begin(), lidars.end(),
-                       [](const RayLidar* lidar) { return lidar->scanCount() > 0; });
+    bool all = true;
+    scans.forEach([&](const Plugin&, uint64_t count) { all = all && count > 0; });
+    return all;
   };
   for (long step = 0; step < max_steps && !all_scanned(); ++step) simulation.step();
-
-  for (const RayLidar* lidar : lidars) {
-    if (lidar->scanCount() == 0) snapshot.warnings.push_back(noScanWarning(*lidar));
-  }
+  scans.forEach([&](const Plugin& sensor, uint64_t count) {
+    if (count == 0) snapshot.warnings.push_back(noScanWarning(sensor));
+  });
   snapshot.scene = simulationScene(simulation, view, name);
   return snapshot;
 }
@@ -71,16 +106,7 @@ Scene simulationScene(const Simulation& simulation, View view, const std::string
       focus_pose = robot.body().linkPose(spec.root);
       focus_bounds = bounds;
     }
-    for (const RayLidar* lidar : robot.pluginsOf<RayLidar>()) {
-      if (lidar->scanCount() == 0) continue;
-      // Red: no shipped robot or world uses it.
-      PointSet hits = lidar->config().output == RayLidarConfig::Output::kLaserScan
-                          ? lidarHits(lidar->scan(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize)
-                          : cloudHits(lidar->cloud(), Eigen::Vector4d(1, 0, 0, 1), kLidarHitSize);
-      // A plan looks down on table tops and wall tops, which would hide the hits beneath them.
-      hits.overlay = view == View::kTop;
-      scene.point_sets.push_back(std::move(hits));
-    }
+    for (PointSet& hits : robotHits(robot, view)) scene.point_sets.push_back(std::move(hits));
   }
   scene.polylines = trails;
   scene.camera = viewCamera(view, focus_pose, focus_bounds, worldBounds(simulation.world()));
@@ -98,13 +124,13 @@ std::optional<CameraView> parseCameraView(const std::string& name) {
 namespace {
 
 /// The robot's camera of that sensor or camera name, and its body; nullptr and the names there are if none.
-std::pair<const PinholeCamera*, const RobotBody*> findCamera(const Simulation& simulation, const std::string& name,
-                                                             std::string* names) {
+std::pair<const CameraSensor*, const RobotBody*> findCamera(const Simulation& simulation, const std::string& name,
+                                                            std::string* names) {
   for (const std::string& robot_name : simulation.robotNames()) {
     const Robot& robot = *simulation.robot(robot_name);
-    for (const PinholeCamera* camera : robot.pluginsOf<PinholeCamera>()) {
-      if (camera->name() == name || camera->config().camera_name == name) return {camera, &robot.body()};
-      *names += (names->empty() ? "" : ", ") + camera->name();
+    for (const auto& [plugin, camera] : robot.sensors<CameraSensor>()) {
+      if (plugin->name() == name || camera->cameraName() == name) return {camera, &robot.body()};
+      *names += (names->empty() ? "" : ", ") + plugin->name();
     }
   }
   return {nullptr, nullptr};
@@ -127,8 +153,7 @@ Image cameraImage(const Simulation& simulation, const CameraView& view, SceneRen
   if (!camera) {
     throw std::invalid_argument("no robot has a camera [" + view.camera + "]; the cameras are: [" + names + "]");
   }
-  const PinholeCameraConfig& config = camera->config();
-  if (view.depth && !config.depth) {
+  if (view.depth && !camera->measuresDepth()) {
     throw std::invalid_argument("camera [" + view.camera + "] has no depth: it is not a depth sensor");
   }
   // Drawn as the camera's image source draws it, without its noise; the renderer's RGBA is the picture.
@@ -137,7 +162,7 @@ Image cameraImage(const Simulation& simulation, const CameraView& view, SceneRen
   std::vector<float> depths;
   Image image = renderer.render(images.sceneFor(request), request.width, request.height,
                                 view.depth ? &depths : nullptr);
-  if (view.depth) drawDepth(depths, config.near_clip, std::min(config.far_clip, config.cloud_cutoff_max), image);
+  if (view.depth) drawDepth(depths, camera->depthSpan().first, camera->depthSpan().second, image);
   return image;
 }
 

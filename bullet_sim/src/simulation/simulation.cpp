@@ -9,8 +9,6 @@
 
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/sdf_model.h"
-#include "bullet_sim/plugins/drive_support.h"
-#include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
 #include "physics/multibody_robot.h"
 #include "physics/raycast_robot.h"
 
@@ -101,22 +99,13 @@ void checkSpawnPose(const SpawnPose& pose, const Limits& limits, Diagnostics& di
   }
 }
 
-/// The wheel-ground model of a robot named `name`: contact for a static one; else its drive's, else by
-/// ros_control's rule, else contact.
+/// The wheel-ground model of a robot named `name`: contact for a static one; else what its plugins ask for
+/// (its drive's, ros_control's rule), else contact.
 std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
-                         const ParameterSource* parameters, Diagnostics& diagnostics) {
+                         const SimulationOptions& options, Diagnostics& diagnostics) {
   if (hasFixedBase(model)) return "contact";
-  for (const auto& plugin : model.plugins) {
-    if (const auto* drive = plugin.configAs<DriveConfigHead>()) return drive->wheel_model;
-  }
-  for (const auto& plugin : model.plugins) {
-    const auto* control = plugin.configAs<RosControlConfig>();
-    if (!control) continue;
-    const std::string ns = rosControlNamespace(*control, name, pose.robot_namespace);
-    const ParameterTree robot_parameters = parameters ? parameters->fetch("/" + ns) : ParameterTree();
-    return rosControlWheelModel(*control, model, robot_parameters, diagnostics);
-  }
-  return "contact";
+  const WheelModelQuery query{model, name, pose.robot_namespace, options.parameters, diagnostics};
+  return options.plugins->wheelModel(query).value_or("contact");
 }
 
 }  // namespace
@@ -247,7 +236,7 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
                         world_model.name + "] from the .world file, or spawn the robot elsewhere");
     }
   }
-  const std::string wheel_model = wheelModelOf(model, name, pose, options_.parameters, diagnostics);
+  const std::string wheel_model = wheelModelOf(model, name, pose, options_, diagnostics);
   diagnostics.throwIfErrors();
   if (model.is_static) {  // a static model is rigid: its joints do not move
     for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
@@ -259,6 +248,7 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     body = std::make_unique<MultiBodyRobot>(std::move(model), name, physics_->bullet(), root);
   }
   auto robot = std::make_unique<Robot>(name, std::move(body), root);
+  robot->wheel_model_ = wheel_model;
   for (const auto& [joint, position] : pose.joints) {
     const int index = robot->body().jointIndex(joint);
     if (index < 0) {
@@ -293,11 +283,21 @@ void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_nam
   addRayBodies(robot);
   try {
     for (const auto& declaration : robot.body().spec().plugins) {
-      const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
-      const PluginSetup setup{robot.body(),    robot.name(), options_.seed, physics_->gravity(),
-                              part >= 0 ? robot.ray_bodies_[part] : kNoBody, images_.get(),
-                              world_.spherical_coordinates, robot_namespace, options_.parameters,
-                              options_.controllers, &diagnostics};
+      const PluginType* type = options_.plugins->typeOf(declaration);
+      const unsigned needs = type ? type->needs : 0;
+      PluginSetup setup{robot.body(), robot.name()};
+      setup.seed = options_.seed;
+      setup.robot_namespace = robot_namespace;
+      setup.diagnostics = &diagnostics;
+      if (type) setup.tf_prefix = type->tf_prefix;
+      if (needs & kNeedGravity) setup.gravity = physics_->gravity();
+      if (needs & kNeedOwnRayBody) {
+        const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
+        if (part >= 0) setup.own_ray_body = robot.ray_bodies_[part];
+      }
+      if (needs & kNeedImages) setup.images = images_.get();
+      if (needs & kNeedGeodesy) setup.spherical_coordinates = world_.spherical_coordinates;
+      if (needs & kNeedParameters) setup.parameters = options_.parameters;
       robot.plugins_.push_back(options_.plugins->create(declaration, setup));
     }
   } catch (const std::exception& e) {

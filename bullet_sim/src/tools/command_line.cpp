@@ -6,11 +6,13 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <sstream>
 
 #include "bullet_sim/common/files.h"
 #include "bullet_sim/model/world.h"
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/tools/subprocess.h"
 
 namespace bullet_sim {
@@ -128,6 +130,15 @@ std::string findWorld(const std::string& name, const PackageResolver& resolver) 
   if (!path)
     throw Failure(error + "; pass an existing file, or source devel/setup.bash for ROS_PACKAGE_PATH");
   return *path;
+}
+
+bool listPlugins(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) != "--list-plugins") continue;
+    std::cout << PluginRegistry::builtin().listing();
+    return true;
+  }
+  return false;
 }
 
 }  // namespace bullet_sim

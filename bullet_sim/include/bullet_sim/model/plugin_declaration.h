@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "bullet_sim/common/limits.h"
@@ -16,11 +17,18 @@ namespace bullet_sim {
 
 struct ModelSpec;
 
-/// What every plugin's config starts with. Each plugin derives its own, with its tags' defaults and units.
+/// What every plugin's config starts with, which the plugin registry reads before the plugin's own parser
+/// (the parse head). Each plugin derives its own config, with its tags' defaults and units.
 struct PluginConfig {
   virtual ~PluginConfig() = default;
   std::string robot_namespace;  ///< <robotNamespace>; a spawn's namespace overrides it
   double update_rate = 0;       ///< [Hz]; 0 = every step
+  /// A sensor's link and its pose there, from its <gazebo reference> and <pose>; a model plugin that sits on
+  /// a link (an IMU's <bodyName>) sets them itself.
+  std::string link;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  /// Frames written with a leading '/' (global: tf::resolve gives them no tf_prefix), without it.
+  std::set<std::string> global_frames;
 };
 
 /// A <sensor> inside <gazebo reference="link">.

@@ -28,19 +28,60 @@ struct TagNode {
   std::string attribute(const std::string& key) const;
 };
 
+/// How a tag's text is read, as a plugin's reference page names it.
+enum class TagType { kText, kTopic, kFrame, kNumber, kPositive, kFlag, kList, kIgnored };
+
+/// "text", "topic", "frame", "number", "number >= 0", "true/false", "list" or "ignored".
+const char* tagTypeName(TagType type);
+
+/// One row of a plugin's tag table: its reference page shows it, and its parser reads the tag through it.
+struct TagRow {
+  std::string name;
+  TagType type = TagType::kText;
+  std::string fallback;  ///< the default as the reference shows it ("" for none); parsed when the reader gives none
+  std::string unit;      ///< "m", "Hz", ...; "" for none
+  std::string gazebo;    ///< what Gazebo's plugin does with it
+  std::string ours;      ///< what bullet_sim does where it differs; "" when it does the same
+};
+
+/// A plugin's tags, in the order its reference page lists them.
+class TagTable {
+ public:
+  TagTable() = default;
+  TagTable(std::initializer_list<TagRow> rows) : rows_(rows) {}
+
+  const std::vector<TagRow>& rows() const { return rows_; }
+  /// The row of that tag, or nullptr.
+  const TagRow* row(const std::string& name) const;
+  /// Adds a row, or replaces the one of the same name.
+  void add(TagRow row);
+
+ private:
+  std::vector<TagRow> rows_;
+};
+
 /// Reads a plugin's or sensor's child tags. Problems go to `diagnostics`, naming `where` and the tag;
 /// finish() warns once about each tag nothing read (Gazebo ignores unknown tags silently).
+///
+/// With a tag table, the table is the list of what the parser may read: reading a tag it lacks, or through a
+/// reader of another type, is a std::logic_error (a plugin's tests find it); its ignored rows are accepted, and
+/// the readers without a fallback take the row's.
 class PluginTags {
  public:
   /// `element` may be nullptr: every tag is then absent.
   PluginTags(const TagNode* element, std::string where, Diagnostics& diagnostics);
+
+  /// From now on, reads go through `table`, which must outlive this reader.
+  void useTable(const TagTable* table);
+  const TagTable* table() const { return table_; }
 
   bool has(const std::string& tag) const;
   /// The tag's text. A topic tag (named ...Topic, ...TopicName, topicName or ..._topic) must not be empty:
   /// ROS has no topic of that name, so Gazebo's plugin fails to load; that is an error.
   std::string text(const std::string& tag, const std::string& fallback);
   /// A tf frame or link name. A leading '/' is dropped: tf2 frame ids have none, and Gazebo's plugins drop it
-  /// too (tf::resolve) where `gazebo_drops_slash`; where they keep it, a warning says it is dropped.
+  /// too (tf::resolve) where `gazebo_drops_slash`; where they keep it, a warning says it is dropped. Either
+  /// way the frame is remembered as global (globalFrames): tf::resolve gives it no tf_prefix.
   std::string frame(const std::string& tag, const std::string& fallback, bool gazebo_drops_slash = true);
   double number(const std::string& tag, double fallback);
   /// A number that must be > 0 (or >= 0 with `allow_zero`).
@@ -50,23 +91,38 @@ class PluginTags {
   double capped(const std::string& tag, double fallback, double limit, const char* limit_name,
                 const std::string& unit);
   bool flag(const std::string& tag, bool fallback);
+  /// The same readers with the table row's fallback.
+  std::string text(const std::string& tag);
+  double number(const std::string& tag);
+  double positive(const std::string& tag);     ///< > 0
+  double nonNegative(const std::string& tag);  ///< >= 0
+  bool flag(const std::string& tag);
   /// A comma- or space-separated list.
   std::vector<std::string> list(const std::string& tag);
   /// Marks tags as known but not modelled: no warning.
   void accept(std::initializer_list<const char*> tags);
   /// Warns about the tags nothing read.
   void finish();
+  /// The frames read with a leading '/', without it: they take no tf_prefix.
+  const std::set<std::string>& globalFrames() const { return global_frames_; }
 
   Diagnostics& diagnostics() { return diagnostics_; }
   const std::string& where() const { return where_; }
 
  private:
   const TagNode* find(const std::string& tag);
+  /// The table's row of `tag` after checking that it is read as `type`; nullptr without a table.
+  const TagRow* checkedRow(const std::string& tag, std::initializer_list<TagType> types) const;
+  double rowNumber(const std::string& tag, std::initializer_list<TagType> types) const;
+  std::string rawText(const std::string& tag, const std::string& fallback);
+  double rawNumber(const std::string& tag, double fallback);
 
   const TagNode* element_;
+  const TagTable* table_ = nullptr;
   std::string where_;
   Diagnostics& diagnostics_;
   std::set<std::string> read_;
+  std::set<std::string> global_frames_;
 };
 
 }  // namespace bullet_sim

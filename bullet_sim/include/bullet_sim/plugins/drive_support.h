@@ -4,6 +4,7 @@
 
 #include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,9 +39,12 @@ struct DriveTagNames {
   std::vector<std::string> update_rate{"updateRate"};
 };
 
-/// Reads the head: its topics, frames and update rate under `names`, then robotNamespace and our
-/// commandTimeout and wheelModel, which every drive spells alike.
+/// Reads the head: its topics, frames and update rate under `names`, then our commandTimeout and wheelModel,
+/// which every drive spells alike.
 void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead& head);
+
+/// A drive's plugin type's say in its robot's wheel model: its <wheelModel>.
+std::optional<std::string> driveWheelModel(const PluginDeclaration& declaration);
 
 /// A pose or twist covariance that knows x, y and yaw, and nothing (1e12) of z, roll and pitch.
 std::array<double, 36> planarCovariance(double x, double y, double yaw);

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <random>
+#include <set>
 #include <string>
 
 #include "bullet_sim/model/model.h"
@@ -18,8 +19,6 @@
 #include "bullet_sim/sensing/ray_caster.h"
 
 namespace bullet_sim {
-
-class ControllerRegistry;
 
 /// The step being simulated: it ends at `sim_time` [s] and lasts `dt` [s]. Nothing in the core reads a clock.
 struct StepTime {
@@ -44,26 +43,46 @@ class UpdateTimer {
   double next_ = 0;
 };
 
+/// How a plugin's frames take a tf_prefix, as Noetic's gazebo_plugins do (tf::resolve(prefix, frame)); the node
+/// reads the prefix from the parameter server, and a frame written with a leading '/' takes none.
+enum class TfPrefixRule {
+  kSearched,        ///< the tf_prefix parameter searched up from the plugin's namespace (drives, lasers, cameras)
+  kNamespaceParam,  ///< <namespace>/tf_prefix only (p3d, range, bumper, block laser)
+  kNone,            ///< no prefix (the IMU plugins; ros_control's controllers name their frames in full)
+};
+
+/// What a plugin takes from the world at spawn beyond its body and names; a plugin type lists what it needs
+/// (PluginType::needs), and only that is set in its PluginSetup.
+enum Need : unsigned {
+  kNeedGravity = 1 << 0,     ///< the world's gravity (an IMU's reading)
+  kNeedOwnRayBody = 1 << 1,  ///< the ray-caster body of the part a sensor sits on, which its rays skip
+  kNeedImages = 1 << 2,      ///< the renderer, for cameras
+  kNeedGeodesy = 1 << 3,     ///< the world's <spherical_coordinates>, for GPS receivers
+  kNeedParameters = 1 << 4,  ///< the parameters read at run time (ros_control's)
+};
+
 /// What a plugin is built with at spawn, beside its declaration.
 struct PluginSetup {
+  // Every plugin's:
   const RobotBody& body;
   std::string robot_name;
   uint64_t seed = 0;  ///< the simulation's; each plugin mixes in its robot's name and its own
-  Eigen::Vector3d gravity{0, 0, -9.81};
-  BodyId own_ray_body = kNoBody;  ///< the ray-caster body of the part a sensor sits on, which it skips
-  /// Renders the world for cameras; nullptr when the simulation has no renderer (cameras then warn).
-  ImageSource* images = nullptr;
-  /// The world's <spherical_coordinates>, for GPS receivers; nullopt when it gives none.
-  std::optional<SphericalCoordinates> spherical_coordinates;
   /// spawn_model's -robot_namespace (slashes around it do not count): when given (even "/", the root), it
   /// replaces every plugin's <robotNamespace>, as gazebo_ros's spawn_model does.
   std::optional<std::string> robot_namespace;
-  /// The parameters plugins read at run time (ros_control's); nullptr when there are none.
-  const ParameterSource* parameters = nullptr;
-  /// The controller types ros_control's plugin loads by name; nullptr: the built-in ones.
-  const ControllerRegistry* controllers = nullptr;
   /// Where a plugin reports what it finds wrong while it is built (parameters it reads then); may be nullptr.
   Diagnostics* diagnostics = nullptr;
+  TfPrefixRule tf_prefix = TfPrefixRule::kSearched;  ///< its plugin type's
+
+  // Only what the plugin's type needs (Need); the rest keep these values:
+  Eigen::Vector3d gravity{0, 0, -9.81};
+  BodyId own_ray_body = kNoBody;
+  /// Renders the world for cameras; nullptr when the simulation has no renderer (cameras then warn).
+  ImageSource* images = nullptr;
+  /// The world's <spherical_coordinates>; nullopt when it gives none.
+  std::optional<SphericalCoordinates> spherical_coordinates;
+  /// The parameters plugins read at run time (ros_control's); nullptr when there are none.
+  const ParameterSource* parameters = nullptr;
 };
 
 /// What every plugin has: its name and namespace, the head of its messages, an update timer at its config's
@@ -80,13 +99,16 @@ class Plugin {
   /// "plugin [name]" or "sensor [name] on link [link]".
   const std::string& where() const { return where_; }
   const PluginPorts& ports() const { return ports_; }
+  /// [Hz] its update timer's rate; 0 = every step.
+  double updateRate() const { return timer_.period() > 0 ? 1 / timer_.period() : 0.0; }
   /// Ports that come and go while the plugin runs (a ros_control controller's); none for most plugins.
   virtual std::vector<PortGroup> portGroups() const { return {}; }
   /// Changes whenever portGroups() does.
   virtual uint64_t portGroupsRevision() const { return 0; }
-  /// Whether the node prefixes the frames this plugin publishes with the robot's namespace. ros_control's
-  /// controllers publish their frames exactly as their parameters name them, as on a real robot.
-  virtual bool prefixesFrames() const { return true; }
+  /// How its frames take a tf_prefix.
+  TfPrefixRule tfPrefixRule() const { return tf_prefix_; }
+  /// Its frames written with a leading '/': they take no tf_prefix.
+  const std::set<std::string>& globalFrames() const { return global_frames_; }
 
   /// Phase 1: apply commands to the robot (motor targets) for this step.
   virtual void applyCommands(const StepTime&, RobotBody&) {}
@@ -128,6 +150,8 @@ class Plugin {
   std::string name_;
   std::string robot_namespace_;
   std::string where_;
+  TfPrefixRule tf_prefix_;
+  std::set<std::string> global_frames_;
   UpdateTimer timer_;
   uint64_t seed_;
   std::mt19937_64 noise_;

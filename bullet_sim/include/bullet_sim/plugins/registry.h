@@ -1,58 +1,125 @@
 // The one table of what bullet_sim simulates. Each Gazebo plugin filename (for a sensor's plugin, with the
-// sensor types it serves) maps to its config parser and its factory. A new plugin is one file pair under
-// plugins/ and one line in registry.cpp's table; tests and library users may add their own to a copy.
-// Beside it, the run-time types: ros_control's controller type names, which load_controller builds by name.
+// sensor types it serves) maps to its tag table, its config parser and its factory. A plugin is one folder under
+// plugins/ whose BULLET_SIM_PLUGIN_FOLDER function registers its types; the build finds the folders and calls
+// each once for the built-in registry. Tests and library users may add their own types to a copy.
 #pragma once
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bullet_sim/plugins/plugin.h"
-#include "bullet_sim/plugins/ros_control/controller.h"
 
 namespace bullet_sim {
 
-using ConfigParser = std::function<std::shared_ptr<const PluginConfig>(const DeclarationSource& source)>;
+/// How the registry reads a plugin's update rate, as part of the parse head, before the plugin's parser runs.
+struct RateRule {
+  enum class From {
+    kParser,                ///< the plugin's parser sets it (a control period, hector's rule)
+    kTags,                  ///< the first of `tags` present, else `fallback`
+    kSensor,                ///< the <sensor>'s <update_rate>; `tags` are read and ignored
+    kTagsOverSensor,        ///< the first of `tags` present, else the sensor's
+    kSlowerOfSensorAndTags  ///< the plugin's tag throttles the sensor: the slower of the two wins
+  };
+  From from = From::kParser;
+  std::vector<std::string> tags;  ///< in order of precedence
+  double fallback = 0;            ///< [Hz] when no tag gives it (kTags)
+};
+
+/// What a plugin drives, for urdf_doctor's checks of wheels and limits, which it asks each plugin type for.
+struct DrivenJoints {
+  bool drive = false;  ///< it moves the robot and publishes its odometry: a robot has one drive at most
+  /// Wheels sent one sign per side, which must turn about the robot's +y to go forward (empty when the plugin
+  /// finds each wheel's sign itself).
+  std::vector<std::string> left_wheels;
+  std::vector<std::string> right_wheels;
+  std::string base_frame;                 ///< the frame the wheels' directions are judged in
+  /// Joints moved by a motor whose effort or speed is the URDF <limit>: a zero limit freezes them.
+  std::vector<std::string> motors;
+  std::string motors_note;  ///< what the doctor adds about them ("" for nothing)
+};
+
+/// What decides a robot's wheel-ground model, for a plugin that has a say in it.
+struct WheelModelQuery {
+  const ModelSpec& model;
+  const std::string& robot_name;
+  const std::optional<std::string>& robot_namespace;  ///< spawn_model's -robot_namespace
+  const ParameterSource* parameters;                   ///< the parameter server's, or nullptr
+  Diagnostics& diagnostics;
+};
+
+/// What the registry read before the plugin's own parser: the namespace, a sensor's link and pose, and the
+/// update rate unless its rule leaves that to the parser.
+struct ParseHead {
+  std::string robot_namespace;
+  std::optional<double> update_rate;  ///< [Hz]
+  bool sensor = false;                ///< then `link` and `pose` are the sensor's
+  std::string link;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+
+  /// Sets in `config` what the head read; the rest keeps the config's own defaults.
+  void applyTo(PluginConfig& config) const;
+};
+
+using ConfigParser = std::function<std::shared_ptr<PluginConfig>(const DeclarationSource& source, const ParseHead& head)>;
 using PluginFactory =
     std::function<std::unique_ptr<Plugin>(const PluginDeclaration& declaration, const PluginSetup& setup)>;
 
 struct PluginType {
   std::string filename;                   ///< Gazebo's, e.g. libgazebo_ros_diff_drive.so
   std::vector<std::string> sensor_types;  ///< the <sensor type>s it serves; empty for a model plugin
-  ConfigParser parse;  ///< reads the tags it knows; the registry then warns once about each other tag
+  /// Every tag it reads, the head's (robotNamespace, the rate's tags) first once registered.
+  TagTable tags;
+  RateRule rate;
+  unsigned needs = 0;  ///< the Need flags of what it takes from the world at spawn (PluginSetup)
+  TfPrefixRule tf_prefix = TfPrefixRule::kSearched;  ///< how its frames take a tf_prefix
+  ConfigParser parse;  ///< reads its own tags; the registry then warns once about each other tag
   PluginFactory create;
+  /// What it drives (empty for most plugins).
+  std::function<DrivenJoints(const PluginDeclaration& declaration)> driven;
+  /// The wheel-ground model it asks for its robot, or nullopt when it has no say (most plugins).
+  std::function<std::optional<std::string>(const PluginDeclaration& declaration, const WheelModelQuery& query)>
+      wheel_model;
+  std::string folder;  ///< the folder under plugins/ that registered it
+  /// Whether its parser reads through its table (set by PluginRegistry::add when it brings rows of its own).
+  bool table_checked = false;
 };
 
-/// Caps a config's update rate at the limit (Gazebo takes any rate), with a warning naming both.
-void capUpdateRate(PluginConfig& config, const DeclarationSource& source);
-
-/// A plugin type whose config `Config` comes from `parse` and whose behaviour is `Behaviour`, built as
-/// Behaviour(declaration, config, setup).
+/// A plugin type whose config `Config` is filled by `parse` after the registry's head, and whose behaviour is
+/// `Behaviour`, built as Behaviour(declaration, config, setup).
 template <class Behaviour, class Config>
-PluginType pluginType(std::string filename, std::vector<std::string> sensor_types,
-                      Config (*parse)(const DeclarationSource&)) {
-  return {std::move(filename), std::move(sensor_types),
-          [parse](const DeclarationSource& source) {
-            Config config = parse(source);
-            capUpdateRate(config, source);
-            return std::make_shared<const Config>(std::move(config));
-          },
-          [](const PluginDeclaration& declaration, const PluginSetup& setup) -> std::unique_ptr<Plugin> {
-            return std::make_unique<Behaviour>(declaration, *declaration.configAs<Config>(), setup);
-          }};
+PluginType pluginType(std::string filename, void (*parse)(const DeclarationSource&, Config&), TagTable tags) {
+  PluginType type;
+  type.filename = std::move(filename);
+  type.tags = std::move(tags);
+  type.parse = [parse](const DeclarationSource& source, const ParseHead& head) {
+    auto config = std::make_shared<Config>();
+    head.applyTo(*config);
+    parse(source, *config);
+    return config;
+  };
+  type.create = [](const PluginDeclaration& declaration, const PluginSetup& setup) -> std::unique_ptr<Plugin> {
+    return std::make_unique<Behaviour>(declaration, *declaration.configAs<Config>(), setup);
+  };
+  return type;
 }
 
 class PluginRegistry final : public PluginParsers {
  public:
-  /// Every plugin bullet_sim ships.
+  /// Every plugin bullet_sim ships: one type or more per folder under plugins/.
   static const PluginRegistry& builtin();
 
-  /// Adds a type; one of the same filename and sensor types is replaced.
+  /// Adds a type (its tag table gains the head's rows); one of the same filename and sensor types is replaced.
   void add(PluginType type);
   /// The type for a model plugin (`sensor_type` nullptr) or a sensor's plugin, or nullptr.
   const PluginType* find(const std::string& filename, const std::string* sensor_type) const;
+  /// The type that parsed `declaration`, or nullptr.
+  const PluginType* typeOf(const PluginDeclaration& declaration) const;
+  const std::vector<PluginType>& types() const { return types_; }
+  /// One line per type, sorted: "folder filename [sensor types]", for `--list-plugins`.
+  std::string listing() const;
 
   /// The typed config, or nullptr after one warning when no type matches.
   std::shared_ptr<const PluginConfig> parse(const DeclarationSource& source) const override;
@@ -60,44 +127,35 @@ class PluginRegistry final : public PluginParsers {
   void checkModel(const ModelSpec& model, Diagnostics& diagnostics) const override;
   /// The plugin of a declaration this registry parsed.
   std::unique_ptr<Plugin> create(const PluginDeclaration& declaration, const PluginSetup& setup) const;
+  /// The wheel-ground model its plugins ask for the robot, or nullopt when none has a say.
+  std::optional<std::string> wheelModel(const WheelModelQuery& query) const;
 
  private:
   std::vector<PluginType> types_;
 };
 
-using ControllerFactory = std::function<std::unique_ptr<Controller>(const ControllerSetup& setup)>;
-
-struct ControllerType {
-  std::string name;  ///< ros_controllers' type name, e.g. diff_drive_controller/DiffDriveController
-  ControllerFactory create;
-};
-
-/// A controller type built as Behaviour(setup, args...).
-template <class Behaviour, class... Args>
-ControllerType controllerType(std::string name, Args... args) {
-  return {std::move(name), [args...](const ControllerSetup& setup) -> std::unique_ptr<Controller> {
-            return std::make_unique<Behaviour>(setup, args...);
-          }};
-}
-
-class ControllerRegistry {
+/// What a plugin folder's registration function adds its types through: it stamps them with the folder.
+class PluginRegistrar {
  public:
-  /// Every controller type bullet_sim ships.
-  static const ControllerRegistry& builtin();
-
-  /// Adds a type; one of the same name is replaced.
-  void add(ControllerType type);
-  /// The type of that name, or nullptr.
-  const ControllerType* find(const std::string& name) const;
-  /// Every type's name, in the table's order.
-  std::vector<std::string> names() const;
+  PluginRegistrar(PluginRegistry& registry, std::string folder)
+      : registry_(registry), folder_(std::move(folder)) {}
+  void add(PluginType type);
 
  private:
-  std::vector<ControllerType> types_;
+  PluginRegistry& registry_;
+  std::string folder_;
 };
+
+/// The registration function of the plugin folder plugins/<folder>: define it (inside namespace bullet_sim) in
+/// one of the folder's sources, with a body that adds its types to `registrar`.
+#define BULLET_SIM_PLUGIN_FOLDER(folder) void registerPluginFolder_##folder(PluginRegistrar& registrar)
+
+/// Caps a config's update rate at the limit (Gazebo takes any rate), with a warning naming both.
+void capUpdateRate(PluginConfig& config, const DeclarationSource& source);
 
 /// parseModel with the built-in plugins.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits());
+                     std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits(),
+                     bool strict = false);
 
 }  // namespace bullet_sim

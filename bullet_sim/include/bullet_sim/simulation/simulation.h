@@ -15,6 +15,7 @@
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/plugin.h"
 #include "bullet_sim/plugins/registry.h"
+#include "bullet_sim/plugins/sensor_interfaces.h"
 #include "bullet_sim/sensing/ray_caster.h"
 
 namespace bullet_sim {
@@ -46,8 +47,6 @@ struct SimulationOptions {
   uint64_t seed = 0;  ///< seeds every sensor's noise; the same inputs and seed give a bit-identical run
   /// Builds the robots' plugins: the registry their models were parsed with. It must outlive the simulation.
   const PluginRegistry* plugins = &PluginRegistry::builtin();
-  /// The controller types ros_control loads by name. It must outlive the simulation.
-  const ControllerRegistry* controllers = &ControllerRegistry::builtin();
   /// The parameters plugins read at run time (ros_control's): the parameter server in the node, a tree in
   /// tools and tests; nullptr for none. It must outlive the simulation.
   const ParameterSource* parameters = nullptr;
@@ -56,6 +55,22 @@ struct SimulationOptions {
   ImageSourceFactory images;
   /// A spawn pose farther than max_length from the origin is refused.
   Limits limits;
+};
+
+/// One of a robot's outputs whose samples are `Sample`s: the plugin publishing it, its topic and its stream.
+template <class Sample>
+struct RobotOutput {
+  const Plugin* plugin = nullptr;
+  std::string topic;  ///< relative to the plugin's namespace
+  const Stream<Sample>* stream = nullptr;
+};
+
+/// One of a robot's inputs that takes `Input`s (a drive's cmd_vel): the plugin, its topic and its handler.
+template <class Input>
+struct RobotInput {
+  const Plugin* plugin = nullptr;
+  std::string topic;
+  const InputHandler<Input>* handler = nullptr;
 };
 
 /// A spawned robot: its physics and its plugins.
@@ -69,24 +84,61 @@ class Robot {
   const PhysicsRobot& body() const { return *body_; }
   const std::vector<std::unique_ptr<Plugin>>& plugins() const { return plugins_; }
 
-  /// The plugins of type T (e.g. WheeledDrive, RayLidar).
-  template <class T>
-  std::vector<T*> pluginsOf() const {
-    std::vector<T*> found;
+  /// Every output of its plugins whose samples are `Sample`s (LaserScan, CameraImage, ...), the ports that
+  /// come and go (a controller's) included, in plugin order: what scenes, checks and tools read.
+  template <class Sample>
+  std::vector<RobotOutput<Sample>> outputs() const {
+    std::vector<RobotOutput<Sample>> found;
+    forEachPorts([&](const Plugin& plugin, const PluginPorts& ports) {
+      for (const OutputPort& port : ports.outputs) {
+        if (auto* stream = std::get_if<const Stream<Sample>*>(&port.stream))
+          found.push_back({&plugin, port.topic, *stream});
+      }
+    });
+    return found;
+  }
+  /// Its plugins that are `Interface`s (sensor_interfaces.h: RaySensor, CameraSensor), in plugin order.
+  template <class Interface>
+  std::vector<std::pair<const Plugin*, const Interface*>> sensors() const {
+    std::vector<std::pair<const Plugin*, const Interface*>> found;
     for (const auto& plugin : plugins_) {
-      if (auto* typed = dynamic_cast<T*>(plugin.get())) found.push_back(typed);
+      if (const auto* typed = dynamic_cast<const Interface*>(plugin.get())) found.emplace_back(plugin.get(), typed);
     }
+    return found;
+  }
+  /// Its wheel-ground model: "raycast" or "contact".
+  const std::string& wheelModel() const { return wheel_model_; }
+  /// Every input of its plugins that takes `Input`s (Twist, ...), in plugin order.
+  template <class Input>
+  std::vector<RobotInput<Input>> inputs() const {
+    std::vector<RobotInput<Input>> found;
+    forEachPorts([&](const Plugin& plugin, const PluginPorts& ports) {
+      for (const InputPort& port : ports.inputs) {
+        if (auto* handler = std::get_if<InputHandler<Input>>(&port.sink))
+          found.push_back({&plugin, port.topic, handler});
+      }
+    });
     return found;
   }
 
  private:
   friend class Simulation;
+  /// Calls `visit(plugin, ports)` for each plugin's own ports, then for each of its port groups.
+  template <class Visit>
+  void forEachPorts(Visit visit) const {
+    for (const auto& plugin : plugins_) {
+      visit(*plugin, plugin->ports());
+      for (const PortGroup& group : plugin->portGroups()) visit(*plugin, *group.ports);
+    }
+  }
+
   std::string name_;
   std::unique_ptr<PhysicsRobot> body_;
   Eigen::Isometry3d spawn_pose_;
   JointPositions spawn_joints_;
   std::vector<std::unique_ptr<Plugin>> plugins_;
   std::vector<BodyId> ray_bodies_;  ///< per part; kNoBody for a part without collisions
+  std::string wheel_model_;
 };
 
 /// Work that a part outside the simulation (the world API's scheduled wrenches and efforts) has done at every

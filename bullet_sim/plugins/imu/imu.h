@@ -1,0 +1,43 @@
+// An IMU: <sensor type="imu"> with libgazebo_ros_imu_sensor.so, or the model plugin libgazebo_ros_imu.so.
+// Sensor plugin tags: topicName [imu], frameName [the sensor's link], updateRateHZ [the sensor's
+// update_rate],
+//   gaussianNoise [0], robotNamespace. Model plugin tags: bodyName, topicName, frameName, updateRate,
+//   gaussianNoise. Noise goes on angular velocity and linear acceleration; the orientation is exact.
+// Linear acceleration is measured, as a real IMU does: at rest it reads +g upwards.
+#pragma once
+
+#include "bullet_sim/plugins/outputs.h"
+#include "bullet_sim/plugins/plugin.h"
+
+namespace bullet_sim {
+
+struct ImuConfig : PluginConfig {
+  double noise_stddev = 0;
+  std::string topic = "imu";
+  std::string frame;
+};
+
+void parseImuSensor(const DeclarationSource& source, ImuConfig& config);
+void parseImuPlugin(const DeclarationSource& source, ImuConfig& config);
+
+class Imu : public Plugin {
+ public:
+  Imu(const PluginDeclaration& declaration, const ImuConfig& config, const PluginSetup& setup);
+
+  void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
+
+  const ImuConfig& config() const { return config_; }
+  const ImuSample& sample() const { return samples_.latest(); }
+  uint64_t sampleCount() const { return samples_.count(); }
+
+ private:
+  void onReset() override;
+
+  ImuConfig config_;
+  Eigen::Vector3d gravity_;
+  Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
+  double last_time_ = -1;
+  Stream<ImuSample> samples_;
+};
+
+}  // namespace bullet_sim

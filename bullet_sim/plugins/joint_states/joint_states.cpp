@@ -1,0 +1,60 @@
+#include "plugins/joint_states/joint_states.h"
+
+#include "bullet_sim/plugins/registry.h"
+
+namespace bullet_sim {
+
+void parseJointStates(const DeclarationSource& source, JointStatesConfig& config) {
+  PluginTags& tags = source.tags;
+  const ModelSpec& model = source.model;
+  tags.accept({"alwaysOn"});
+  std::vector<std::string> names = tags.list("jointName");
+  if (!tags.has("jointName")) {
+    for (const auto& joint : model.joints) {
+      if (joint.moves()) names.push_back(joint.name);
+    }
+  }
+  for (const auto& name : names) {
+    const JointSpec* joint = model.joint(name);
+    if (!joint || !joint->moves()) {
+      source.diagnostics.error(tags.where() + " <jointName> [" + name + "] is not a moving joint" +
+                               didYouMean(name, model.jointNames()));
+      continue;
+    }
+    config.joints.push_back(name);
+  }
+}
+
+JointStates::JointStates(const PluginDeclaration& declaration, const JointStatesConfig& config,
+                         const PluginSetup& setup)
+    : Plugin(declaration, setup) {
+  JointStateSample& states = states_.next();
+  for (const auto& name : config.joints) {
+    joints_.push_back(setup.body.jointIndex(name));
+    states.names.push_back(name);
+  }
+  states.positions.resize(joints_.size());
+  states.velocities.resize(joints_.size());
+  states.efforts.resize(joints_.size());
+  addOutput("joint_states", states_);
+}
+
+void JointStates::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
+  if (!timer().due(time)) return;
+  JointStateSample& states = states_.next();
+  states.stamp = time.sim_time;
+  for (size_t i = 0; i < joints_.size(); ++i) {
+    states.positions[i] = body.jointPosition(joints_[i]);
+    states.velocities[i] = body.jointVelocity(joints_[i]);
+    states.efforts[i] = body.jointEffort(joints_[i]);
+  }
+  states_.publish();
+}
+
+BULLET_SIM_PLUGIN_FOLDER(joint_states) {
+  PluginType type = pluginType<JointStates>("libgazebo_ros_joint_state_publisher.so", parseJointStates, {});
+  type.rate = {RateRule::From::kTags, {"updateRate"}, 100};
+  registrar.add(std::move(type));
+}
+
+}  // namespace bullet_sim

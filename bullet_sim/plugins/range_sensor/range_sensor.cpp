@@ -1,0 +1,95 @@
+#include "plugins/range_sensor/range_sensor.h"
+
+#include "bullet_sim/plugins/registry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace bullet_sim {
+
+void parseRange(const DeclarationSource& source, RangeConfig& config) {
+  const std::string where = source.declaration.where();
+  PluginTags& tags = source.tags;
+  config.rays.link = config.link;
+  config.rays.pose = config.pose;
+  readRayTags(source.sensor, where, config.rays, source);
+  if (config.rays.range_max <= config.rays.range_min)
+    source.diagnostics.error(where + " <range> <max> must exceed <min>");
+  if (config.rays.noise_stddev > 0 || config.rays.noise_mean != 0) {
+    source.diagnostics.warning(where +
+                               " <ray><noise> does not reach libgazebo_ros_range.so's range (Gazebo's plugin "
+                               "reads the rays before the sensor's noise): ignored; use the plugin's "
+                               "<gaussianNoise>");
+  }
+  config.topic = tags.text("topicName", config.topic);
+  config.frame = tags.frame("frameName", config.link);
+  const std::string radiation = tags.text("radiation", "ultrasound");
+  config.infrared = radiation != "ultrasound";
+  if (radiation != "ultrasound" && radiation != "infrared") {
+    source.diagnostics.warning(tags.where() + " <radiation> must be ultrasound or infrared, not [" +
+                               radiation + "]: infrared is used, as Gazebo does");
+  }
+  config.field_of_view = tags.positive("fov", config.field_of_view, /*allow_zero=*/true);
+  config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
+  tags.accept({"alwaysOn"});
+  frameLink(source, "frameName", config.frame);
+}
+
+RayPattern RangeSensor::rayPattern(const RobotBody& body) const {
+  RayPattern pattern{config_.rays.link, body.linkPose(config_.rays.link) * config_.rays.pose, {},
+                     config_.rays.range_max, config_.update_rate};
+  const Eigen::Matrix3f rotation = pattern.sensor.linear().cast<float>();
+  for (const Eigen::Vector3f& direction : directions_) pattern.directions.push_back(rotation * direction);
+  return pattern;
+}
+
+RangeSensor::RangeSensor(const PluginDeclaration& declaration, const RangeConfig& config,
+                         const PluginSetup& setup)
+    : Plugin(declaration, setup),
+      config_(config),
+      own_body_(setup.own_ray_body),
+      directions_(rayDirections(config_.rays, config_.rays.channels)) {
+  world_directions_.resize(directions_.size());
+  ranges_.resize(directions_.size());
+  RangeSample& sample = samples_.next();
+  sample.frame_id = config_.frame;
+  sample.infrared = config_.infrared;
+  sample.field_of_view = config_.field_of_view;
+  sample.min_range = config_.rays.range_min;
+  sample.max_range = config_.rays.range_max;
+  addOutput(config_.topic, samples_);
+}
+
+double RangeSensor::measured(double nearest) {
+  if (nearest < config_.rays.range_min) return -std::numeric_limits<double>::infinity();
+  if (!(nearest < config_.rays.range_max)) return config_.rays.range_max;
+  if (config_.noise_stddev <= 0) return nearest;
+  std::normal_distribution<double> gaussian(0.0, config_.noise_stddev);
+  return std::clamp(nearest + gaussian(noise()), config_.rays.range_min, config_.rays.range_max);
+}
+
+void RangeSensor::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
+  if (!timer().due(time)) return;
+  const Eigen::Isometry3d sensor = body.linkPose(config_.rays.link) * config_.rays.pose;
+  const Eigen::Matrix3f rotation = sensor.linear().cast<float>();
+  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
+  rays.cast(sensor.translation(), world_directions_, config_.rays.range_max, own_body_, ranges_);
+  RangeSample& sample = samples_.next();
+  sample.stamp = time.sim_time;
+  sample.range = measured(*std::min_element(ranges_.begin(), ranges_.end()));
+  samples_.publish();
+}
+
+BULLET_SIM_PLUGIN_FOLDER(range_sensor) {
+  PluginType type = pluginType<RangeSensor>("libgazebo_ros_range.so", parseRange, {});
+  type.sensor_types = {"ray"};
+  // The plugin throttles the sensor's updates: the slower rate wins.
+  type.rate = {RateRule::From::kSlowerOfSensorAndTags, {"updateRate"}, 0};
+  type.needs = kNeedOwnRayBody;
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
+  registrar.add(std::move(type));
+}
+
+}  // namespace bullet_sim

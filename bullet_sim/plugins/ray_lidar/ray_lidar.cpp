@@ -1,0 +1,262 @@
+#include "plugins/ray_lidar/ray_lidar.h"
+
+#include "bullet_sim/plugins/registry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace bullet_sim {
+
+namespace {
+
+/// The <samples> and <resolution> of a <horizontal> or <vertical> block; samples are whole.
+struct Sampling {
+  double samples = 1;
+  double resolution = 1;
+  double beams() const { return std::max(1.0, std::round(samples * resolution)); }
+};
+
+Sampling samplingOf(PluginTags& tags, double default_samples, const std::string& where,
+                    Diagnostics& diagnostics) {
+  Sampling sampling{tags.positive("samples", default_samples), tags.positive("resolution", 1)};
+  if (sampling.samples != std::floor(sampling.samples)) {
+    std::ostringstream message;
+    message << where << " <samples> must be a whole number, not " << sampling.samples;
+    diagnostics.error(message.str());
+  }
+  return sampling;
+}
+
+/// The rays of a scan within the limit, so that no sensor asks for gigabytes: an error otherwise.
+bool withinRayLimit(double beams, double channels, const std::string& where, const Limits& limits,
+                    Diagnostics& diagnostics) {
+  const double limit = std::min<double>(limits.max_rays, std::numeric_limits<int>::max());
+  if (beams * channels <= limit) return true;
+  std::ostringstream message;
+  message << std::setprecision(17) << where << " asks for " << beams << " beams x " << channels
+          << " channels = " << beams * channels << " rays per scan, above the limit of " << limit
+          << " (max_rays): use fewer <samples> or a lower "
+          << "<resolution>";
+  diagnostics.error(message.str());
+  return false;
+}
+
+}  // namespace
+
+void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
+                 const DeclarationSource& source) {
+  Diagnostics& diagnostics = source.diagnostics;
+  const TagNode* ray = sensor ? sensor->child("ray") : nullptr;
+  PluginTags horizontal(ray ? ray->find({"scan", "horizontal"}) : nullptr, where + " <horizontal>",
+                        diagnostics);
+  const Sampling sampling = samplingOf(horizontal, 640, where + " <horizontal>", diagnostics);
+  config.min_angle = horizontal.number("min_angle", 0);
+  config.max_angle = horizontal.number("max_angle", 0);
+  horizontal.finish();
+  if (config.max_angle < config.min_angle)
+    diagnostics.error(where + " <horizontal> <max_angle> is below <min_angle>");
+
+  double channels = 1;
+  if (const TagNode* vertical_node = ray ? ray->find({"scan", "vertical"}) : nullptr) {
+    PluginTags vertical(vertical_node, where + " <vertical>", diagnostics);
+    channels = samplingOf(vertical, 1, where + " <vertical>", diagnostics).beams();
+    config.min_elevation = vertical.number("min_angle", 0);
+    config.max_elevation = vertical.number("max_angle", 0);
+    vertical.finish();
+    if (config.max_elevation < config.min_elevation) {
+      diagnostics.error(where + " <vertical> <max_angle> is below <min_angle>");
+    }
+  }
+  // The samples count too: a fine resolution must not shrink 10^12 samples into one beam.
+  if (withinRayLimit(std::max(sampling.beams(), sampling.samples), channels, where, source.limits,
+                     diagnostics)) {
+    config.samples = static_cast<int>(sampling.samples);
+    config.resolution = sampling.resolution;
+    config.channels = static_cast<int>(channels);
+  }
+
+  PluginTags range(ray ? ray->child("range") : nullptr, where + " <range>", diagnostics);
+  config.range_min = range.positive("min", 0, /*allow_zero=*/true);
+  config.range_max = range.capped("max", 0, source.limits.max_length, "max_length", "m");
+  range.accept({"resolution"});  // Gazebo's ray sensor does not quantise its ranges either
+  range.finish();
+
+  if (const TagNode* noise_node = ray ? ray->child("noise") : nullptr) {
+    PluginTags noise(noise_node, where + " <noise>", diagnostics);
+    const std::string type = noise.text("type", "gaussian");
+    if (type != "gaussian" && type != "none") {
+      diagnostics.error(where + " <noise><type> must be gaussian or none, not [" + type + "]");
+    }
+    config.noise_mean = noise.number("mean", 0);
+    config.noise_stddev = noise.positive("stddev", 0, /*allow_zero=*/true);
+    if (type == "none") config.noise_mean = config.noise_stddev = 0;
+    noise.finish();
+  }
+}
+
+namespace {
+
+/// The plugin's tags: topic, frame, and the velodyne plugins' own range and noise.
+void readPluginTags(const std::string& filename, PluginTags& tags, RayLidarConfig& config) {
+  const bool velodyne = filename.find("velodyne") != std::string::npos;
+  config.output = velodyne                                     ? RayLidarConfig::Output::kPointCloud2
+                  : filename == "libgazebo_ros_block_laser.so" ? RayLidarConfig::Output::kPointCloud
+                                                               : RayLidarConfig::Output::kLaserScan;
+  config.topic = tags.text("topicName", config.topic);
+  config.frame = tags.frame("frameName", config.link);
+  if (velodyne) {
+    config.range_min = tags.positive("min_range", config.range_min, /*allow_zero=*/true);
+    config.range_max = tags.positive("max_range", config.range_max);
+    if (tags.has("gaussianNoise")) {
+      config.noise_mean = 0;
+      config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
+    }
+  }
+  tags.accept({"gaussianNoise", "hokuyoMinIntensity", "alwaysOn", "organize_cloud"});
+}
+
+}  // namespace
+
+int RayLidarConfig::beams() const { return std::max(1, static_cast<int>(std::lround(samples * resolution))); }
+
+std::vector<Eigen::Vector3f> rayDirections(const RayLidarConfig& config, int channels) {
+  const int beams = config.beams();
+  const double increment = beams > 1 ? (config.max_angle - config.min_angle) / (beams - 1) : 0.0;
+  const double elevation_step =
+      channels > 1 ? (config.max_elevation - config.min_elevation) / (channels - 1) : 0.0;
+  std::vector<Eigen::Vector3f> directions;
+  for (int channel = 0; channel < channels; ++channel) {
+    const double elevation = channels > 1 ? config.min_elevation + channel * elevation_step : 0.0;
+    for (int i = 0; i < beams; ++i) {
+      const double angle = config.min_angle + i * increment;
+      directions.emplace_back(std::cos(elevation) * std::cos(angle), std::cos(elevation) * std::sin(angle),
+                              std::sin(elevation));
+    }
+  }
+  return directions;
+}
+
+void parseRayLidar(const DeclarationSource& source, RayLidarConfig& config) {
+  const std::string where = source.declaration.where();
+  readRayTags(source.sensor, where, config, source);
+  readPluginTags(source.declaration.filename, source.tags, config);
+  if (config.range_max <= config.range_min)
+    source.diagnostics.error(where + " <range> <max> must exceed <min>");
+  frameLink(source, "frameName", config.frame);
+}
+
+RayPattern RayLidar::rayPattern(const RobotBody& body) const {
+  RayPattern pattern{config_.link, body.linkPose(config_.link) * config_.pose, {}, config_.range_max,
+                     config_.update_rate};
+  const Eigen::Matrix3f rotation = pattern.sensor.linear().cast<float>();
+  for (const Eigen::Vector3f& direction : directions_) pattern.directions.push_back(rotation * direction);
+  return pattern;
+}
+
+RayLidar::RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& config,
+                   const PluginSetup& setup)
+    : Plugin(declaration, setup), config_(config), own_body_(setup.own_ray_body) {
+  const int beams = config_.beams();
+  const double increment = beams > 1 ? (config_.max_angle - config_.min_angle) / (beams - 1) : 0.0;
+  // A LaserScan is the plane at 0 elevation; point clouds take every channel, bottom first.
+  const bool planar = config_.output == RayLidarConfig::Output::kLaserScan;
+  directions_ = rayDirections(config_, planar ? 1 : config_.channels);
+  world_directions_.resize(directions_.size());
+  ranges_.resize(directions_.size());
+  LaserScan& scan = scan_.next();
+  scan.frame_id = cloud_.next().frame_id = legacy_cloud_.next().frame_id = config_.frame;
+  scan.angle_min = config_.min_angle;
+  scan.angle_max = config_.max_angle;
+  scan.angle_increment = increment;
+  scan.scan_time = config_.update_rate > 0 ? 1.0 / config_.update_rate : 0.0;
+  scan.range_min = config_.range_min;
+  scan.range_max = config_.range_max;
+  switch (config_.output) {
+    case RayLidarConfig::Output::kLaserScan:
+      scan.ranges.resize(beams);
+      addOutput(config_.topic, scan_);
+      break;
+    case RayLidarConfig::Output::kPointCloud2:
+      addOutput(config_.topic, cloud_);
+      break;
+    case RayLidarConfig::Output::kPointCloud:
+      addOutput(config_.topic, legacy_cloud_);
+      break;
+  }
+}
+
+const PointCloud& RayLidar::cloud() const {
+  return config_.output == RayLidarConfig::Output::kPointCloud ? legacy_cloud_.latest() : cloud_.latest();
+}
+
+double RayLidar::measured(double range, std::normal_distribution<double>& gaussian) {
+  if (range < config_.range_min) return -std::numeric_limits<double>::infinity();
+  const bool noisy = config_.noise_stddev > 0 || config_.noise_mean != 0;
+  if (std::isfinite(range) && noisy)
+    return std::clamp(range + gaussian(noise()), config_.range_min, config_.range_max);
+  return range;
+}
+
+void RayLidar::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
+  if (!timer().due(time)) return;
+  const Eigen::Isometry3d sensor = body.linkPose(config_.link) * config_.pose;
+  const Eigen::Matrix3f rotation = sensor.linear().cast<float>();
+  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
+  rays.cast(sensor.translation(), world_directions_, config_.range_max, own_body_, ranges_);
+  if (config_.output == RayLidarConfig::Output::kLaserScan) {
+    publishScan(time, sensor);
+  } else {
+    publishCloud(time, sensor);
+  }
+}
+
+void RayLidar::publishScan(const StepTime& time, const Eigen::Isometry3d& sensor) {
+  std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
+  LaserScan& scan = scan_.next();
+  for (size_t i = 0; i < ranges_.size(); ++i)
+    scan.ranges[i] = static_cast<float>(measured(ranges_[i], gaussian));
+  scan.stamp = time.sim_time;
+  scan.sensor_pose = sensor;
+  scan_.publish();
+}
+
+void RayLidar::publishCloud(const StepTime& time, const Eigen::Isometry3d& sensor) {
+  std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
+  const bool legacy = config_.output == RayLidarConfig::Output::kPointCloud;
+  PointCloud& cloud = legacy ? legacy_cloud_.next() : cloud_.next();
+  cloud.points.clear();
+  cloud.rings.clear();
+  const size_t beams = static_cast<size_t>(config_.beams());
+  for (size_t i = 0; i < ranges_.size(); ++i) {
+    const double range = measured(ranges_[i], gaussian);
+    if (!std::isfinite(range)) continue;
+    cloud.points.push_back(directions_[i] * static_cast<float>(range));
+    cloud.rings.push_back(static_cast<uint16_t>(i / beams));
+  }
+  cloud.intensities.assign(cloud.points.size(), 1.0f);
+  cloud.stamp = time.sim_time;
+  cloud.sensor_pose = sensor;
+  legacy ? legacy_cloud_.publish() : cloud_.publish();
+}
+
+BULLET_SIM_PLUGIN_FOLDER(ray_lidar) {
+  for (const char* filename : {"libgazebo_ros_laser.so", "libgazebo_ros_gpu_laser.so", "libgazebo_ros_velodyne_laser.so",
+                               "libgazebo_ros_velodyne_gpu_laser.so", "libgazebo_ros_block_laser.so"}) {
+    PluginType type = pluginType<RayLidar>(filename, parseRayLidar, {});
+    type.sensor_types = {"ray", "gpu_ray"};
+    type.rate = {RateRule::From::kSensor, {"updateRate"}, 0};
+    type.needs = kNeedOwnRayBody;
+    // gazebo_ros_laser and gpu_laser search tf_prefix up from their namespace; the block laser and
+    // velodyne_simulator's plugins read <namespace>/tf_prefix only.
+    const std::string name = filename;
+    if (name != "libgazebo_ros_laser.so" && name != "libgazebo_ros_gpu_laser.so")
+      type.tf_prefix = TfPrefixRule::kNamespaceParam;
+    registrar.add(std::move(type));
+  }
+}
+
+}  // namespace bullet_sim

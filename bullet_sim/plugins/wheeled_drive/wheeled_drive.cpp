@@ -1,0 +1,293 @@
+#include "plugins/wheeled_drive/wheeled_drive.h"
+
+#include "bullet_sim/plugins/registry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "bullet_sim/model/model_geometry.h"
+
+namespace bullet_sim {
+
+namespace {
+
+constexpr double kGeometryTolerance = 0.005;  // [m] plugin figures vs URDF geometry before we say so
+
+void readCommon(const DeclarationSource& source, DriveConfig& config) {
+  PluginTags& tags = source.tags;
+  readDriveHead(tags, DriveTagNames{}, config);
+  config.wheel_separation = tags.positive("wheelSeparation", config.wheel_separation);
+  config.wheel_diameter = tags.positive("wheelDiameter", config.wheel_diameter);
+  for (const auto& [tag, value] : {std::pair{"wheelSeparation", &config.wheel_separation},
+                                   std::pair{"wheelDiameter", &config.wheel_diameter}}) {
+    if (auto problem = boundProblem(*value, source.limits.max_length, "max_length", "m"))
+      source.diagnostics.error(tags.where() + " <" + tag + "> " + *problem);
+  }
+}
+
+/// A wheel named twice, on both sides or on one, would be driven twice: an error.
+void checkWheelsDistinct(const DeclarationSource& source, const DriveConfig& config) {
+  std::vector<std::string> seen;
+  for (const auto* side : {&config.left_joints, &config.right_joints}) {
+    for (const auto& joint : *side) {
+      if (std::find(seen.begin(), seen.end(), joint) != seen.end()) {
+        source.diagnostics.error(source.tags.where() + " names joint [" + joint +
+                                 "] for two wheels: each wheel of a drive is a joint of its own");
+      }
+      seen.push_back(joint);
+    }
+  }
+}
+
+std::string vectorText(const Eigen::Vector3d& v) {
+  std::ostringstream text;
+  text << v.x() << ' ' << v.y() << ' ' << v.z();
+  return text.str();
+}
+
+/// Checks one side's wheels against the model: each must be a moving joint; a reversed one and a collision
+/// of another diameter are said. Returns each wheel's roll sign and its offset across the base [m].
+std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig& config,
+                              const std::vector<std::string>& joints, std::vector<double>& lateral) {
+  const ModelSpec& model = source.model;
+  Diagnostics& diagnostics = source.diagnostics;
+  const std::string& where = source.tags.where();
+  const auto poses = linkPosesAtZero(model);
+  const Eigen::Isometry3d base = poses.at(config.base_link);
+  std::vector<double> signs;
+  for (const auto& name : joints) {
+    const JointSpec* joint = model.joint(name);
+    if (!joint || !joint->moves()) {
+      diagnostics.error(where + " names joint [" + name + "], which " +
+                        (joint ? "is fixed: wheels need continuous joints" : "does not exist") +
+                        (joint ? "" : didYouMean(name, model.jointNames())));
+      signs.push_back(1);
+      continue;
+    }
+    signs.push_back(wheelRollSign(poses, config.base_link, *joint));
+    if (signs.back() < 0) {
+      diagnostics.warning(where + " joint [" + name + "] turns about " + vectorText(joint->axis) +
+                          ", against the other side: it is driven with the opposite sign so the robot rolls "
+                          "forward (Gazebo would spin it in place)");
+    }
+    if (const LinkSpec* link = model.link(joint->child); link && !link->collisions.empty()) {
+      const Shape& shape = link->collisions.front().shape;
+      if ((shape.type == Shape::Type::kCylinder || shape.type == Shape::Type::kSphere) &&
+          std::abs(2 * shape.radius - config.wheel_diameter) > kGeometryTolerance) {
+        std::ostringstream message;
+        message << where << " <wheelDiameter> " << config.wheel_diameter << " m disagrees with link ["
+                << link->name << "], whose collision is " << 2 * shape.radius << " m across";
+        diagnostics.warning(message.str());
+      }
+    }
+    lateral.push_back((base.inverse() * poses.at(joint->child)).translation().y());
+  }
+  return signs;
+}
+
+/// Checks the wheels against the model (see checkSide) and wheelSeparation against their joints.
+void checkWheels(const DeclarationSource& source, DriveConfig& config) {
+  checkWheelsDistinct(source, config);
+  config.base_link = frameLink(source, "robotBaseFrame", config.robot_base_frame, source.model.root);
+  std::vector<double> left_y, right_y;
+  config.left_signs = checkSide(source, config, config.left_joints, left_y);
+  config.right_signs = checkSide(source, config, config.right_joints, right_y);
+  for (size_t i = 0; i < std::min(left_y.size(), right_y.size()); ++i) {
+    const double separation = left_y[i] - right_y[i];
+    if (std::abs(separation - config.wheel_separation) > kGeometryTolerance) {
+      std::ostringstream message;
+      message << source.tags.where() << " <wheelSeparation> " << config.wheel_separation
+              << " m disagrees with the joints [" << config.left_joints[i] << "] and ["
+              << config.right_joints[i] << "], which are " << separation << " m apart";
+      source.diagnostics.warning(message.str());
+    }
+  }
+}
+
+}  // namespace
+
+void parseDiffDrive(const DeclarationSource& source, DriveConfig& config) {
+  PluginTags& tags = source.tags;
+  readCommon(source, config);
+  config.left_joints = {tags.text("leftJoint", "left_joint")};
+  config.right_joints = {tags.text("rightJoint", "right_joint")};
+  config.torque = tags.capped("wheelTorque", 5.0, source.limits.max_effort, "max_effort", "N m");
+  config.acceleration = tags.positive("wheelAcceleration", 0.0, /*allow_zero=*/true);
+  const std::string odometry_source = tags.text("odometrySource", "world");
+  if (odometry_source == "encoder") {
+    config.odometry_from_encoders = true;
+  } else if (odometry_source != "world") {
+    tags.diagnostics().warning(tags.where() + " <odometrySource> must be world or encoder, not [" +
+                               odometry_source + "]: world is used, as Gazebo does");
+  }
+  config.publish_odometry = tags.flag("publishTf", true);
+  config.publish_odom_tf = tags.flag("publishOdomTF", true);
+  config.publish_wheel_tf = tags.flag("publishWheelTF", false);
+  config.publish_wheel_joint_state = tags.flag("publishWheelJointState", false);
+  if (tags.has("legacyMode")) {
+    tags.flag("legacyMode", false);
+    tags.diagnostics().warning(
+        tags.where() +
+        " <legacyMode> is a Kinetic tag (it swapped the wheels): ignored; REP 103 is followed");
+  }
+  config.pose_covariance = config.twist_covariance = planarCovariance(1e-5, 1e-5, 1e-3);
+  checkWheels(source, config);
+}
+
+void parseSkidSteer(const DeclarationSource& source, DriveConfig& config) {
+  PluginTags& tags = source.tags;
+  config.wheel_separation = 0.4;
+  readCommon(source, config);
+  config.left_joints = {tags.text("leftFrontJoint", "left_front_joint"),
+                        tags.text("leftRearJoint", "left_rear_joint")};
+  config.right_joints = {tags.text("rightFrontJoint", "right_front_joint"),
+                         tags.text("rightRearJoint", "right_rear_joint")};
+  config.torque = tags.capped("torque", 5.0, source.limits.max_effort, "max_effort", "N m");
+  config.publish_odom_tf = tags.flag("broadcastTF", false);
+  const double x = tags.positive("covariance_x", 1e-4, true);
+  const double y = tags.positive("covariance_y", 1e-4, true);
+  const double yaw = tags.positive("covariance_yaw", 0.01, true);
+  config.pose_covariance = config.twist_covariance = planarCovariance(x, y, yaw);
+  checkWheels(source, config);
+}
+
+WheeledDrive::WheeledDrive(const PluginDeclaration& declaration, const DriveConfig& config,
+                           const PluginSetup& setup)
+    : DrivePlugin(declaration, config, setup), config_(config) {
+  const auto addWheels = [&](const std::vector<std::string>& names, const std::vector<double>& signs,
+                             std::vector<Wheel>& wheels) {
+    for (size_t i = 0; i < names.size(); ++i) {
+      const JointSpec& joint = *setup.body.spec().joint(names[i]);
+      wheels.push_back({setup.body.jointIndex(names[i]), signs[i], 0, 0, joint.parent, joint.child});
+      wheel_states_.next().names.push_back(names[i]);
+    }
+  };
+  addWheels(config_.left_joints, config_.left_signs, left_);
+  addWheels(config_.right_joints, config_.right_signs, right_);
+  if (config_.publish_wheel_joint_state) addOutput("joint_states", wheel_states_);
+  if (config_.publish_wheel_tf) addOutput("", wheel_tf_);
+}
+
+void WheeledDrive::applyCommands(const StepTime& time, RobotBody& body) {
+  updated_this_step_ = timer().due(time);
+  if (!updated_this_step_) return;
+  const double elapsed = time.sim_time - last_update_;
+  last_update_ = time.sim_time;
+
+  const double linear = command().linear(time.sim_time);
+  const double angular = command().angular(time.sim_time);
+  const double radius = config_.wheel_diameter / 2;
+  const auto drive = [&](std::vector<Wheel>& wheels, double target) {
+    for (auto& wheel : wheels) {
+      if (config_.acceleration > 0) {
+        const double step = config_.acceleration * elapsed;
+        wheel.rim_speed += std::clamp(target - wheel.rim_speed, -step, step);
+      } else {
+        wheel.rim_speed = target;
+      }
+      body.setJointVelocity(wheel.joint, wheel.sign * wheel.rim_speed / radius, config_.torque);
+    }
+  };
+  drive(left_, linear - angular * config_.wheel_separation / 2);
+  drive(right_, linear + angular * config_.wheel_separation / 2);
+}
+
+Eigen::Vector2d WheeledDrive::integrateEncoders(const RobotBody& body) {
+  const auto travelled = [&](std::vector<Wheel>& wheels) {
+    double sum = 0;
+    for (auto& wheel : wheels) {
+      const double position = body.jointPosition(wheel.joint);
+      sum += wheel.sign * (position - wheel.last_position) * config_.wheel_diameter / 2;
+      wheel.last_position = position;
+    }
+    return sum / wheels.size();
+  };
+  const double left = travelled(left_);
+  const double right = travelled(right_);
+  // Midpoint integration of the unicycle (Siegwart), as gazebo_ros_diff_drive's encoder source does.
+  const double distance = (left + right) / 2;
+  const double turn = (right - left) / config_.wheel_separation;
+  encoder_pose_.x() += distance * std::cos(encoder_pose_.z() + turn / 2);
+  encoder_pose_.y() += distance * std::sin(encoder_pose_.z() + turn / 2);
+  encoder_pose_.z() += turn;
+  return {distance, turn};
+}
+
+void WheeledDrive::sense(const StepTime& time, const RobotBody& body, const RayCaster&) {
+  if (!updated_this_step_) return;
+  if (config_.odometry_from_encoders) {
+    Odometry& odometry = nextOdometry();
+    const double elapsed = time.sim_time - odometry.stamp;
+    odometry.stamp = time.sim_time;
+    const Eigen::Vector2d moved = integrateEncoders(body);  // distance [m], turn [rad]
+    odometry.pose = Eigen::Translation3d(encoder_pose_.x(), encoder_pose_.y(), 0) *
+                    Eigen::AngleAxisd(encoder_pose_.z(), Eigen::Vector3d::UnitZ());
+    odometry.linear_velocity = Eigen::Vector3d(moved.x() / elapsed, 0, 0);
+    odometry.angular_velocity = Eigen::Vector3d(0, 0, moved.y() / elapsed);
+  } else {
+    fillGroundTruth(body, time.sim_time);
+  }
+  publishOdometry();
+  publishWheels(time, body);
+}
+
+void WheeledDrive::publishWheels(const StepTime& time, const RobotBody& body) {
+  if (config_.publish_wheel_joint_state) {
+    JointStateSample& states = wheel_states_.next();
+    states.stamp = time.sim_time;
+    states.positions.clear();
+    states.velocities.clear();
+    states.efforts.clear();
+    for (const auto* wheels : {&left_, &right_}) {
+      for (const auto& wheel : *wheels) {
+        states.positions.push_back(body.jointPosition(wheel.joint));
+        states.velocities.push_back(body.jointVelocity(wheel.joint));
+        states.efforts.push_back(body.jointEffort(wheel.joint));
+      }
+    }
+    wheel_states_.publish();
+  }
+  if (config_.publish_wheel_tf) {
+    TransformSample& tf = wheel_tf_.next();
+    tf.stamp = time.sim_time;
+    tf.frames.clear();
+    for (const auto* wheels : {&left_, &right_}) {
+      for (const auto& wheel : *wheels) {
+        tf.frames.push_back({wheel.parent_link, wheel.link,
+                             body.linkPose(wheel.parent_link).inverse() * body.linkPose(wheel.link)});
+      }
+    }
+    wheel_tf_.publish();
+  }
+}
+
+void WheeledDrive::onReset() {
+  DrivePlugin::onReset();
+  last_update_ = 0;
+  encoder_pose_.setZero();
+  for (auto* wheels : {&left_, &right_}) {
+    for (auto& wheel : *wheels) wheel.rim_speed = wheel.last_position = 0;
+  }
+}
+
+BULLET_SIM_PLUGIN_FOLDER(wheeled_drive) {
+  const auto driven = [](const PluginDeclaration& declaration) {
+    const DriveConfig& config = *declaration.configAs<DriveConfig>();
+    DrivenJoints joints{true, config.left_joints, config.right_joints, config.robot_base_frame};
+    joints.motors = config.left_joints;
+    joints.motors.insert(joints.motors.end(), config.right_joints.begin(), config.right_joints.end());
+    return joints;
+  };
+  for (auto [filename, parse] : {std::pair{"libgazebo_ros_diff_drive.so", parseDiffDrive},
+                                 std::pair{"libgazebo_ros_skid_steer_drive.so", parseSkidSteer}}) {
+    PluginType type = pluginType<WheeledDrive>(filename, parse, {});
+    type.driven = driven;
+    type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery&) {
+      return driveWheelModel(declaration);
+    };
+    registrar.add(std::move(type));
+  }
+}
+
+}  // namespace bullet_sim
