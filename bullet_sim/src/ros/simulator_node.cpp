@@ -83,10 +83,10 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
   options.images = imagesFrom([this]() -> SceneRenderer& { return renderer(); });
-  options.max_update_rate = real_time_factor_ / options.physics.step_size;
   options.parameters = &parameters_;
   simulation_ = std::make_unique<Simulation>(std::move(world), options);
-  world_api_ = std::make_unique<WorldApi>(private_, *simulation_, *this);
+  world_api_ = std::make_unique<WorldApi>(*simulation_, real_time_factor_ / options.physics.step_size);
+  gazebo_services_ = std::make_unique<GazeboServices>(private_, *simulation_, *world_api_, *this);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
   recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
 
@@ -131,7 +131,7 @@ void SimulatorNode::run() {
 void SimulatorNode::step() {
   simulation_->step();
   for (auto& [name, adapter] : adapters_) adapter->publish();
-  world_api_->afterStep();
+  gazebo_services_->afterStep();
   if (ros::WallTime::now() - last_clock_ >= clock_period_) publishClock();
   afterStep();
 }
@@ -191,7 +191,7 @@ bool SimulatorNode::deleteRobot(const std::string& name) {
 }
 
 void SimulatorNode::physicsChanged() {
-  const PhysicsProperties physics = simulation_->physicsProperties();
+  const PhysicsProperties physics = world_api_->physicsProperties();
   real_time_factor_ = physics.step_size * physics.max_update_rate;
   anchorPacing();
 }

@@ -9,9 +9,9 @@
 //   [the world's <physics>: 1 ms, 1; 0 = as fast as possible], ~paused [false], ~seed [0],
 //   ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless), ~snapshot_dir
 //   [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames), ~model_states_rate
-//   (world_api.h), ~limits/<name> (common/limits.h: what a model or world may ask for).
+//   (gazebo_services.h), ~limits/<name> (common/limits.h: what a model or world may ask for).
 // Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
-//   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (world_api.h).
+//   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (gazebo_services.h).
 #pragma once
 
 #include <ros/ros.h>
@@ -31,10 +31,10 @@
 #include "bullet_sim/scene/scene.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
+#include "gazebo_services.h"
 #include "render_library.h"
 #include "robot_adapter.h"
 #include "ros_parameters.h"
-#include "world_api.h"
 
 namespace bullet_sim {
 
@@ -92,7 +92,8 @@ class SimulatorNode final : public SimulationHost {
   std::unique_ptr<Simulation> simulation_;
   FrameOwners frame_owners_;  ///< outlives the adapters, which release their frames
   std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
-  std::unique_ptr<WorldApi> world_api_;
+  std::unique_ptr<WorldApi> world_api_;  ///< before gazebo_services_, which serves it
+  std::unique_ptr<GazeboServices> gazebo_services_;
   tf2_ros::TransformBroadcaster tf_;
   ros::Publisher clock_;
   std::vector<ros::ServiceServer> services_;

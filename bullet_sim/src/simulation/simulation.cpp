@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/sdf_model.h"
@@ -203,6 +204,20 @@ Eigen::Isometry3d Simulation::worldVisualFrame(size_t model, size_t visual) cons
   return placed.body->body().linkPose(world_.models[model].links[link].name) * placed.link_to_model[link];
 }
 
+void Simulation::moveWorldModel(size_t model, const Eigen::Isometry3d& pose) {
+  PlacedWorldModel& placed = world_models_.at(model);
+  placed.pose = pose;
+  physics_->setModelPose(model, pose);
+  if (placed.ray_body != kNoBody) {
+    // Static bodies share one tree, so a moved one is taken out and put back in.
+    rays_.removeBody(placed.ray_body);
+    placed.ray_body = rays_.addBody(world_.models[model].collisions, pose, /*is_static=*/true);
+    rays_.commit();
+  }
+}
+
+Robot* Simulation::worldBody(size_t model) { return world_models_.at(model).body.get(); }
+
 Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
                          std::vector<std::string>* warnings) {
   Diagnostics diagnostics(model.source);
@@ -307,9 +322,9 @@ bool Simulation::remove(const std::string& name) {
     if (body != kNoBody) rays_.removeBody(body);
   }
   rays_.commit();
-  clearScheduled(name);
   robots_.erase(found);
   physics_->releaseMemory();
+  for (StepHooks* hooks : hooks_) hooks->robotRemoved(name);
   return true;
 }
 
@@ -335,7 +350,7 @@ std::vector<std::string> Simulation::robotNames() const {
 
 void Simulation::step() {
   const StepTime time{timeAfter(steps_ + 1), options_.physics.step_size};
-  applyScheduled();
+  for (StepHooks* hooks : hooks_) hooks->beforeStep();
   bool rays_due = false;
   for (auto& robot : robots_) {
     for (auto& plugin : robot->plugins_) {
@@ -386,6 +401,26 @@ void Simulation::resetSimulation() {
   resetWorld();
   steps_ = steps_at_base_ = 0;
   time_base_ = 0;
+}
+
+void Simulation::setStepSize(double step_size) {
+  if (!(step_size > 0 && std::isfinite(step_size))) {
+    std::ostringstream message;
+    message << "step size [" << step_size << " s] must be positive and finite";
+    throw std::invalid_argument(message.str());
+  }
+  time_base_ = time();
+  steps_at_base_ = steps_;
+  options_.physics.step_size = step_size;
+  physics_->setStepSize(step_size);
+  for (Robot* moving : movingModels()) moving->body_->setStepSize(step_size);
+}
+
+StepHooks::StepHooks(Simulation& simulation) : hooked_(simulation) { hooked_.hooks_.push_back(this); }
+
+StepHooks::~StepHooks() {
+  auto& hooks = hooked_.hooks_;
+  hooks.erase(std::remove(hooks.begin(), hooks.end(), this), hooks.end());
 }
 
 }  // namespace bullet_sim
