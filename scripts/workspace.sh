@@ -20,6 +20,7 @@ DEBIAN_PACKAGES=(
   catkin ros-base-dev libroscpp-dev python3-rostest python3-roslaunch python3-rostopic rosbash
   libtf2-ros-dev libtf2-eigen-dev python3-tf2-ros libtf-dev python3-tf tf-tools libtopic-tools-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-srvs-dev ros-robot-state-publisher joint-state-publisher libimage-transport-dev libcamera-info-manager-dev
+  librosbag-dev python3-rosbag libtf2-msgs-dev
   liburdf-dev liburdfdom-dev liburdfdom-tools libtinyxml2-dev libsdformat-dev
   libbullet-dev libembree-dev libassimp-dev libeigen3-dev libosmesa6-dev libpng-dev libjpeg-dev
   python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-std-srvs python3-trajectory-msgs

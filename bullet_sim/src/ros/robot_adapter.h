@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bullet_sim/simulation/simulation.h"
+#include "messages.h"
 
 namespace camera_info_manager {
 class CameraInfoManager;
@@ -26,18 +27,6 @@ class CameraInfoManager;
 namespace bullet_sim {
 
 class ActionConnection;
-
-/// Frame names as a plugin publishes them, tf::resolve(tf_prefix, frame) as Noetic's gazebo_plugins name them:
-/// without leading or trailing '/', and under the tf_prefix unless the frame was written global ("/odom").
-class FramePrefix {
- public:
-  explicit FramePrefix(std::string prefix, std::set<std::string> global_frames = {});
-  std::string operator()(const std::string& frame) const;
-
- private:
-  std::string prefix_;
-  std::set<std::string> global_frames_;
-};
 
 /// Which robot publishes which child frame on /tf, for the one warning when two publish the same.
 struct FrameOwners {

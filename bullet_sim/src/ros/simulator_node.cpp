@@ -85,6 +85,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   options.images = imagesFrom([this]() -> SceneRenderer& { return renderer(); });
   options.parameters = &parameters_;
   simulation_ = std::make_unique<Simulation>(std::move(world), options);
+  bag_ = NodeRecording::fromParameters(private_, [this] { return simulation_->time(); });
   world_api_ = std::make_unique<WorldApi>(*simulation_, real_time_factor_ / options.physics.step_size);
   gazebo_services_ = std::make_unique<GazeboServices>(private_, *simulation_, *world_api_, *this);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
@@ -131,6 +132,7 @@ void SimulatorNode::run() {
 void SimulatorNode::step() {
   simulation_->step();
   for (auto& [name, adapter] : adapters_) adapter->publish();
+  if (bag_) bag_->afterStep(*simulation_);
   gazebo_services_->afterStep();
   if (ros::WallTime::now() - last_clock_ >= clock_period_) publishClock();
   afterStep();
@@ -179,11 +181,13 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
   for (const auto& warning : *warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
   for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
   adapters_[name] = std::move(adapter);
+  if (bag_) bag_->addRobot(robot, robot_namespace);
   return robot;
 }
 
 bool SimulatorNode::deleteRobot(const std::string& name) {
   adapters_.erase(name);
+  if (bag_) bag_->removeRobot(name);
   recording_->forget(name);
   const bool removed = simulation_->remove(name);
   malloc_trim(0);  // the robot's memory goes back to the system, not only to malloc
@@ -239,6 +243,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
 bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   simulation_->resetSimulation();
   recording_->restart();
+  if (bag_) bag_->restart();  // sim time restarts: FILE_1.bag
   step();  // time restarts at the first step, and /clock is never 0
   anchorPacing();
   return true;

@@ -9,7 +9,8 @@
 //   [the world's <physics>: 1 ms, 1; 0 = as fast as possible], ~paused [false], ~seed [0],
 //   ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless), ~snapshot_dir
 //   [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames), ~model_states_rate
-//   (gazebo_services.h), ~limits/<name> (common/limits.h: what a model or world may ask for).
+//   (gazebo_services.h), ~limits/<name> (common/limits.h: what a model or world may ask for), ~record and
+//   ~record_* (node_recording.h: a rosbag of the run in sim time).
 // Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
 //   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (gazebo_services.h).
 #pragma once
@@ -32,6 +33,7 @@
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "gazebo_services.h"
+#include "node_recording.h"
 #include "render_library.h"
 #include "robot_adapter.h"
 #include "ros_parameters.h"
@@ -90,6 +92,7 @@ class SimulatorNode final : public SimulationHost {
   ros::NodeHandle private_;
   RosParameters parameters_;  ///< what plugins read at run time; outlives the simulation
   std::unique_ptr<Simulation> simulation_;
+  std::unique_ptr<NodeRecording> bag_;  ///< ~record's; closed before the simulation goes
   FrameOwners frame_owners_;  ///< outlives the adapters, which release their frames
   std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
   std::unique_ptr<WorldApi> world_api_;  ///< before gazebo_services_, which serves it
