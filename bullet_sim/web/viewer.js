@@ -253,7 +253,11 @@ function send(message) {
 }
 
 function onMessage(event) {
-  if (event.data instanceof ArrayBuffer) return applyImage(event.data);
+  if (event.data instanceof ArrayBuffer) {
+    applyImage(event.data);
+    send({ type: 'ack' });  // the server sends the next frame or image only when this one is taken in
+    return;
+  }
   const message = JSON.parse(event.data);
   if (message.type === 'hello') {
     state.control = message.control;
@@ -262,6 +266,7 @@ function onMessage(event) {
     applyScene(message);
   } else if (message.type === 'frame') {
     applyFrame(message);
+    send({ type: 'ack' });
   } else if (message.type === 'error') {
     state.message = message.message;
     $('message').textContent = message.message;

@@ -31,6 +31,9 @@ constexpr std::chrono::seconds kViewerIdleTimeout{20};
 constexpr size_t kMaxRequestBody = 1024;   // [bytes] the page only GETs
 constexpr size_t kMaxClientMessage = 4096;  // [bytes]
 constexpr size_t kMaxPendingReplies = 8;
+/// Frames and images sent to a page that it has not acknowledged yet: a page that draws slowly (software
+/// WebGL) gets fewer frames instead of a backlog in its socket, so what it shows stays current.
+constexpr int kMaxUnacknowledged = 2;
 /// The page loads only its own files and talks only to its own server, and no other site may frame it.
 constexpr const char* kContentSecurityPolicy =
     "default-src 'self'; connect-src 'self'; img-src 'self' data: blob:; frame-ancestors 'none'";
@@ -74,6 +77,8 @@ ClientMessage parseClientMessage(const std::string& text) {
       {"reset", ViewerCommand::Kind::kReset}};
   if (const auto kind = plain.find(type); kind != plain.end()) {
     message.command = ViewerCommand{kind->second};
+  } else if (type == "ack") {
+    message.ack = true;
   } else if (type == "camera") {
     if (json.contains("name") && json["name"].is_string()) message.camera = json["name"].get<std::string>();
     else message.error = "a camera message needs a \"name\" string (\"\" for none)";
@@ -90,7 +95,7 @@ ClientMessage parseClientMessage(const std::string& text) {
       message.command = command;
     }
   } else {
-    message.error = "unknown message type [" + type + "]: use pause, resume, reset, teleop or camera";
+    message.error = "unknown message type [" + type + "]: use pause, resume, reset, teleop, camera or ack";
   }
   return message;
 }
@@ -210,18 +215,20 @@ class WebServer::Impl::ViewerSession : public std::enable_shared_from_this<Viewe
       scene_seen_ = server_.scene.sequence;
       return server_.scene.message;
     }
-    if (scene_seen_ == 0) return nullptr;  // frames name the scene's bodies
+    if (scene_seen_ == 0 || unacknowledged_ >= kMaxUnacknowledged) return nullptr;  // frames name the scene's bodies
     const auto image = camera_.empty() ? server_.images.end() : server_.images.find(camera_);
     const bool image_due = image != server_.images.end() && image->second.sequence != image_seen_;
     const bool frame_due = server_.frame.message && server_.frame.sequence != frame_seen_;
     if (frame_due && !(image_due && last_was_frame_)) {
       frame_seen_ = server_.frame.sequence;
       last_was_frame_ = true;
+      ++unacknowledged_;
       return server_.frame.message;
     }
     if (!image_due) return nullptr;
     image_seen_ = image->second.sequence;
     last_was_frame_ = false;
+    ++unacknowledged_;
     return image->second.message;
   }
 
@@ -236,7 +243,9 @@ class WebServer::Impl::ViewerSession : public std::enable_shared_from_this<Viewe
 
   void handle(const std::string& text) {
     const ClientMessage message = parseClientMessage(text);
-    if (message.camera) {
+    if (message.ack) {
+      unacknowledged_ = std::max(0, unacknowledged_ - 1);
+    } else if (message.camera) {
       server_.watch(camera_, *message.camera);
       camera_ = *message.camera;
       image_seen_ = 0;
@@ -278,6 +287,7 @@ class WebServer::Impl::ViewerSession : public std::enable_shared_from_this<Viewe
   beast::flat_buffer buffer_;
   bool writing_ = false;
   bool last_was_frame_ = false;
+  int unacknowledged_ = 0;  ///< frames and images sent and not acknowledged
   std::deque<std::shared_ptr<const Outgoing>> replies_;
   uint64_t scene_seen_ = 0, frame_seen_ = 0, image_seen_ = 0;
   std::string camera_;

@@ -51,15 +51,17 @@ struct ServedFile {
   std::string body;
 };
 
-/// What a page sent: a command for the simulation, or the camera it wants to watch ("" for none).
+/// What a page sent: a command for the simulation, the camera it wants to watch ("" for none), or that it has
+/// taken in a frame or an image.
 struct ClientMessage {
   std::optional<ViewerCommand> command;
   std::optional<std::string> camera;
+  bool ack = false;
   std::string error;  ///< why the message was refused; empty when one of the above is set
 };
 
-/// Reads a page's JSON message: {"type": "pause" | "resume" | "reset"}, {"type": "teleop", "robot": NAME,
-/// "linear": [m/s], "angular": [rad/s]} (finite numbers) or {"type": "camera", "name": NAME}.
+/// Reads a page's JSON message: {"type": "pause" | "resume" | "reset" | "ack"}, {"type": "teleop", "robot":
+/// NAME, "linear": [m/s], "angular": [rad/s]} (finite numbers) or {"type": "camera", "name": NAME}.
 ClientMessage parseClientMessage(const std::string& text);
 
 /// Whether a WebSocket upgrade whose Origin header is `origin`, sent to `host` (its Host header), may open:
