@@ -7,6 +7,7 @@ const POSITION_UNIT = 1e-4;  // [m] of a geometry's integer positions
 const TELEOP_PERIOD = 100;   // [ms] between commands while a pad button is held
 const TURN_PER_SPEED = 1.5;  // [rad/s per m/s] of the pad's turns
 const RECONNECT_DELAY = 2000;  // [ms]
+const MIN_VIEW_SIZE = 1.5;     // [m] the first view frames at least this much around a small robot
 
 const $ = (id) => document.getElementById(id);
 
@@ -148,7 +149,7 @@ function frameView(message) {
   if (robot) {
     const box = new THREE.Box3().setFromObject(robotObject(robot));
     target = box.getCenter(new THREE.Vector3());
-    size = Math.max(box.getSize(new THREE.Vector3()).length(), 0.3);
+    size = Math.max(box.getSize(new THREE.Vector3()).length(), MIN_VIEW_SIZE);
   } else if (message.bounds) {
     const [x0, y0, z0, x1, y1, z1] = message.bounds;
     target = new THREE.Vector3((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
