@@ -30,6 +30,7 @@ DEBIAN_PACKAGES=(
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-pip python3-numpy googletest libgtest-dev libgmock-dev cmake g++ make ccache
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
+  libboost-dev libjs-three chromium chromium-driver fonts-liberation python3-selenium python3-pil  # the live viewer, its test
 )
 XACRO_VERSION=2.1.1  # Noetic's dialect through the xacro package's script (xacro/xacro)
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks

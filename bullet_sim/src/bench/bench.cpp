@@ -31,6 +31,8 @@
 #include "bullet_sim/simulation/simulation.h"
 #include "bullet_sim/tools/process_stats.h"
 #include "bullet_sim/tools/urdf_edits.h"
+#include "bullet_sim/web/web_viewer.h"
+#include "bench/bench_viewer.h"
 #include "bench/bench_world.h"
 #include "tools/command_line.h"
 
@@ -44,7 +46,7 @@ constexpr char kUsage[] =
     "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
     "             [--obstacles N] [--boxes N] [--delete-cycles K] [--repeat K]\n"
-    "             [--camera WxH@HZ [--depth]] [--limit NAME=VALUE]...\n"
+    "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
     "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
@@ -70,6 +72,11 @@ constexpr char kUsage[] =
     "  rtf_camera_idle         without lidars, with a camera nobody wants (it renders nothing);\n"
     "                          camera_idle_cost_pct: the CPU time it adds to the physics-only\n"
     "                          run before it (the median of those pairs)\n"
+    "  rtf_web_viewer          with --web-viewer: with its lidars and one page open on the live\n"
+    "                          viewer (a client on its own thread that takes in every frame, as\n"
+    "                          a browser does); web_viewer_cost_pct: the wall time it adds to the\n"
+    "                          lidar run before it (the median of those pairs); web_viewer_cpu_cost_pct:\n"
+    "                          the CPU time it adds to the simulation's thread\n"
     "with the inputs, every run's figures (medians are reported) and the load warnings.\n"
     "\n"
     "--wheel-model sets <wheelModel> in the robot's drive plugin. --lidar replaces the scan of the\n"
@@ -101,6 +108,7 @@ constexpr double kPostHeight = 1.0;                 ///< [m]: lidars up to this 
 constexpr double kPostClearance = 1.5;              ///< [m] kept free around the commanded path
 constexpr uint64_t kPostSeed = 1;
 constexpr double kBoxClearance = 2.5;  ///< [m] from the start to --boxes' nearest row, on the right
+constexpr double kFirstFrameWait = 5;  ///< [wall s] --web-viewer's page gets for its first frame
 
 struct Options {
   std::string robot;
@@ -126,6 +134,7 @@ struct Options {
     bool depth = false;
   };
   std::optional<Camera> camera;
+  bool web_viewer = false;
   bool help = false;
 };
 
@@ -223,7 +232,8 @@ Options parseArguments(int argc, char** argv) {
           if (!options.camera) throw UsageError("--depth needs --camera WxH@HZ");
           options.camera->depth = true;
         },
-        false, /*flag=*/true}},
+        false, /*flag=*/true},
+       {"--web-viewer", [&](Value) { options.web_viewer = true; }, false, /*flag=*/true}},
       &options.help);
   if (options.help) return options;
   if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
@@ -524,13 +534,16 @@ struct DriveRun {
   double wall_s = 0;           ///< of the driving, the settling left out
   double cpu_s = 0;            ///< the driving's CPU time on the simulation's thread
   uint64_t camera_frames = 0;  ///< rendered while driving
+  uint64_t viewer_frames = 0;  ///< --web-viewer: the frames its page took in
   std::string wheel_model;
   Planar settled, after_spin_up, end;  ///< of the drive axle
 };
 
-/// Cameras render only when `cameras_wanted`, as when someone subscribes to them.
+/// Cameras render only when `cameras_wanted`, as when someone subscribes to them. `after_step` is called
+/// after every step of the drive.
 DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options& options,
-                   std::vector<std::string>& warnings, bool cameras_wanted = true) {
+                   std::vector<std::string>& warnings, bool cameras_wanted = true,
+                   const std::function<void(const Simulation&)>& after_step = {}) {
   DriveRun run;
   SimulationOptions simulation_options;
   simulation_options.physics.step_size = options.step;
@@ -555,12 +568,27 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
   for (long i = 0; i < steps; ++i) {
     if (i % resend == 0) (*drive.command)(Twist{{options.v, 0, 0}, {0, 0, options.w}}, simulation.time());
     simulation.step();
+    if (after_step) after_step(simulation);
     if (i + 1 == spin_up) run.after_spin_up = axlePose(robot, drive.joints);
   }
   run.wall_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
   run.end = axlePose(robot, drive.joints);
   run.camera_frames = cameraFrames(robot);
+  return run;
+}
+
+/// A drive with one page open on the live viewer, which publishes a frame after every step that one is due.
+DriveRun driveWatched(const WorldSpec& world, const ModelSpec& model, const Options& options,
+                      std::vector<std::string>& warnings) {
+  WebViewerOptions viewer_options;
+  viewer_options.page_dir = PackageResolver::fromEnvironment().packageDirectory("bullet_sim").value_or(".") + "/web";
+  WebViewer viewer(viewer_options, [](const ViewerCommand&) {});
+  const ViewerProbe page(viewer.port());
+  DriveRun run = driveOnce(world, model, options, warnings, true,
+                           [&viewer](const Simulation& simulation) { viewer.update(simulation, false); });
+  page.waitForFrames(1, kFirstFrameWait);  // a run shorter than a frame's way to the page still shows one
+  run.viewer_frames = page.frames();
   return run;
 }
 
@@ -650,7 +678,7 @@ double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x,
 /// Everything bench measures, for the report.
 struct Figures {
   std::string world_file;
-  std::vector<DriveRun> lidar_runs, physics_runs, camera_runs, idle_camera_runs;
+  std::vector<DriveRun> lidar_runs, physics_runs, camera_runs, idle_camera_runs, viewer_runs;
   std::vector<RayPattern> lidars;
   std::vector<double> rays_per_s;
   double peak_rss_before_render_mb = 0;
@@ -673,10 +701,13 @@ Figures drive(const Options& options, const ModelSpec& model, const WorldSpec& w
   const auto camera_run = [&]() {
     figures.camera_runs.push_back(driveOnce(world, withCamera(model, *options.camera), options, warnings));
   };
+  const auto viewer_run = [&]() { figures.viewer_runs.push_back(driveWatched(world, model, options, warnings)); };
   for (int i = 0; i < options.repeat; ++i) {
     if (has_lidars) figures.lidar_runs.push_back(driveOnce(world, model, options, warnings));
     if (has_lidars && options.camera) camera_run();
+    if (has_lidars && options.web_viewer) viewer_run();
     figures.physics_runs.push_back(driveOnce(world, model_without_lidars, options, warnings));
+    if (!has_lidars && options.web_viewer) viewer_run();
     if (!options.camera) continue;
     if (!has_lidars) camera_run();
     figures.idle_camera_runs.push_back(
@@ -754,6 +785,23 @@ void reportCamera(Json& json, const Options& options, const Figures& figures) {
   json["rtf_camera_idle_runs"] = figureList(realTimeFactors(options, figures.idle_camera_runs));
 }
 
+/// --web-viewer's figures: RTF with a page open, and the wall time it adds to the run before it.
+void reportViewer(Json& json, const Options& options, const Figures& figures) {
+  const std::vector<DriveRun>& base = figures.lidar_runs.empty() ? figures.physics_runs : figures.lidar_runs;
+  std::vector<double> cost_pct, cpu_cost_pct, frames;
+  for (size_t i = 0; i < figures.viewer_runs.size(); ++i) {
+    cost_pct.push_back(100 * (figures.viewer_runs[i].wall_s / base.at(i).wall_s - 1));
+    cpu_cost_pct.push_back(100 * (figures.viewer_runs[i].cpu_s / base.at(i).cpu_s - 1));
+    frames.push_back(static_cast<double>(figures.viewer_runs[i].viewer_frames));
+  }
+  json["rtf_web_viewer"] = figure(median(realTimeFactors(options, figures.viewer_runs)));
+  json["web_viewer_cost_pct"] = figure(median(cost_pct));
+  json["web_viewer_cpu_cost_pct"] = figure(median(cpu_cost_pct));
+  json["web_viewer_frames_per_run"] = figure(median(frames));
+  json["rtf_web_viewer_runs"] = figureList(realTimeFactors(options, figures.viewer_runs));
+  json["web_viewer_cost_pct_runs"] = figureList(cost_pct);
+}
+
 /// The inputs, then the figures (medians of the runs), then every run's figures and the warnings.
 Json report(const Options& options, const Figures& figures) {
   const bool has_lidars = !figures.lidar_runs.empty();
@@ -788,6 +836,7 @@ Json report(const Options& options, const Figures& figures) {
   json["rtf_lidar"] = figure(median(rtf(figures.lidar_runs)));
   json["rays_per_s"] = figure(median(figures.rays_per_s));
   if (options.camera) reportCamera(json, options, figures);
+  if (options.web_viewer) reportViewer(json, options, figures);
   json["render_ms"] = figure(median(render.render_ms));
   json["png_ms"] = figure(median(render.png_ms));
   json["startup_s"] = first.startup_s;

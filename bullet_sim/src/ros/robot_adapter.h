@@ -49,6 +49,10 @@ class RobotAdapter {
   /// Connects the port groups that appeared since the last call and drops those that went.
   void refreshPorts();
 
+  /// The resolved name of one of `plugin`'s topics (relative to its namespace).
+  std::string topicName(const Plugin& plugin, const std::string& topic) const {
+    return handleFor(plugin.robotNamespace()).resolveName(topic);
+  }
   /// The topics this robot advertises and subscribes, for the log.
   const std::vector<std::string>& topics() const { return topics_; }
 

@@ -98,6 +98,28 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   services_.push_back(private_.advertiseService("pause_physics", &SimulatorNode::pause, this));
   services_.push_back(private_.advertiseService("unpause_physics", &SimulatorNode::unpause, this));
   services_.push_back(private_.advertiseService("snapshot", &SimulatorNode::snapshot, this));
+  web_ = startWebView();
+}
+
+std::unique_ptr<NodeWebView> SimulatorNode::startWebView() {
+  NodeWebView::Actions actions;
+  actions.pause = [this] { paused_ = true; };
+  actions.resume = [this] { setPaused(false); };
+  actions.reset = [this] {
+    std_srvs::Empty::Request request;
+    std_srvs::Empty::Response response;
+    resetSimulation(request, response);
+  };
+  actions.velocity_topic = [this](const std::string& robot) { return velocityTopic(robot); };
+  return NodeWebView::fromParameters(private_, std::move(actions));
+}
+
+std::string SimulatorNode::velocityTopic(const std::string& robot) const {
+  const Robot* found = simulation_->robot(robot);
+  const auto adapter = adapters_.find(robot);
+  if (!found || adapter == adapters_.end()) return "";
+  const auto inputs = found->inputs<Twist>();
+  return inputs.empty() ? "" : adapter->second->topicName(*inputs.front().plugin, inputs.front().topic);
 }
 
 void SimulatorNode::run() {
@@ -111,6 +133,7 @@ void SimulatorNode::run() {
     queue.callAvailable();  // commands and service calls land between steps
     refreshPorts();         // a controller loaded while paused is heard at once
     if (paused_) {
+      if (web_) web_->update(*simulation_, paused_);
       publishClock();
       queue.callAvailable(clock_period_);
       continue;
@@ -140,6 +163,7 @@ void SimulatorNode::step() {
 
 void SimulatorNode::afterStep() {
   if (observer_) observer_(*simulation_);
+  if (web_) web_->update(*simulation_, paused_);
   if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
     if (!writeSnapshot(
@@ -182,6 +206,7 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
   for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
   adapters_[name] = std::move(adapter);
   if (bag_) bag_->addRobot(robot, robot_namespace);
+  if (web_) web_->modelsChanged();
   return robot;
 }
 
@@ -190,6 +215,7 @@ bool SimulatorNode::deleteRobot(const std::string& name) {
   if (bag_) bag_->removeRobot(name);
   recording_->forget(name);
   const bool removed = simulation_->remove(name);
+  if (web_) web_->modelsChanged();
   malloc_trim(0);  // the robot's memory goes back to the system, not only to malloc
   return removed;
 }

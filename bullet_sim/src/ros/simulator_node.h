@@ -10,7 +10,8 @@
 //   ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless), ~snapshot_dir
 //   [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames), ~model_states_rate
 //   (gazebo_services.h), ~limits/<name> (common/limits.h: what a model or world may ask for), ~record and
-//   ~record_* (node_recording.h: a rosbag of the run in sim time).
+//   ~record_* (node_recording.h: a rosbag of the run in sim time), ~web_port and the live viewer's others
+//   (web_view.h).
 // Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
 //   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (gazebo_services.h).
 #pragma once
@@ -37,6 +38,7 @@
 #include "render_library.h"
 #include "robot_adapter.h"
 #include "ros_parameters.h"
+#include "web_view.h"
 
 namespace bullet_sim {
 
@@ -87,6 +89,10 @@ class SimulatorNode final : public SimulationHost {
 
   /// Connects and drops the ports that came and went (ros_control's controllers) since the last call.
   void refreshPorts();
+  /// The live viewer of ~web_port, with what its pages may do; nullptr when off or when it cannot serve.
+  std::unique_ptr<NodeWebView> startWebView();
+  /// The resolved name of a robot's velocity input, or "" when it has none.
+  std::string velocityTopic(const std::string& robot) const;
 
   ros::NodeHandle node_;
   ros::NodeHandle private_;
@@ -112,6 +118,7 @@ class SimulatorNode final : public SimulationHost {
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
   std::function<void(const Simulation&)> observer_;
+  std::unique_ptr<NodeWebView> web_;  ///< destroyed first: its commands call the node
 };
 
 }  // namespace bullet_sim
