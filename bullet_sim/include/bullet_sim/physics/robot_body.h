@@ -116,6 +116,8 @@ class PhysicsRobot : public RobotBody {
   virtual void setJointPositions(const JointPositions& joints) = 0;
   /// The world's step is now `step_size` [s]; the motors' limits are impulses per step.
   virtual void setStepSize(double step_size) = 0;
+  /// [J] what the wheel model's springs hold now (the `raycast` suspension's 1/2 k x^2); 0 for none.
+  virtual double elasticEnergy() const { return 0; }
 };
 
 }  // namespace bullet_sim

@@ -1,0 +1,681 @@
+#include "bullet_sim/tools/strike_matrix.h"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <sstream>
+
+#include "bullet_sim/description/model_geometry.h"
+#include "bullet_sim/description/package_resolver.h"
+#include "bullet_sim/description/parameter_tree.h"
+#include "bullet_sim/plugins/ackermann_drive.h"
+#include "bullet_sim/plugins/ros_control/diff_drive_controller.h"
+#include "bullet_sim/plugins/ros_control/ros_control_plugin.h"
+#include "bullet_sim/plugins/wheeled_drive.h"
+
+namespace bullet_sim {
+
+namespace {
+
+constexpr double kWallThickness = 0.1;   ///< [m]
+constexpr double kPanelThickness = 0.02;  ///< [m]
+constexpr double kTargetLength = 6.0;    ///< [m] of a wall or panel, across the robot's path
+constexpr double kPostWidth = 0.4;       ///< [m] of a door frame's post, across the path
+constexpr double kTargetHeight = 2.5;    ///< [m]
+constexpr double kSettleTime = 0.3;      ///< [s] at rest after the spawn
+constexpr double kGivenGap = 0.5;        ///< [m] before the target where a slow robot is given its speed
+constexpr double kCoastGap = 0.3;        ///< [m] before the target where a coasting robot is given it
+constexpr double kReachedFraction = 0.95;  ///< of the commanded speed: reached
+constexpr double kAfterContact = 1.0;    ///< [s] the command runs after the first contact
+constexpr double kWatchAfter = 0.5;      ///< [s] watched after the command ends
+constexpr double kSamplePeriod = 0.05;   ///< [s] between path samples
+constexpr double kPointSpacing = 0.01;   ///< [m] between the sampled points of a small surface
+constexpr int kMostDivisions = 24;       ///< of a large surface's edge
+constexpr double kFirstTouch = 0.002;    ///< [m] points this much behind the first to meet the target meet it too
+constexpr double kSupportBand = 0.003;   ///< [m] points this close to the lowest one rest on the ground
+constexpr double kMotorsOffTorque = 1e-9;  ///< [N m] the plugins refuse 0
+constexpr double kGravity = 9.81;        ///< [m/s^2]
+// The rules (issue 28).
+constexpr double kSlowTilt = 0.1;    ///< [rad] upright at up to kSlowSpeed
+constexpr double kFastTilt = 0.35;   ///< [rad] upright above it
+constexpr double kSlowSpeed = 0.5;   ///< [m/s]
+constexpr double kMaxRise = 0.05;    ///< [m] no leap
+constexpr double kFlingSlack = 0.05;  ///< [m] beyond the command's path
+constexpr double kCorrectingSpeed = 0.1;  ///< [m/s] the depenetration cap: energy allowance 1/2 M v^2
+constexpr double kEnergyFraction = 0.01;  ///< and 1 % of the start
+
+/// A point on the surface of a robot's collision, in its part's frame.
+struct SurfacePoint {
+  Eigen::Vector3d position;
+  int part;
+  bool driven;  ///< on a wheel the drive turns
+};
+
+/// How many parts to cut `length` [m] into: kPointSpacing apart, between `fewest` and `most`.
+int divisions(double length, int fewest, int most) {
+  return std::clamp(static_cast<int>(std::ceil(length / kPointSpacing)), fewest, most);
+}
+
+void addGrid(const Eigen::Vector3d& corner, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+             std::vector<Eigen::Vector3d>& points) {
+  const int na = divisions(a.norm(), 1, kMostDivisions), nb = divisions(b.norm(), 1, kMostDivisions);
+  for (int i = 0; i <= na; ++i) {
+    for (int j = 0; j <= nb; ++j) points.push_back(corner + a * i / na + b * j / nb);
+  }
+}
+
+/// Points on a shape's surface, in its collision frame: kPointSpacing apart on small shapes, at most
+/// kMostDivisions along an edge of large ones (a box's faces), a cylinder's caps as rings.
+std::vector<Eigen::Vector3d> surfacePoints(const Shape& shape) {
+  std::vector<Eigen::Vector3d> points;
+  switch (shape.type) {
+    case Shape::Type::kBox: {
+      const Eigen::Vector3d e = shape.box_size / 2;
+      for (int axis = 0; axis < 3; ++axis) {
+        const Eigen::Vector3d u = Eigen::Vector3d::Unit((axis + 1) % 3) * 2 * e[(axis + 1) % 3];
+        const Eigen::Vector3d v = Eigen::Vector3d::Unit((axis + 2) % 3) * 2 * e[(axis + 2) % 3];
+        for (double side : {-1.0, 1.0}) {
+          Eigen::Vector3d corner = -e;
+          corner[axis] = side * e[axis];
+          addGrid(corner, u, v, points);
+        }
+      }
+      break;
+    }
+    case Shape::Type::kCylinder: {
+      const double r = shape.radius, half = shape.length / 2;
+      const int around = divisions(2 * M_PI * r, 16, 2 * kMostDivisions);
+      const int along = divisions(shape.length, 1, kMostDivisions);
+      for (int k = 0; k < around; ++k) {
+        const double angle = 2 * M_PI * k / around;
+        const Eigen::Vector2d rim = r * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+        for (int i = 0; i <= along; ++i) points.emplace_back(rim.x(), rim.y(), -half + shape.length * i / along);
+        for (double z : {-half, half}) points.emplace_back(rim.x() / 2, rim.y() / 2, z);
+      }
+      break;
+    }
+    case Shape::Type::kSphere: {
+      const int count = std::clamp(static_cast<int>(4 * M_PI * shape.radius * shape.radius /
+                                                    (kPointSpacing * kPointSpacing)), 64, 4 * kMostDivisions * kMostDivisions);
+      const double golden = M_PI * (3 - std::sqrt(5.0));
+      for (int i = 0; i < count; ++i) {  // a Fibonacci sphere
+        const double z = 1 - 2 * (i + 0.5) / count, ring = std::sqrt(1 - z * z);
+        points.push_back(shape.radius * Eigen::Vector3d(ring * std::cos(golden * i), ring * std::sin(golden * i), z));
+      }
+      break;
+    }
+    case Shape::Type::kMesh:
+      if (shape.mesh) points = shape.mesh->vertices;
+      break;
+    case Shape::Type::kPlane:
+      break;
+  }
+  return points;
+}
+
+/// How the matrix drives the robot, whatever drives it.
+struct Drive {
+  std::vector<std::string> joints;  ///< the driven wheels'
+  double torque = 0;                ///< [N m] per driven wheel
+  double radius = 0;                ///< [m] of the driven wheels
+  double acceleration = 0;          ///< [m/s^2] the drive's ramp; 0 = none
+  double max_speed = std::numeric_limits<double>::infinity();  ///< [m/s] the drive's cap
+  std::function<void(double speed, double sim_time)> command;
+};
+
+double effortLimit(const ModelSpec& model, const std::string& joint) {
+  const JointSpec* spec = model.joint(joint);
+  return spec && std::isfinite(spec->effort) ? spec->effort : 0.0;
+}
+
+double wheelRadiusOf(const ModelSpec& model, const std::string& joint) {
+  const JointSpec* spec = model.joint(joint);
+  const LinkSpec* link = spec ? model.link(spec->child) : nullptr;
+  return link && !link->collisions.empty() ? link->collisions.front().shape.radius : 0.0;
+}
+
+/// The robot's ros_control diff drive: the controller's wheels, limits and cmd_vel.
+std::optional<Drive> rosControlDrive(Robot& robot, const ParameterTree& parameters, double time) {
+  const auto controls = robot.pluginsOf<RosControl>();
+  if (controls.empty()) return std::nullopt;
+  ControllerManager& manager = controls.front()->controllerManager();
+  SwitchControllerRequest start;
+  start.strictness = SwitchControllerRequest::kStrict;
+  for (const auto& name : parameters.keys()) {
+    if (!parameters.has(name + "/type")) continue;
+    const std::string problem = manager.load(name, nullptr);
+    if (!problem.empty()) throw std::runtime_error("controller [" + name + "]: " + problem);
+    start.start.push_back(name);
+  }
+  const std::string problem = manager.switchControllers(start, time, nullptr);
+  if (!problem.empty()) throw std::runtime_error("starting the controllers: " + problem);
+  for (const auto& name : start.start) {
+    auto* controller = dynamic_cast<DiffDriveController*>(manager.find(name));
+    if (!controller) continue;
+    Drive drive;
+    const ParameterTree config = parameters.at(name);
+    drive.joints = config.texts("left_wheel");
+    for (const auto& joint : config.texts("right_wheel")) drive.joints.push_back(joint);
+    const ModelSpec& model = robot.body().spec();
+    drive.torque = effortLimit(model, drive.joints.front());
+    drive.radius = wheelRadiusOf(model, drive.joints.front());
+    if (config.flag("linear/x/has_acceleration_limits", false))
+      drive.acceleration = config.number("linear/x/max_acceleration", 0);
+    if (config.flag("linear/x/has_velocity_limits", false))
+      drive.max_speed = config.number("linear/x/max_velocity", drive.max_speed);
+    for (const InputPort& port : controller->ports().inputs) {
+      if (const auto* handler = std::get_if<InputHandler<Twist>>(&port.sink)) {
+        drive.command = [handler](double speed, double sim_time) {
+          Twist twist;
+          twist.linear.x() = speed;
+          (*handler)(twist, sim_time);
+        };
+      }
+    }
+    return drive;
+  }
+  throw std::runtime_error("no diff_drive_controller/DiffDriveController among the controllers");
+}
+
+Drive driveOf(Robot& robot, const ParameterTree& parameters, double time) {
+  if (auto drive = rosControlDrive(robot, parameters, time)) return *drive;
+  Drive drive;
+  const auto drives = robot.pluginsOf<DrivePlugin>();
+  if (drives.empty()) throw std::runtime_error("the robot has no drive plugin nor ros_control to drive it");
+  DrivePlugin* plugin = drives.front();
+  drive.command = [plugin](double speed, double sim_time) { plugin->setCommand(speed, 0, sim_time); };
+  if (const auto* wheeled = dynamic_cast<WheeledDrive*>(plugin)) {
+    const DriveConfig& config = wheeled->config();
+    drive.joints = config.left_joints;
+    drive.joints.insert(drive.joints.end(), config.right_joints.begin(), config.right_joints.end());
+    drive.torque = config.torque;
+    drive.radius = config.wheel_diameter / 2;
+    drive.acceleration = config.acceleration;
+  } else if (const auto* ackermann = dynamic_cast<AckermannDrive*>(plugin)) {
+    const AckermannConfig& config = ackermann->config();
+    drive.joints = {config.rear_left_joint, config.rear_right_joint};
+    drive.torque = config.rear_left.effort;
+    drive.radius = config.geometry.wheel_radius;
+    drive.max_speed = config.max_speed;
+  } else {
+    throw std::runtime_error("the robot's drive plugin is neither a wheeled nor an Ackermann drive");
+  }
+  return drive;
+}
+
+/// The robot's collision surfaces, sampled, in its parts' frames.
+std::vector<SurfacePoint> samplePoints(const RobotBody& body, const Drive& drive) {
+  std::vector<std::string> driven_links;
+  for (const auto& joint : drive.joints) driven_links.push_back(body.spec().joint(joint)->child);
+  std::vector<SurfacePoint> points;
+  const auto& parts = body.parts();
+  for (size_t k = 0; k < parts.size(); ++k) {
+    for (size_t c = 0; c < parts[k].collisions.size(); ++c) {
+      const Collision& collision = parts[k].collisions[c];
+      const bool driven = std::find(driven_links.begin(), driven_links.end(), parts[k].sources[c].link) !=
+                          driven_links.end();
+      for (const auto& point : surfacePoints(collision.shape))
+        points.push_back({collision.origin * point, static_cast<int>(k), driven});
+    }
+  }
+  return points;
+}
+
+std::vector<Eigen::Vector3d> worldPoints(const RobotBody& body, const std::vector<SurfacePoint>& points) {
+  std::vector<Eigen::Isometry3d> poses;
+  for (size_t k = 0; k < body.parts().size(); ++k) poses.push_back(body.partPose(static_cast<int>(k)));
+  std::vector<Eigen::Vector3d> world;
+  world.reserve(points.size());
+  for (const auto& point : points) world.push_back(poses[point.part] * point.position);
+  return world;
+}
+
+/// A target as a box: its pose (x along its thickness, towards the far side) and half extents.
+struct TargetBox {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();
+
+  Eigen::Vector3d normal() const { return pose.linear().col(0); }  ///< into the target
+  /// How far `point` travels along `direction` to meet the box; +infinity when it never does.
+  double distanceAlong(const Eigen::Vector3d& point, const Eigen::Vector3d& direction) const {
+    const Eigen::Vector3d p = pose.inverse() * point, d = pose.linear().transpose() * direction;
+    double enter = 0, leave = std::numeric_limits<double>::infinity();
+    for (int axis = 0; axis < 3; ++axis) {
+      if (std::abs(d[axis]) < 1e-12) {
+        if (std::abs(p[axis]) > half[axis]) return std::numeric_limits<double>::infinity();
+        continue;
+      }
+      double a = (-half[axis] - p[axis]) / d[axis], b = (half[axis] - p[axis]) / d[axis];
+      if (a > b) std::swap(a, b);
+      enter = std::max(enter, a);
+      leave = std::min(leave, b);
+    }
+    return enter <= leave ? enter : std::numeric_limits<double>::infinity();
+  }
+  /// How deep `point` is inside the box (<= 0 outside).
+  double depth(const Eigen::Vector3d& point) const {
+    const Eigen::Vector3d p = (pose.inverse() * point).cwiseAbs();
+    return (half - p).minCoeff();
+  }
+  /// Whether `point` lies beyond the far face, within the box's extent across (less a margin: a robot that
+  /// slides past a post's end may graze it).
+  bool beyond(const Eigen::Vector3d& point) const {
+    constexpr double kGraze = 0.01;  // [m]
+    const Eigen::Vector3d p = pose.inverse() * point;
+    return p.x() > half.x() && std::abs(p.y()) < half.y() - kGraze && std::abs(p.z()) < half.z();
+  }
+};
+
+/// The target of `cell` (its size; parked far away).
+TargetBox targetShape(const StrikeCell& cell) {
+  TargetBox box;
+  const bool post = cell.target == StrikeTarget::kDoorEdge;
+  const double thickness = cell.target == StrikeTarget::kPanel ? kPanelThickness : kWallThickness;
+  box.half = Eigen::Vector3d(thickness, post ? kPostWidth : kTargetLength, kTargetHeight) / 2;
+  box.pose.translation() = Eigen::Vector3d(1000, 1000, box.half.z());
+  return box;
+}
+
+/// The target of `cell`, turned by its angle from `heading` and placed so that the robot's first point to
+/// meet it travels `gap` along `heading`. A wall or panel spans the robot's path; a door frame's post has its
+/// near vertical edge a quarter of the robot's width in from the robot's left side, and reaches further left.
+TargetBox placeTarget(const StrikeCell& cell, const std::vector<Eigen::Vector3d>& points,
+                      const Eigen::Vector3d& heading, double gap) {
+  TargetBox box = targetShape(cell);
+  const double yaw = std::atan2(heading.y(), heading.x()) + cell.angle;
+  box.pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(heading);
+  double low = std::numeric_limits<double>::infinity(), high = -low, ahead = -low;
+  for (const auto& p : points) {
+    low = std::min(low, p.dot(left));
+    high = std::max(high, p.dot(left));
+    ahead = std::max(ahead, p.dot(heading));
+  }
+  const bool post = cell.target == StrikeTarget::kDoorEdge;
+  // A point on the robot's path: the post's near edge, or the wall's middle.
+  const Eigen::Vector3d on_path = (post ? high - (high - low) / 4 : (low + high) / 2) * left + (ahead + 1) * heading;
+  const Eigen::Vector3d from_centre(-box.half.x(), post ? -box.half.y() : 0.0, 0.0);
+  box.pose.translation() = on_path - box.pose.linear() * from_centre + box.half.z() * Eigen::Vector3d::UnitZ();
+  double first = std::numeric_limits<double>::infinity();
+  for (const auto& p : points) first = std::min(first, box.distanceAlong(p, heading));
+  box.pose.translation() += (gap - first) * heading;
+  return box;
+}
+
+WorldModelSpec targetModel(const TargetBox& box) {
+  Shape shape;
+  shape.type = Shape::Type::kBox;
+  shape.box_size = 2 * box.half;
+  WorldModelSpec model;
+  model.name = "strike_target";
+  model.is_static = true;
+  model.pose = box.pose;
+  model.collisions.push_back({Eigen::Isometry3d::Identity(), shape, "strike_target::link::collision"});
+  model.visuals.push_back({Eigen::Isometry3d::Identity(), shape, Eigen::Vector4d(0.8, 0.8, 0.75, 1), ""});
+  return model;
+}
+
+}  // namespace
+
+std::string targetName(StrikeTarget target) {
+  switch (target) {
+    case StrikeTarget::kWall: return "wall";
+    case StrikeTarget::kDoorEdge: return "door_edge";
+    case StrikeTarget::kPanel: return "panel";
+  }
+  return "?";
+}
+
+std::string cellName(const StrikeRobot& robot, const StrikeCell& cell) {
+  std::ostringstream name;
+  name << robot.name << " " << cell.wheel_model << " " << cell.step * 1000 << "ms " << cell.speed << "m/s "
+       << std::lround(cell.angle * 180 / M_PI) << "deg " << targetName(cell.target) << (cell.coast ? " coast" : "");
+  return name.str();
+}
+
+double robotMass(const ModelSpec& model) {
+  double mass = 0;
+  for (const auto& link : model.links) mass += link.inertial ? link.inertial->mass : 0.0;
+  return mass;
+}
+
+double robotEnergy(const Robot& robot, const Eigen::Vector3d& gravity) {
+  const PhysicsRobot& body = robot.body();
+  double energy = body.elasticEnergy();
+  for (const auto& link : body.spec().links) {
+    if (!link.inertial || link.inertial->mass <= 0) continue;
+    const Eigen::Isometry3d pose = body.linkPose(link.name);
+    const Eigen::Vector3d omega = body.linkAngularVelocity(link.name);
+    const Eigen::Vector3d com = pose * link.inertial->com;
+    const Eigen::Vector3d velocity = body.linkLinearVelocity(link.name) + omega.cross(com - pose.translation());
+    const Eigen::Matrix3d inertia = pose.linear() * link.inertial->inertia * pose.linear().transpose();
+    const double mass = link.inertial->mass;
+    energy += 0.5 * mass * velocity.squaredNorm() + 0.5 * omega.dot(inertia * omega) - mass * gravity.dot(com);
+  }
+  return energy;
+}
+
+namespace {
+
+/// Sets `tag` to `text` in every plugin whose filename is one of `filenames`.
+std::string withPluginTag(const std::string& urdf, const std::vector<std::string>& filenames,
+                          const std::function<std::string(const std::string& filename)>& tag,
+                          const std::string& text) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
+  for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
+       gazebo = gazebo->NextSiblingElement("gazebo")) {
+    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin; plugin = plugin->NextSiblingElement("plugin")) {
+      const std::string filename = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
+      if (std::find(filenames.begin(), filenames.end(), filename) == filenames.end()) continue;
+      const std::string name = tag(filename);
+      if (name.empty()) continue;
+      tinyxml2::XMLElement* element = plugin->FirstChildElement(name.c_str());
+      (element ? element : plugin->InsertNewChildElement(name.c_str()))->SetText(text.c_str());
+    }
+  }
+  tinyxml2::XMLPrinter printer;
+  document.Print(&printer);
+  return printer.CStr();
+}
+
+}  // namespace
+
+std::string withStrikeWheelModel(const std::string& urdf, const std::string& wheel_model) {
+  return withPluginTag(urdf,
+                       {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so",
+                        "libgazebo_ros_ackermann_drive.so", "libgazebo_ros_control.so"},
+                       [](const std::string&) { return "wheelModel"; }, wheel_model);
+}
+
+std::string withMotorsOff(const std::string& urdf) {
+  std::ostringstream torque;
+  torque << kMotorsOffTorque;
+  return withPluginTag(urdf, {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so"},
+                       [](const std::string& filename) {
+                         return filename == "libgazebo_ros_diff_drive.so" ? "wheelTorque" : "torque";
+                       },
+                       torque.str());
+}
+
+namespace {
+
+/// The robot settled on the ground, as the bounds see it.
+struct Settled {
+  Eigen::Isometry3d root = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d heading = Eigen::Vector3d::UnitX();  ///< its root's x, level
+  std::vector<Eigen::Vector3d> points;                 ///< world, parallel to the sampled points
+  double ground = 0;                                   ///< [m] its lowest point's height
+  MassProperties mass;                                 ///< world frame
+  double friction = 1;                                 ///< of its driven wheels
+};
+
+Settled settledState(const Robot& robot, const std::vector<SurfacePoint>& points, const Drive& drive) {
+  const PhysicsRobot& body = robot.body();
+  const ModelSpec& model = body.spec();
+  Settled settled;
+  settled.root = body.linkPose(model.root);
+  settled.heading = Eigen::Vector3d(settled.root.linear()(0, 0), settled.root.linear()(1, 0), 0).normalized();
+  settled.points = worldPoints(body, points);
+  settled.ground = std::numeric_limits<double>::infinity();
+  for (const auto& p : settled.points) settled.ground = std::min(settled.ground, p.z());
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> placed;
+  for (const auto& link : model.links) placed.emplace_back(link.name, body.linkPose(link.name));
+  settled.mass = combineInertia(model, placed);
+  const LinkSpec* wheel = model.link(model.joint(drive.joints.front())->child);
+  settled.friction = wheel ? wheel->surface.mu1 : 1.0;
+  return settled;
+}
+
+StrikeBounds strikeBounds(const Settled& settled, const std::vector<SurfacePoint>& points, const Drive& drive,
+                          const TargetBox& target, const StrikeCell& cell) {
+  StrikeBounds bounds;
+  const Eigen::Vector3d n = target.normal(), com = settled.mass.com;
+  const double m = settled.mass.mass, weight = m * kGravity;
+  bounds.mass = m;
+  bounds.com_height = com.z() - settled.ground;
+  // The support edges along n, and whether the rear one is driven.
+  double driven_rear = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = settled.points[i];
+    if (p.z() > settled.ground + kSupportBand) continue;
+    const double along = (p - com).dot(n);
+    bounds.front = std::max(bounds.front, along);
+    bounds.rear = std::max(bounds.rear, -along);
+    if (points[i].driven) driven_rear = std::max(driven_rear, -along);
+  }
+  bounds.rear_driven = driven_rear > bounds.rear - 0.01;
+  // Where the robot first meets the target.
+  std::vector<double> reach(points.size());
+  double first = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < points.size(); ++i) first = std::min(first, reach[i] = target.distanceAlong(settled.points[i], settled.heading));
+  double height_sum = 0;
+  int touching = 0, driven_parts_front = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (reach[i] > first + kFirstTouch) continue;
+    height_sum += settled.points[i].z() - settled.ground;
+    ++touching;
+    bounds.wheel_first |= points[i].driven;
+  }
+  bounds.contact_height = touching ? height_sum / touching : 0;
+  // Impact: about the front edge when struck below the centre of mass, the rear one when above.
+  const double h = bounds.com_height, lever = h - bounds.contact_height;
+  const double d = lever > 0 ? bounds.front : bounds.rear;
+  const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ().cross(n).normalized();
+  bounds.pitch_inertia = axis.dot(settled.mass.inertia * axis) + m * (d * d + h * h);
+  const double normal_speed = cell.speed * std::cos(cell.angle);
+  const double omega = m * normal_speed * std::abs(lever) / bounds.pitch_inertia;
+  bounds.impact_energy = 0.5 * bounds.pitch_inertia * omega * omega;
+  bounds.barrier = weight * (std::hypot(d, h) - h);
+  if (std::abs(lever) * std::cos(cell.angle) > 1e-9)
+    bounds.tip_speed = std::sqrt(2 * bounds.barrier * bounds.pitch_inertia) / (m * std::abs(lever) * std::cos(cell.angle));
+  bounds.impact_tips = bounds.impact_energy > bounds.barrier;
+  // Stall: the wheels' push against the target's reaction at z_c.
+  const double wheels = drive.radius > 0 ? drive.torque * drive.joints.size() / drive.radius : 0.0;
+  bounds.push = std::min(settled.friction * weight, wheels) * std::cos(cell.angle);
+  bounds.stall_tips = bounds.rear_driven && bounds.push * bounds.contact_height > weight * bounds.rear;
+  // Climbing: the struck wheel's share of the weight, by the lever rule, split among the front supports.
+  if (bounds.wheel_first) {
+    std::vector<int> front_parts;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (settled.points[i].z() > settled.ground + kSupportBand || (settled.points[i] - com).dot(n) <= 0) continue;
+      if (std::find(front_parts.begin(), front_parts.end(), points[i].part) == front_parts.end())
+        front_parts.push_back(points[i].part);
+    }
+    driven_parts_front = std::max<int>(1, static_cast<int>(front_parts.size()));
+    bounds.wheel_load = weight * bounds.rear / (bounds.front + bounds.rear) / driven_parts_front;
+    bounds.climbs = bounds.push >= bounds.wheel_load;
+  }
+  return bounds;
+}
+
+}  // namespace
+
+namespace {
+
+/// Follows a run step by step: tilt, rise, penetration, path, energy.
+class StrikeWatch {
+ public:
+  StrikeWatch(const Robot& robot, const std::vector<SurfacePoint>& points, const Settled& settled,
+              const TargetBox& target)
+      : robot_(robot), points_(points), settled_(settled), target_(target), last_sample_(settled.root.translation()) {
+    first_reach_ = std::numeric_limits<double>::infinity();
+    for (const auto& p : settled.points) first_reach_ = std::min(first_reach_, target.distanceAlong(p, settled.heading));
+  }
+
+  /// How far the robot still has to go to meet the target [m]: estimated from its travel while far, exact
+  /// (over every point) when close.
+  double gap() {
+    const Eigen::Vector3d root = robot_.body().linkPose(robot_.body().spec().root).translation();
+    const double estimate = first_reach_ - (root - settled_.root.translation()).dot(settled_.heading);
+    if (estimate > kNearGap) return estimate;
+    double exact = std::numeric_limits<double>::infinity();
+    for (const auto& p : worldPoints(robot_.body(), points_)) exact = std::min(exact, target_.distanceAlong(p, settled_.heading));
+    return exact;
+  }
+
+  /// After each step.
+  void observe(StrikeOutcome& outcome, double time, bool close) {
+    const PhysicsRobot& body = robot_.body();
+    const Eigen::Isometry3d root = body.linkPose(body.spec().root);
+    const Eigen::Vector3d up = root.linear() * settled_.root.linear().transpose().col(2);
+    outcome.max_tilt = std::max(outcome.max_tilt, std::acos(std::clamp(up.z(), -1.0, 1.0)));
+    outcome.root_rise = std::max(outcome.root_rise, root.translation().z() - settled_.root.translation().z());
+    if (close) {
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const auto& p : worldPoints(body, points_)) {
+        lowest = std::min(lowest, p.z());
+        outcome.penetration = std::max(outcome.penetration, target_.depth(p));
+        outcome.through |= target_.beyond(p);
+      }
+      outcome.rise = std::max(outcome.rise, lowest - settled_.ground);
+      outcome.through |= target_.depth(root.translation()) > 0 || target_.beyond(root.translation());
+    }
+    if (time + 1e-9 >= next_sample_) {
+      outcome.path += (root.translation() - last_sample_).norm();
+      last_sample_ = root.translation();
+      next_sample_ += kSamplePeriod;
+    }
+  }
+
+  static constexpr double kNearGap = 0.05;  ///< [m] closer than this, every point is watched every step
+
+ private:
+  const Robot& robot_;
+  const std::vector<SurfacePoint>& points_;
+  const Settled& settled_;
+  const TargetBox& target_;
+  double first_reach_;
+  Eigen::Vector3d last_sample_;
+  double next_sample_ = kSamplePeriod;
+};
+
+/// The command as the drive ramps it towards `target` [m/s], at most its cap, one step of `dt` on.
+double ramped(double command, double target, const Drive& drive, double dt) {
+  target = std::min(target, drive.max_speed);
+  if (drive.acceleration <= 0) return target;
+  return command + std::clamp(target - command, -drive.acceleration * dt, drive.acceleration * dt);
+}
+
+/// [m] the robot needs to reach `speed`: at the drive's ramp, or at 0.3 g when it has none.
+double runUp(const Drive& drive, double speed) {
+  const double acceleration = drive.acceleration > 0 ? drive.acceleration : 0.3 * kGravity;
+  return speed * speed / (2 * acceleration) + 0.1;
+}
+
+void judge(const StrikeCell& cell, double start_energy, StrikeOutcome& outcome) {
+  const StrikeBounds& b = outcome.bounds;
+  auto fail = [&](const std::string& what, double value, double limit) {
+    std::ostringstream text;
+    text << what << " " << value << " (limit " << limit << ")";
+    outcome.failures.push_back(text.str());
+  };
+  if (!outcome.reached) outcome.failures.push_back("never met the target");
+  if (outcome.through) outcome.failures.push_back("passed through the target");
+  if (outcome.path > outcome.command_path + kFlingSlack) fail("flung: path [m]", outcome.path, outcome.command_path + kFlingSlack);
+  if (cell.coast) {
+    outcome.energy_allowance = 0.5 * b.mass * kCorrectingSpeed * kCorrectingSpeed + kEnergyFraction * std::abs(start_energy);
+    if (outcome.energy_gain > outcome.energy_allowance) fail("energy gained [J]", outcome.energy_gain, outcome.energy_allowance);
+  }
+  if (b.climbs || cell.coast) return;  // climbing is physical; a coasting robot is judged by its energy
+  if (b.tips()) {
+    const double edge = b.impact_tips ? (b.com_height > b.contact_height ? b.front : b.rear) : b.rear;
+    const double over = std::atan2(edge, b.com_height);
+    if (outcome.max_tilt < over) fail("did not tip over as the bounds say: tilt [rad]", outcome.max_tilt, over);
+    return;
+  }
+  const double tilt = cell.speed <= kSlowSpeed + 1e-9 ? kSlowTilt : kFastTilt;
+  if (outcome.max_tilt > tilt) fail("tilted [rad]", outcome.max_tilt, tilt);
+  if (outcome.rise > kMaxRise) fail("leapt [m]", outcome.rise, kMaxRise);
+}
+
+}  // namespace
+
+StrikeOutcome runStrike(const StrikeRobot& robot, const StrikeCell& cell, const WorldSpec& world_in) {
+  const auto started = std::chrono::steady_clock::now();
+  std::string urdf = withStrikeWheelModel(robot.urdf, cell.wheel_model);
+  if (cell.coast) urdf = withMotorsOff(urdf);
+  std::vector<std::string> warnings;
+  ModelSpec model = parseModel(urdf, robot.name, PackageResolver::fromEnvironment(), &warnings);
+  WorldSpec world = world_in;
+  world.models.push_back(targetModel(targetShape(cell)));  // parked far away until the robot has settled
+  const ParameterTree parameters =
+      robot.control_yaml.empty() ? ParameterTree() : ParameterTree::fromYaml(robot.control_yaml, robot.name);
+  const TreeParameters source(parameters);
+  SimulationOptions options;
+  options.physics.step_size = cell.step;
+  options.parameters = &source;
+  Simulation simulation(world, options);
+  Robot& spawned = simulation.spawn(robot.name, std::move(model), SpawnPose{});
+  Drive drive = driveOf(spawned, parameters, simulation.time());
+  const std::vector<SurfacePoint> points = samplePoints(spawned.body(), drive);
+  const double dt = cell.step;
+  const long resend = std::max(1L, std::lround(0.1 / dt));
+  for (long i = 0; i < std::lround(kSettleTime / dt); ++i) {
+    if (i % resend == 0) drive.command(0, simulation.time());
+    simulation.step();
+  }
+  const Settled settled = settledState(spawned, points, drive);
+  const double gap = cell.coast ? kCoastGap : kGivenGap + runUp(drive, cell.speed);
+  const TargetBox target = placeTarget(cell, settled.points, settled.heading, gap);
+  EntityState placed;
+  placed.pose = target.pose;
+  simulation.setModelState("strike_target", placed);
+
+  StrikeOutcome outcome;
+  outcome.bounds = strikeBounds(settled, points, drive, target, cell);
+  StrikeWatch watch(spawned, points, settled, target);
+  const double start = simulation.time();
+  const double deadline = start + 2 * gap / cell.speed + 3.0;
+  double command = 0, contact_time = std::numeric_limits<double>::infinity(), start_energy = 0;
+  bool decided = false;
+  std::vector<double> energies;  // coasting: per step, from when it is given its speed
+  const std::string root = spawned.body().spec().root;
+  while (simulation.time() < std::min(deadline, contact_time + kAfterContact + kWatchAfter)) {
+    const bool driving = simulation.time() < contact_time + kAfterContact;
+    const double target_speed = driving && !cell.coast ? cell.speed : 0.0;
+    if (std::lround((simulation.time() - start) / dt) % resend == 0) drive.command(target_speed, simulation.time());
+    const double gap_now = watch.gap();
+    if (!decided && (cell.coast || gap_now <= kGivenGap)) {
+      decided = true;
+      const Eigen::Vector3d velocity = spawned.body().linkLinearVelocity(root);
+      if (cell.coast || velocity.dot(settled.heading) < kReachedFraction * cell.speed) {
+        EntityState given = simulation.modelState(robot.name);
+        given.linear = cell.speed * settled.heading;
+        given.angular.setZero();
+        simulation.setModelState(robot.name, given);
+        outcome.given_speed = true;
+        command = std::max(command, cell.speed);
+      }
+    }
+    command = outcome.given_speed && driving ? std::max(cell.speed, ramped(command, target_speed, drive, dt))
+                                             : ramped(command, target_speed, drive, dt);
+    if (cell.coast && !outcome.given_speed) command = 0;
+    simulation.step();
+    outcome.command_path += command * dt;
+    const bool close = gap_now < StrikeWatch::kNearGap;
+    if (close && !outcome.reached && watch.gap() <= kFirstTouch) {
+      outcome.reached = true;
+      contact_time = simulation.time();
+    }
+    watch.observe(outcome, simulation.time() - start, close || outcome.reached);
+    if (cell.coast && outcome.given_speed) energies.push_back(robotEnergy(spawned, world.gravity));
+  }
+  if (!energies.empty()) {
+    const long before = std::lround(0.1 / dt);
+    const long contact_index = static_cast<long>(energies.size()) - std::lround((simulation.time() - contact_time) / dt);
+    const size_t from = static_cast<size_t>(std::clamp(contact_index - before, 0L, static_cast<long>(energies.size()) - 1));
+    start_energy = energies[from];
+    for (size_t i = from; i < energies.size(); ++i) outcome.energy_gain = std::max(outcome.energy_gain, energies[i] - start_energy);
+  }
+  outcome.sim_seconds = simulation.time() - start;
+  judge(cell, start_energy, outcome);
+  outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return outcome;
+}
+
+}  // namespace bullet_sim
