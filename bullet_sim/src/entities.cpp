@@ -500,10 +500,7 @@ void Simulation::setPhysicsProperties(const PhysicsProperties& properties) {
     steps_at_base_ = steps_;
     options_.physics.step_size = properties.step_size;
     physics_->setStepSize(properties.step_size);
-    for (auto& placed : world_models_) {
-      if (placed.body) placed.body->body_->setStepSize(properties.step_size);
-    }
-    for (auto& robot : robots_) robot->body_->setStepSize(properties.step_size);
+    fitSubsteps();
   }
   options_.max_update_rate = properties.max_update_rate;
   physics_->setGravity(properties.gravity);

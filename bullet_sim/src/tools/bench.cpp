@@ -47,7 +47,7 @@ constexpr char kUsage[] =
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
     "             [--obstacles N] [--boxes N] [--delete-cycles K] [--repeat K]\n"
     "             [--camera WxH@HZ [--depth]] [--limit NAME=VALUE]...\n"
-    "       bench --strikes [--strike-filter WORD]... [--strike-cells]\n"
+    "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
     "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
@@ -92,7 +92,8 @@ constexpr char kUsage[] =
     "each cell is judged against bounds from the robot's mass, inertia and geometry. It prints the cells\n"
     "run and passed, the largest tilt, rise and energy gain, the RTF at each step and the failed cells\n"
     "(--strike-cells: every cell). --strike-filter runs the cells whose name (robot model 1ms 0.5m/s\n"
-    "30deg wall [coast]) holds every WORD.\n"
+    "30deg wall [coast]) holds every WORD. --strike-render writes a side and a chase view of each cell,\n"
+    "0.3 s after the first contact and at the end, into DIR.\n"
     "A relative --world is looked up in bullet_sim/worlds, then bullet_sim_bringup/worlds, then\n"
     "the working directory.\n"
     "Defaults: --world empty.world --pose 0,0,0 --step 0.001 --duration 10 --cmd 0.5,0.3 --delete-cycles 3\n"
@@ -238,7 +239,8 @@ Options parseArguments(int argc, char** argv) {
         false, /*flag=*/true},
        {"--strikes", [&](Value) { options.strikes = true; }, false, /*flag=*/true},
        {"--strike-filter", [&](Value value) { options.strike_options.filter.push_back(value); }, true},
-       {"--strike-cells", [&](Value) { options.strike_options.list_cells = true; }, false, /*flag=*/true}},
+       {"--strike-cells", [&](Value) { options.strike_options.list_cells = true; }, false, /*flag=*/true},
+       {"--strike-render", [&](Value value) { options.strike_options.render_dir = value; }}},
       &options.help);
   if (options.help || options.strikes) return options;
   if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");

@@ -6,6 +6,9 @@
 
 #include "bullet_sim/description/package_resolver.h"
 #include "bullet_sim/description/world_spec.h"
+#include "bullet_sim/render/image.h"
+#include "bullet_sim/render/offscreen_renderer.h"
+#include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/tools/strike_matrix.h"
 #include "tools/command_line.h"
 
@@ -85,8 +88,28 @@ Json cellJson(const std::string& name, const StrikeCell& cell, const StrikeOutco
                     {"barrier_j", b.barrier},      {"tip_speed_mps", std::isfinite(b.tip_speed) ? Json(b.tip_speed) : Json()},
                     {"push_n", b.push},            {"wheel_first", b.wheel_first},
                     {"impact_tips", b.impact_tips}, {"stall_tips", b.stall_tips},
-                    {"climbs", b.climbs}};
+                    {"climb_ratio", b.climb_ratio}};
   return json;
+}
+
+/// Writes `dir`/<cell>_<moment>_side.png and _chase.png.
+StrikeSnapshot strikePictures(const std::string& dir, const std::string& cell) {
+  std::string stem = cell;
+  for (char& c : stem) {
+    if (c == ' ' || c == '/') c = '_';
+  }
+  return [dir, stem](const Simulation& simulation, const std::string& robot, const std::string& moment) {
+    static OffscreenRenderer renderer;
+    Scene scene = simulationScene(simulation, View::kChase, robot);
+    const Eigen::Vector3d target = scene.camera.target, eye = scene.camera.eye;
+    const Eigen::Vector3d heading = (target - eye).cwiseProduct(Eigen::Vector3d(1, 1, 0)).normalized();
+    std::string error;
+    writePng(dir + "/" + stem + "_" + moment + "_chase.png", renderer.render(scene, 640, 480), &error);
+    const double distance = (target - eye).norm();
+    scene.camera.eye = target + distance * Eigen::Vector3d::UnitZ().cross(heading) + 0.1 * distance * Eigen::Vector3d::UnitZ();
+    if (!writePng(dir + "/" + stem + "_" + moment + "_side.png", renderer.render(scene, 640, 480), &error))
+      std::cerr << "bench: " << error << "\n";
+  };
 }
 
 }  // namespace
@@ -104,7 +127,8 @@ Json strikeMatrixReport(const StrikeMatrixOptions& options) {
     for (const StrikeCell& cell : strikeCells()) {
       const std::string name = cellName(robot, cell);
       if (!matches(name, options.filter)) continue;
-      const StrikeOutcome outcome = runStrike(robot, cell, world);
+      const StrikeOutcome outcome = runStrike(
+          robot, cell, world, options.render_dir.empty() ? StrikeSnapshot() : strikePictures(options.render_dir, name));
       ++cells;
       passed += outcome.passed();
       tilt = std::max(tilt, outcome.max_tilt);

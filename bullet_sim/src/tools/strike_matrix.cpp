@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "bullet_sim/description/model_geometry.h"
@@ -32,18 +33,24 @@ constexpr double kCoastGap = 0.3;        ///< [m] before the target where a coas
 constexpr double kReachedFraction = 0.95;  ///< of the commanded speed: reached
 constexpr double kAfterContact = 1.0;    ///< [s] the command runs after the first contact
 constexpr double kWatchAfter = 0.5;      ///< [s] watched after the command ends
+constexpr double kPictureAfter = 0.3;    ///< [s] after the first contact: the snapshot of the strike
 constexpr double kSamplePeriod = 0.05;   ///< [s] between path samples
 constexpr double kPointSpacing = 0.01;   ///< [m] between the sampled points of a small surface
-constexpr int kMostDivisions = 24;       ///< of a large surface's edge
+constexpr int kMostDivisions = 12;       ///< of a large surface's edge
 constexpr double kFirstTouch = 0.002;    ///< [m] points this much behind the first to meet the target meet it too
-constexpr double kSupportBand = 0.003;   ///< [m] points this close to the lowest one rest on the ground
+constexpr double kSupportBand = 0.001;   ///< [m] points this close to the lowest one rest on the ground
 constexpr double kMotorsOffTorque = 1e-9;  ///< [N m] the plugins refuse 0
 constexpr double kGravity = 9.81;        ///< [m/s^2]
+constexpr double kWallFriction = 1.0;    ///< mu of the targets (Gazebo's default)
+constexpr double kRoomStep = 0.01;       ///< [rad] between the attitudes roomToTip tries
+constexpr double kRoomTolerance = 0.01;  ///< [m] into the target or the ground that roomToTip lets pass
+constexpr double kRearDrivenTolerance = 0.01;  ///< [m] driven wheels this close to the rear edge are on it
 // The rules (issue 28).
 constexpr double kSlowTilt = 0.1;    ///< [rad] upright at up to kSlowSpeed
 constexpr double kFastTilt = 0.35;   ///< [rad] upright above it
 constexpr double kSlowSpeed = 0.5;   ///< [m/s]
 constexpr double kMaxRise = 0.05;    ///< [m] no leap
+constexpr double kClimbed = 0.01;    ///< [m] of the root's rise that shows a climb
 constexpr double kFlingSlack = 0.05;  ///< [m] beyond the command's path
 constexpr double kCorrectingSpeed = 0.1;  ///< [m/s] the depenetration cap: energy allowance 1/2 M v^2
 constexpr double kEnergyFraction = 0.01;  ///< and 1 % of the start
@@ -256,17 +263,28 @@ struct TargetBox {
     }
     return enter <= leave ? enter : std::numeric_limits<double>::infinity();
   }
+  /// [m] from `point` to the box (0 inside).
+  double distance(const Eigen::Vector3d& point) const {
+    const Eigen::Vector3d p = (pose.inverse() * point).cwiseAbs() - half;
+    return p.cwiseMax(0.0).norm();
+  }
   /// How deep `point` is inside the box (<= 0 outside).
   double depth(const Eigen::Vector3d& point) const {
     const Eigen::Vector3d p = (pose.inverse() * point).cwiseAbs();
     return (half - p).minCoeff();
   }
-  /// Whether `point` lies beyond the far face, within the box's extent across (less a margin: a robot that
-  /// slides past a post's end may graze it).
-  bool beyond(const Eigen::Vector3d& point) const {
+  /// Whether `point` lies more than `margin` [m] past the near face, within the box's extent across.
+  bool pastNearFace(const Eigen::Vector3d& point, double margin) const {
+    const Eigen::Vector3d p = pose.inverse() * point;
+    return p.x() > -half.x() + margin && std::abs(p.y()) < half.y() && std::abs(p.z()) < half.z();
+  }
+  /// Which side of the box `point` is on, straight across its thickness: -1 before the near face, +1 past the
+  /// far face, 0 inside or off to a side (within a margin of its edges, which a robot sliding past may graze).
+  int side(const Eigen::Vector3d& point) const {
     constexpr double kGraze = 0.01;  // [m]
     const Eigen::Vector3d p = pose.inverse() * point;
-    return p.x() > half.x() && std::abs(p.y()) < half.y() - kGraze && std::abs(p.z()) < half.z();
+    if (std::abs(p.y()) > half.y() - kGraze || std::abs(p.z()) > half.z() - kGraze) return 0;
+    return p.x() < -half.x() ? -1 : p.x() > half.x() ? 1 : 0;
   }
 };
 
@@ -431,64 +449,151 @@ Settled settledState(const Robot& robot, const std::vector<SurfacePoint>& points
   return settled;
 }
 
-StrikeBounds strikeBounds(const Settled& settled, const std::vector<SurfacePoint>& points, const Drive& drive,
-                          const TargetBox& target, const StrikeCell& cell) {
-  StrikeBounds bounds;
-  const Eigen::Vector3d n = target.normal(), com = settled.mass.com;
-  const double m = settled.mass.mass, weight = m * kGravity;
-  bounds.mass = m;
-  bounds.com_height = com.z() - settled.ground;
-  // The support edges along n, and whether the rear one is driven.
-  double driven_rear = -std::numeric_limits<double>::infinity();
+/// Where the robot rests on the ground: per part that touches it, where along n and whether it is driven.
+struct Supports {
+  struct Part {
+    int part;
+    double along = 0;  ///< [m] from the centre of mass along n, its ground points' mean
+    bool driven = false;
+    double load = 0;  ///< [N] by the lever rule between the front and the rear groups
+  };
+  std::vector<Part> parts;
+  double front = 0, rear = 0;  ///< [m] the support edges' distances from the centre of mass along n
+
+  const Part* find(int part) const {
+    for (const auto& p : parts) {
+      if (p.part == part) return &p;
+    }
+    return nullptr;
+  }
+};
+
+Supports supportsOf(const Settled& settled, const std::vector<SurfacePoint>& points, const Eigen::Vector3d& n) {
+  Supports supports;
+  std::vector<int> counts;
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3d& p = settled.points[i];
     if (p.z() > settled.ground + kSupportBand) continue;
-    const double along = (p - com).dot(n);
-    bounds.front = std::max(bounds.front, along);
-    bounds.rear = std::max(bounds.rear, -along);
-    if (points[i].driven) driven_rear = std::max(driven_rear, -along);
+    const double along = (p - settled.mass.com).dot(n);
+    supports.front = std::max(supports.front, along);
+    supports.rear = std::max(supports.rear, -along);
+    auto found = std::find_if(supports.parts.begin(), supports.parts.end(),
+                              [&](const Supports::Part& part) { return part.part == points[i].part; });
+    if (found == supports.parts.end()) {
+      supports.parts.push_back({points[i].part, 0, points[i].driven, 0});
+      counts.push_back(0);
+      found = supports.parts.end() - 1;
+    }
+    found->along += along;
+    ++counts[found - supports.parts.begin()];
   }
-  bounds.rear_driven = driven_rear > bounds.rear - 0.01;
-  // Where the robot first meets the target.
-  std::vector<double> reach(points.size());
+  // The lever rule between the mean front and rear support lines, each group's share split evenly.
+  double front_sum = 0, rear_sum = 0;
+  int fronts = 0, rears = 0;
+  for (size_t k = 0; k < supports.parts.size(); ++k) {
+    Supports::Part& part = supports.parts[k];
+    part.along /= counts[k];
+    (part.along > 0 ? front_sum : rear_sum) += part.along;
+    ++(part.along > 0 ? fronts : rears);
+  }
+  const double weight = settled.mass.mass * kGravity;
+  const double front = fronts ? front_sum / fronts : 0, rear = rears ? -rear_sum / rears : 0;
+  for (auto& part : supports.parts) {
+    const bool ahead = part.along > 0;
+    if (!fronts || !rears) part.load = weight / supports.parts.size();
+    else part.load = weight * (ahead ? rear : front) / (front + rear) / (ahead ? fronts : rears);
+  }
+  return supports;
+}
+
+/// Whether the robot, held at the target by its struck point, can turn about a support edge (`backwards`:
+/// the rear one, its top going back) far enough to carry its centre of mass over it, before another of its
+/// points meets the target or the ground: a robot that leans on the wall with its base or lands on its tail
+/// does not tip over.
+bool roomToTip(const Settled& settled, const std::vector<Eigen::Vector3d>& at_contact, const TargetBox& target,
+               const std::vector<size_t>& struck, const StrikeBounds& bounds, bool backwards) {
+  const Eigen::Vector3d n = target.normal(), com = settled.mass.com;
+  const double d = backwards ? bounds.rear : bounds.front;
+  const Eigen::Vector3d pivot(com.x(), com.y(), settled.ground);
+  const Eigen::Vector3d edge = pivot + (backwards ? -d : d) * n;
+  const Eigen::Vector3d axis = (backwards ? -1.0 : 1.0) * Eigen::Vector3d::UnitZ().cross(n).normalized();
+  // The struck point that stays on the target: the highest for a backward turn, the lowest for a forward one.
+  size_t held = struck.front();
+  for (size_t i : struck) {
+    if ((at_contact[i].z() > at_contact[held].z()) == backwards) held = i;
+  }
+  const double face = (target.pose.translation() - target.half.x() * n).dot(n);
+  const double over = std::atan2(d, bounds.com_height);
+  for (double angle = kRoomStep; angle < over; angle += kRoomStep) {
+    const Eigen::AngleAxisd turn(angle, axis);
+    const Eigen::Vector3d shift = (face - n.dot(edge + turn * (at_contact[held] - edge))) * n;
+    for (size_t i = 0; i < at_contact.size(); ++i) {
+      const Eigen::Vector3d q = edge + turn * (at_contact[i] - edge) + shift;
+      if (target.pastNearFace(q, kRoomTolerance) || q.z() < settled.ground - kRoomTolerance) return false;
+    }
+  }
+  return true;
+}
+
+StrikeBounds strikeBounds(const Settled& settled, const std::vector<SurfacePoint>& points, const Drive& drive,
+                          const TargetBox& target, const StrikeCell& cell) {
+  StrikeBounds bounds;
+  const Eigen::Vector3d n = target.normal();
+  const double m = settled.mass.mass, weight = m * kGravity;
+  bounds.mass = m;
+  bounds.com_height = settled.mass.com.z() - settled.ground;
+  const Supports supports = supportsOf(settled, points, n);
+  bounds.front = supports.front;
+  bounds.rear = supports.rear;
+  double driven_load = 0, driven_rear = -std::numeric_limits<double>::infinity();
+  for (const auto& part : supports.parts) {
+    if (!part.driven) continue;
+    driven_load += part.load;
+    driven_rear = std::max(driven_rear, -part.along);
+  }
+  bounds.rear_driven = driven_rear > bounds.rear - kRearDrivenTolerance;
+  // Where the robot first meets the target: the robot moved there along its heading.
   double first = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < points.size(); ++i) first = std::min(first, reach[i] = target.distanceAlong(settled.points[i], settled.heading));
+  for (const auto& p : settled.points) first = std::min(first, target.distanceAlong(p, settled.heading));
+  std::vector<Eigen::Vector3d> at_contact;
+  std::vector<size_t> struck;
+  std::vector<int> struck_wheels;
   double height_sum = 0;
-  int touching = 0, driven_parts_front = 0;
   for (size_t i = 0; i < points.size(); ++i) {
-    if (reach[i] > first + kFirstTouch) continue;
+    at_contact.push_back(settled.points[i] + first * settled.heading);
+    if (target.distanceAlong(settled.points[i], settled.heading) > first + kFirstTouch) continue;
+    struck.push_back(i);
     height_sum += settled.points[i].z() - settled.ground;
-    ++touching;
-    bounds.wheel_first |= points[i].driven;
+    if (points[i].driven && std::find(struck_wheels.begin(), struck_wheels.end(), points[i].part) == struck_wheels.end())
+      struck_wheels.push_back(points[i].part);
   }
-  bounds.contact_height = touching ? height_sum / touching : 0;
+  bounds.contact_height = height_sum / static_cast<double>(struck.size());
+  bounds.wheel_first = !struck_wheels.empty();
   // Impact: about the front edge when struck below the centre of mass, the rear one when above.
-  const double h = bounds.com_height, lever = h - bounds.contact_height;
+  const double h = bounds.com_height, lever = h - bounds.contact_height, slant = std::cos(cell.angle);
   const double d = lever > 0 ? bounds.front : bounds.rear;
   const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ().cross(n).normalized();
   bounds.pitch_inertia = axis.dot(settled.mass.inertia * axis) + m * (d * d + h * h);
-  const double normal_speed = cell.speed * std::cos(cell.angle);
-  const double omega = m * normal_speed * std::abs(lever) / bounds.pitch_inertia;
+  const double omega = m * cell.speed * slant * std::abs(lever) / bounds.pitch_inertia;
   bounds.impact_energy = 0.5 * bounds.pitch_inertia * omega * omega;
   bounds.barrier = weight * (std::hypot(d, h) - h);
-  if (std::abs(lever) * std::cos(cell.angle) > 1e-9)
-    bounds.tip_speed = std::sqrt(2 * bounds.barrier * bounds.pitch_inertia) / (m * std::abs(lever) * std::cos(cell.angle));
-  bounds.impact_tips = bounds.impact_energy > bounds.barrier;
-  // Stall: the wheels' push against the target's reaction at z_c.
+  const bool impact_room = roomToTip(settled, at_contact, target, struck, bounds, /*backwards=*/lever < 0);
+  if (std::abs(lever) * slant > 1e-9 && impact_room)
+    bounds.tip_speed = std::sqrt(2 * bounds.barrier * bounds.pitch_inertia) / (m * std::abs(lever) * slant);
+  bounds.impact_tips = impact_room && bounds.impact_energy > bounds.barrier;
+  // Stall: the wheels' push against the target's reaction at z_c, lifting the front over the rear edge.
   const double wheels = drive.radius > 0 ? drive.torque * drive.joints.size() / drive.radius : 0.0;
-  bounds.push = std::min(settled.friction * weight, wheels) * std::cos(cell.angle);
-  bounds.stall_tips = bounds.rear_driven && bounds.push * bounds.contact_height > weight * bounds.rear;
-  // Climbing: the struck wheel's share of the weight, by the lever rule, split among the front supports.
+  bounds.push = std::min(settled.friction * weight, wheels) * slant;
+  bounds.stall_tips = bounds.rear_driven && bounds.push * bounds.contact_height > weight * bounds.rear &&
+                      roomToTip(settled, at_contact, target, struck, bounds, /*backwards=*/true);
+  // Climbing: the wall's friction on each struck driven wheel, mu times its share of the wheels' push (what
+  // their load lets them push with), against the load on that wheel.
   if (bounds.wheel_first) {
-    std::vector<int> front_parts;
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (settled.points[i].z() > settled.ground + kSupportBand || (settled.points[i] - com).dot(n) <= 0) continue;
-      if (std::find(front_parts.begin(), front_parts.end(), points[i].part) == front_parts.end())
-        front_parts.push_back(points[i].part);
-    }
-    driven_parts_front = std::max<int>(1, static_cast<int>(front_parts.size()));
-    bounds.wheel_load = weight * bounds.rear / (bounds.front + bounds.rear) / driven_parts_front;
-    bounds.climbs = bounds.push >= bounds.wheel_load;
+    const double push = std::min(settled.friction * driven_load, wheels) * slant;
+    double load = 0;
+    for (int part : struck_wheels) load = std::max(load, supports.find(part) ? supports.find(part)->load : 0.0);
+    bounds.wheel_load = load;
+    bounds.climb_ratio = load > 0 ? kWallFriction * push / struck_wheels.size() / load : 0.0;
   }
   return bounds;
 }
@@ -502,20 +607,33 @@ class StrikeWatch {
  public:
   StrikeWatch(const Robot& robot, const std::vector<SurfacePoint>& points, const Settled& settled,
               const TargetBox& target)
-      : robot_(robot), points_(points), settled_(settled), target_(target), last_sample_(settled.root.translation()) {
-    first_reach_ = std::numeric_limits<double>::infinity();
-    for (const auto& p : settled.points) first_reach_ = std::min(first_reach_, target.distanceAlong(p, settled.heading));
+      : robot_(robot), points_(points), settled_(settled), target_(target), last_sample_(settled.root.translation()),
+        measured_at_(settled.root), sides_(points.size(), -1) {
+    first_reach_ = measured_ = std::numeric_limits<double>::infinity();
+    for (const auto& p : settled.points) {
+      first_reach_ = std::min(first_reach_, target.distanceAlong(p, settled.heading));
+      measured_ = std::min(measured_, target.distance(p));
+      reach_ = std::max(reach_, (p - settled.root.translation()).norm());
+    }
   }
 
-  /// How far the robot still has to go to meet the target [m]: estimated from its travel while far, exact
-  /// (over every point) when close.
-  double gap() {
+  /// How far the robot still has to go along its heading to meet the target [m], from its travel.
+  double approach() const {
     const Eigen::Vector3d root = robot_.body().linkPose(robot_.body().spec().root).translation();
-    const double estimate = first_reach_ - (root - settled_.root.translation()).dot(settled_.heading);
-    if (estimate > kNearGap) return estimate;
-    double exact = std::numeric_limits<double>::infinity();
-    for (const auto& p : worldPoints(robot_.body(), points_)) exact = std::min(exact, target_.distanceAlong(p, settled_.heading));
-    return exact;
+    return first_reach_ - (root - settled_.root.translation()).dot(settled_.heading);
+  }
+
+  /// How far the robot is from the target [m]: exact (over every point) when it may be within kNearGap, else
+  /// a lower bound from how far it moved and turned since it was last measured.
+  double clearance() {
+    const Eigen::Isometry3d root = robot_.body().linkPose(robot_.body().spec().root);
+    const double turned = Eigen::AngleAxisd(root.linear() * measured_at_.linear().transpose()).angle();
+    const double bound = measured_ - (root.translation() - measured_at_.translation()).norm() - turned * reach_;
+    if (bound > kNearGap) return bound;
+    measured_ = std::numeric_limits<double>::infinity();
+    for (const auto& p : worldPoints(robot_.body(), points_)) measured_ = std::min(measured_, target_.distance(p));
+    measured_at_ = root;
+    return measured_;
   }
 
   /// After each step.
@@ -527,13 +645,17 @@ class StrikeWatch {
     outcome.root_rise = std::max(outcome.root_rise, root.translation().z() - settled_.root.translation().z());
     if (close) {
       double lowest = std::numeric_limits<double>::infinity();
-      for (const auto& p : worldPoints(body, points_)) {
-        lowest = std::min(lowest, p.z());
-        outcome.penetration = std::max(outcome.penetration, target_.depth(p));
-        outcome.through |= target_.beyond(p);
+      const std::vector<Eigen::Vector3d> points = worldPoints(body, points_);
+      for (size_t i = 0; i < points.size(); ++i) {
+        lowest = std::min(lowest, points[i].z());
+        outcome.penetration = std::max(outcome.penetration, target_.depth(points[i]));
+        // A point that was before the near face crosses to beyond the far face without going round an edge.
+        const int side = target_.side(points[i]);
+        if (side == 1 && sides_[i] == -1) outcome.through = true;
+        if (side != 0 || target_.depth(points[i]) <= 0) sides_[i] = side;
       }
       outcome.rise = std::max(outcome.rise, lowest - settled_.ground);
-      outcome.through |= target_.depth(root.translation()) > 0 || target_.beyond(root.translation());
+      outcome.through |= target_.depth(root.translation()) > 0;
     }
     if (time + 1e-9 >= next_sample_) {
       outcome.path += (root.translation() - last_sample_).norm();
@@ -550,7 +672,11 @@ class StrikeWatch {
   const Settled& settled_;
   const TargetBox& target_;
   double first_reach_;
+  double measured_;               ///< [m] the robot's clearance from the target when last measured
+  double reach_ = 0;              ///< [m] of its farthest point from its root
   Eigen::Vector3d last_sample_;
+  Eigen::Isometry3d measured_at_;  ///< its root's pose then
+  std::vector<int> sides_;        ///< per point, the side of the target it was last on (TargetBox::side)
   double next_sample_ = kSamplePeriod;
 };
 
@@ -581,7 +707,24 @@ void judge(const StrikeCell& cell, double start_energy, StrikeOutcome& outcome) 
     outcome.energy_allowance = 0.5 * b.mass * kCorrectingSpeed * kCorrectingSpeed + kEnergyFraction * std::abs(start_energy);
     if (outcome.energy_gain > outcome.energy_allowance) fail("energy gained [J]", outcome.energy_gain, outcome.energy_allowance);
   }
-  if (b.climbs || cell.coast) return;  // climbing is physical; a coasting robot is judged by its energy
+  if (cell.coast) return;  // a coasting robot is judged by its energy
+  if (b.mayClimb()) {  // too close to the threshold to say: only no leap
+    if (outcome.rise > kMaxRise) fail("leapt [m]", outcome.rise, kMaxRise);
+    return;
+  }
+  // Held square against a wall, a robot keeps pushing and a wheel that can climb does; struck at an angle or
+  // at an edge, it slides off, and may or may not.
+  const bool held = cell.angle == 0 && cell.target != StrikeTarget::kDoorEdge;
+  if (b.climbs() && !held) {
+    if (outcome.rise > kMaxRise) fail("leapt [m]", outcome.rise, kMaxRise);
+    return;
+  }
+  if (b.climbs()) {  // climbing is physical: the struck wheel climbs, the robot keeps a wheel on the ground
+    if (outcome.max_tilt < kSlowTilt && outcome.root_rise < kClimbed)
+      fail("did not climb, though the wall's friction can carry its wheel: tilt [rad]", outcome.max_tilt, kSlowTilt);
+    if (outcome.rise > kMaxRise) fail("leapt [m]", outcome.rise, kMaxRise);
+    return;
+  }
   if (b.tips()) {
     const double edge = b.impact_tips ? (b.com_height > b.contact_height ? b.front : b.rear) : b.rear;
     const double over = std::atan2(edge, b.com_height);
@@ -595,87 +738,149 @@ void judge(const StrikeCell& cell, double start_energy, StrikeOutcome& outcome) 
 
 }  // namespace
 
-StrikeOutcome runStrike(const StrikeRobot& robot, const StrikeCell& cell, const WorldSpec& world_in) {
-  const auto started = std::chrono::steady_clock::now();
-  std::string urdf = withStrikeWheelModel(robot.urdf, cell.wheel_model);
-  if (cell.coast) urdf = withMotorsOff(urdf);
-  std::vector<std::string> warnings;
-  ModelSpec model = parseModel(urdf, robot.name, PackageResolver::fromEnvironment(), &warnings);
-  WorldSpec world = world_in;
-  world.models.push_back(targetModel(targetShape(cell)));  // parked far away until the robot has settled
-  const ParameterTree parameters =
-      robot.control_yaml.empty() ? ParameterTree() : ParameterTree::fromYaml(robot.control_yaml, robot.name);
-  const TreeParameters source(parameters);
-  SimulationOptions options;
-  options.physics.step_size = cell.step;
-  options.parameters = &source;
-  Simulation simulation(world, options);
-  Robot& spawned = simulation.spawn(robot.name, std::move(model), SpawnPose{});
-  Drive drive = driveOf(spawned, parameters, simulation.time());
-  const std::vector<SurfacePoint> points = samplePoints(spawned.body(), drive);
-  const double dt = cell.step;
-  const long resend = std::max(1L, std::lround(0.1 / dt));
-  for (long i = 0; i < std::lround(kSettleTime / dt); ++i) {
-    if (i % resend == 0) drive.command(0, simulation.time());
-    simulation.step();
-  }
-  const Settled settled = settledState(spawned, points, drive);
-  const double gap = cell.coast ? kCoastGap : kGivenGap + runUp(drive, cell.speed);
-  const TargetBox target = placeTarget(cell, settled.points, settled.heading, gap);
-  EntityState placed;
-  placed.pose = target.pose;
-  simulation.setModelState("strike_target", placed);
+namespace {
 
-  StrikeOutcome outcome;
-  outcome.bounds = strikeBounds(settled, points, drive, target, cell);
-  StrikeWatch watch(spawned, points, settled, target);
-  const double start = simulation.time();
-  const double deadline = start + 2 * gap / cell.speed + 3.0;
-  double command = 0, contact_time = std::numeric_limits<double>::infinity(), start_energy = 0;
-  bool decided = false;
-  std::vector<double> energies;  // coasting: per step, from when it is given its speed
-  const std::string root = spawned.body().spec().root;
-  while (simulation.time() < std::min(deadline, contact_time + kAfterContact + kWatchAfter)) {
-    const bool driving = simulation.time() < contact_time + kAfterContact;
-    const double target_speed = driving && !cell.coast ? cell.speed : 0.0;
-    if (std::lround((simulation.time() - start) / dt) % resend == 0) drive.command(target_speed, simulation.time());
-    const double gap_now = watch.gap();
-    if (!decided && (cell.coast || gap_now <= kGivenGap)) {
-      decided = true;
-      const Eigen::Vector3d velocity = spawned.body().linkLinearVelocity(root);
-      if (cell.coast || velocity.dot(settled.heading) < kReachedFraction * cell.speed) {
-        EntityState given = simulation.modelState(robot.name);
-        given.linear = cell.speed * settled.heading;
-        given.angular.setZero();
-        simulation.setModelState(robot.name, given);
-        outcome.given_speed = true;
-        command = std::max(command, cell.speed);
+/// One run of a cell: the simulation with the robot settled and the target placed, then the approach.
+class StrikeRun {
+ public:
+  /// With `given_at_start`, the target stands kGivenGap ahead and the robot gets its speed at once (it
+  /// could not reach it by itself).
+  StrikeRun(const StrikeRobot& robot, const StrikeCell& cell, const WorldSpec& world, bool given_at_start)
+      : robot_(robot), cell_(cell), parameters_(robot.control_yaml.empty()
+                                                    ? ParameterTree()
+                                                    : ParameterTree::fromYaml(robot.control_yaml, robot.name)),
+        source_(parameters_), simulation_(withTarget(world, cell), options(cell, source_)),
+        given_at_start_(given_at_start) {
+    std::string urdf = withStrikeWheelModel(robot.urdf, cell.wheel_model);
+    if (cell.coast) urdf = withMotorsOff(urdf);
+    std::vector<std::string> warnings;
+    robot_body_ = &simulation_.spawn(robot.name, parseModel(urdf, robot.name, PackageResolver::fromEnvironment(), &warnings), SpawnPose{});
+    drive_ = driveOf(*robot_body_, parameters_, simulation_.time());
+    points_ = samplePoints(robot_body_->body(), drive_);
+    for (long i = 0; i < std::lround(kSettleTime / cell.step); ++i) {
+      if (i % resendSteps() == 0) drive_.command(0, simulation_.time());
+      simulation_.step();
+    }
+    settled_ = settledState(*robot_body_, points_, drive_);
+    const double gap = cell.coast ? kCoastGap : given_at_start ? kGivenGap : kGivenGap + runUp(drive_, cell.speed);
+    target_ = placeTarget(cell, settled_.points, settled_.heading, gap);
+    EntityState placed;
+    placed.pose = target_.pose;
+    simulation_.setModelState("strike_target", placed);
+    outcome_.bounds = strikeBounds(settled_, points_, drive_, target_, cell);
+  }
+
+  /// Drives the robot in; false when it tipped over before meeting the target or being given its speed.
+  bool approach(const StrikeSnapshot& snapshot) {
+    StrikeWatch watch(*robot_body_, points_, settled_, target_);
+    const double start = simulation_.time(), dt = cell_.step;
+    const double deadline = start + 2 * (kGivenGap + runUp(drive_, cell_.speed)) / cell_.speed + 3.0;
+    double command = 0;
+    bool decided = false, pictured = false;
+    while (simulation_.time() < std::min(deadline, contact_time_ + kAfterContact + kWatchAfter)) {
+      const bool driving = simulation_.time() < contact_time_ + kAfterContact;
+      const double wanted = driving && !cell_.coast ? cell_.speed : 0.0;
+      if (std::lround((simulation_.time() - start) / dt) % resendSteps() == 0) drive_.command(wanted, simulation_.time());
+      if (!decided && (cell_.coast || given_at_start_ || watch.approach() <= kGivenGap)) {
+        decided = true;
+        if (cell_.coast || given_at_start_ || speedAlongHeading() < kReachedFraction * cell_.speed) giveSpeed();
+      }
+      if (!decided && outcome_.max_tilt > kFastTilt) return false;
+      command = ramped(command, wanted, drive_, dt);
+      if (outcome_.given_speed && driving) command = std::max(command, cell_.speed);
+      if (cell_.coast && !outcome_.given_speed) command = 0;
+      simulation_.step();
+      outcome_.command_path += command * dt;
+      const double clearance = watch.clearance();
+      if (!outcome_.reached && clearance <= kFirstTouch) {
+        outcome_.reached = true;
+        contact_time_ = simulation_.time();
+      }
+      watch.observe(outcome_, simulation_.time() - start, clearance < StrikeWatch::kNearGap || outcome_.reached);
+      if (cell_.coast && outcome_.given_speed) energies_.push_back(robotEnergy(*robot_body_, simulation_.world().gravity));
+      if (snapshot && !pictured && simulation_.time() >= contact_time_ + kPictureAfter) {
+        pictured = true;
+        snapshot(simulation_, robot_.name, "contact");
       }
     }
-    command = outcome.given_speed && driving ? std::max(cell.speed, ramped(command, target_speed, drive, dt))
-                                             : ramped(command, target_speed, drive, dt);
-    if (cell.coast && !outcome.given_speed) command = 0;
-    simulation.step();
-    outcome.command_path += command * dt;
-    const bool close = gap_now < StrikeWatch::kNearGap;
-    if (close && !outcome.reached && watch.gap() <= kFirstTouch) {
-      outcome.reached = true;
-      contact_time = simulation.time();
+    if (snapshot) snapshot(simulation_, robot_.name, "end");
+    outcome_.sim_seconds = simulation_.time() - start;
+    outcome_.given_speed |= given_at_start_;
+    return true;
+  }
+
+  /// The run's figures, judged.
+  StrikeOutcome finish() {
+    double start_energy = 0;
+    if (!energies_.empty()) {  // from 0.1 s before the first contact on
+      const long size = static_cast<long>(energies_.size());
+      const long contact = size - std::lround((simulation_.time() - contact_time_) / cell_.step);
+      const size_t from = static_cast<size_t>(std::clamp(contact - std::lround(0.1 / cell_.step), 0L, size - 1));
+      start_energy = energies_[from];
+      for (size_t i = from; i < energies_.size(); ++i)
+        outcome_.energy_gain = std::max(outcome_.energy_gain, energies_[i] - start_energy);
     }
-    watch.observe(outcome, simulation.time() - start, close || outcome.reached);
-    if (cell.coast && outcome.given_speed) energies.push_back(robotEnergy(spawned, world.gravity));
+    judge(cell_, start_energy, outcome_);
+    return outcome_;
   }
-  if (!energies.empty()) {
-    const long before = std::lround(0.1 / dt);
-    const long contact_index = static_cast<long>(energies.size()) - std::lround((simulation.time() - contact_time) / dt);
-    const size_t from = static_cast<size_t>(std::clamp(contact_index - before, 0L, static_cast<long>(energies.size()) - 1));
-    start_energy = energies[from];
-    for (size_t i = from; i < energies.size(); ++i) outcome.energy_gain = std::max(outcome.energy_gain, energies[i] - start_energy);
+
+ private:
+  static WorldSpec withTarget(WorldSpec world, const StrikeCell& cell) {
+    world.models.push_back(targetModel(targetShape(cell)));  // parked far away until the robot has settled
+    return world;
   }
-  outcome.sim_seconds = simulation.time() - start;
-  judge(cell, start_energy, outcome);
-  outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  return outcome;
+  static SimulationOptions options(const StrikeCell& cell, const ParameterSource& parameters) {
+    SimulationOptions options;
+    options.physics.step_size = cell.step;
+    options.parameters = &parameters;
+    return options;
+  }
+  long resendSteps() const { return std::max(1L, std::lround(0.1 / cell_.step)); }
+  double speedAlongHeading() const {
+    return robot_body_->body().linkLinearVelocity(robot_body_->body().spec().root).dot(settled_.heading);
+  }
+  /// set_model_state: the robot moves at the cell's speed along its heading.
+  void giveSpeed() {
+    EntityState given = simulation_.modelState(robot_.name);
+    given.linear = cell_.speed * settled_.heading;
+    given.angular.setZero();
+    simulation_.setModelState(robot_.name, given);
+    outcome_.given_speed = true;
+  }
+
+  const StrikeRobot& robot_;
+  const StrikeCell& cell_;
+  ParameterTree parameters_;
+  TreeParameters source_;
+  Simulation simulation_;
+  bool given_at_start_;
+  Robot* robot_body_ = nullptr;
+  Drive drive_;
+  std::vector<SurfacePoint> points_;
+  Settled settled_;
+  TargetBox target_;
+  StrikeOutcome outcome_;
+  double contact_time_ = std::numeric_limits<double>::infinity();
+  std::vector<double> energies_;  ///< coasting: per step, from when it is given its speed
+};
+
+}  // namespace
+
+StrikeOutcome runStrike(const StrikeRobot& robot, const StrikeCell& cell, const WorldSpec& world,
+                        const StrikeSnapshot& snapshot) {
+  const auto started = std::chrono::steady_clock::now();
+  std::optional<StrikeOutcome> outcome;
+  {
+    StrikeRun run(robot, cell, world, /*given_at_start=*/false);
+    if (run.approach(snapshot)) outcome = run.finish();
+  }
+  if (!outcome) {  // it tipped over reaching its speed: given it, as set_model_state does
+    StrikeRun run(robot, cell, world, /*given_at_start=*/true);
+    run.approach(snapshot);
+    outcome = run.finish();
+  }
+  outcome->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return *outcome;
 }
 
 }  // namespace bullet_sim
