@@ -32,6 +32,7 @@
 #include "bullet_sim/tools/process_stats.h"
 #include "bullet_sim/tools/urdf_edits.h"
 #include "bullet_sim/web/web_viewer.h"
+#include "bench/bench_strikes.h"
 #include "bench/bench_viewer.h"
 #include "bench/bench_world.h"
 #include "tools/command_line.h"
@@ -47,6 +48,7 @@ constexpr char kUsage[] =
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
     "             [--obstacles N] [--boxes N] [--delete-cycles K] [--repeat K]\n"
     "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
+    "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
     "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
@@ -90,6 +92,14 @@ constexpr char kUsage[] =
     "--camera adds a 60 degree camera of WxH pixels at HZ on the robot's root link, 0.3 m ahead and\n"
     "1 m up, looking ahead (libgazebo_ros_camera.so); with --depth, a depth camera with its depth\n"
     "image and organized cloud (libgazebo_ros_openni_kinect.so).\n"
+    "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
+    "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
+    "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
+    "each cell is judged against bounds from the robot's mass, inertia and geometry. It prints the cells\n"
+    "run and passed, the largest tilt, rise and energy gain, the RTF at each step and the failed cells\n"
+    "(--strike-cells: every cell). --strike-filter runs the cells whose name (robot model 1ms 0.5m/s\n"
+    "30deg wall [coast]) holds every WORD. --strike-render writes a side and a chase view of each cell,\n"
+    "0.3 s after the first contact and at the end, into DIR.\n"
     "A relative --world is looked up in bullet_sim/worlds, then bullet_sim_bringup/worlds, then\n"
     "the working directory.\n"
     "Defaults: --world empty.world --pose 0,0,0 --step 0.001 --duration 10 --cmd 0.5,0.3 --delete-cycles 3\n"
@@ -135,6 +145,8 @@ struct Options {
   };
   std::optional<Camera> camera;
   bool web_viewer = false;
+  bool strikes = false;
+  StrikeMatrixOptions strike_options;
   bool help = false;
 };
 
@@ -233,9 +245,13 @@ Options parseArguments(int argc, char** argv) {
           options.camera->depth = true;
         },
         false, /*flag=*/true},
-       {"--web-viewer", [&](Value) { options.web_viewer = true; }, false, /*flag=*/true}},
+       {"--web-viewer", [&](Value) { options.web_viewer = true; }, false, /*flag=*/true},
+       {"--strikes", [&](Value) { options.strikes = true; }, false, /*flag=*/true},
+       {"--strike-filter", [&](Value value) { options.strike_options.filter.push_back(value); }, true},
+       {"--strike-cells", [&](Value) { options.strike_options.list_cells = true; }, false, /*flag=*/true},
+       {"--strike-render", [&](Value value) { options.strike_options.render_dir = value; }}},
       &options.help);
-  if (options.help) return options;
+  if (options.help || options.strikes) return options;
   if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
   if (options.boxes > 0 && !options.world.empty())
     throw UsageError("--boxes makes a world: leave --world out");
@@ -868,6 +884,10 @@ Json report(const Options& options, const Figures& figures) {
 }
 
 int run(const Options& options) {
+  if (options.strikes) {
+    std::cout << strikeMatrixReport(options.strike_options).dump(2) << "\n";
+    return EXIT_SUCCESS;
+  }
   const Figures figures = measure(options);
   for (const auto& warning : figures.warnings) std::cerr << "bench: warning: " << warning << "\n";
   std::cout << report(options, figures).dump(2) << "\n";

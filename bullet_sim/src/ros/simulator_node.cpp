@@ -204,6 +204,7 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
   }
   for (const auto& warning : *warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
   for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
+  ROS_INFO("%s: %s", source.c_str(), simulation_->substepNote(name).c_str());
   adapters_[name] = std::move(adapter);
   if (bag_) bag_->addRobot(robot, robot_namespace);
   if (web_) web_->modelsChanged();

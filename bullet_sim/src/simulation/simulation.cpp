@@ -158,6 +158,7 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     }
   }
   rays_.commit();
+  fitSubsteps();
   if (options_.images) images_ = options_.images(*this);
 }
 
@@ -268,7 +269,27 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   robots_.push_back(std::move(robot));
+  fitSubsteps();
   return *robots_.back();
+}
+
+void Simulation::fitSubsteps() {
+  double longest = std::numeric_limits<double>::infinity();
+  for (Robot* model : movingModels()) longest = std::min(longest, model->body_->substepLimit().seconds);
+  physics_->setLongestSubstep(longest);
+  for (Robot* model : movingModels()) model->body_->setStepSize(physics_->substep());
+}
+
+std::string Simulation::substepNote(const std::string& name) const {
+  const Robot* found = robot(name);
+  if (!found) throw std::invalid_argument("no robot [" + name + "]");
+  std::ostringstream note;
+  note.precision(3);
+  note << "physics substep " << physics_->substep() * 1e3 << " ms (" << physics_->substeps() << " per "
+       << stepSize() * 1e3 << " ms step)";
+  const SubstepLimit limit = found->body_->substepLimit();
+  if (!limit.reason.empty()) note << "; " << limit.reason << " allows " << limit.seconds * 1e3 << " ms";
+  return note.str();
 }
 
 void Simulation::addRayBodies(Robot& robot) {
@@ -325,6 +346,7 @@ bool Simulation::remove(const std::string& name) {
   robots_.erase(found);
   physics_->releaseMemory();
   for (StepHooks* hooks : hooks_) hooks->robotRemoved(name);
+  fitSubsteps();
   return true;
 }
 
@@ -357,13 +379,12 @@ void Simulation::step() {
       plugin->applyCommands(time, *robot->body_);
       rays_due |= plugin->castsRays(time);
     }
-    robot->body_->beforeStep();
   }
-  for (auto& placed : world_models_) {
-    if (placed.body) placed.body->body_->beforeStep();
-  }
-  physics_->step();
-  for (Robot* moving : movingModels()) moving->body_->afterStep();
+  const std::vector<Robot*> moving = movingModels();
+  physics_->step([&](double substep) {
+    for (Robot* model : moving) model->body_->beforeSubstep(substep);
+  });
+  for (Robot* model : moving) model->body_->afterStep();
   if (rays_due) refreshRays();
   for (auto& robot : robots_) {
     for (auto& plugin : robot->plugins_) plugin->sense(time, *robot->body_, rays_);
@@ -413,7 +434,7 @@ void Simulation::setStepSize(double step_size) {
   steps_at_base_ = steps_;
   options_.physics.step_size = step_size;
   physics_->setStepSize(step_size);
-  for (Robot* moving : movingModels()) moving->body_->setStepSize(step_size);
+  fitSubsteps();
 }
 
 StepHooks::StepHooks(Simulation& simulation) : hooked_(simulation) { hooked_.hooks_.push_back(this); }

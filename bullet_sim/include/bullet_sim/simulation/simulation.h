@@ -184,8 +184,12 @@ class Simulation {
   const Robot* robot(const std::string& name) const;
   std::vector<std::string> robotNames() const;
 
-  /// One step: plugins apply commands, physics advances by the step size, then plugins sense.
+  /// One step: plugins apply commands, physics advances by the step size (in substeps, where a robot's
+  /// stiffest spring or lightest link needs shorter ones), then plugins sense.
   void step();
+  /// One line on the physics substep robot `name` runs at, and what sets it. Throws std::invalid_argument
+  /// for an unknown robot.
+  std::string substepNote(const std::string& name) const;
   /// Robots back at their spawn poses and plugins as at spawn; time goes on.
   void resetWorld();
   /// resetWorld, and time restarts: the next step ends at t = step size.
@@ -232,6 +236,8 @@ class Simulation {
   double timeAfter(uint64_t steps) const {
     return time_base_ + static_cast<double>(steps - steps_at_base_) * options_.physics.step_size;
   }
+  /// Cuts the step into substeps no longer than any moving model's SubstepLimit, and tells them.
+  void fitSubsteps();
   /// The non-static world model `model` as a body at its pose in the file, into `placed`.
   void makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& placed);
   /// The robots and the world's bodies: what steps.
