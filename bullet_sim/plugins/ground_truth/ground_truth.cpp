@@ -1,12 +1,13 @@
 #include "plugins/ground_truth/ground_truth.h"
 
+#include "bullet_sim/plugins/gazebo_plugin_rows.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace bullet_sim {
 
 namespace {
 
-const TagTable kGroundTruthTags = {
+const TagTable kGroundTruthTags = withUnreadTutorialTags({
     {"bodyName", TagType::kFrame, "", "",
      "the link measured, and the child_frame_id; required: the plugin does not load without it",
      "an error when absent; a name that is no link is a warning, the root link is measured, and the name is "
@@ -20,12 +21,7 @@ const TagTable kGroundTruthTags = {
     {"gaussianNoise", TagType::kPositive, "0", "",
      "the standard deviation of a zero-mean noise on the position [m] and the velocities [m/s, rad/s]",
      "the same, and the covariances' diagonals are its square"},
-    {"xyzOffsets", TagType::kIgnored, "", "m",
-     "not read (a misspelling of xyzOffset that tutorials carry)", ""},
-    {"rpyOffsets", TagType::kIgnored, "", "rad",
-     "not read (a misspelling of rpyOffset that tutorials carry)", ""},
-    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
-};
+});
 
 }  // namespace
 

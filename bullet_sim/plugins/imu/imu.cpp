@@ -1,5 +1,6 @@
 #include "plugins/imu/imu.h"
 
+#include "bullet_sim/plugins/gazebo_plugin_rows.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace bullet_sim {
@@ -29,7 +30,7 @@ const TagTable kImuSensorTags = {
     {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
 };
 
-const TagTable kImuPluginTags = {
+const TagTable kImuPluginTags = withUnreadTutorialTags({
     {"bodyName", TagType::kFrame, "", "", "the link measured; required: the plugin does not load without it",
      "an error when absent; a name that is no link is a warning, the root link is measured, and the name is "
      "still the frame_id"},
@@ -42,12 +43,7 @@ const TagTable kImuPluginTags = {
      ""},
     {"serviceName", TagType::kIgnored, "", "",
      "a std_srvs/Empty service that does nothing; /default_imu when absent", "not served"},
-    {"xyzOffsets", TagType::kIgnored, "", "m",
-     "not read (a misspelling of xyzOffset that tutorials carry)", ""},
-    {"rpyOffsets", TagType::kIgnored, "", "rad",
-     "not read (a misspelling of rpyOffset that tutorials carry)", ""},
-    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
-};
+});
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 #include <set>
 
 #include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/plugins/registry.h"
 #include "plugins/ros_control/controller_registry.h"
 
@@ -11,12 +12,6 @@ namespace bullet_sim {
 namespace {
 
 constexpr const char* kDefaultSimType = "gazebo_ros_control/DefaultRobotHWSim";
-
-std::string withoutSlashes(std::string text) {
-  while (!text.empty() && text.front() == '/') text.erase(text.begin());
-  while (!text.empty() && text.back() == '/') text.pop_back();
-  return text;
-}
 
 /// The interface a <hardwareInterface> names, in either of ros_control's spellings; nullopt for another.
 std::optional<JointInterface> interfaceNamed(const std::string& name, bool* deprecated) {

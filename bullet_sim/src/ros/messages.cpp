@@ -9,12 +9,6 @@
 
 namespace bullet_sim {
 
-std::string withoutSlashes(std::string text) {
-  while (!text.empty() && text.front() == '/') text.erase(text.begin());
-  while (!text.empty() && text.back() == '/') text.pop_back();
-  return text;
-}
-
 FramePrefix::FramePrefix(std::string prefix, std::set<std::string> global_frames)
     : prefix_(withoutSlashes(prefix)), global_frames_(std::move(global_frames)) {}
 

@@ -25,12 +25,10 @@
 #include <set>
 #include <string>
 
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/plugins/plugin.h"
 
 namespace bullet_sim {
-
-/// `text` without leading and trailing '/'.
-std::string withoutSlashes(std::string text);
 
 /// Frame names as a plugin publishes them, tf::resolve(tf_prefix, frame) as Noetic's gazebo_plugins name them:
 /// without leading or trailing '/', and under the tf_prefix unless the frame was written global ("/odom").

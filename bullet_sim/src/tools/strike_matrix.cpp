@@ -14,6 +14,7 @@
 #include "bullet_sim/assets/package_resolver.h"
 #include "bullet_sim/plugins/parameter_tree.h"
 #include "bullet_sim/simulation/world_api.h"
+#include "bullet_sim/tools/urdf_edits.h"
 #include "plugins/ackermann_drive/ackermann_drive.h"
 #include "plugins/ros_control/diff_drive_controller.h"
 #include "plugins/ros_control/ros_control_plugin.h"
@@ -388,32 +389,6 @@ double robotEnergy(const Robot& robot, const Eigen::Vector3d& gravity) {
   }
   return energy;
 }
-
-namespace {
-
-/// Sets `tag` to `text` in every plugin whose filename is one of `filenames`.
-std::string withPluginTag(const std::string& urdf, const std::vector<std::string>& filenames,
-                          const std::function<std::string(const std::string& filename)>& tag,
-                          const std::string& text) {
-  tinyxml2::XMLDocument document;
-  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
-  for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
-       gazebo = gazebo->NextSiblingElement("gazebo")) {
-    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin; plugin = plugin->NextSiblingElement("plugin")) {
-      const std::string filename = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
-      if (std::find(filenames.begin(), filenames.end(), filename) == filenames.end()) continue;
-      const std::string name = tag(filename);
-      if (name.empty()) continue;
-      tinyxml2::XMLElement* element = plugin->FirstChildElement(name.c_str());
-      (element ? element : plugin->InsertNewChildElement(name.c_str()))->SetText(text.c_str());
-    }
-  }
-  tinyxml2::XMLPrinter printer;
-  document.Print(&printer);
-  return printer.CStr();
-}
-
-}  // namespace
 
 std::string withStrikeWheelModel(const std::string& urdf, const std::string& wheel_model) {
   return withPluginTag(urdf,

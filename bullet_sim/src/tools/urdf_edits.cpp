@@ -2,29 +2,38 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
+
 namespace bullet_sim {
 
-std::string withWheelModel(const std::string& urdf, const std::string& wheel_model, int* drives) {
+std::string withPluginTag(const std::string& urdf, const std::vector<std::string>& filenames,
+                          const std::function<std::string(const std::string& filename)>& tag,
+                          const std::string& text, int* plugins) {
   int found = 0;
   tinyxml2::XMLDocument document;
   if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
   for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
        gazebo = gazebo->NextSiblingElement("gazebo")) {
     for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin; plugin = plugin->NextSiblingElement("plugin")) {
-      const std::string name = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
-      if (name != "libgazebo_ros_diff_drive.so" && name != "libgazebo_ros_skid_steer_drive.so" &&
-          name != "libgazebo_ros_ackermann_drive.so") {
-        continue;
-      }
-      tinyxml2::XMLElement* tag = plugin->FirstChildElement("wheelModel");
-      (tag ? tag : plugin->InsertNewChildElement("wheelModel"))->SetText(wheel_model.c_str());
+      const std::string filename = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
+      if (std::find(filenames.begin(), filenames.end(), filename) == filenames.end()) continue;
+      const std::string name = tag(filename);
+      if (name.empty()) continue;
+      tinyxml2::XMLElement* element = plugin->FirstChildElement(name.c_str());
+      (element ? element : plugin->InsertNewChildElement(name.c_str()))->SetText(text.c_str());
       ++found;
     }
   }
-  if (drives) *drives = found;
+  if (plugins) *plugins = found;
   tinyxml2::XMLPrinter printer;
   document.Print(&printer);
   return printer.CStr();
+}
+
+std::string withWheelModel(const std::string& urdf, const std::string& wheel_model, int* drives) {
+  return withPluginTag(
+      urdf, {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so", "libgazebo_ros_ackermann_drive.so"},
+      [](const std::string&) { return "wheelModel"; }, wheel_model, drives);
 }
 
 }  // namespace bullet_sim
