@@ -2,7 +2,8 @@
 # The documentation site (mkdocs.yml, docs/), after the workspace is built:
 #
 #   scripts/docs.sh           writes the generated pages (the plugin reference from the plugins' README.md and
-#                             tag tables, each tool page's options from its --help, the plugins' nav entries)
+#                             tag tables, each tool page's options from its --help, a page per launch file from
+#                             its <arg>s, their nav entries)
 #                             and builds the site into site/ with `mkdocs build --strict`
 #   scripts/docs.sh --check   the same into a scratch copy, failing when a committed page differs from what the
 #                             code generates (a stale page), when the build warns, when a page is not in the nav,
@@ -21,7 +22,7 @@ set -u
 
 generate() {  # $1: a folder holding mkdocs.yml and docs/
   local plugins=$1/docs/reference/plugins
-  rm -f "$plugins"/*.md  # a filename no longer registered loses its page
+  rm -f "$plugins"/*.md "$1"/docs/reference/launch/*.md  # what is gone loses its page
   "$WS/devel/lib/bullet_sim/plugin_reference" "$REPO/bullet_sim/plugins" "$plugins"
   /usr/bin/python3 "$REPO/scripts/docs_generate.py" "$1"
 }
