@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Checks the docs site beyond what `mkdocs build --strict` 1.4 checks: every page under docs/ is in mkdocs.yml's
-nav, and every link to an #anchor, on the built site and in the README, lands on a heading that exists there and
-on GitHub (MkDocs and GitHub make a heading's id alike for our headings; a link passes only when both agree).
+nav; every link to an #anchor, on the built site and in the README, lands on a heading that exists there and
+on GitHub (MkDocs and GitHub make a heading's id alike for our headings; a link passes only when both agree);
+and no list starts on the line after a paragraph's (GitHub shows a list, MkDocs a run-on paragraph).
 
 usage: docs_check.py REPO SITE_DIR   (SITE_DIR: what `mkdocs build` wrote from REPO/mkdocs.yml)
 Exit status: 0 clean, 1 problems (each on a line of its own)."""
@@ -129,9 +130,25 @@ def check_readme(repo):
     return problems
 
 
+def check_lists(repo):
+    """Pages' lists that GitHub and MkDocs read alike: a blank line between a paragraph and its list."""
+    problems = []
+    for path in sorted(glob.glob(os.path.join(repo, "docs", "**", "*.md"), recursive=True)):
+        previous, code = "", False
+        for number, line in enumerate(open(path), 1):
+            if line.startswith("```"):
+                code = not code
+            paragraph = previous.strip() and not re.match(r"\s|#|[-*+] |\d+\. |\||```|<!--|>", previous)
+            if not code and re.match(r"([-*+]|\d+\.) ", line) and paragraph:
+                problems.append("%s:%d: a list right after a paragraph line: put a blank line before it" %
+                                (os.path.relpath(path, repo), number))
+            previous = line
+    return problems
+
+
 def main():
     repo, site = sys.argv[1], sys.argv[2]
-    problems = check_nav(repo) + check_site_anchors(repo, site) + check_readme(repo)
+    problems = check_nav(repo) + check_site_anchors(repo, site) + check_readme(repo) + check_lists(repo)
     for problem in problems:
         print(problem)
     return 1 if problems else 0
