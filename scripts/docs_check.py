@@ -2,7 +2,8 @@
 """Checks the docs site beyond what `mkdocs build --strict` 1.4 checks: every page under docs/ is in mkdocs.yml's
 nav; every link to an #anchor, on the built site and in the README, lands on a heading that exists there and
 on GitHub (MkDocs and GitHub make a heading's id alike for our headings; a link passes only when both agree);
-and no list starts on the line after a paragraph's (GitHub shows a list, MkDocs a run-on paragraph).
+and no list or text starts on the line after a paragraph's or a code block's end (GitHub shows them apart,
+MkDocs runs them together).
 
 usage: docs_check.py REPO SITE_DIR   (SITE_DIR: what `mkdocs build` wrote from REPO/mkdocs.yml)
 Exit status: 0 clean, 1 problems (each on a line of its own)."""
@@ -131,17 +132,22 @@ def check_readme(repo):
 
 
 def check_lists(repo):
-    """Pages' lists that GitHub and MkDocs read alike: a blank line between a paragraph and its list."""
+    """Pages' blocks that GitHub and MkDocs read alike: a blank line between a paragraph and its list, and after
+    a code block."""
     problems = []
     for path in sorted(glob.glob(os.path.join(repo, "docs", "**", "*.md"), recursive=True)):
-        previous, code = "", False
+        previous, code, closing = "", False, False
         for number, line in enumerate(open(path), 1):
-            if line.startswith("```"):
+            if line.strip().startswith("```"):
                 code = not code
             paragraph = previous.strip() and not re.match(r"\s|#|[-*+] |\d+\. |\||```|<!--|>", previous)
             if not code and re.match(r"([-*+]|\d+\.) ", line) and paragraph:
                 problems.append("%s:%d: a list right after a paragraph line: put a blank line before it" %
                                 (os.path.relpath(path, repo), number))
+            if closing and line.strip() and not line.startswith("<!--"):
+                problems.append("%s:%d: text right after a code block: put a blank line before it" %
+                                (os.path.relpath(path, repo), number))
+            closing = line.strip().startswith("```") and not code
             previous = line
     return problems
 
