@@ -8,6 +8,7 @@
 #include <random>
 
 #include "bullet_sim/model/model_geometry.h"
+#include "bullet_sim/simulation/world_api.h"
 #include "contact_support.h"
 
 namespace bullet_sim {
@@ -33,6 +34,7 @@ struct EnergyRise {
 };
 
 EnergyRise watchEnergy(Simulation& simulation, const std::string& name) {
+  const WorldApi world(simulation);
   const Robot& robot = *simulation.robot(name);
   const double start = robotEnergy(robot, simulation.world().gravity);
   EnergyRise energy;
@@ -41,7 +43,7 @@ EnergyRise watchEnergy(Simulation& simulation, const std::string& name) {
   while (simulation.time() < kLongest && resting < 0.5) {
     simulation.step();
     energy.rise = std::max(energy.rise, robotEnergy(robot, simulation.world().gravity) - start);
-    const EntityState state = simulation.modelState(name);
+    const EntityState state = world.modelState(name);
     const bool still = state.linear.norm() < kRestSpeed && state.angular.norm() < kRestTurn;
     resting = still ? resting + simulation.stepSize() : 0;
   }
@@ -61,10 +63,11 @@ TEST(ContactEnergy, ADroppedRobotGainsNone) {
         for (double drop : {0.05, 0.2, 0.5}) {
           SCOPED_TRACE(robot.name + " " + model + " " + std::to_string(step) + " s from " + std::to_string(drop) + " m");
           Simulation simulation(test::emptyWorld(), stepOf(step));
+          WorldApi world(simulation);
           simulation.spawn("robot", test::parseQuietly(withMotorsOff(withStrikeWheelModel(robot.urdf, model)), robot.name), {});
-          EntityState lifted = simulation.modelState("robot");
+          EntityState lifted = world.modelState("robot");
           lifted.pose.translation().z() += drop;
-          simulation.setModelState("robot", lifted);
+          world.setModelState("robot", lifted);
           const EnergyRise energy = watchEnergy(simulation, "robot");
           EXPECT_LE(energy.rise, energy.allowance);
         }

@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "bullet_sim/simulation/world_api.h"
 #include "contact_support.h"
 
 namespace bullet_sim {
@@ -44,23 +45,24 @@ SimulationOptions stepOf(double step) {
 /// 1 cm/s and 0.02 rad/s for 0.5 s) within 3 s.
 void expectRisesAndRests(const ModelSpec& model, double step) {
   Simulation simulation(test::emptyWorld(), stepOf(step));
+  WorldApi world(simulation);
   simulation.spawn("robot", model, {});
   const double depth = std::min(0.1, smallestWheel(model));
-  EntityState buried = simulation.modelState("robot");
+  EntityState buried = world.modelState("robot");
   buried.pose.translation().z() -= depth;
-  simulation.setModelState("robot", buried);
+  world.setModelState("robot", buried);
   double peak = -1, still_since = 0;
   bool resting = false;
   while (simulation.time() < 6.0 && !resting) {
     simulation.step();
-    const EntityState state = simulation.modelState("robot");
+    const EntityState state = world.modelState("robot");
     peak = std::max(peak, state.pose.translation().z());
     if (state.linear.norm() >= 0.01 || state.angular.norm() >= 0.02) still_since = simulation.time();
     resting = simulation.time() - still_since >= 0.5;
   }
   EXPECT_TRUE(resting) << "still moving after 6 s";
   EXPECT_LE(still_since, 3.0) << "came to rest at " << still_since << " s";
-  const double rest = simulation.modelState("robot").pose.translation().z();
+  const double rest = world.modelState("robot").pose.translation().z();
   EXPECT_LE(peak, rest + 0.05) << "buried " << depth << " m, rests at " << rest << " m";
   EXPECT_GT(rest, buried.pose.translation().z() + depth - 0.01) << "back on the ground";
 }

@@ -107,16 +107,31 @@ class RayNode:
         stop_processes(self.temp_dir)
 
 
+def started(arguments, temp_dir, env):
+    """A RayNode of `arguments(ports)`, started again on new ports once if the first start fails: a port found
+    free may be taken before Ray binds it (another test's node ending, or starting, on this machine)."""
+    try:
+        return RayNode(arguments(), temp_dir, env)
+    except RuntimeError as first:
+        print("ray start failed once, starting again on other ports: %s" % first, flush=True)
+        return RayNode(arguments(), temp_dir, env)
+
+
 def start_head(temp_dir, cpus, env):
     """The head node, on a free port; returns it and its address, 127.0.0.1:PORT."""
-    port, dashboard_port = free_ports(2)
-    return RayNode(["--head", "--port", str(port), "--num-cpus", str(cpus), "--include-dashboard", "false",
-                    "--dashboard-port", str(dashboard_port)], temp_dir, env), "127.0.0.1:%d" % port
+    address = []
+
+    def arguments():
+        port, dashboard_port, client_port = free_ports(3)
+        address[:] = ["127.0.0.1:%d" % port]
+        return ["--head", "--port", str(port), "--num-cpus", str(cpus), "--include-dashboard", "false",
+                "--dashboard-port", str(dashboard_port), "--ray-client-server-port", str(client_port)]
+    return started(arguments, temp_dir, env), address[0]
 
 
 def start_node(address, temp_dir, cpus, env):
     """One more node, joined to the head at `address`."""
-    return RayNode(["--address", address, "--num-cpus", str(cpus)], temp_dir, env)
+    return started(lambda: ["--address", address, "--num-cpus", str(cpus)], temp_dir, env)
 
 
 def raylet_of(temp_dir):

@@ -13,6 +13,7 @@
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/assets/package_resolver.h"
 #include "bullet_sim/plugins/parameter_tree.h"
+#include "bullet_sim/simulation/world_api.h"
 #include "plugins/ackermann_drive/ackermann_drive.h"
 #include "plugins/ros_control/diff_drive_controller.h"
 #include "plugins/ros_control/ros_control_plugin.h"
@@ -145,9 +146,20 @@ double wheelRadiusOf(const ModelSpec& model, const std::string& joint) {
   return link && !link->collisions.empty() ? link->collisions.front().shape.radius : 0.0;
 }
 
+/// The robot's plugins that are `Concrete`s. (What the drive is and how to command it should come from the
+/// registry and the typed inputs instead: issue 27's last step.)
+template <class Concrete>
+std::vector<Concrete*> pluginsOfType(Robot& robot) {
+  std::vector<Concrete*> found;
+  for (const auto& plugin : robot.plugins()) {
+    if (auto* typed = dynamic_cast<Concrete*>(plugin.get())) found.push_back(typed);
+  }
+  return found;
+}
+
 /// The robot's ros_control diff drive: the controller's wheels, limits and cmd_vel.
 std::optional<Drive> rosControlDrive(Robot& robot, const ParameterTree& parameters, double time) {
-  const auto controls = robot.pluginsOf<RosControl>();
+  const auto controls = pluginsOfType<RosControl>(robot);
   if (controls.empty()) return std::nullopt;
   ControllerManager& manager = controls.front()->controllerManager();
   SwitchControllerRequest start;
@@ -191,7 +203,7 @@ std::optional<Drive> rosControlDrive(Robot& robot, const ParameterTree& paramete
 Drive driveOf(Robot& robot, const ParameterTree& parameters, double time) {
   if (auto drive = rosControlDrive(robot, parameters, time)) return *drive;
   Drive drive;
-  const auto drives = robot.pluginsOf<DrivePlugin>();
+  const auto drives = pluginsOfType<DrivePlugin>(robot);
   if (drives.empty()) throw std::runtime_error("the robot has no drive plugin nor ros_control to drive it");
   DrivePlugin* plugin = drives.front();
   drive.command = [plugin](double speed, double sim_time) { plugin->setCommand(speed, 0, sim_time); };
@@ -766,7 +778,8 @@ class StrikeRun {
     target_ = placeTarget(cell, settled_.points, settled_.heading, gap);
     EntityState placed;
     placed.pose = target_.pose;
-    simulation_.setModelState("strike_target", placed);
+    const std::string twist_ignored = world_.setModelState("strike_target", placed);
+    if (!twist_ignored.empty()) throw std::logic_error("placing the target: " + twist_ignored);
     outcome_.bounds = strikeBounds(settled_, points_, drive_, target_, cell);
   }
 
@@ -841,10 +854,11 @@ class StrikeRun {
   }
   /// set_model_state: the robot moves at the cell's speed along its heading.
   void giveSpeed() {
-    EntityState given = simulation_.modelState(robot_.name);
+    EntityState given = world_.modelState(robot_.name);
     given.linear = cell_.speed * settled_.heading;
     given.angular.setZero();
-    simulation_.setModelState(robot_.name, given);
+    const std::string twist_ignored = world_.setModelState(robot_.name, given);
+    if (!twist_ignored.empty()) throw std::logic_error("giving the robot its speed: " + twist_ignored);
     outcome_.given_speed = true;
   }
 
@@ -853,6 +867,7 @@ class StrikeRun {
   ParameterTree parameters_;
   TreeParameters source_;
   Simulation simulation_;
+  WorldApi world_{simulation_};  ///< set_model_state, as a user's script moves things
   bool given_at_start_;
   Robot* robot_body_ = nullptr;
   Drive drive_;
