@@ -12,6 +12,7 @@ import os
 import re
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 
 
 def tool_help(tool):
@@ -59,14 +60,20 @@ def launch_page(package, path):
              (os.path.relpath(os.path.dirname(path), REPO), name),
              "# `%s %s`" % (package, name), ""]
     if comment:
-        lines += [" ".join(comment.group(1).split()), ""]
+        lines += [cell(" ".join(comment.group(1).split())), ""]
     lines += ["```bash", "roslaunch %s %s [ARG:=VALUE ...]" % (package, name), "```", "",
               "| argument | default | what it is |", "|---|---|---|"]
+    shown = set()
     for line in text.split("\n"):
         arg = ARG.match(line)
         if arg:
             default = "(required)" if arg.group(2) is None else "`%s`" % arg.group(2) if arg.group(2) else '`""`'
             lines.append("| `%s` | %s | %s |" % (arg.group(1), default, cell(arg.group(3) or "")))
+            shown.add(arg.group(1))
+    arguments = {arg.get("name") for arg in ET.parse(path).getroot().findall("arg") if "value" not in arg.attrib}
+    if arguments != shown:
+        sys.exit("docs_generate.py: %s: write each of its arguments %s on one line, as <arg name=... default=.../>"
+                 " indented by two spaces" % (path, sorted(arguments - shown)))
     return "\n".join(lines) + "\n"
 
 
