@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs `rosrun bullet_sim bench` on the wheelchair in home.world and on the bench scenario (bullet_sim/bench:
-# the robot and home our peers measured PyBullet and MuJoCo with), and rewrites the README's "## Performance"
-# section between <!-- bench:begin --> and <!-- bench:end --> (created before "## Tests" when missing), and
+# the robot and home our peers measured PyBullet and MuJoCo with), and rewrites docs/performance.md between
+# <!-- bench:begin --> and <!-- bench:end --> (created under its title when missing), and
 # its camera table (bench --camera) between <!-- bench-camera:begin --> and <!-- bench-camera:end -->, and the
 # live viewer's cost (bench --web-viewer) between <!-- bench-web:begin --> and <!-- bench-web:end -->.
 # Run after building, on a machine as quiet as you can make it:
@@ -38,7 +38,7 @@ CHAIR=$(rospack find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacr
 ROBOT=(--robot "$SCENARIO/bench_robot.urdf" --world "$SCENARIO/bench_home.world")
 
 # The camera figures of issue 13: the wheelchair in home.world with its lidar on, driving 4 s of the arc (the
-# flat leaves room for that much), a camera on it. The load averages before and after go into the README.
+# flat leaves room for that much), a camera on it. The load averages before and after go into the page.
 camera_section() {
   mkdir -p "$OUT/camera"
   # How busy the machine is without us: its CPU time over 2 s before the runs (/proc/stat's first line).
@@ -52,7 +52,7 @@ camera_section() {
   bench camera/rgb_hd "${chair[@]}" --camera 1920x1080@30
   bench camera/depth_hd "${chair[@]}" --camera 1920x1080@30 --depth
   cut -d' ' -f1-3 /proc/loadavg >"$OUT/camera/load_after"
-  /usr/bin/python3 "$REPO/scripts/bench_readme_camera.py" "$OUT/camera" "$REPO/README.md" "$REPEAT"
+  /usr/bin/python3 "$REPO/scripts/bench_readme_camera.py" "$OUT/camera" "$REPO/docs/performance.md" "$REPEAT"
 }
 if [[ $SECTIONS == camera ]]; then
   camera_section
@@ -66,7 +66,7 @@ web_section() {
   cut -d' ' -f1-3 /proc/loadavg >"$OUT/web/load_before"
   bench web/viewer --robot "$CHAIR" --world home.world --cmd 0,0.5 --duration 300 --web-viewer
   cut -d' ' -f1-3 /proc/loadavg >"$OUT/web/load_after"
-  /usr/bin/python3 "$REPO/scripts/bench_readme_web.py" "$OUT/web" "$REPO/README.md" "$REPEAT"
+  /usr/bin/python3 "$REPO/scripts/bench_readme_web.py" "$OUT/web" "$REPO/docs/performance.md" "$REPEAT"
 }
 if [[ $SECTIONS == web ]]; then
   web_section
@@ -83,10 +83,11 @@ bench obstacles "${ROBOT[@]}" --lidar 1800x16 --obstacles 1000
 # One start per process: start-up gets runs of its own, short ones.
 for run in $(seq "$REPEAT"); do bench "startup$run" "${ROBOT[@]}" --duration 0.1 --repeat 1; done
 
-/usr/bin/python3 - "$OUT" "$REPO/README.md" "$REPEAT" <<'EOF'
+/usr/bin/python3 - "$OUT" "$REPO/docs/performance.md" "$REPEAT" <<'EOF'
 import datetime, json, os, sys, textwrap
 
-sys.path.insert(0, os.path.join(os.path.dirname(sys.argv[2]), "scripts"))
+repo = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[2])))  # the page is docs/performance.md
+sys.path.insert(0, os.path.join(repo, "scripts"))
 from readme_section import write_section
 
 out, readme, repeat = sys.argv[1], sys.argv[2], sys.argv[3]
@@ -177,13 +178,13 @@ lines = [
     "--repeat 1`):",
     "",
     "```",
-] + [commands[name].replace(os.path.dirname(readme) + "/", "") for name in
+] + [commands[name].replace(repo + "/", "") for name in
      ("default", "contact", "raycast", "lidar3d", "obstacles", "wheelchair")] + ["```"]
 if warnings:
     lines += ["", "Load warnings:"] + ["- " + w for w in warnings]
 
 write_section(readme, "bench", lines,
-              lambda text, section: text.replace("\n## Tests\n", "\n## Performance\n" + section + "\n\n## Tests\n", 1))
+              lambda text, section: text.replace("# Performance\n", "# Performance\n" + section + "\n", 1))
 print("\n".join(lines))
 EOF
 

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Writes the README's camera table (issue 13's figures beside their targets) from the JSON of the four
-`bench --camera` runs that scripts/bench_readme.sh makes, between <!-- bench-camera:begin --> and
-<!-- bench-camera:end --> (created at the top of the Performance section's "### Cameras" when missing).
+"""Writes docs/performance.md's camera table (issue 13's figures beside their targets) from the JSON of the
+four `bench --camera` runs that scripts/bench_readme.sh makes, between <!-- bench-camera:begin --> and
+<!-- bench-camera:end --> (created at the top of the section "## Cameras" when missing).
 
-usage: bench_readme_camera.py RUNS_DIR README REPEAT"""
+usage: bench_readme_camera.py RUNS_DIR PAGE REPEAT"""
 import datetime
 import json
 import os
@@ -71,12 +71,13 @@ def main():
         % (today, cores, repeat, repeat, others, cores, " ".join(load_before), " ".join(load_after),
            "others were using the machine, so these figures are low." if busy else "the machine was otherwise quiet."))
     lines = textwrap.wrap(intro, 110) + [""] + table(runs) + ["", "```"]
-    lines += [command.replace(os.path.dirname(os.path.abspath(readme)) + "/", "") for command in commands] + ["```"]
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(readme)))  # the page is docs/performance.md
+    lines += [command.replace(repo + "/", "") for command in commands] + ["```"]
     warnings = sorted({w for run in runs.values() for w in run["warnings"]})
     if warnings:
         lines += ["", "Load warnings:"] + ["- " + w for w in warnings]
 
-    heading = "<!-- bench:end -->\n\n### Cameras\n"  # the Performance section's, below its table
+    heading = "<!-- bench:end -->\n\n## Cameras\n"  # the Performance section's, below its table
     write_section(readme, "bench-camera", lines, lambda text, section: text.replace(heading, heading + section + "\n", 1))
     print("\n".join(lines))
 

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Writes the README's figure for the live viewer's cost (issue 35: at most 5 % of RTF) from the JSON of the
-`bench --web-viewer` run that scripts/bench_readme.sh makes, between <!-- bench-web:begin --> and
-<!-- bench-web:end --> (created at the top of the Performance section's "### The live viewer" when missing).
+"""Writes docs/performance.md's figure for the live viewer's cost (issue 35: at most 5 % of RTF) from the JSON of
+the `bench --web-viewer` run that scripts/bench_readme.sh makes, between <!-- bench-web:begin --> and
+<!-- bench-web:end --> (created at the top of the section "## The live viewer" when missing).
 
-usage: bench_readme_web.py RUNS_DIR README REPEAT"""
+usage: bench_readme_web.py RUNS_DIR PAGE REPEAT"""
 import datetime
 import json
 import os
@@ -38,9 +38,10 @@ def main():
     ]
     lines = textwrap.wrap(intro, 110) + ["", "| figure | ours | target | met |", "|---|---|---|---|"]
     lines += ["| %s |" % " | ".join(row) for row in rows]
-    lines += ["", "```", command.replace(os.path.dirname(os.path.abspath(readme)) + "/", ""), "```"]
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(readme)))  # the page is docs/performance.md
+    lines += ["", "```", command.replace(repo + "/", ""), "```"]
 
-    heading = "### The live viewer\n"
+    heading = "## The live viewer\n"
     write_section(readme, "bench-web", lines, lambda text, section: text.replace(heading, heading + section + "\n", 1))
     print("\n".join(lines))
 

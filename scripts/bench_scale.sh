@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Measures scale and footprint (issue 17) and rewrites the README's figures between <!-- scale:begin --> and
+# Measures scale and footprint (issue 17) and rewrites docs/performance.md's figures between <!-- scale:begin --> and
 # <!-- scale:end -->: a world of 10,000 boxes loaded by bench and by the simulator node, the node's start to its
 # first /clock in the empty world, bench's peak memory on the wheelchair in home.world (its lidar and one render
 # included), and the memory a deleted robot leaves behind. Run after building, on a machine as quiet as you can
@@ -95,13 +95,13 @@ node_start() {
 node_start empty empty.world
 node_start boxes "$OUT/boxes.world"
 
-/usr/bin/python3 - "$OUT" "$REPO/README.md" "$REPEAT" <<'EOF'
+/usr/bin/python3 - "$OUT" "$REPO/docs/performance.md" "$REPEAT" <<'EOF'
 import datetime, json, os, re, statistics, sys
 
 out, readme, repeat = sys.argv[1], sys.argv[2], sys.argv[3]
 run = {name[:-5]: json.load(open(os.path.join(out, name))) for name in os.listdir(out) if name.endswith(".json")}
 # Commands as a reader types them: paths in the workspace relative to it, the generated files by name.
-repo = os.path.dirname(os.path.abspath(readme)) + "/"
+repo = os.path.dirname(os.path.dirname(os.path.abspath(readme))) + "/"  # docs/performance.md
 command = {name: open(os.path.join(out, name + ".command")).read().strip().replace(repo, "").replace(out + "/", "")
            for name in run}
 def node(name):
@@ -146,7 +146,7 @@ content = open(readme).read()
 if "<!-- scale:begin -->" in content:
     content = re.sub(r"<!-- scale:begin -->.*<!-- scale:end -->", lambda m: section, content, flags=re.S)
 else:
-    content = content.replace("\n### Cameras\nMeasured", "\n### Scale and footprint\n" + section + "\n\n### Cameras\nMeasured", 1)
+    content = content.replace("\n## Cameras\n", "\n## Scale and footprint\n" + section + "\n\n## Cameras\n", 1)
 open(readme, "w").write(content)
 print(section)
 EOF

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Measures the scenario figures the README reports (never asserted by tests): one run's wall time, sweep
+"""Measures the scenario figures docs/performance.md reports (never asserted by tests): one run's wall time, sweep
 throughput for timeline and launch scenarios, and the sweep's scaling from 1 to 2 CPUs.
 
     source devel/setup.bash && scripts/bench_scenarios.py [--out DIR] [--single N]

@@ -2,7 +2,8 @@
 # Sets up, builds, runs and tests this catkin workspace on Debian 12. Every step is idempotent.
 #
 #   scripts/workspace.sh run     install what is missing, build, bring up the wheelchair simulation
-#   scripts/workspace.sh test    install what is missing, build, run the whole test suite and replay the fuzz corpus
+#   scripts/workspace.sh test    install what is missing, build, run the whole test suite, check the docs site and
+#                                replay the fuzz corpus
 #   scripts/workspace.sh install | build
 #
 # The repo root is the catkin source space. When it is cloned as <ws>/src, the workspace is <ws>;
@@ -31,6 +32,7 @@ DEBIAN_PACKAGES=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev python3-yaml python3-matplotlib python3-tqdm util-linux
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
   libboost-dev libjs-three chromium chromium-driver fonts-liberation python3-selenium python3-pil  # the live viewer, its test
+  mkdocs mkdocs-material  # the docs site (scripts/docs.sh)
 )
 XACRO_VERSION=2.1.1  # Noetic's dialect through the xacro package's script (xacro/xacro)
 RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
@@ -140,6 +142,8 @@ PY
     echo "FAILED: no gtest ran (is googletest installed?)" >&2
     exit 1
   fi
+  log "documentation (scripts/docs.sh --check)"
+  "$REPO/scripts/docs.sh" --check || status=1
   log "repeated code (scripts/duplicates.sh)"
   "$REPO/scripts/duplicates.sh" || status=1
   # The fuzz targets replay their committed corpus and crashes, then fuzz briefly with a fixed seed.

@@ -267,7 +267,7 @@ struct ShippedRobot {
   std::string package;
   std::string xacro;
   std::vector<std::string> args;               ///< xacro's name:=value arguments
-  std::vector<std::string> expected_warnings;  ///< a part of each warning that stays, and why in the README
+  std::vector<std::string> expected_warnings;  ///< a part of each warning that stays, and why in the docs
 };
 
 class DoctorShipped : public ::testing::TestWithParam<ShippedRobot> {};

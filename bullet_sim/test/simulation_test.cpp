@@ -235,7 +235,7 @@ void checkSkidSteer(ModelSpec (*load)(const std::string&), double v, double w) {
         continue;
       }
       EXPECT_GT(actual.yaw, 0.05) << "+angular.z turns counter-clockwise";
-      if (wheel_model != "raycast") continue;  // Bullet's contact friction is no friction circle (README)
+      if (wheel_model != "raycast") continue;  // Bullet's contact friction is no friction circle (docs/known_limitations.md)
       // Turning in place, four wheels at (+-a, +-b) slide sideways: Coulomb friction balances the yaw moments
       // at w * b^2 / (a^2 + b^2). Within 15 %: the wheels need a moment to spin up.
       const auto poses = linkPosesAtZero(model);

@@ -14,7 +14,7 @@ from bullet_sim_sweep.progress import Progress
 from bullet_sim_sweep.runs import status_of
 
 DESCRIPTION = """\
-Expands MATRIX.yaml (a scenario crossed with axes of values; see `scenario --help` and the README) into its
+Expands MATRIX.yaml (a scenario crossed with axes of values; see `scenario --help` and docs/scenarios.md) into
 cells and runs each as `scenario --matrix MATRIX.yaml --index N`, a Ray task of one CPU pinned to one core,
 spread over the cluster's nodes. Without --address it starts a local Ray instance with --cpus CPUs (default:
 all of this machine's); --address HOST:PORT joins a running cluster (`ray start --head`, KubeRay, ...), whose

@@ -31,7 +31,7 @@ constexpr char kUsage[] =
     "A timeline scenario runs in this process, without a ROS master, and is deterministic; a launch\n"
     "scenario starts its own master on a free port, the simulator and the launch file, and stops\n"
     "them all when it ends. --seed replaces the scenario's seed. --list prints the matrix's cells\n"
-    "as JSON. The README's Scenarios section describes the files.\n"
+    "as JSON. docs/scenarios.md describes the files.\n"
     "Exit status: 0 every check passed, 1 a check failed, 2 the scenario could not run.\n";
 
 /// --list: the matrix's size, axes and every cell's values, as JSON on stdout.

@@ -1,5 +1,5 @@
 // A scenario file: one run of the simulator, described in YAML (parsed with yaml-cpp), and a matrix file that
-// crosses scenario fields into many runs. ROS-free. The README's "Scenarios" section is the user's guide.
+// crosses scenario fields into many runs. ROS-free. docs/scenarios.md is the user's guide.
 #pragma once
 
 #include <optional>
