@@ -122,10 +122,10 @@ def start_head(temp_dir, cpus, env):
     address = []
 
     def arguments():
-        port, dashboard_port, client_port = free_ports(3)
+        port, dashboard_port = free_ports(2)
         address[:] = ["127.0.0.1:%d" % port]
         return ["--head", "--port", str(port), "--num-cpus", str(cpus), "--include-dashboard", "false",
-                "--dashboard-port", str(dashboard_port), "--ray-client-server-port", str(client_port)]
+                "--dashboard-port", str(dashboard_port)]
     return started(arguments, temp_dir, env), address[0]
 
 
