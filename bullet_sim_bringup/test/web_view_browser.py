@@ -110,14 +110,19 @@ class WebViewBrowser(unittest.TestCase):
         left, top, right, bottom = self.page("return s.screenBox(%r)" % ROBOT)
         return int(left), int(top), int(right) + 1, int(bottom) + 1
 
-    def outside(self, mask, box):
-        """`mask` with the robot's box and the panel cleared."""
-        outside = mask.copy()
-        left, top, right, bottom = box
-        outside[max(top, 0):max(bottom, 0), max(left, 0):max(right, 0)] = False
+    def without_panel(self, mask):
+        """`mask` with the control panel (whose text is black too) cleared."""
+        cleared = mask.copy()
         panel = self.page("const r = document.getElementById('panel').getBoundingClientRect(); "
                           "return [r.left, r.top, r.right, r.bottom]")
-        outside[:int(panel[3]) + 2, :int(panel[2]) + 2] = False
+        cleared[:int(panel[3]) + 2, :int(panel[2]) + 2] = False
+        return cleared
+
+    def outside(self, mask, box):
+        """`mask` with the robot's box and the panel cleared."""
+        outside = self.without_panel(mask)
+        left, top, right, bottom = box
+        outside[max(top, 0):max(bottom, 0), max(left, 0):max(right, 0)] = False
         return outside
 
     def drive(self, linear, until, what):
@@ -154,11 +159,13 @@ class WebViewBrowser(unittest.TestCase):
         # The tyres moved across the screen as the robot's position projects.
         expected = numpy.subtract(self.page("return s.project(%f, %f, 0.3)" % (end["x"], end["y"])),
                                   self.page("return s.project(%f, %f, 0.3)" % (start["x"], start["y"])))
-        moved = numpy.subtract(numpy.argwhere(dark(after)).mean(axis=0)[::-1],
-                               numpy.argwhere(dark(before)).mean(axis=0)[::-1])
+        # The panel's black text stays put: counted, it pulled the tyres' centroid towards it (CI saw 0.48).
+        moved = numpy.subtract(numpy.argwhere(self.without_panel(dark(after))).mean(axis=0)[::-1],
+                               numpy.argwhere(self.without_panel(dark(before))).mean(axis=0)[::-1])
         self.assertGreater(numpy.linalg.norm(expected), 20, "a move too small to see")
-        self.assertGreater(numpy.dot(moved, expected) / numpy.dot(expected, expected), 0.5,
-                           "the tyres moved %s px on screen, the robot's position %s px" % (moved, expected))
+        along = numpy.dot(moved, expected) / numpy.dot(expected, expected)
+        self.assertTrue(0.7 < along < 1.3,
+                        "the tyres moved %s px on screen, the robot's position %s px" % (moved, expected))
 
     def test_c_teleop_pad_publishes_cmd_vel(self):
         commands = Collector("/cmd_vel", Twist)
