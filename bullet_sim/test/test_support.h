@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "bullet_sim/model/model.h"
@@ -33,6 +35,53 @@ std::vector<T*> pluginsOf(const Robot& robot) {
     if (auto* typed = dynamic_cast<T*>(plugin.get())) found.push_back(typed);
   }
   return found;
+}
+
+/// The one output stream of `plugin` whose samples are `Sample`s (a drive's odometry): what a test of that
+/// plugin reads. Throws when the plugin has none, or several.
+template <class Sample>
+const Stream<Sample>& streamOf(const Plugin& plugin) {
+  const Stream<Sample>* found = nullptr;
+  for (const OutputPort& port : plugin.ports().outputs) {
+    const auto* stream = std::get_if<const Stream<Sample>*>(&port.stream);
+    if (!stream) continue;
+    if (found) throw std::runtime_error(plugin.where() + " has several outputs of that type");
+    found = *stream;
+  }
+  if (!found) throw std::runtime_error(plugin.where() + " has no output of that type");
+  return *found;
+}
+
+/// The latest of those samples, and how many `plugin` has published (a new one when the count changes).
+template <class Sample>
+const Sample& latestOf(const Plugin& plugin) {
+  return streamOf<Sample>(plugin).latest();
+}
+template <class Sample>
+uint64_t countOf(const Plugin& plugin) {
+  return streamOf<Sample>(plugin).count();
+}
+
+/// A cmd_vel: linear.x and linear.y [m/s], angular.z [rad/s].
+inline Twist twist(double x, double y, double yaw_rate) {
+  Twist command;
+  command.linear = {x, y, 0};
+  command.angular = {0, 0, yaw_rate};
+  return command;
+}
+
+/// Steps `seconds` of sim time, calling `send()` every 0.1 s from the first step, as `rostopic pub -r 10`
+/// sends; `send` returns whether its command was taken, and a refusal fails the test.
+template <class Send>
+void stepSending(Simulation& simulation, double seconds, Send send) {
+  const auto steps = std::lround(seconds / simulation.stepSize());
+  const auto resend = std::lround(0.1 / simulation.stepSize());
+  for (long i = 0; i < steps; ++i) {
+    if (i % resend == 0) {
+      ASSERT_TRUE(send());
+    }
+    simulation.step();
+  }
 }
 
 /// Runs a shell command line, as a user would type it; its exit status, stdout and stderr.
