@@ -2,16 +2,17 @@
 # Runs `rosrun bullet_sim bench` on the wheelchair in home.world and on the bench scenario (bullet_sim/bench:
 # the robot and home our peers measured PyBullet and MuJoCo with), and rewrites the README's "## Performance"
 # section between <!-- bench:begin --> and <!-- bench:end --> (created before "## Tests" when missing), and
-# its camera table (bench --camera) between <!-- bench-camera:begin --> and <!-- bench-camera:end -->.
+# its camera table (bench --camera) between <!-- bench-camera:begin --> and <!-- bench-camera:end -->, and the
+# live viewer's cost (bench --web-viewer) between <!-- bench-web:begin --> and <!-- bench-web:end -->.
 # Run after building, on a machine as quiet as you can make it:
-#   source devel/setup.bash && scripts/bench_readme.sh [all|physics|camera]   # default all
+#   source devel/setup.bash && scripts/bench_readme.sh [all|physics|camera|web]   # default all
 # BENCH_REPEAT=5 runs per figure (medians).
 set -euo pipefail
 SECTIONS=${1:-all}
 case "$SECTIONS" in
-all | physics | camera) ;;
+all | physics | camera | web) ;;
 *)
-  echo "usage: $0 [all|physics|camera]" >&2
+  echo "usage: $0 [all|physics|camera|web]" >&2
   exit 2
   ;;
 esac
@@ -55,6 +56,20 @@ camera_section() {
 }
 if [[ $SECTIONS == camera ]]; then
   camera_section
+  exit 0
+fi
+
+# The live viewer's cost (issue 35): the wheelchair turning in place in home.world (clear of its walls for as
+# long as it turns), its lidar on, with one page open on the viewer, against the same run without it.
+web_section() {
+  mkdir -p "$OUT/web"
+  cut -d' ' -f1-3 /proc/loadavg >"$OUT/web/load_before"
+  bench web/viewer --robot "$CHAIR" --world home.world --cmd 0,0.5 --duration 300 --web-viewer
+  cut -d' ' -f1-3 /proc/loadavg >"$OUT/web/load_after"
+  /usr/bin/python3 "$REPO/scripts/bench_readme_web.py" "$OUT/web" "$REPO/README.md" "$REPEAT"
+}
+if [[ $SECTIONS == web ]]; then
+  web_section
   exit 0
 fi
 
@@ -172,4 +187,7 @@ write_section(readme, "bench", lines,
 print("\n".join(lines))
 EOF
 
-if [[ $SECTIONS == all ]]; then camera_section; fi
+if [[ $SECTIONS == all ]]; then
+  camera_section
+  web_section
+fi

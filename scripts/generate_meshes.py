@@ -7,7 +7,7 @@ so each figure stays written once, in the xacro; the rest (seat, frame, brackets
 looks only. Every mesh is written in the frame of the <visual> that uses it.
 
 Usage: scripts/generate_meshes.py            (run after changing a description; commit the meshes)
-Needs: xacro and numpy on /usr/bin/python3.
+Needs: xacro (PyPI's, see scripts/workspace.sh) and numpy on /usr/bin/python3.
 """
 import os
 import struct
@@ -139,7 +139,8 @@ def wheel(radius, width, spokes=0, hub_ratio=0.25):
 def expand(package, robot, *args):
     env = dict(os.environ, ROS_PACKAGE_PATH=REPO)
     path = os.path.join(REPO, package, "urdf", robot + ".urdf.xacro")
-    return ET.fromstring(subprocess.check_output(["xacro", path, *args], env=env))
+    xacro = os.path.join(REPO, "xacro", "xacro")  # Noetic's dialect, the one launch files run
+    return ET.fromstring(subprocess.check_output([xacro, path, *args], env=env))
 
 
 def collision_cylinder(urdf, link):

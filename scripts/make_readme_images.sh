@@ -29,4 +29,6 @@ cp "$RUNS/doorway/top.png" "$OUT/scenario_doorway_top.png"
 rosrun bullet_sim sweep "$SCENARIOS/wheelchair_doorway_matrix.yaml" --out "$RUNS/sweep" --no-progress >/dev/null || true
 cp "$RUNS/sweep/summary.png" "$OUT/sweep_summary.png"
 rm -rf "$RUNS"
+# The live viewer in headless Chromium (multi_robot.launch with web_port).
+/usr/bin/python3 "$REPO/scripts/web_viewer_screenshot.py" "$OUT/web_viewer.png" >/dev/null
 echo "wrote $(ls "$OUT" | tr '\n' ' ')"

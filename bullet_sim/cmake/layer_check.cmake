@@ -10,12 +10,13 @@
 #   scene       a simulation as a plain Scene (building)
 #   render      draws a plain Scene: besides its own headers it may include scene/scene.h, scene/camera.h,
 #               scene/image.h and scene/scene_renderer.h (the interface it implements)
+#   web         the live viewer: a page served over HTTP and a WebSocket (Boost.Beast)
 #   tools       what the command-line tools share
 #   doctor      urdf_doctor's checks
 #   scenario    scenario files, runs, checks and reports
 #   bench       the benchmark
 #   ros         the only ROS code
-set(BULLET_SIM_LAYERS common assets model sensing physics plugins simulation scene render tools doctor scenario bench ros)
+set(BULLET_SIM_LAYERS common assets model sensing physics plugins simulation scene render web tools doctor scenario bench ros)
 
 # The layer of a source or header path: its folder under include/bullet_sim, src or the package (plugins/).
 function(layer_of path out)

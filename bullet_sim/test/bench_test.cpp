@@ -94,6 +94,15 @@ TEST(Bench, ACameraRendersAtItsRateAndAnUnwantedOneRendersNothing) {
   EXPECT_THAT(result.output, HasSubstr("\"camera_idle_frames_per_run\": 0"));
 }
 
+TEST(Bench, AWatchedRunHasItsPageTakeInFrames) {
+  const test::CommandResult result = test::run(bench(scenario() + " --web-viewer --duration 0.5 --repeat 1"));
+  ASSERT_EQ(result.status, 0) << result.errors;
+  const auto numbers = numbersIn(result.output, {"rtf_web_viewer", "web_viewer_cost_pct", "web_viewer_cpu_cost_pct",
+                                                 "web_viewer_frames_per_run"});
+  EXPECT_GT(numbers.at("rtf_web_viewer"), 0);
+  EXPECT_GE(numbers.at("web_viewer_frames_per_run"), 1);
+}
+
 TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
   for (const std::string args :
        {"", "--world home.world", "--robot x.urdf --bogus 1", "--robot x.urdf --cmd 0.5",

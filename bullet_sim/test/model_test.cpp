@@ -67,11 +67,24 @@ TEST(ModelSpec, UnexpandedMacroCallSuggestsTheXacroPrefix) {
   EXPECT_THAT(error, HasSubstr("write <xacro:mbot_base/>"));
 }
 
-TEST(ModelSpec, GazeboReferenceToMissingLinkSuggestsTheNearMiss) {
-  const std::string error = loadError("fail_sensor_missing_link.urdf");
-  EXPECT_THAT(
-      error,
-      HasSubstr("<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?)"));
+// Gazebo skips a <gazebo reference> block that names nothing without a word: we skip it with a warning that
+// suggests the near miss, and refuse it under ~strict_models.
+TEST(ModelSpec, GazeboReferenceToMissingLinkIsSkippedWithTheNearMiss) {
+  const std::string urdf = readFile(fixture("robots/sensor_missing_link.urdf"));
+  const std::string message =
+      "<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?): the block is skipped";
+  std::vector<std::string> warnings;
+  const ModelSpec model =
+      parseModel(urdf, "sensor_missing_link.urdf", PackageResolver::fromEnvironment(), &warnings);
+  EXPECT_TRUE(model.plugins.empty());  // the block's lidar is not there
+  EXPECT_THAT(warnings, testing::Contains(HasSubstr(message)));
+  try {
+    parseModel(urdf, "sensor_missing_link.urdf", PackageResolver::fromEnvironment(), nullptr, Limits(),
+               /*strict=*/true);
+    FAIL() << "a dangling <gazebo reference> was accepted under strict_models";
+  } catch (const SpecError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(message));
+  }
 }
 
 TEST(ModelSpec, ReportsEveryProblemOfAFileAtOnce) {

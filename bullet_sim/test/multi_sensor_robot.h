@@ -1,13 +1,15 @@
-// The multi-sensor test robot (test/fixtures/robots/multi_sensor_robot.urdf.xacro), and the URDF edits and
-// load checks the tests of its plugins share.
+// The multi-sensor test robot (test/fixtures/robots/multi_sensor_robot.urdf.xacro), and the URDF edits, load
+// checks and drive commands the tests of its plugins share.
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "bullet_sim/simulation/simulation.h"
+#include "plugins/planar_move/planar_move.h"
 #include "test_support.h"
 
 namespace bullet_sim::test {
@@ -91,6 +93,19 @@ inline std::string multiSensorUrdf(const std::string& drive = "planar") {
 /// The multi-sensor robot, with planar move ("planar") or force-based move ("force_based").
 inline ModelSpec multiSensorRobot(const std::string& drive = "planar") {
   return parseExpecting(multiSensorUrdf(drive), "multi_sensor_robot");
+}
+
+/// A body-frame command: x, y [m/s] and the yaw rate [rad/s].
+inline Twist twist(double x, double y, double yaw_rate) {
+  Twist command;
+  command.linear = {x, y, 0};
+  command.angular = {0, 0, yaw_rate};
+  return command;
+}
+
+/// Steps `seconds`, sending `command` to the robot's planar move every 0.1 s as `rostopic pub -r 10` does.
+inline void drivePlanar(Simulation& simulation, PlanarMove& drive, const Twist& command, double seconds) {
+  stepSending(simulation, seconds, [&] { return drive.setCommand(command, simulation.time()); });
 }
 
 /// The plugin of type T named `name` (its sensor's name for a sensor's plugin).

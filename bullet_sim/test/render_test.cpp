@@ -9,7 +9,6 @@
 #include <functional>
 
 #include "bullet_sim/model/model_geometry.h"
-#include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/render/image.h"
 #include "bullet_sim/render/offscreen_renderer.h"
 #include "bullet_sim/scene/recording.h"
@@ -257,14 +256,14 @@ TEST(Render, APlanOfTheWheelchairShowsItsSeatAndBackrest) {
 TEST(Render, LidarHitsAreDrawnWhereTheBeamsHit) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   Robot& mast = simulation.spawn("mast", lidarMast(), {});
-  RayLidar* lidar = test::pluginsOf<RayLidar>(mast).at(0);
+  const Stream<LaserScan>* lidar = mast.outputs<LaserScan>().at(0).stream;
   ASSERT_TRUE(test::stepUntil(
-      simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan"));
+      simulation, [&] { return lidar->count() > 0; }, 1.0, "a scan"));
 
   Scene scene = bareScene();
   addWorld(scene, simulation.world());
   const Eigen::Vector4d red(1, 0, 0, 1);
-  scene.point_sets.push_back(lidarHits(lidar->scan(), red, 4));
+  scene.point_sets.push_back(lidarHits(lidar->latest(), red, 4));
   // Above the middle of the room, looking down on the inner faces of the walls, where the beams end.
   scene.camera = Camera::perspective({0, 0, 6}, {0, 0, 0}, Eigen::Vector3d::UnitY(), 70 * M_PI / 180);
   const Image image = OffscreenRenderer().render(scene, kWidth, kHeight);

@@ -164,6 +164,24 @@ TEST(ScenarioMatrix, RefusesAnAxisOutsideTheScenario) {
       ScenarioError);
 }
 
+TEST(ScenarioMatrix, RefusesARangePastTheLargestWholeNumber) {
+  TemporaryFolder folder;
+  const auto matrixWithSeeds = [&](const std::string& range) {
+    std::ofstream(folder / "m.yaml") << "scenario: " << scenarioFile("reach_region.yaml")
+                                     << "\naxes: {seed: " << range << "}\n";
+    return loadMatrix(folder / "m.yaml");
+  };
+  EXPECT_THAT(matrixWithSeeds("{from: 9223372036854775806, count: 2}").values.back(),
+              ::testing::ElementsAre("9223372036854775806", "9223372036854775807"));
+  EXPECT_THROW(
+      try { matrixWithSeeds("{from: 9223372036854775806, count: 3}"); } catch (const ScenarioError& error) {
+        EXPECT_THAT(error.what(),
+                    HasSubstr("{from: 9223372036854775806, count: 3} goes past the largest whole number"));
+        throw;
+      },
+      ScenarioError);
+}
+
 /// A 0.4 x 0.4 x 0.2 m box robot.
 ModelSpec boxRobot() {
   const std::string urdf = R"(<robot name="box"><link name="base"><inertial><mass value="1"/>

@@ -11,7 +11,7 @@
 #include "bullet_sim/model/sdf_model.h"
 #include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
-#include "bullet_sim/simulation/simulation.h"
+#include "bullet_sim/simulation/world_api.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -95,19 +95,20 @@ TEST(SdfModel, ReadsLinksInertiaShapesJointsAndTheSensorsPluginAsAUrdfWouldGiveT
 
 TEST(SdfModel, ASpawnedSdfModelScansTheRoomAndItsJointTurnsTheHead) {
   Simulation simulation(test::shippedWorld("test_room.world"));
+  WorldApi world(simulation);
   Robot& robot = simulation.spawn("pan_lidar", parse(panLidar()), {.z = 0.1});  // the root link, 0.1 m up
-  EXPECT_TRUE(simulation.modelState("pan_lidar").pose.translation().isApprox(Eigen::Vector3d::Zero(), 1e-9))
+  EXPECT_TRUE(world.modelState("pan_lidar").pose.translation().isApprox(Eigen::Vector3d::Zero(), 1e-9))
       << "the model frame is 0.1 m below its root link";
-  const RayLidar& lidar = *test::pluginsOf<RayLidar>(robot).at(0);
+  const Stream<LaserScan>& lidar = *robot.outputs<LaserScan>().at(0).stream;
   const auto ahead = [&] {
-    const uint64_t scans = lidar.scanCount();
+    const uint64_t scans = lidar.count();
     test::stepUntil(
-        simulation, [&] { return lidar.scanCount() > scans; }, 1.0, "a scan");
-    return lidar.scan().ranges[90];
+        simulation, [&] { return lidar.count() > scans; }, 1.0, "a scan");
+    return lidar.latest().ranges[90];
   };
   // The test room's inner faces are at x = 3 and y = 2; the sensor sits 0.02 m ahead of the pan axis.
   EXPECT_NEAR(ahead(), 3.0 - 0.02, 1e-3);
-  simulation.setModelConfiguration("pan_lidar", {{"pan", M_PI / 2}});
+  world.setModelConfiguration("pan_lidar", {{"pan", M_PI / 2}});
   EXPECT_NEAR(ahead(), 2.0 - 0.02, 1e-3) << "the head turned to +y";
 }
 
@@ -116,18 +117,19 @@ TEST(SdfModel, AStaticModelIsRigidNeedsNoMassAndStaysWhereItIsPut) {
   EXPECT_TRUE(spec.is_static);
   EXPECT_THAT(spec.linkNames(), ElementsAre("a", "b")) << "the unjoined link is welded to the root";
   Simulation simulation(test::shippedWorld("empty.world"));
+  WorldApi world(simulation);
   simulation.spawn("goal", spec, {.x = 2, .z = 0.5});
   for (int i = 0; i < 500; ++i) simulation.step();
-  EXPECT_TRUE(simulation.modelState("goal").pose.translation().isApprox(Eigen::Vector3d(2, 0, 0.5), 1e-9));
-  EXPECT_TRUE(simulation.modelProperties("goal").is_static);
+  EXPECT_TRUE(world.modelState("goal").pose.translation().isApprox(Eigen::Vector3d(2, 0, 0.5), 1e-9));
+  EXPECT_TRUE(world.modelProperties("goal").is_static);
   EntityState moved;
   moved.pose.translation() = Eigen::Vector3d(-1, 1, 0.5);
-  EXPECT_EQ(simulation.setModelState("goal", moved), "");
+  EXPECT_EQ(world.setModelState("goal", moved), "");
   for (int i = 0; i < 100; ++i) simulation.step();
-  EXPECT_TRUE(simulation.linkState("goal::b").pose.translation().isApprox(Eigen::Vector3d(0, 1, 0.5), 1e-9));
+  EXPECT_TRUE(world.linkState("goal::b").pose.translation().isApprox(Eigen::Vector3d(0, 1, 0.5), 1e-9));
   EXPECT_THAT(
       [&] {
-        simulation.applyBodyWrench({"goal", "", {}, Eigen::Vector3d::UnitX(), {}, {0, 1}});
+        world.applyBodyWrench({"goal", "", {}, Eigen::Vector3d::UnitX(), {}, {0, 1}});
       },
       ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("static")));
 }
@@ -136,10 +138,11 @@ TEST(SdfModel, AUrdfSaysStaticInAGazeboBlock) {
   const std::string urdf = test::replaceAfter(test::readFile(test::fixture("robots/minimal.urdf")), "</link>",
                                               "</robot>", "<gazebo><static>true</static></gazebo></robot>");
   Simulation simulation(test::shippedWorld("empty.world"));
+  WorldApi world(simulation);
   simulation.spawn("box", test::parseQuietly(urdf, "minimal.urdf"), {.z = 1});
   for (int i = 0; i < 300; ++i) simulation.step();
-  EXPECT_NEAR(simulation.modelState("box").pose.translation().z(), 1.0, 1e-9);
-  EXPECT_TRUE(simulation.modelProperties("box").is_static);
+  EXPECT_NEAR(world.modelState("box").pose.translation().z(), 1.0, 1e-9);
+  EXPECT_TRUE(world.modelProperties("box").is_static);
 }
 
 TEST(SdfModel, AJointAwayFromItsChildsOriginPutsTheChildsFrameAtTheJoint) {

@@ -6,7 +6,7 @@
 
 #include <sstream>
 
-#include "bullet_sim/simulation/simulation.h"
+#include "bullet_sim/simulation/world_api.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -55,8 +55,8 @@ SpawnPose at(double x, double y, std::optional<double> z = std::nullopt) {
   return pose;
 }
 
-double speed(const Simulation& simulation, const std::string& model) {
-  const EntityState state = simulation.modelState(model);
+double speed(const WorldApi& world, const std::string& model) {
+  const EntityState state = world.modelState(model);
   return state.linear.norm() + state.angular.norm();
 }
 
@@ -64,17 +64,18 @@ double speed(const Simulation& simulation, const std::string& model) {
 // at erp * depth / dt: 80 m/s for 10 cm, which flew a robot 237 m. The push-out speed is capped.
 TEST(Settling, ARobotSpawnedUnderTheGroundRestsOnItWhereItWasPut) {
   Simulation simulation(test::shippedWorld("empty.world"));
+  WorldApi world(simulation);
   simulation.spawn("free", parse(freeWheeler()), at(1, 2, kWheelRadius - 0.1));
   double highest = -1;
   const bool rests = test::stepUntil(
       simulation,
       [&] {
-        highest = std::max(highest, simulation.modelState("free").pose.translation().z());
-        return simulation.time() > 0.5 && speed(simulation, "free") < 1e-3;
+        highest = std::max(highest, world.modelState("free").pose.translation().z());
+        return simulation.time() > 0.5 && speed(world, "free") < 1e-3;
       },
       3.0, "coming to rest");
   ASSERT_TRUE(rests);
-  const Eigen::Vector3d rest = simulation.modelState("free").pose.translation();
+  const Eigen::Vector3d rest = world.modelState("free").pose.translation();
   EXPECT_NEAR(rest.z(), kWheelRadius, 0.01) << "on its wheels";
   EXPECT_LT((rest.head<2>() - Eigen::Vector2d(1, 2)).norm(), 0.3);
   EXPECT_LT(highest, kWheelRadius + 0.05) << "no jump out of the ground";
@@ -94,11 +95,12 @@ std::string withoutPlugins(const std::string& urdf) {
 /// How far [m] a robot moves in 10 s on flat ground once it has settled from its spawn.
 double creep(const ModelSpec& model) {
   Simulation simulation(test::shippedWorld("empty.world"));
+  WorldApi world(simulation);
   simulation.spawn("free", model, at(0, 0));
   for (int i = 0; i < 500; ++i) simulation.step();
-  const Eigen::Vector3d settled = simulation.modelState("free").pose.translation();
+  const Eigen::Vector3d settled = world.modelState("free").pose.translation();
   for (int i = 0; i < 10000; ++i) simulation.step();
-  return (simulation.modelState("free").pose.translation() - settled).norm();
+  return (world.modelState("free").pose.translation() - settled).norm();
 }
 
 // A robot on free wheels is held by friction alone: four wheels on a plane share its weight in ways the

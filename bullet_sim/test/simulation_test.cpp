@@ -1,15 +1,13 @@
-// The simulator core against closed forms: robots at rest where they spawn; the lidar against analytic
-// distances; bit-identical reruns, resets, spawn joint positions, several robots in one world. Stepped
-// in-process, no roscore. The drives' and the pan/tilt's own tests are in their plugin folders.
+// The simulator core: robots at rest where they spawn; bit-identical reruns, resets, spawn joint positions,
+// several robots in one world. Stepped in-process, no roscore. The drives' and the pan/tilt's own tests are in
+// their plugin folders.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "bullet_sim/common/diagnostics.h"
-#include "plugins/ray_lidar/ray_lidar.h"
 #include "plugins/wheeled_drive/wheeled_drive.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
@@ -59,134 +57,6 @@ TEST(Simulation, EveryRobotRestsOnTheGroundWhereItSpawns) {
   }
 }
 
-/// The distance from `origin` along `direction` to the inner walls of test_room.world (x = +-3, y = +-2).
-double roomDistance(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
-  double t = INFINITY;
-  if (direction.x() > 0) t = std::min(t, (3 - origin.x()) / direction.x());
-  if (direction.x() < 0) t = std::min(t, (-3 - origin.x()) / direction.x());
-  if (direction.y() > 0) t = std::min(t, (2 - origin.y()) / direction.y());
-  if (direction.y() < 0) t = std::min(t, (-2 - origin.y()) / direction.y());
-  return t;
-}
-
-/// The first scan of the robot's lidar.
-LaserScan firstScan(Simulation& simulation, Robot& robot) {
-  RayLidar* lidar = test::pluginsOf<RayLidar>(robot).at(0);
-  test::stepUntil(
-      simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a scan");
-  return lidar->scan();
-}
-
-/// Checks every beam against the room's analytic distance, with REP 117's -inf and +inf.
-void expectRoomScan(const LaserScan& scan, int* below_min = nullptr, int* beyond_max = nullptr) {
-  const Eigen::Vector3d origin = scan.sensor_pose.translation();
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double angle = scan.angle_min + i * scan.angle_increment;
-    const Eigen::Vector3d direction =
-        scan.sensor_pose.linear() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0);
-    const double truth = roomDistance(origin, direction);
-    if (truth < scan.range_min) {
-      EXPECT_EQ(scan.ranges[i], -INFINITY) << "beam " << i << " truth " << truth;
-      if (below_min) ++*below_min;
-    } else if (truth > scan.range_max) {
-      EXPECT_EQ(scan.ranges[i], INFINITY) << "beam " << i << " truth " << truth;
-      if (beyond_max) ++*beyond_max;
-    } else {
-      EXPECT_NEAR(scan.ranges[i], truth, 0.001) << "beam " << i;
-    }
-  }
-}
-
-TEST(Lidar, WheelchairScanMatchesTheRoomAndNeverSeesTheChair) {
-  const std::string urdf =
-      test::replaceAfter(test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro"),
-                         "<sensor", "<stddev>0.01</stddev>", "<stddev>0</stddev>");
-  Simulation simulation(test::shippedWorld("test_room.world"));
-  Robot& robot =
-      simulation.spawn("chair", test::parseQuietly(urdf, "chair"), {.x = 0.5, .y = -0.3, .yaw = 0.3});
-  const LaserScan scan = firstScan(simulation, robot);
-  ASSERT_EQ(scan.ranges.size(), 360u);
-  EXPECT_EQ(scan.frame_id, "laser_Link");
-  EXPECT_DOUBLE_EQ(scan.angle_increment, 6.0 / 359);
-  EXPECT_DOUBLE_EQ(scan.scan_time, 1 / 5.5);
-  expectRoomScan(scan);  // every beam reaches a wall: the chair's own body is not in the scan
-}
-
-TEST(Lidar, RangesBeyondMaxAreInfAndBelowMinAreMinusInf) {
-  for (const double x : {0.0, 2.8}) {
-    Simulation simulation(test::shippedWorld("test_room.world"));
-    Robot& robot = simulation.spawn("mast",
-                                    parseModel(test::readFile(test::fixture("robots/lidar_mast.urdf")),
-                                               "lidar_mast.urdf", PackageResolver::fromEnvironment()),
-                                    {.x = x});
-    const LaserScan scan = firstScan(simulation, robot);
-    ASSERT_EQ(scan.ranges.size(), 181u);
-    EXPECT_DOUBLE_EQ(scan.angle_increment, M_PI / 180);
-    int below_min = 0, beyond_max = 0;
-    expectRoomScan(scan, &below_min, &beyond_max);
-    if (x == 0.0) {
-      EXPECT_GT(beyond_max, 0) << "the wall ahead is 3 m away, beyond the 2.5 m maximum";
-    } else {
-      EXPECT_GT(below_min, 0) << "the wall ahead is 0.2 m away, inside the 0.3 m minimum";
-    }
-  }
-}
-
-// A robot never stands exactly level: its scan's rays carry z components from a hair (1e-15, as settling
-// leaves it) to a slope's, of either sign. Every beam still meets the walls where the room's geometry says.
-TEST(Lidar, ATiltedLidarSeesTheWallsWhereTheyAre) {
-  const ModelSpec mast = parseModel(test::readFile(test::fixture("robots/lidar_mast.urdf")), "lidar_mast.urdf",
-                                    PackageResolver::fromEnvironment());
-  for (const double tilt : {1e-15, -1e-12, 1e-9, -1e-7, 3e-7, -1e-6, 1e-5, -1e-4, 1e-3, -1e-2}) {
-    for (const double x : {0.0, 2.8}) {
-      Simulation simulation(test::shippedWorld("test_room.world"));
-      Robot& robot = simulation.spawn("mast", mast, {.x = x, .yaw = 0.1, .roll = tilt, .pitch = tilt / 2});
-      SCOPED_TRACE("tilt " + std::to_string(tilt) + " rad at x = " + std::to_string(x));
-      expectRoomScan(firstScan(simulation, robot));
-    }
-  }
-}
-
-TEST(Lidar, MultiChannelReturnsLieOnTheRoomsWallsAndFloor) {
-  Simulation simulation(test::shippedWorld("test_room.world"));
-  Robot& robot =
-      simulation.spawn("mast", fixtureRobot("velodyne_mast.urdf"), {.x = 0.4, .y = -0.2, .yaw = 0.3});
-  RayLidar* lidar = test::pluginsOf<RayLidar>(robot).at(0);
-  ASSERT_EQ(lidar->config().output, RayLidarConfig::Output::kPointCloud2);
-  ASSERT_EQ(lidar->config().channels, 16);
-  ASSERT_TRUE(test::stepUntil(
-      simulation, [&] { return lidar->scanCount() > 0; }, 1.0, "a point cloud"));
-  const PointCloud& cloud = lidar->cloud();
-  // The upper channels clear the 1 m walls in places and return nothing; every other ray hits a wall or the
-  // floor.
-  EXPECT_GT(cloud.points.size(), 360u * 8);
-  EXPECT_LT(cloud.points.size(), 360u * 16);
-  std::set<int> rings;
-  for (size_t i = 0; i < cloud.points.size(); ++i) {
-    const Eigen::Vector3d p = cloud.sensor_pose * cloud.points[i].cast<double>();
-    const double to_surface =
-        std::min({std::abs(std::abs(p.x()) - 3), std::abs(std::abs(p.y()) - 2), std::abs(p.z())});
-    ASSERT_LT(to_surface, 0.001) << "point " << i << " at " << p.transpose();
-    rings.insert(cloud.rings[i]);
-  }
-  EXPECT_EQ(*rings.begin(), 0);
-  EXPECT_EQ(*rings.rbegin(), 15);
-}
-
-TEST(Lidar, ThePluginFilenameChoosesTheMessage) {
-  const std::string velodyne = test::readFile(test::fixture("robots/velodyne_mast.urdf"));
-  for (const auto& [filename, output] : std::vector<std::pair<std::string, RayLidarConfig::Output>>{
-           {"libgazebo_ros_velodyne_gpu_laser.so", RayLidarConfig::Output::kPointCloud2},
-           {"libgazebo_ros_block_laser.so", RayLidarConfig::Output::kPointCloud},
-           {"libgazebo_ros_laser.so", RayLidarConfig::Output::kLaserScan}}) {
-    const std::string urdf =
-        test::replaceAfter(velodyne, "<plugin", "libgazebo_ros_velodyne_laser.so", filename);
-    Simulation simulation(test::shippedWorld("empty.world"));
-    Robot& robot = simulation.spawn("mast", test::parseQuietly(urdf, filename), {});
-    EXPECT_EQ(test::pluginsOf<RayLidar>(robot).at(0)->config().output, output) << filename;
-  }
-}
-
 struct RunResult {
   std::vector<Eigen::Isometry3d> poses;
   std::vector<float> ranges;
@@ -198,7 +68,7 @@ RunResult runWheelchair(uint64_t seed, const std::string& wheel_model) {
   drive(simulation, *test::pluginsOf<WheeledDrive>(robot).at(0), 0.4, 0.3, 1.0);
   RunResult result;
   for (const auto& link : robot.body().spec().links) result.poses.push_back(robot.body().linkPose(link.name));
-  result.ranges = test::pluginsOf<RayLidar>(robot).at(0)->scan().ranges;
+  result.ranges = robot.outputs<LaserScan>().at(0).stream->latest().ranges;
   return result;
 }
 
@@ -314,7 +184,7 @@ TEST(Simulation, RobotsShareTheWorldAndSeeEachOther) {
     simulation.step();
   }
   EXPECT_LT(travelled(car, car_start).x, -0.15) << "each robot follows its own commands";
-  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
+  const LaserScan& scan = mast.outputs<LaserScan>().at(0).stream->latest();
   const float ahead = scan.ranges[90];  // beam 90 of 181 points along +x, at the chair's body
   EXPECT_TRUE(std::isfinite(ahead));
   EXPECT_LT(ahead, 1.5);

@@ -37,37 +37,27 @@ std::vector<T*> pluginsOf(const Robot& robot) {
   return found;
 }
 
-/// The one output stream of `plugin` whose samples are `Sample`s (a drive's odometry): what a test of that
-/// plugin reads. Throws when the plugin has none, or several.
+/// The stream of `plugin`'s output of `Sample`s on `topic` (relative to its namespace), or of its first output
+/// of that type when `topic` is "" (a camera's colour image before its depth image); throws when there is none.
 template <class Sample>
-const Stream<Sample>& streamOf(const Plugin& plugin) {
-  const Stream<Sample>* found = nullptr;
+const Stream<Sample>& streamOf(const Plugin& plugin, const std::string& topic = "") {
   for (const OutputPort& port : plugin.ports().outputs) {
     const auto* stream = std::get_if<const Stream<Sample>*>(&port.stream);
-    if (!stream) continue;
-    if (found) throw std::runtime_error(plugin.where() + " has several outputs of that type");
-    found = *stream;
+    if (stream && (topic.empty() || port.topic == topic)) return **stream;
   }
-  if (!found) throw std::runtime_error(plugin.where() + " has no output of that type");
-  return *found;
+  throw std::runtime_error("plugin [" + plugin.name() + "] has no such output [" + topic + "]");
 }
 
-/// The latest of those samples, and how many `plugin` has published (a new one when the count changes).
+/// The latest sample of `plugin`'s output (streamOf).
 template <class Sample>
-const Sample& latestOf(const Plugin& plugin) {
-  return streamOf<Sample>(plugin).latest();
-}
-template <class Sample>
-uint64_t countOf(const Plugin& plugin) {
-  return streamOf<Sample>(plugin).count();
+const Sample& latestOf(const Plugin& plugin, const std::string& topic = "") {
+  return streamOf<Sample>(plugin, topic).latest();
 }
 
-/// A cmd_vel: linear.x and linear.y [m/s], angular.z [rad/s].
-inline Twist twist(double x, double y, double yaw_rate) {
-  Twist command;
-  command.linear = {x, y, 0};
-  command.angular = {0, 0, yaw_rate};
-  return command;
+/// How many samples `plugin`'s output (streamOf) published.
+template <class Sample>
+uint64_t countOf(const Plugin& plugin, const std::string& topic = "") {
+  return streamOf<Sample>(plugin, topic).count();
 }
 
 /// Steps `seconds` of sim time, calling `send()` every 0.1 s from the first step, as `rostopic pub -r 10`

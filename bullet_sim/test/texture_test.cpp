@@ -485,6 +485,17 @@ TEST(GazeboMaterials, AnUnknownNameIsWarnedAboutOnceNamingIt) {
   EXPECT_THAT(warnings[0], HasSubstr("<material>Shop/Floor</material> is neither a Gazebo material we know"));
 }
 
+// <material value="..."/> reads as <material>...</material>, as sdformat reads every such element (mu1 too).
+TEST(GazeboMaterials, TheValueAttributeFormNamesTheMaterial) {
+  const std::string urdf = R"(<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1"
+    izz="1" ixy="0" ixz="0" iyz="0"/></inertial><visual><geometry><box size="1 1 1"/></geometry></visual></link>
+    <gazebo reference="a"><material value="Gazebo/DarkYellow"/></gazebo></robot>)";
+  std::vector<std::string> warnings;
+  const ModelSpec model = parseModel(urdf, "value_form.urdf", PackageResolver::fromEnvironment(), &warnings);
+  EXPECT_TRUE(model.link("a")->visuals.at(0).rgba.isApprox(Eigen::Vector4d(0.7, 0.7, 0, 1)));
+  EXPECT_EQ(warnings, std::vector<std::string>{});
+}
+
 // A material script's texture shows, from afar, as its mean colour times the script's colour: the script's
 // own media folders and those its <uri>s name are searched, and a URDF finds scripts on the resource path.
 TEST(GazeboMaterials, AScriptsTextureGivesItsMeanColourTimesTheScriptsColour) {

@@ -3,9 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "plugins/ray_lidar/ray_lidar.h"
 #include "plugins/wheeled_drive/wheeled_drive.h"
-#include "bullet_sim/simulation/simulation.h"
+#include "bullet_sim/simulation/world_api.h"
 #include "test_support.h"
 
 namespace bullet_sim {
@@ -33,53 +32,56 @@ WorldSpec crateWorld(std::vector<std::string>* warnings = nullptr, const std::st
   return parseWorld(sdf, "crates.world", PackageResolver::fromEnvironment(), warnings);
 }
 
-Eigen::Vector3d crateAt(const Simulation& simulation) {
-  return simulation.modelState("crate").pose.translation();
+Eigen::Vector3d crateAt(const WorldApi& world) {
+  return world.modelState("crate").pose.translation();
 }
 
 TEST(WorldBodies, ANonStaticModelLoadsWithoutWarningAndIsListed) {
   std::vector<std::string> warnings;
   Simulation simulation(crateWorld(&warnings));
+  WorldApi world(simulation);
   EXPECT_THAT(warnings, ::testing::IsEmpty());
-  EXPECT_FALSE(simulation.modelProperties("crate").is_static);
-  EXPECT_THAT(simulation.modelNames(), Contains("crate"));
-  EXPECT_NEAR(simulation.linkProperties("crate::link").mass, 1.0, 1e-12);
+  EXPECT_FALSE(world.modelProperties("crate").is_static);
+  EXPECT_THAT(world.modelNames(), Contains("crate"));
+  EXPECT_NEAR(world.linkProperties("crate::link").mass, 1.0, 1e-12);
 }
 
 TEST(WorldBodies, ItFallsUnderGravityAndResetWorldPutsItBack) {
   Simulation simulation(crateWorld());
+  WorldApi world(simulation);
   EntityState lifted;
   lifted.pose.translation() = Eigen::Vector3d(2, 0, 1.2);
-  EXPECT_EQ(simulation.setModelState("crate", lifted), "");
-  EXPECT_NEAR(crateAt(simulation).z(), 1.2, 1e-9) << "set_model_state moves it";
+  EXPECT_EQ(world.setModelState("crate", lifted), "");
+  EXPECT_NEAR(crateAt(world).z(), 1.2, 1e-9) << "set_model_state moves it";
   for (int i = 0; i < 1000; ++i) simulation.step();
-  EXPECT_NEAR(crateAt(simulation).z(), kCrate / 2, 0.005) << "it fell 1 m and rests on the ground";
+  EXPECT_NEAR(crateAt(world).z(), kCrate / 2, 0.005) << "it fell 1 m and rests on the ground";
   simulation.resetWorld();
-  EXPECT_TRUE(crateAt(simulation).isApprox(Eigen::Vector3d(2, 0, 0.3), 1e-9));
-  EXPECT_NEAR(simulation.modelState("crate").linear.norm(), 0, 1e-12);
+  EXPECT_TRUE(crateAt(world).isApprox(Eigen::Vector3d(2, 0, 0.3), 1e-9));
+  EXPECT_NEAR(world.modelState("crate").linear.norm(), 0, 1e-12);
 }
 
 TEST(WorldBodies, ARobotPushesItAndALidarSeesItWhereItIsNow) {
   Simulation simulation(crateWorld());
+  WorldApi world(simulation);
   Robot& chair = simulation.spawn("chair", test::wheelchair(), {});
   Robot& mast = simulation.spawn(
       "mast", test::parseQuietly(test::readFile(test::fixture("robots/lidar_mast.urdf")), "mast"),
       {.x = 3, .y = -2, .yaw = M_PI / 2});
   auto* drive = test::pluginsOf<WheeledDrive>(chair).at(0);
-  for (int i = 0; i < 8000 && crateAt(simulation).x() < 3; ++i) {
+  for (int i = 0; i < 8000 && crateAt(world).x() < 3; ++i) {
     if (i % 100 == 0) drive->setCommand(0.5, 0, simulation.time());
     simulation.step();
   }
-  const Eigen::Vector3d crate = crateAt(simulation);
+  const Eigen::Vector3d crate = crateAt(world);
   ASSERT_GT(crate.x(), 3) << "pushed on by the chair from x = 2";
-  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
+  const LaserScan& scan = mast.outputs<LaserScan>().at(0).stream->latest();
   int on_crate = 0;  // returns on the crate's faces where it is now
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     if (!std::isfinite(scan.ranges[i])) continue;
     const double angle = scan.angle_min + i * scan.angle_increment;
     const Eigen::Vector3d hit =
         scan.sensor_pose * (scan.ranges[i] * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0));
-    const Eigen::Vector3d in_crate = simulation.modelState("crate").pose.inverse() * hit;
+    const Eigen::Vector3d in_crate = world.modelState("crate").pose.inverse() * hit;
     on_crate += (in_crate.cwiseAbs().array() <= kCrate / 2 + 0.01).all();
   }
   EXPECT_GT(on_crate, 3);
@@ -107,8 +109,8 @@ const std::string kDoor = R"(
   </model>)";
 
 /// Where the leaf's panel is now: its centre's frame.
-Eigen::Isometry3d panelPose(const Simulation& simulation) {
-  return simulation.linkState("door::leaf").pose * Eigen::Translation3d(0, -0.5, 0.95);
+Eigen::Isometry3d panelPose(const WorldApi& world) {
+  return world.linkState("door::leaf").pose * Eigen::Translation3d(0, -0.5, 0.95);
 }
 
 /// How many of a scan's returns lie on a box of `size` at `pose` (within 1 cm).
@@ -127,31 +129,32 @@ int returnsOn(const LaserScan& scan, const Eigen::Isometry3d& pose, const Eigen:
 TEST(WorldBodies, ADoorIsAMultibodyThatARobotSwingsOpenWithinItsLimits) {
   std::vector<std::string> warnings;
   Simulation simulation(crateWorld(&warnings, kDoor));
+  WorldApi world(simulation);
   EXPECT_THAT(warnings, ::testing::IsEmpty());
-  const ModelProperties door = simulation.modelProperties("door");
+  const ModelProperties door = world.modelProperties("door");
   EXPECT_FALSE(door.is_static);
   EXPECT_THAT(door.body_names, ::testing::ElementsAre("frame", "leaf"));
   EXPECT_THAT(door.geom_names, ::testing::ElementsAre("post", "panel"));
   EXPECT_THAT(door.joint_names, ::testing::ElementsAre("fixed_to_world", "hinge"));
-  EXPECT_NEAR(simulation.jointProperties("door::hinge").upper, kDoorOpen, 1e-6);
-  EXPECT_NEAR(simulation.linkProperties("door::leaf").mass, 10, 1e-12);
-  const Eigen::Isometry3d closed = panelPose(simulation);
+  EXPECT_NEAR(world.jointProperties("door::hinge").upper, kDoorOpen, 1e-6);
+  EXPECT_NEAR(world.linkProperties("door::leaf").mass, 10, 1e-12);
+  const Eigen::Isometry3d closed = panelPose(world);
 
   Robot& chair = simulation.spawn("chair", test::wheelchair(), {});
   auto* drive = test::pluginsOf<WheeledDrive>(chair).at(0);
   double widest = 0;  // [rad] the hinge's largest angle
-  for (int i = 0; i < 12000 && simulation.jointProperties("door::hinge").position < 1.0; ++i) {
+  for (int i = 0; i < 12000 && world.jointProperties("door::hinge").position < 1.0; ++i) {
     if (i % 100 == 0) drive->setCommand(0.5, 0, simulation.time());
     simulation.step();
-    widest = std::max(widest, simulation.jointProperties("door::hinge").position);
-    ASSERT_GT(simulation.jointProperties("door::hinge").position, -0.01) << "the lower limit holds";
+    widest = std::max(widest, world.jointProperties("door::hinge").position);
+    ASSERT_GT(world.jointProperties("door::hinge").position, -0.01) << "the lower limit holds";
   }
   ASSERT_GT(widest, 1.0) << "pushed open by the chair";
   EXPECT_LT(widest, kDoorOpen + 0.02) << "within its upper limit";
-  EXPECT_TRUE(simulation.linkState("door::frame")
+  EXPECT_TRUE(world.linkState("door::frame")
                   .pose.isApprox(Eigen::Isometry3d(Eigen::Translation3d(2, 0.56, 1)), 1e-6))
       << "the frame is fixed to the world";
-  const Eigen::Vector3d hinge = simulation.linkState("door::leaf").pose.translation();
+  const Eigen::Vector3d hinge = world.linkState("door::leaf").pose.translation();
   EXPECT_LT((hinge - Eigen::Vector3d(2, 0.5, 0)).norm(), 1e-3) << "the leaf turns about its hinge";
 
   // A lidar beside the door sees the leaf where it is now, not where it was.
@@ -159,9 +162,9 @@ TEST(WorldBodies, ADoorIsAMultibodyThatARobotSwingsOpenWithinItsLimits) {
       "mast", test::parseQuietly(test::readFile(test::fixture("robots/lidar_mast.urdf")), "mast"),
       {.x = 2.6, .y = 2.2, .yaw = -M_PI / 2});
   for (int i = 0; i < 200; ++i) simulation.step();
-  const LaserScan& scan = test::pluginsOf<RayLidar>(mast).at(0)->scan();
+  const LaserScan& scan = mast.outputs<LaserScan>().at(0).stream->latest();
   const Eigen::Vector3d panel(0.05, 1, 1.8);
-  EXPECT_GT(returnsOn(scan, panelPose(simulation), panel), 5);
+  EXPECT_GT(returnsOn(scan, panelPose(world), panel), 5);
   EXPECT_EQ(returnsOn(scan, closed, panel), 0);
 
   // Cameras draw it there too: its visual's frame turned with the leaf.
@@ -169,11 +172,11 @@ TEST(WorldBodies, ADoorIsAMultibodyThatARobotSwingsOpenWithinItsLimits) {
   ASSERT_EQ(simulation.world().models.at(door_model).name, "door");
   const Visual& leaf_visual = simulation.world().models[door_model].visuals.at(1);
   EXPECT_TRUE((simulation.worldVisualFrame(door_model, 1) * leaf_visual.origin)
-                  .isApprox(panelPose(simulation), 1e-9));
+                  .isApprox(panelPose(world), 1e-9));
 
   simulation.resetWorld();
-  EXPECT_NEAR(simulation.jointProperties("door::hinge").position, 0, 1e-12) << "reset_world closes it";
-  EXPECT_TRUE(panelPose(simulation).isApprox(closed, 1e-9));
+  EXPECT_NEAR(world.jointProperties("door::hinge").position, 0, 1e-12) << "reset_world closes it";
+  EXPECT_TRUE(panelPose(world).isApprox(closed, 1e-9));
 }
 
 // Two links on a fixed joint, not fixed to the world: one rigid body, which falls, is moved and is listed as
@@ -188,25 +191,26 @@ TEST(WorldBodies, TwoLinksOnAFixedJointMoveAsOne) {
     </model>)";
   std::vector<std::string> warnings;
   Simulation simulation(crateWorld(&warnings, dumbbell));
+  WorldApi world(simulation);
   EXPECT_THAT(warnings, ::testing::IsEmpty());
-  EXPECT_FALSE(simulation.modelProperties("dumbbell").is_static);
+  EXPECT_FALSE(world.modelProperties("dumbbell").is_static);
   const auto b_in_a = [&] {
-    return simulation.linkState("dumbbell::a").pose.inverse() * simulation.linkState("dumbbell::b").pose;
+    return world.linkState("dumbbell::a").pose.inverse() * world.linkState("dumbbell::b").pose;
   };
   EntityState lifted;
   lifted.pose = Eigen::Translation3d(-2, 0, 1.1) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());
-  simulation.setModelState("dumbbell", lifted);
-  EXPECT_TRUE(simulation.linkState("dumbbell::b")
+  world.setModelState("dumbbell", lifted);
+  EXPECT_TRUE(world.linkState("dumbbell::b")
                   .pose.translation()
                   .isApprox(Eigen::Vector3d(-2, std::cos(0.3), 1.1 + std::sin(0.3)), 1e-9))
       << "set_model_state moves both links";
-  simulation.setModelState("dumbbell", {Eigen::Isometry3d(Eigen::Translation3d(-2, 0, 1.1))});
+  world.setModelState("dumbbell", {Eigen::Isometry3d(Eigen::Translation3d(-2, 0, 1.1))});
   for (int i = 0; i < 1000; ++i) simulation.step();
-  EXPECT_NEAR(simulation.linkState("dumbbell::a").pose.translation().z(), 0.1, 0.005) << "it fell 1 m";
-  EXPECT_NEAR(simulation.linkState("dumbbell::b").pose.translation().z(), 0.1, 0.005);
+  EXPECT_NEAR(world.linkState("dumbbell::a").pose.translation().z(), 0.1, 0.005) << "it fell 1 m";
+  EXPECT_NEAR(world.linkState("dumbbell::b").pose.translation().z(), 0.1, 0.005);
   EXPECT_TRUE(b_in_a().isApprox(Eigen::Isometry3d(Eigen::Translation3d(0, 1, 0)), 1e-6)) << "rigidly";
   std::vector<std::string> links;
-  for (const NamedState& state : simulation.linkStates()) links.push_back(state.name);
+  for (const NamedState& state : world.linkStates()) links.push_back(state.name);
   EXPECT_THAT(links, ::testing::IsSupersetOf({"dumbbell::a", "dumbbell::b"}));
 }
 
@@ -228,15 +232,16 @@ TEST(WorldBodies, WhatBulletSimCannotSimulateGetsOneWarningSayingWhatItDoesInste
       "</model>";
   std::vector<std::string> warnings;
   Simulation simulation(crateWorld(&warnings, ball + loop));
+  WorldApi world(simulation);
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_THAT(warnings[0], HasSubstr("joint [swivel]: type [ball] is not simulated"));
   EXPECT_THAT(warnings[0], HasSubstr("held fixed"));
-  EXPECT_FALSE(simulation.modelProperties("lamp").is_static);
+  EXPECT_FALSE(world.modelProperties("lamp").is_static);
   EXPECT_THAT(warnings[1],
               HasSubstr("model [ring] is not static, but bullet_sim cannot simulate it as a body"));
   EXPECT_THAT(warnings[1], HasSubstr("loop"));
   EXPECT_THAT(warnings[1], HasSubstr("static obstacle"));
-  EXPECT_TRUE(simulation.modelProperties("ring").is_static);
+  EXPECT_TRUE(world.modelProperties("ring").is_static);
 }
 
 }  // namespace

@@ -1,61 +1,21 @@
 #!/usr/bin/env python3
 """sweep on a Ray cluster of its own: `ray start --head --num-cpus 2` on 127.0.0.1 with its own ports and temp
 dir, joined with --address, runs the 8 cells of drive_matrix.yaml with the results that running them one by one
-gives; stopping the cluster leaves no process of it behind."""
+gives; a run whose worker is lost runs again (or, with --retries 0, is reported lost); stopping the cluster
+leaves no process of it behind."""
 import csv
 import json
 import os
-import signal
-import socket
 import subprocess
 import tempfile
-import time
 import unittest
 
 import rospkg
 import rostest
 
+from sweep_support import RAY_ENV, SWEEP, processes_with, start_head, write_stand_in
+
 MATRIX = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test/fixtures/scenarios/drive_matrix.yaml")
-STOP_GRACE = 3.0  # [s] the cluster's processes get after SIGTERM
-
-
-def free_ports(count):
-    sockets = [socket.socket() for _ in range(count)]
-    for s in sockets:
-        s.bind(("127.0.0.1", 0))
-    ports = [s.getsockname()[1] for s in sockets]
-    for s in sockets:
-        s.close()
-    return ports
-
-
-def processes_with(marker):
-    """The processes whose command line or environment holds `marker` (the cluster's temp dir)."""
-    found = []
-    for pid in filter(str.isdigit, os.listdir("/proc")):
-        try:
-            with open("/proc/%s/cmdline" % pid, "rb") as file:
-                cmdline = file.read()
-            with open("/proc/%s/environ" % pid, "rb") as file:
-                environment = file.read()
-        except OSError:
-            continue
-        if marker.encode() in cmdline or marker.encode() in environment:
-            found.append("%s: %s" % (pid, cmdline.replace(b"\0", b" ").decode(errors="replace")))
-    return found
-
-
-def stop_cluster(marker):
-    """Ends this cluster's processes only (`ray stop` would end every Ray process of the machine)."""
-    for signal_number in (signal.SIGTERM, signal.SIGKILL):
-        for line in processes_with(marker):
-            try:
-                os.kill(int(line.split(":")[0]), signal_number)
-            except ProcessLookupError:
-                pass
-        deadline = time.monotonic() + STOP_GRACE
-        while processes_with(marker) and time.monotonic() < deadline:
-            time.sleep(0.1)
 
 
 # A stand-in for `scenario` that loses its Ray worker on cell 0's first attempt and crashes on cell 1 (each
@@ -79,14 +39,19 @@ os.execv(%(real)r, [%(real)r] + arguments)
 """
 
 
+# A stand-in for `scenario` that loses its Ray worker on cell 0 and passes every other cell at once.
+LOSING_SCENARIO = """#!/usr/bin/env python3
+import os, signal, sys
+arguments = sys.argv[1:]
+if "--index" not in arguments:  # --list
+    os.execv(%(real)r, [%(real)r] + arguments)
+if arguments[arguments.index("--index") + 1] == "0":
+    os.kill(os.getppid(), signal.SIGKILL)
+"""
+
+
 def write_flaky_scenario(folder):
-    real = subprocess.run(["catkin_find", "--first-only", "bullet_sim", "scenario"], capture_output=True,
-                          text=True, check=True).stdout.strip()
-    path = os.path.join(folder, "flaky_scenario")
-    with open(path, "w") as file:
-        file.write(FLAKY_SCENARIO % {"folder": folder, "real": real})
-    os.chmod(path, 0o755)
-    return path
+    return write_stand_in(folder, "flaky_scenario", FLAKY_SCENARIO)
 
 
 def without_timing(result):
@@ -97,30 +62,26 @@ class SweepOnRay(unittest.TestCase):
     def test_a_sweep_gives_the_results_of_runs_one_by_one(self):
         folder = tempfile.mkdtemp(prefix="sweep_ray_")
         temp_dir = os.path.join(folder, "ray")  # Ray keeps its sockets here: a short path
-        self.assertEqual(processes_with(temp_dir), [])
-        ports = free_ports(7)
-        # A cluster of this machine alone, on the loopback address, without the token auth of shared clusters.
-        env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0", RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER="0",
-                   RAY_AUTH_MODE="disabled")
-        head = ["ray", "start", "--head", "--node-ip-address", "127.0.0.1", "--port", str(ports[0]),
-                "--num-cpus", "2", "--temp-dir", temp_dir, "--include-dashboard", "false", "--disable-usage-stats",
-                "--node-manager-port", str(ports[1]), "--object-manager-port", str(ports[2]),
-                "--dashboard-agent-listen-port", str(ports[3]), "--metrics-export-port", str(ports[4]),
-                "--runtime-env-agent-port", str(ports[5]), "--dashboard-port", str(ports[6])]
+        self.assertEqual(processes_with(temp_dir), {})
+        # A cluster of this machine alone, on the loopback address.
+        env = dict(os.environ, RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER="0", **RAY_ENV)
+        head, address = start_head(temp_dir, 2, env)
         try:
-            started = subprocess.run(head, env=env, capture_output=True, text=True, timeout=60)
-            self.assertEqual(started.returncode, 0, started.stdout + started.stderr)
             out = os.path.join(folder, "sweep")
-            sweep = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", "127.0.0.1:%d" % ports[0],
+            sweep = subprocess.run(SWEEP + [MATRIX, "--address", address,
                                     "--out", out, "--no-progress"], env=env, capture_output=True, text=True,
                                    timeout=120)
-            flaky = subprocess.run(["rosrun", "bullet_sim", "sweep", MATRIX, "--address", "127.0.0.1:%d" % ports[0],
+            flaky = subprocess.run(SWEEP + [MATRIX, "--address", address,
                                     "--out", os.path.join(folder, "flaky"), "--no-progress", "--scenario",
                                     write_flaky_scenario(folder)], env=env, capture_output=True, text=True,
                                    timeout=120)
+            lost = subprocess.run(SWEEP + [MATRIX, "--address", address, "--retries", "0",
+                                   "--out", os.path.join(folder, "lost"), "--no-progress", "--scenario",
+                                   write_stand_in(folder, "losing_scenario", LOSING_SCENARIO)], env=env,
+                                  capture_output=True, text=True, timeout=120)
         finally:
-            stop_cluster(temp_dir)
-        self.assertEqual(processes_with(temp_dir), [])
+            head.stop()
+        self.assertEqual(processes_with(temp_dir), {})
         # v = 0.4 m/s falls 0.4 m short of the region and the final pose: a check fails, so the sweep exits 1.
         self.assertEqual(sweep.returncode, 1, sweep.stdout + sweep.stderr)
         self.assertIn("8 runs, 4 passed, 4 failed, 0 could not run or crashed", sweep.stdout)
@@ -131,6 +92,7 @@ class SweepOnRay(unittest.TestCase):
         with open(os.path.join(out, "results.json")) as file:
             self.assertEqual(len(json.load(file)), 8)
         self.check_retries(folder, flaky)
+        self.check_lost(os.path.join(folder, "lost"), lost)
         for index in range(8):
             alone = os.path.join(folder, "alone", str(index))
             run = subprocess.run(["rosrun", "bullet_sim", "scenario", "--matrix", MATRIX, "--index", str(index),
@@ -155,6 +117,15 @@ class SweepOnRay(unittest.TestCase):
         self.assertEqual(rows[1]["exit_code"], -11)  # SIGSEGV
         self.assertIn("crashing on purpose", rows[1]["log_tail"])
         self.assertIn("cell 1: crash (exit code -11)", flaky.stderr)
+
+    def check_lost(self, out, lost):
+        """With --retries 0, the run whose worker was lost is lost: it began once, and is no timeout."""
+        self.assertEqual(lost.returncode, 2, lost.stdout + lost.stderr)
+        with open(os.path.join(out, "results.json")) as file:
+            row = json.load(file)[0]
+        self.assertEqual((row["status"], row["attempts"]), ("lost", 1))
+        self.assertIn("The worker died unexpectedly while executing this task", row["message"])
+        self.assertIn("cell 0: lost: The worker died", lost.stderr)
 
 
 if __name__ == "__main__":

@@ -41,13 +41,19 @@ std::optional<BumperConfig::Watched> resolve(const std::string& name, const std:
   return std::nullopt;
 }
 
+const TagTable kBumperTags = {
+    {"bumperTopicName", TagType::kTopic, "bumper_states", "", "the topic of the contacts", ""},
+    {"frameName", TagType::kFrame, "world", "",
+     "the messages' frame_id only: contacts are in the world frame whatever it names", ""},
+    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+};
+
 }  // namespace
 
 void parseBumper(const DeclarationSource& source, BumperConfig& config) {
   PluginTags& tags = source.tags;
-  config.topic = tags.text("bumperTopicName", config.topic);
-  config.frame = tags.frame("frameName", config.frame);
-  tags.accept({"alwaysOn"});
+  config.topic = tags.text("bumperTopicName");
+  config.frame = tags.frame("frameName", kBumperTags.row("frameName")->fallback);
   if (config.frame != "world" && config.frame != "map") {
     source.diagnostics.warning(tags.where() + " <frameName> [" + config.frame +
                                "]: contacts are in the world frame whatever the name, as in Gazebo");
@@ -112,9 +118,10 @@ void Bumper::sense(const StepTime& time, const RobotBody& body, const RayCaster&
 }
 
 BULLET_SIM_PLUGIN_FOLDER(bumper) {
-  PluginType type = pluginType<Bumper>("libgazebo_ros_bumper.so", parseBumper, {});
+  PluginType type = pluginType<Bumper>("libgazebo_ros_bumper.so", parseBumper, kBumperTags);
   type.sensor_types = {"contact"};
   type.rate = {RateRule::From::kSensor, {}, 0};
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));
 }
 

@@ -1,16 +1,7 @@
 // A bumper: <sensor type="contact"> with libgazebo_ros_bumper.so publishes gazebo_msgs/ContactsState, what
-// touches the sensor's collisions, at every sensor update (empty while nothing touches).
-//
-// Sensor tags (SDF's): update_rate [0 = every step], contact/collision (one or more), named as Gazebo names
-//   them once it has lumped fixed joints (model/gazebo_names.h), within the link the sensor lands in.
-//   A name written for the link before lumping ("bumper_link_collision" for a lumped bumper_link), which
-//   Gazebo never finds (its bumper stays silent), is taken to mean that collision, with a warning that gives
-//   Gazebo's name; a name matching nothing is a warning with a suggestion, and reports nothing, as in Gazebo.
-// Plugin tags (gazebo_plugins'): bumperTopicName [bumper_states], frameName [world: only the header's label;
-//   positions, normals and wrenches are in the world frame, as Gazebo reports them], robotNamespace.
-// One state per pair of touching collisions: collision1 is the sensor's, collision2 what it touches, both as
-// model::link::collision; per point its position, the normal pushing collision1, the depth and the wrench
-// on collision1 (the torque about the origin of collision1's link), and their total.
+// touches the sensor's collisions, at every sensor update (empty while nothing touches). Its plugin tags are
+// kBumperTags in bumper.cpp; README.md describes the sensor's <contact> block (collisions named as Gazebo names
+// them once it has lumped fixed joints, model/gazebo_names.h) and the states.
 #pragma once
 
 #include <string>
@@ -29,8 +20,8 @@ struct BumperConfig : PluginConfig {
     std::string name;         ///< its Gazebo name there
   };
   std::vector<Watched> collisions;
-  std::string topic = "bumper_states";
-  std::string frame = "world";
+  std::string topic;
+  std::string frame;
 };
 
 void parseBumper(const DeclarationSource& source, BumperConfig& config);
@@ -42,8 +33,6 @@ class Bumper : public Plugin {
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
 
   const BumperConfig& config() const { return config_; }
-  const ContactsSample& contacts() const { return contacts_.latest(); }
-  uint64_t contactsCount() const { return contacts_.count(); }
 
  private:
   /// One state for `watched` touching `contact`.

@@ -19,12 +19,8 @@ using test::multiSensorRobot;
 using test::multiSensorUrdf;
 using test::Planar;
 using test::planar;
+using test::drivePlanar;
 using test::twist;
-
-/// Steps `seconds`, sending `command` to `drive` every 0.1 s as `rostopic pub -r 10` does.
-void drive(Simulation& simulation, PlanarMove& drive, const Twist& command, double seconds) {
-  test::stepSending(simulation, seconds, [&] { return drive.setCommand(command, simulation.time()); });
-}
 
 const SpawnPose kStart{.x = 0.5, .y = -0.3, .yaw = 0.4};
 
@@ -34,7 +30,7 @@ TEST(ForceBasedMove, ReachesTheCommandedVelocitiesAndDeadReckonsItsOdometry) {
   ASSERT_TRUE(test::pluginsOf<PlanarMove>(robot).size() == 1 && test::pluginsOf<ForceBasedMove>(robot).size() == 1);
   ForceBasedMove& force_based = *test::pluginsOf<ForceBasedMove>(robot).at(0);
   const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
-  drive(simulation, force_based, twist(0.3, 0.2, 0.5), 3.0);
+  drivePlanar(simulation, force_based, twist(0.3, 0.2, 0.5), 3.0);
   const Eigen::Isometry3d base = robot.body().linkPose("base_footprint");
   const Eigen::Vector3d velocity =
       base.linear().transpose() * robot.body().linkLinearVelocity("base_footprint");

@@ -4,20 +4,44 @@
 
 namespace bullet_sim {
 
+namespace {
+
+const TagTable kGroundTruthTags = {
+    {"bodyName", TagType::kFrame, "", "",
+     "the link measured, and the child_frame_id; required: the plugin does not load without it",
+     "an error when absent; a name that is no link is a warning, the root link is measured, and the name is "
+     "still the child_frame_id"},
+    {"topicName", TagType::kTopic, "ground_truth", "",
+     "the topic of the odometry; required: the plugin does not load without it", "ground_truth when absent"},
+    {"frameName", TagType::kFrame, "world", "",
+     "the frame of the pose: world (or map), or a link of the robot that pose and velocities are relative to",
+     "poses are in the world frame whatever it names (a warning unless world or map); it is the frame_id"},
+    {"updateRate", TagType::kPositive, "0", "Hz", "how often it publishes; 0: every step", ""},
+    {"gaussianNoise", TagType::kPositive, "0", "",
+     "the standard deviation of a zero-mean noise on the position [m] and the velocities [m/s, rad/s]",
+     "the same, and the covariances' diagonals are its square"},
+    {"xyzOffsets", TagType::kIgnored, "", "m",
+     "not read (a misspelling of xyzOffset that tutorials carry)", ""},
+    {"rpyOffsets", TagType::kIgnored, "", "rad",
+     "not read (a misspelling of rpyOffset that tutorials carry)", ""},
+    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+};
+
+}  // namespace
+
 void parseGroundTruth(const DeclarationSource& source, GroundTruthConfig& config) {
   PluginTags& tags = source.tags;
   if (!tags.has("bodyName"))
     source.diagnostics.error(tags.where() + " has no <bodyName>: name the link to follow");
   config.body = tags.frame("bodyName", source.model.root, /*gazebo_drops_slash=*/false);
   config.link = frameLink(source, "bodyName", config.body, source.model.root);
-  config.topic = tags.text("topicName", config.topic);
-  config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-  config.frame = tags.frame("frameName", config.frame);
+  config.topic = tags.text("topicName");
+  config.noise_stddev = tags.nonNegative("gaussianNoise");
+  config.frame = tags.frame("frameName", kGroundTruthTags.row("frameName")->fallback);
   if (config.frame != "world" && config.frame != "map") {
     source.diagnostics.warning(tags.where() + " <frameName> [" + config.frame +
                                "]: poses are given in the world frame, whatever the name");
   }
-  tags.accept({"alwaysOn", "xyzOffsets", "rpyOffsets"});
 }
 
 GroundTruth::GroundTruth(const PluginDeclaration& declaration, const GroundTruthConfig& config,
@@ -44,8 +68,9 @@ void GroundTruth::sense(const StepTime& time, const RobotBody& body, const RayCa
 }
 
 BULLET_SIM_PLUGIN_FOLDER(ground_truth) {
-  PluginType type = pluginType<GroundTruth>("libgazebo_ros_p3d.so", parseGroundTruth, {});
+  PluginType type = pluginType<GroundTruth>("libgazebo_ros_p3d.so", parseGroundTruth, kGroundTruthTags);
   type.rate = {RateRule::From::kTags, {"updateRate"}, 0};
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));
 }
 

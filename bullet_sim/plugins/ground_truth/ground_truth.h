@@ -1,6 +1,5 @@
-// libgazebo_ros_p3d.so: the true pose and velocity of a link, as nav_msgs/Odometry in the world frame.
-// Tags: bodyName (required), topicName [ground_truth], frameName [world], updateRate [0 = every step],
-//   gaussianNoise [0] (on position and velocity), robotNamespace.
+// libgazebo_ros_p3d.so: the true pose and velocity of a link, as nav_msgs/Odometry in the world frame. Its tags
+// are kGroundTruthTags in ground_truth.cpp.
 #pragma once
 
 #include <string>
@@ -12,8 +11,8 @@ namespace bullet_sim {
 struct GroundTruthConfig : PluginConfig {
   std::string body;  ///< <bodyName>: the child_frame_id
   // link: the link measured, body's, or the root when body names no link
-  std::string topic = "ground_truth";
-  std::string frame = "world";
+  std::string topic;
+  std::string frame;
   double noise_stddev = 0;  ///< [m], [m/s], [rad/s]
 };
 
@@ -25,9 +24,6 @@ class GroundTruth : public Plugin {
               const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-
-  const Odometry& odometry() const { return odometry_.latest(); }
-  uint64_t odometryCount() const { return odometry_.count(); }
 
  private:
   GroundTruthConfig config_;

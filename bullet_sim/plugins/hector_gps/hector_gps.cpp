@@ -14,9 +14,44 @@ constexpr double kFlattening = 1.0 / 298.257223563;
 constexpr double kEccentricity2 = 2 * kFlattening - kFlattening * kFlattening;
 constexpr double kDegree = M_PI / 180;
 
-std::optional<double> optionalNumber(PluginTags& tags, const std::string& tag) {
-  if (!tags.has(tag)) return std::nullopt;
-  return tags.number(tag, 0);
+TagTable hectorGpsTags() {
+  const std::string reference = "the world's origin; with useWorldSphericalCoordinates, it overrides the world's";
+  const std::vector<TagRow> own = {
+      {"frameId", TagType::kFrame, "/world", "", "the messages' frame_id only", ""},
+      {"topicName", TagType::kTopic, "fix", "", "the topic of the sensor_msgs/NavSatFix", ""},
+      {"velocityTopicName", TagType::kTopic, "fix_velocity", "",
+       "the topic of the velocity (north, west, up) as a geometry_msgs/Vector3Stamped", ""},
+      {"useWorldSphericalCoordinates", TagType::kFlag, "false", "",
+       "true: the world's <spherical_coordinates> are the reference",
+       "the same; a world without them is at 0 N 0 E with x east, as in Gazebo"},
+      {"referenceLatitude", TagType::kNumber, "49.9", "deg", "the latitude of " + reference, ""},
+      {"referenceLongitude", TagType::kNumber, "8.9", "deg", "the longitude of " + reference, ""},
+      {"referenceHeading", TagType::kNumber, "0", "deg",
+       "the world's x axis clockwise from north; with useWorldSphericalCoordinates, it overrides the world's", ""},
+      {"referenceAltitude", TagType::kNumber, "0", "m", "the altitude of " + reference, ""},
+      {"status", TagType::kNumber, "0", "", "the fix's status (-1 no fix, 0 fix, 1 SBAS, 2 GBAS)",
+       "the same, with a warning for another number"},
+      {"service", TagType::kPositive, "0", "", "the fix's service bits (1 GPS, 2 GLONASS, 4 COMPASS, 8 GALILEO)",
+       ""},
+      {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+  };
+  TagTable table;
+  for (const auto& rows : {hectorBodyAndTimerRows("4"), own, sensorErrorRows("", /*vector=*/true, "m"),
+                           sensorErrorRows("velocity", /*vector=*/true, "m/s")}) {
+    for (const TagRow& row : rows) table.add(row);
+  }
+  return table;
+}
+
+/// The reference tags: each given one, and each one when the world does not give the reference.
+void readReference(PluginTags& tags, HectorGpsConfig& config) {
+  const auto read = [&](const char* tag, std::optional<double>& value) {
+    if (!config.use_world_spherical_coordinates || tags.has(tag)) value = tags.number(tag);
+  };
+  read("referenceLatitude", config.latitude);
+  read("referenceLongitude", config.longitude);
+  read("referenceHeading", config.heading);
+  read("referenceAltitude", config.altitude);
 }
 
 }  // namespace
@@ -24,28 +59,24 @@ std::optional<double> optionalNumber(PluginTags& tags, const std::string& tag) {
 void parseHectorGps(const DeclarationSource& source, HectorGpsConfig& config) {
   PluginTags& tags = source.tags;
   config.link = readHectorBody(source);
-  config.frame = tags.frame("frameId", config.frame, /*gazebo_drops_slash=*/false);
-  config.fix_topic = tags.text("topicName", config.fix_topic);
-  config.velocity_topic = tags.text("velocityTopicName", config.velocity_topic);
-  config.update_rate = readHectorUpdateRate(tags, config.update_rate);
-  config.use_world_spherical_coordinates = tags.flag("useWorldSphericalCoordinates", false);
-  config.latitude = optionalNumber(tags, "referenceLatitude");
-  config.longitude = optionalNumber(tags, "referenceLongitude");
-  config.heading = optionalNumber(tags, "referenceHeading");
-  config.altitude = optionalNumber(tags, "referenceAltitude");
+  config.frame = tags.frame("frameId", tags.table()->row("frameId")->fallback, /*gazebo_drops_slash=*/false);
+  config.fix_topic = tags.text("topicName");
+  config.velocity_topic = tags.text("velocityTopicName");
+  config.update_rate = readHectorUpdateRate(tags);
+  config.use_world_spherical_coordinates = tags.flag("useWorldSphericalCoordinates");
+  readReference(tags, config);
   if (config.latitude && std::abs(*config.latitude) >= 90) {
     source.diagnostics.error(tags.where() + " <referenceLatitude> must lie strictly between -90 and 90 deg");
   }
-  config.status = static_cast<int>(tags.number("status", config.status));
+  config.status = static_cast<int>(tags.number("status"));
   if (config.status < -1 || config.status > 2) {
     source.diagnostics.warning(tags.where() + " <status> " + std::to_string(config.status) +
                                " is no NavSatStatus (-1 no fix, 0 fix, 1 SBAS fix, 2 GBAS fix): published as "
                                "is");
   }
-  config.service = static_cast<unsigned>(tags.positive("service", config.service, /*allow_zero=*/true));
+  config.service = static_cast<unsigned>(tags.nonNegative("service"));
   config.position = readSensorError(tags, "", /*vector=*/true);
   config.velocity = readSensorError(tags, "velocity", /*vector=*/true);
-  tags.accept({"alwaysOn"});
   source.diagnostics.warning(tags.where() + " hector's [" + config.fix_topic +
                              "/set_reference_geopose] service and its dynamic_reconfigure servers need "
                              "hector's own types, which Debian lacks: left out");
@@ -128,8 +159,9 @@ void HectorGps::onReset() {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(hector_gps) {
-  PluginType type = pluginType<HectorGps>("libhector_gazebo_ros_gps.so", parseHectorGps, {});
+  PluginType type = pluginType<HectorGps>("libhector_gazebo_ros_gps.so", parseHectorGps, hectorGpsTags());
   type.needs = kNeedGeodesy;
+  type.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(type));
 }
 

@@ -1,23 +1,6 @@
 // libhector_gazebo_ros_gps.so (hector_gazebo_plugins on Noetic): a GNSS receiver at the origin of a link,
-// publishing sensor_msgs/NavSatFix and its velocity as geometry_msgs/Vector3Stamped.
-//
-// Tags and defaults (hector's): bodyName [the root link: where the receiver is], frameId [/world: only the
-//   messages' label], topicName [fix], velocityTopicName [fix_velocity], updateRate [4 Hz] or updatePeriod,
-//   referenceLatitude [49.9 deg], referenceLongitude [8.9 deg], referenceHeading [0 deg: the world's x axis
-//   clockwise from north], referenceAltitude [0 m], useWorldSphericalCoordinates [false: when true, the
-//   world's <spherical_coordinates> give the reference, which explicit reference tags still override; a world
-//   without them is at 0 N 0 E with x east, as in Gazebo], status [0 = STATUS_FIX], service [0],
-//   robotNamespace, and two error models (hector_sensor_model.h): the position's (offset, drift,
-//   driftFrequency, gaussianNoise, scaleError) and the velocity's (velocityOffset, velocityDrift, ...), each
-//   "x y z". The velocity drift integrates into the position drift, as in hector.
-// The set_reference_geopose service and the dynamic_reconfigure servers need hector's own types, which Debian
-// lacks: one warning says they are left out.
-//
-// Position: the world position p of the link turns into latitude, longitude and altitude through the WGS84
-// radii at the reference latitude, as hector computes them: north = cos(h) p.x + sin(h) p.y, west =
-// -sin(h) p.x + cos(h) p.y; latitude = reference + north / R_north, longitude = reference - west / R_east,
-// altitude = reference + p.z. The velocity is (north, west, up), as hector publishes it. The covariance is
-// diagonal: drift^2 + gaussianNoise^2 per axis.
+// publishing sensor_msgs/NavSatFix and its velocity as geometry_msgs/Vector3Stamped, with hector's error models
+// on both (hector_sensor_model.h). Its tags are the table in hector_gps.cpp; README.md gives the geodesy.
 #pragma once
 
 #include <optional>
@@ -29,7 +12,7 @@
 
 namespace bullet_sim {
 
-/// Where the world's origin is and which way its x axis points.
+/// Where the world's origin is and which way its x axis points; hector's defaults (the tag table's).
 struct GeoReference {
   double latitude = 49.9;  ///< [deg]
   double longitude = 8.9;  ///< [deg]
@@ -38,18 +21,17 @@ struct GeoReference {
 };
 
 struct HectorGpsConfig : PluginConfig {
-  std::string frame = "/world";
-  std::string fix_topic = "fix";
-  std::string velocity_topic = "fix_velocity";
+  std::string frame;
+  std::string fix_topic;
+  std::string velocity_topic;
   bool use_world_spherical_coordinates = false;
-  /// The reference tags that were given; they override the world's spherical coordinates.
+  /// The reference, as the tags give it; with the world's spherical coordinates, only the tags given, which
+  /// override the world's.
   std::optional<double> latitude, longitude, heading, altitude;
   int status = 0;
   unsigned service = 0;
   SensorErrorConfig position;
   SensorErrorConfig velocity;
-
-  HectorGpsConfig() { update_rate = 4; }
 };
 
 void parseHectorGps(const DeclarationSource& source, HectorGpsConfig& config);
@@ -66,11 +48,6 @@ class HectorGps : public Plugin {
   HectorGps(const PluginDeclaration& declaration, const HectorGpsConfig& config, const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-
-  const GeoReference& reference() const { return reference_; }
-  const NavSatFixSample& fix() const { return fixes_.latest(); }
-  uint64_t fixCount() const { return fixes_.count(); }
-  const Vector3Sample& velocity() const { return velocities_.latest(); }
 
  private:
   void onReset() override;

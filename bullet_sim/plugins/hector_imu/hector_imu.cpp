@@ -8,6 +8,35 @@ namespace bullet_sim {
 
 namespace {
 
+TagTable hectorImuTags() {
+  const std::vector<TagRow> own = {
+      {"frameId", TagType::kFrame, "bodyName", "", "the messages' frame_id", ""},
+      {"topicName", TagType::kTopic, "imu", "", "the topic of the readings", ""},
+      {"biasTopicName", TagType::kTopic, "<topicName>/bias", "",
+       "the topic of the current biases, as a sensor_msgs/Imu", ""},
+      {"serviceName", TagType::kText, "<topicName>/calibrate", "",
+       "a std_srvs/Empty service that zeroes the rate drift", ""},
+      {"rpyOffset", TagType::kText, "0 0 0", "rad", "roll, pitch and yaw that turn the reading", ""},
+      {"xyzOffset", TagType::kIgnored, "", "m", "read, and without effect", ""},
+      {"gaussianNoise", TagType::kPositive, "0", "",
+       "gazebo_ros_imu's tag: when not 0, the accel and rate white noise on every axis", ""},
+      {"headingDrift", TagType::kPositive, "yawDrift's", "rad",
+       "not read (older hector's name of yawDrift, which Husky's description writes)",
+       "read as yawDrift unless that is given, with a warning"},
+      {"headingGaussianNoise", TagType::kPositive, "yawGaussianNoise's", "rad",
+       "not read (older hector's name of yawGaussianNoise)",
+       "read as yawGaussianNoise unless that is given, with a warning"},
+      {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+  };
+  TagTable table;
+  for (const auto& rows : {hectorBodyAndTimerRows("0"), own, sensorErrorRows("accel", /*vector=*/true, "m/s^2"),
+                           sensorErrorRows("rate", /*vector=*/true, "rad/s"),
+                           sensorErrorRows("yaw", /*vector=*/false, "rad")}) {
+    for (const TagRow& row : rows) table.add(row);
+  }
+  return table;
+}
+
 /// Husky's headingDrift and headingGaussianNoise: hector's old names for the yaw model's tags.
 void readHeadingTags(PluginTags& tags, SensorErrorConfig& yaw) {
   const char* const old_names[] = {"headingDrift", "headingGaussianNoise"};
@@ -15,7 +44,7 @@ void readHeadingTags(PluginTags& tags, SensorErrorConfig& yaw) {
   double* const values[] = {&yaw.drift.x(), &yaw.gaussian_noise.x()};
   for (int i = 0; i < 2; ++i) {
     if (!tags.has(old_names[i])) continue;
-    const double value = tags.positive(old_names[i], 0, /*allow_zero=*/true);
+    const double value = tags.positive(old_names[i], *values[i], /*allow_zero=*/true);
     const std::string new_name = std::string("<") + new_names[i] + ">";
     const bool superseded = tags.has(new_names[i]);
     if (!superseded) *values[i] = value;
@@ -34,21 +63,20 @@ void parseHectorImu(const DeclarationSource& source, HectorImuConfig& config) {
   config.link = readHectorBody(source, &body);
   config.frame = tags.frame("frameId", body, /*gazebo_drops_slash=*/false);
   if (tags.has("frameId")) frameLink(source, "frameId", config.frame);
-  config.topic = tags.text("topicName", config.topic);
+  config.topic = tags.text("topicName");
   config.bias_topic = tags.text("biasTopicName", config.topic.empty() ? "" : config.topic + "/bias");
   config.service = tags.text("serviceName", config.topic + "/calibrate");
-  config.update_rate = readHectorUpdateRate(tags, 0);
+  config.update_rate = readHectorUpdateRate(tags);
   config.accel = readSensorError(tags, "accel", /*vector=*/true);
   config.rate = readSensorError(tags, "rate", /*vector=*/true);
   config.yaw = readSensorError(tags, "yaw", /*vector=*/false);
   readHeadingTags(tags, config.yaw);
-  if (const double noise = tags.positive("gaussianNoise", 0, /*allow_zero=*/true); noise != 0)
+  if (const double noise = tags.nonNegative("gaussianNoise"); noise != 0)
     config.accel.gaussian_noise = config.rate.gaussian_noise = Eigen::Vector3d::Constant(noise);
-  const Eigen::Vector3d rpy = readVector3(tags, "rpyOffset", Eigen::Vector3d::Zero());
+  const Eigen::Vector3d rpy = readVector3(tags, "rpyOffset");
   config.rpy_offset = Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
                       Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
                       Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX());
-  tags.accept({"xyzOffset", "alwaysOn"});  // hector reads xyzOffset and never uses it
   source.diagnostics.warning(tags.where() + " hector's [" + config.topic + "/set_accel_bias] and [" +
                              config.topic +
                              "/set_rate_bias] services and its dynamic_reconfigure servers need hector's own "
@@ -135,8 +163,9 @@ void HectorImu::onReset() {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(hector_imu) {
-  PluginType type = pluginType<HectorImu>("libhector_gazebo_ros_imu.so", parseHectorImu, {});
+  PluginType type = pluginType<HectorImu>("libhector_gazebo_ros_imu.so", parseHectorImu, hectorImuTags());
   type.needs = kNeedGravity;
+  type.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(type));
 }
 

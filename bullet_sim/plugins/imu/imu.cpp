@@ -4,13 +4,58 @@
 
 namespace bullet_sim {
 
+namespace {
+
+const TagTable kImuSensorTags = {
+    {"topicName", TagType::kTopic, "imu", "", "the topic of the readings; imu_data when absent",
+     "imu when absent"},
+    {"frameName", TagType::kFrame, "the sensor's link", "",
+     "the messages' frame_id; required: the plugin does not load without it",
+     "the sensor's link when absent; a name that is no link is a warning, and is still the frame_id"},
+    {"updateRateHZ", TagType::kPositive, "the sensor's", "Hz",
+     "throttles the plugin below the sensor's <update_rate>; 1 Hz when absent",
+     "the plugin's rate when given, else the sensor's <update_rate>"},
+    {"gaussianNoise", TagType::kPositive, "0", "",
+     "the standard deviation of a zero-mean noise on every value, the orientation's included",
+     "on the angular velocity [rad/s] and the linear acceleration [m/s^2] only: the orientation is exact"},
+    {"rpyOffset", TagType::kIgnored, "", "rad", "turns the orientation reading by these roll, pitch and yaw",
+     "not honoured"},
+    {"xyzOffset", TagType::kIgnored, "", "m", "read, and without effect", ""},
+    {"initialOrientationAsReference", TagType::kIgnored, "", "",
+     "true: orientations relative to the first one (deprecated); false when absent",
+     "orientations are in the world frame, as with false (REP 145)"},
+    {"updateRate", TagType::kIgnored, "", "Hz", "not read (updateRateHZ is this plugin's)", ""},
+    {"bodyName", TagType::kIgnored, "", "", "not read (the sensor's link is measured)", ""},
+    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+};
+
+const TagTable kImuPluginTags = {
+    {"bodyName", TagType::kFrame, "", "", "the link measured; required: the plugin does not load without it",
+     "an error when absent; a name that is no link is a warning, the root link is measured, and the name is "
+     "still the frame_id"},
+    {"frameName", TagType::kFrame, "bodyName", "", "the messages' frame_id", ""},
+    {"topicName", TagType::kTopic, "imu", "", "the topic of the readings; /default_imu when absent",
+     "imu when absent, relative to the namespace"},
+    {"updateRate", TagType::kPositive, "0", "Hz", "how often it publishes; 0: every step", ""},
+    {"gaussianNoise", TagType::kPositive, "0", "",
+     "the standard deviation of a zero-mean noise on the angular velocity [rad/s] and the acceleration [m/s^2]",
+     ""},
+    {"serviceName", TagType::kIgnored, "", "",
+     "a std_srvs/Empty service that does nothing; /default_imu when absent", "not served"},
+    {"xyzOffsets", TagType::kIgnored, "", "m",
+     "not read (a misspelling of xyzOffset that tutorials carry)", ""},
+    {"rpyOffsets", TagType::kIgnored, "", "rad",
+     "not read (a misspelling of rpyOffset that tutorials carry)", ""},
+    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+};
+
+}  // namespace
+
 void parseImuSensor(const DeclarationSource& source, ImuConfig& config) {
   PluginTags& tags = source.tags;
-  config.topic = tags.text("topicName", config.topic);
+  config.topic = tags.text("topicName");
   config.frame = tags.frame("frameName", config.link, /*gazebo_drops_slash=*/false);
-  config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-  tags.accept(
-      {"alwaysOn", "updateRate", "bodyName", "xyzOffset", "rpyOffset", "initialOrientationAsReference"});
+  config.noise_stddev = tags.nonNegative("gaussianNoise");
   frameLink(source, "frameName", config.frame);
 }
 
@@ -22,9 +67,8 @@ void parseImuPlugin(const DeclarationSource& source, ImuConfig& config) {
   const std::string body = tags.frame("bodyName", model.root, /*gazebo_drops_slash=*/false);
   config.link = frameLink(source, "bodyName", body, model.root);
   config.frame = tags.frame("frameName", body, /*gazebo_drops_slash=*/false);
-  config.topic = tags.text("topicName", config.topic);
-  config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-  tags.accept({"serviceName", "alwaysOn", "xyzOffsets", "rpyOffsets"});
+  config.topic = tags.text("topicName");
+  config.noise_stddev = tags.nonNegative("gaussianNoise");
   if (config.frame != body) frameLink(source, "frameName", config.frame);
 }
 
@@ -63,14 +107,16 @@ void Imu::onReset() {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(imu) {
-  PluginType model_plugin = pluginType<Imu>("libgazebo_ros_imu.so", parseImuPlugin, {});
+  PluginType model_plugin = pluginType<Imu>("libgazebo_ros_imu.so", parseImuPlugin, kImuPluginTags);
   model_plugin.rate = {RateRule::From::kTags, {"updateRate"}, 0};
   model_plugin.needs = kNeedGravity;
+  model_plugin.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(model_plugin));
-  PluginType sensor_plugin = pluginType<Imu>("libgazebo_ros_imu_sensor.so", parseImuSensor, {});
+  PluginType sensor_plugin = pluginType<Imu>("libgazebo_ros_imu_sensor.so", parseImuSensor, kImuSensorTags);
   sensor_plugin.sensor_types = {"imu"};
   sensor_plugin.rate = {RateRule::From::kTagsOverSensor, {"updateRateHZ"}, 0};
   sensor_plugin.needs = kNeedGravity;
+  sensor_plugin.tf_prefix = TfPrefixRule::kNone;
   registrar.add(std::move(sensor_plugin));
 }
 

@@ -1,9 +1,7 @@
-// An IMU: <sensor type="imu"> with libgazebo_ros_imu_sensor.so, or the model plugin libgazebo_ros_imu.so.
-// Sensor plugin tags: topicName [imu], frameName [the sensor's link], updateRateHZ [the sensor's
-// update_rate],
-//   gaussianNoise [0], robotNamespace. Model plugin tags: bodyName, topicName, frameName, updateRate,
-//   gaussianNoise. Noise goes on angular velocity and linear acceleration; the orientation is exact.
-// Linear acceleration is measured, as a real IMU does: at rest it reads +g upwards.
+// An IMU: <sensor type="imu"> with libgazebo_ros_imu_sensor.so, or the model plugin libgazebo_ros_imu.so,
+// publishing sensor_msgs/Imu. Their tags are kImuSensorTags and kImuPluginTags in imu.cpp. Noise goes on the
+// angular velocity and the linear acceleration; the orientation is exact. The linear acceleration is measured
+// as a real IMU measures it: at rest it reads +g upwards.
 #pragma once
 
 #include "bullet_sim/plugins/outputs.h"
@@ -12,8 +10,8 @@
 namespace bullet_sim {
 
 struct ImuConfig : PluginConfig {
-  double noise_stddev = 0;
-  std::string topic = "imu";
+  double noise_stddev = 0;  ///< [rad/s], [m/s^2]
+  std::string topic;
   std::string frame;
 };
 
@@ -27,8 +25,6 @@ class Imu : public Plugin {
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
 
   const ImuConfig& config() const { return config_; }
-  const ImuSample& sample() const { return samples_.latest(); }
-  uint64_t sampleCount() const { return samples_.count(); }
 
  private:
   void onReset() override;

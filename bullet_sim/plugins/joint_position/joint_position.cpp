@@ -100,6 +100,7 @@ BULLET_SIM_PLUGIN_FOLDER(joint_position) {
     driven.motors = declaration.configAs<JointPositionConfig>()->joints;
     return driven;
   };
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));
 }
 

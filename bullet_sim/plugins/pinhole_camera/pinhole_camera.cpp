@@ -108,21 +108,20 @@ std::array<double, 5> readCameraTags(const TagNode* sensor, const std::string& w
   return readDistortion(camera, where, diagnostics);
 }
 
-/// gazebo_ros_camera_utils' tags: names, rate, intrinsics and distortion.
+/// gazebo_ros_camera_utils' tags: names, intrinsics and distortion (the registry reads the rate).
 void readCameraPluginTags(PluginTags& tags, const std::array<double, 5>& sdf_distortion,
                           PinholeCameraConfig& config) {
-  config.camera_name = tags.text("cameraName", "");
-  config.image_topic = tags.text("imageTopicName", config.image_topic);
-  config.info_topic = tags.text("cameraInfoTopicName", config.info_topic);
+  config.camera_name = tags.text("cameraName");
+  config.image_topic = tags.text("imageTopicName");
+  config.info_topic = tags.text("cameraInfoTopicName");
   config.frame = tags.frame("frameName", config.link);
-  config.hack_baseline = tags.number("hackBaseline", 0);
-  config.focal_length = tags.positive("focalLength", 0, /*allow_zero=*/true);
-  config.cx = tags.number("Cx", 0);
-  config.cy = tags.number("Cy", 0);
+  config.hack_baseline = tags.number("hackBaseline");
+  config.focal_length = tags.nonNegative("focalLength");
+  config.cx = tags.number("Cx");
+  config.cy = tags.number("Cy");
   const char* names[] = {"distortionK1", "distortionK2", "distortionT1", "distortionT2", "distortionK3"};
-  for (size_t i = 0; i < config.distortion.size(); ++i) config.distortion[i] = tags.number(names[i], 0);
-  if (tags.flag("autoDistortion", false)) config.distortion = sdf_distortion;
-  tags.accept({"alwaysOn", "CxPrime", "triggerTopicName", "borderCrop"});
+  for (size_t i = 0; i < config.distortion.size(); ++i) config.distortion[i] = tags.number(names[i]);
+  if (tags.flag("autoDistortion")) config.distortion = sdf_distortion;
 }
 
 void checkCamera(const DeclarationSource& source, const PinholeCameraConfig& config) {
@@ -144,10 +143,6 @@ void parseAnyCamera(const DeclarationSource& source, bool depth, PinholeCameraCo
   const SensorDeclaration& sensor = *source.declaration.sensor;
   const std::string where = source.declaration.where();
   config.depth = depth;
-  if (depth) {  // gazebo_ros_openni_kinect's and gazebo_ros_depth_camera's defaults
-    config.image_topic = "ir/image_raw";
-    config.info_topic = "ir/camera_info";
-  }
   if (sensor.type == "wideanglecamera") {
     source.diagnostics.warning(where + " is a wide-angle camera: bullet_sim draws it as a pinhole camera "
                                        "of the same <horizontal_fov>, without its <lens> projection");
@@ -188,13 +183,12 @@ void parseCamera(const DeclarationSource& source, PinholeCameraConfig& config) {
 void parseDepthCamera(const DeclarationSource& source, PinholeCameraConfig& config) {
   parseAnyCamera(source, true, config);
   PluginTags& tags = source.tags;
-  config.depth_topic = tags.text("depthImageTopicName", config.depth_topic);
-  config.depth_info_topic = tags.text("depthImageCameraInfoTopicName", config.depth_info_topic);
-  config.points_topic = tags.text("pointCloudTopicName", config.points_topic);
-  config.cloud_cutoff = tags.positive("pointCloudCutoff", config.cloud_cutoff, /*allow_zero=*/true);
-  config.cloud_cutoff_max = tags.positive("pointCloudCutoffMax", config.cloud_cutoff_max);
-  config.depth_16uc1 = tags.flag("useDepth16UC1Format", false);
-  tags.accept({"reflectanceTopicName", "normalsTopicName", "reduceNormals"});
+  config.depth_topic = tags.text("depthImageTopicName");
+  config.depth_info_topic = tags.text("depthImageCameraInfoTopicName");
+  config.points_topic = tags.text("pointCloudTopicName");
+  config.cloud_cutoff = tags.nonNegative("pointCloudCutoff");
+  config.cloud_cutoff_max = tags.positive("pointCloudCutoffMax");
+  config.depth_16uc1 = tags.flag("useDepth16UC1Format");
   if (config.cloud_cutoff_max <= config.cloud_cutoff) {
     source.diagnostics.error(source.declaration.where() + " <pointCloudCutoffMax> [" +
                              std::to_string(config.cloud_cutoff_max) + "] must exceed <pointCloudCutoff> [" +
@@ -215,13 +209,9 @@ PinholeCamera::PinholeCamera(const PluginDeclaration& declaration, const Pinhole
   addOutput(underCamera(config_.camera_name, config_.points_topic), cloud_, &cloud_demand_);
 }
 
-Eigen::Isometry3d PinholeCamera::worldPose(const RobotBody& body) const {
-  return body.linkPose(config_.link) * config_.pose;
-}
-
 ImageRequest PinholeCamera::imageRequest(const RobotBody& body, bool depth) const {
   ImageRequest request;
-  request.pose = worldPose(body);
+  request.pose = body.linkPose(config_.link) * config_.pose;
   request.width = config_.width;
   request.height = config_.height;
   request.horizontal_fov = config_.horizontal_fov;
@@ -236,7 +226,6 @@ void PinholeCamera::sense(const StepTime& time, const RobotBody& body, const Ray
   const bool want_depth = config_.depth && (depth_demand_.wanted || cloud_demand_.wanted);
   if (!images_ || !(image_demand_.wanted || want_depth)) return;
   images_->render(imageRequest(body, want_depth), frame_);
-  ++frames_;
   addNoise(frame_);
   publishImage(frame_, time.sim_time);
   if (!want_depth) return;
@@ -363,19 +352,89 @@ void PinholeCamera::publishCloud(const RenderedImage& rendered, double stamp) {
   cloud_.publish();
 }
 
+namespace {
+
+/// gazebo_ros_camera_utils' tags, which every camera plugin reads; a depth camera's image is its infrared one.
+TagTable cameraTags(bool depth) {
+  const std::string image = depth ? "ir/image_raw" : "image_raw";
+  const std::string info = depth ? "ir/camera_info" : "camera_info";
+  return {
+      {"cameraName", TagType::kText, "", "",
+       "the namespace of its topics inside the plugin's, and camera_info's camera_name", ""},
+      {"imageTopicName", TagType::kTopic, image, "", "the topic of the image", ""},
+      {"cameraInfoTopicName", TagType::kTopic, info, "", "the topic of the image's camera_info", ""},
+      {"frameName", TagType::kFrame, "the sensor's link", "", "the messages' frame_id; empty when absent",
+       "the sensor's link when absent; a name that is no link is a warning, and is still the frame_id"},
+      {"updateRate", TagType::kPositive, "0", "Hz",
+       "throttles the plugin below the sensor's <update_rate>; 0: every frame the sensor renders", ""},
+      {"focalLength", TagType::kPositive, "0", "px",
+       "camera_info's focal length; 0: width / (2 tan(horizontal_fov / 2)); another value is a warning",
+       "the same; the image is rendered from <horizontal_fov> whatever it says"},
+      {"Cx", TagType::kNumber, "0", "px", "camera_info's principal point x; 0: (width + 1) / 2", ""},
+      {"Cy", TagType::kNumber, "0", "px", "camera_info's principal point y; 0: (height + 1) / 2", ""},
+      {"hackBaseline", TagType::kNumber, "0", "m",
+       "a stereo pair's baseline: camera_info's P[3] = -focal length x it", ""},
+      {"distortionK1", TagType::kNumber, "0", "", "camera_info's D[0]; the image is not distorted by it", ""},
+      {"distortionK2", TagType::kNumber, "0", "", "camera_info's D[1]; the image is not distorted by it", ""},
+      {"distortionT1", TagType::kNumber, "0", "", "camera_info's D[2]; the image is not distorted by it", ""},
+      {"distortionT2", TagType::kNumber, "0", "", "camera_info's D[3]; the image is not distorted by it", ""},
+      {"distortionK3", TagType::kNumber, "0", "", "camera_info's D[4]; the image is not distorted by it", ""},
+      {"autoDistortion", TagType::kFlag, "false", "",
+       "true: camera_info's D from the sensor's <distortion> instead of the five tags above", ""},
+      {"CxPrime", TagType::kIgnored, "", "px", "read, and in no message", ""},
+      {"borderCrop", TagType::kIgnored, "", "",
+       "whether the distorted image is cropped to hide its black border; true when absent",
+       "no distortion is rendered, so there is nothing to crop"},
+      {"triggerTopicName", TagType::kIgnored, "", "", "read; only the triggered camera plugins subscribe to it",
+       ""},
+      {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+  };
+}
+
+/// A depth camera plugin's tags: gazebo_ros_camera_utils' and the depth image's, the cloud's and their cut-offs.
+TagTable depthCameraTags(bool openni) {
+  TagTable table = cameraTags(/*depth=*/true);
+  const std::string not_read = "not read (libgazebo_ros_depth_camera.so's tag)";
+  const std::string not_ours = "no such cloud is published";
+  const std::vector<TagRow> rows = {
+      {"depthImageTopicName", TagType::kTopic, "depth/image_raw", "", "the topic of the depth image", ""},
+      {"depthImageCameraInfoTopicName", TagType::kTopic, "depth/camera_info", "",
+       "the topic of the depth image's camera_info", ""},
+      {"pointCloudTopicName", TagType::kTopic, "points", "", "the topic of the organized point cloud", ""},
+      {"pointCloudCutoff", TagType::kPositive, "0.4", "m",
+       "depths at or below it are NaN in the cloud and the depth image (0 in 16UC1)", ""},
+      {"pointCloudCutoffMax", TagType::kPositive, "5", "m",
+       openni ? "depths at or beyond it are NaN in the cloud and the depth image (0 in 16UC1)"
+              : "not read: libgazebo_ros_depth_camera.so keeps every depth beyond pointCloudCutoff",
+       openni ? "" : "read as libgazebo_ros_openni_kinect.so reads it"},
+      {"useDepth16UC1Format", TagType::kFlag, "false", "",
+       "true: the depth image in 16UC1 millimetres, else 32FC1 metres", ""},
+      {"reflectanceTopicName", TagType::kIgnored, "", "",
+       openni ? not_read : "the topic of a reflectance cloud; reflectance when absent", openni ? "" : not_ours},
+      {"normalsTopicName", TagType::kIgnored, "", "",
+       openni ? not_read : "the topic of a cloud of normals; normals when absent", openni ? "" : not_ours},
+      {"reduceNormals", TagType::kIgnored, "", "",
+       openni ? not_read : "publishes every n-th normal; 50 when absent", openni ? "" : not_ours},
+  };
+  for (const TagRow& row : rows) table.add(row);
+  return table;
+}
+
+}  // namespace
+
 BULLET_SIM_PLUGIN_FOLDER(pinhole_camera) {
   const auto add = [&](const char* filename, std::vector<std::string> sensor_types,
-                       void (*parse)(const DeclarationSource&, PinholeCameraConfig&)) {
-    PluginType type = pluginType<PinholeCamera>(filename, parse, {});
+                       void (*parse)(const DeclarationSource&, PinholeCameraConfig&), TagTable tags) {
+    PluginType type = pluginType<PinholeCamera>(filename, parse, std::move(tags));
     type.sensor_types = std::move(sensor_types);
     // The plugin publishes a frame when its period has passed since the last: the slower rate wins.
     type.rate = {RateRule::From::kSlowerOfSensorAndTags, {"updateRate"}, 0};
     type.needs = kNeedImages;
     registrar.add(std::move(type));
   };
-  add("libgazebo_ros_camera.so", {"camera", "wideanglecamera"}, parseCamera);
-  add("libgazebo_ros_openni_kinect.so", {"depth"}, parseDepthCamera);
-  add("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera);
+  add("libgazebo_ros_camera.so", {"camera", "wideanglecamera"}, parseCamera, cameraTags(/*depth=*/false));
+  add("libgazebo_ros_openni_kinect.so", {"depth"}, parseDepthCamera, depthCameraTags(/*openni=*/true));
+  add("libgazebo_ros_depth_camera.so", {"depth"}, parseDepthCamera, depthCameraTags(/*openni=*/false));
 }
 
 }  // namespace bullet_sim

@@ -1,20 +1,8 @@
 // Cameras: <sensor type="camera"> with libgazebo_ros_camera.so, and <sensor type="depth"> with
-// libgazebo_ros_openni_kinect.so or libgazebo_ros_depth_camera.so, as gazebo_plugins has them on Noetic.
-//
-// Sensor tags (SDF's): update_rate [Hz], pose, camera/horizontal_fov [1.047 rad],
-//   camera/image/{width [320], height [240], format [R8G8B8]}, camera/clip/{near [0.1], far [100]} [m],
-//   camera/noise/{type gaussian, mean, stddev} (on colours in [0, 1]); camera/distortion is not applied (a
-//   warning says so).
-// Plugin tags: cameraName [""], imageTopicName [image_raw], cameraInfoTopicName [camera_info], frameName [the
-//   sensor's link], updateRate [0: the sensor's], hackBaseline, Cx, Cy, CxPrime, focalLength [0: from the
-//   field of view], distortionK1..K3, distortionT1..T2 (camera_info only, as in Gazebo), robotNamespace.
-//   The depth plugins also depthImageTopicName [depth/image_raw], depthImageCameraInfoTopicName
-//   [depth/camera_info], pointCloudTopicName [points], pointCloudCutoff [0.4 m], pointCloudCutoffMax [5 m],
-//   useDepth16UC1Format [false]; their colour image defaults to ir/image_raw and ir/camera_info.
-// Topics are <cameraName>/<topic> in the plugin's namespace. A camera renders only when someone wants one of
-// its images, on its update timer in sim time, after the physics step. The image shows what a pinhole camera
-// at the sensor's pose sees looking along the link's +x; depth (REP 118) is along the view axis, NaN (or 0 in
-// 16UC1) outside the cut-offs; the organized cloud is in the optical convention, whatever frameName names.
+// libgazebo_ros_openni_kinect.so or libgazebo_ros_depth_camera.so, as gazebo_plugins has them on Noetic. Their
+// plugin tags are the tag tables in pinhole_camera.cpp; README.md describes the sensor's <camera> block, the
+// topics (<cameraName>/<topic> in the plugin's namespace) and what the images hold. A camera renders only when
+// someone wants one of its images, on its update timer in sim time, after the physics step.
 #pragma once
 
 #include <algorithm>
@@ -39,8 +27,8 @@ struct PinholeCameraConfig : PluginConfig {
   double noise_stddev = 0;
 
   std::string camera_name;
-  std::string image_topic = "image_raw";
-  std::string info_topic = "camera_info";
+  std::string image_topic;
+  std::string info_topic;
   std::string frame;
   double hack_baseline = 0;  ///< [m]; P[3] = -focal * hack_baseline
   double focal_length = 0;   ///< [px]; 0 = width / (2 tan(fov / 2))
@@ -49,11 +37,11 @@ struct PinholeCameraConfig : PluginConfig {
   std::array<double, 5> distortion{};  ///< k1, k2, t1, t2, k3 (camera_info's D)
 
   bool depth = false;  ///< a depth camera: also a depth image and an organized cloud
-  std::string depth_topic = "depth/image_raw";
-  std::string depth_info_topic = "depth/camera_info";
-  std::string points_topic = "points";
-  double cloud_cutoff = 0.4;  ///< [m]: depths at or below it are NaN
-  double cloud_cutoff_max = 5;  ///< [m]: depths at or above it are NaN
+  std::string depth_topic;
+  std::string depth_info_topic;
+  std::string points_topic;
+  double cloud_cutoff = 0;      ///< [m]: depths at or below it are NaN
+  double cloud_cutoff_max = 0;  ///< [m]: depths at or above it are NaN
   bool depth_16uc1 = false;     ///< depth in 16UC1 millimetres instead of 32FC1 metres
 
   /// Whether a depth [m] is inside (pointCloudCutoff, pointCloudCutoffMax): kept in the depth image and cloud.
@@ -77,14 +65,6 @@ class PinholeCamera : public Plugin, public CameraSensor {
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
 
   const PinholeCameraConfig& config() const { return config_; }
-  const CameraImage& image() const { return image_.latest(); }
-  const CameraImage& depthImage() const { return depth_.latest(); }
-  const ColouredCloud& cloud() const { return cloud_.latest(); }
-  const CameraInfo& info() const { return info_.latest(); }
-  /// How many frames it rendered.
-  uint64_t frameCount() const { return frames_; }
-  /// The camera in the world, at `body`'s current pose.
-  Eigen::Isometry3d worldPose(const RobotBody& body) const;
   /// What it asks its image source for at `body`'s current pose, with or without depth.
   ImageRequest imageRequest(const RobotBody& body, bool depth) const override;
   const std::string& cameraName() const override { return config_.camera_name; }
@@ -104,7 +84,6 @@ class PinholeCamera : public Plugin, public CameraSensor {
   ImageSource* images_;
   RenderedImage frame_;        ///< the last frame rendered; its buffers are reused
   std::vector<float> ray_x_;  ///< per column, x / z of its ray through the pixel centre
-  uint64_t frames_ = 0;
   Demand image_demand_, depth_demand_, cloud_demand_;
   Stream<CameraImage> image_, depth_;
   Stream<CameraInfo> info_, depth_info_;

@@ -20,6 +20,7 @@ using test::Tags;
 constexpr double kCameraX = 0.1, kCameraZ = 0.45;  // in the world, once the 0.1 m base rests on the floor
 constexpr double kWallX = 3.0;
 constexpr double kFov = 1.047;
+constexpr char kDepthTopic[] = "cam/depth/image_raw";  // the depth image's, with cameraName cam
 
 struct CameraSetup {
   int width = 161, height = 121;
@@ -88,11 +89,12 @@ struct CameraWorld {
   }
   /// Steps until the camera has rendered `frames` more frames, for at most 1 s of sim time.
   void frames(uint64_t frames = 1) {
-    const uint64_t target = camera->frameCount() + frames;
-    test::stepUntil(*simulation, [&] { return camera->frameCount() >= target; }, 1.0, "a camera frame");
+    const uint64_t target = test::countOf<CameraImage>(*camera) + frames;
+    test::stepUntil(
+        *simulation, [&] { return test::countOf<CameraImage>(*camera) >= target; }, 1.0, "a camera frame");
   }
   float depthAt(int column, int row) const {
-    const CameraImage& depth = camera->depthImage();
+    const CameraImage& depth = test::latestOf<CameraImage>(*camera, kDepthTopic);
     float value;
     std::memcpy(&value, &depth.data[(static_cast<size_t>(row) * depth.width + column) * 4], 4);
     return value;
@@ -114,7 +116,7 @@ Eigen::Vector2d pinhole(const Eigen::Vector3d& point, int width, int height) {
 TEST(Camera, DepthAtTheImageCentreIsTheDistanceToTheWall) {
   CameraWorld world;
   world.frames();
-  const CameraImage& depth = world.camera->depthImage();
+  const CameraImage& depth = test::latestOf<CameraImage>(*world.camera, kDepthTopic);
   ASSERT_EQ(depth.encoding, "32FC1");
   ASSERT_EQ(depth.width, 161);
   EXPECT_NEAR(world.depthAt(80, 60), kWallX - kCameraX, 0.01);
@@ -123,7 +125,7 @@ TEST(Camera, DepthAtTheImageCentreIsTheDistanceToTheWall) {
 TEST(Camera, OrganizedCloudCentreIsOnTheOpticalAxis) {
   CameraWorld world;
   world.frames();
-  const ColouredCloud& cloud = world.camera->cloud();
+  const ColouredCloud& cloud = test::latestOf<ColouredCloud>(*world.camera);
   ASSERT_EQ(cloud.width, 161);
   ASSERT_EQ(cloud.height, 121);
   const Eigen::Vector3f centre = cloud.points[60 * 161 + 80];
@@ -144,8 +146,9 @@ TEST(Camera, DepthsOutsideTheCutOffsAreNaNInTheImageAndTheCloud) {
     CameraWorld world(setup);
     world.frames();
     EXPECT_TRUE(std::isnan(world.depthAt(80, 60))) << cutoffs[0].first;
-    EXPECT_TRUE(world.camera->cloud().points[60 * 161 + 80].array().isNaN().all()) << cutoffs[0].first;
-    EXPECT_FALSE(world.camera->cloud().is_dense);
+    const ColouredCloud& cloud = test::latestOf<ColouredCloud>(*world.camera);
+    EXPECT_TRUE(cloud.points[60 * 161 + 80].array().isNaN().all()) << cutoffs[0].first;
+    EXPECT_FALSE(cloud.is_dense);
   }
 }
 
@@ -154,7 +157,7 @@ TEST(Camera, SixteenBitDepthIsMillimetresAndZeroOutsideTheCutOffs) {
   setup.plugin_tags.push_back({"useDepth16UC1Format", "true"});
   CameraWorld world(setup);
   world.frames();
-  const CameraImage& depth = world.camera->depthImage();
+  const CameraImage& depth = test::latestOf<CameraImage>(*world.camera, kDepthTopic);
   ASSERT_EQ(depth.encoding, "16UC1");
   uint16_t centre;
   std::memcpy(&centre, &depth.data[(60 * 161 + 80) * 2], 2);
@@ -171,7 +174,7 @@ TEST(Camera, ARedCubeAppearsWhereThePinholeModelPutsItsCorners) {
   pose.y = 0.5;
   world.simulation->spawn("red_cube", test::parseQuietly(kRedCube, "red_cube"), pose);
   world.frames();
-  const CameraImage& image = world.camera->image();
+  const CameraImage& image = test::latestOf<CameraImage>(*world.camera);
   ASSERT_EQ(image.encoding, "rgb8");
   Eigen::AlignedBox2d red;
   for (int row = 0; row < image.height; ++row) {
@@ -198,7 +201,7 @@ TEST(Camera, ARedCubeAppearsWhereThePinholeModelPutsItsCorners) {
 TEST(Camera, CameraInfoFollowsTheFieldOfViewAsGazeboComputesIt) {
   CameraWorld world;
   world.frames();
-  const CameraInfo& info = world.camera->info();
+  const CameraInfo& info = test::latestOf<CameraInfo>(*world.camera);
   const double focal = 161 / (2 * std::tan(kFov / 2));
   EXPECT_NEAR(info.K[0], focal, 1e-9);
   EXPECT_NEAR(info.K[4], focal, 1e-9);
@@ -207,7 +210,7 @@ TEST(Camera, CameraInfoFollowsTheFieldOfViewAsGazeboComputesIt) {
   EXPECT_DOUBLE_EQ(info.P[0], info.K[0]);
   EXPECT_DOUBLE_EQ(info.P[3], 0);
   EXPECT_EQ(info.distortion_model, "plumb_bob");
-  EXPECT_EQ(info.stamp, world.camera->image().stamp);
+  EXPECT_EQ(info.stamp, test::latestOf<CameraImage>(*world.camera).stamp);
   EXPECT_EQ(info.frame_id, "base_link");
 }
 
@@ -224,7 +227,8 @@ TEST(Camera, FramesComeAtTheUpdateRateInSimTime) {
   std::vector<double> stamps;
   while (world.simulation->time() < 1.0 - 1e-9) {
     world.simulation->step();
-    if (world.camera->frameCount() > stamps.size()) stamps.push_back(world.camera->image().stamp);
+    if (test::countOf<CameraImage>(*world.camera) > stamps.size())
+      stamps.push_back(test::latestOf<CameraImage>(*world.camera).stamp);
   }
   EXPECT_NEAR(static_cast<double>(stamps.size()), 20, 1);
   for (size_t i = 0; i < stamps.size(); ++i) EXPECT_NEAR(stamps[i], 0.05 * (i + 1), 1e-9);
@@ -237,7 +241,7 @@ TEST(Camera, NothingIsRenderedWhileNobodyWantsAnImage) {
   }
   for (int step = 0; step < 500; ++step) world.simulation->step();
   EXPECT_EQ(world.renderer.renders, 0);
-  EXPECT_EQ(world.camera->frameCount(), 0u);
+  EXPECT_EQ(test::countOf<CameraImage>(*world.camera), 0u);
   world.camera->ports().outputs.front().demand->wanted = true;  // someone subscribes to the image
   world.frames();
   EXPECT_EQ(world.renderer.renders, 1);
@@ -250,8 +254,8 @@ TEST(Camera, TheSameSeedGivesTheSameNoisyImages) {
   first.frames(2);
   second.frames(2);
   other.frames(2);
-  EXPECT_EQ(first.camera->image().data, second.camera->image().data);
-  EXPECT_NE(first.camera->image().data, other.camera->image().data);
+  EXPECT_EQ(test::latestOf<CameraImage>(*first.camera).data, test::latestOf<CameraImage>(*second.camera).data);
+  EXPECT_NE(test::latestOf<CameraImage>(*first.camera).data, test::latestOf<CameraImage>(*other.camera).data);
 }
 
 TEST(Camera, ColourFormatsMapToTheirRosEncodings) {
@@ -268,11 +272,12 @@ TEST(Camera, ColourFormatsMapToTheirRosEncodings) {
     Simulation simulation(test::shippedWorld("test_room.world"), options);
     auto* camera =
         test::pluginsOf<PinholeCamera>(simulation.spawn("box", test::parseQuietly(urdf, format), {})).at(0);
-    test::stepUntil(simulation, [&] { return camera->frameCount() > 0; }, 1.0, format);
-    EXPECT_EQ(camera->image().encoding, encoding);
+    test::stepUntil(simulation, [&] { return test::countOf<CameraImage>(*camera) > 0; }, 1.0, format);
+    const CameraImage& image = test::latestOf<CameraImage>(*camera);
+    EXPECT_EQ(image.encoding, encoding);
     const int bytes = encoding == "mono8" ? 1 : encoding == "rgb16" ? 6 : 3;
-    EXPECT_EQ(camera->image().step, 161 * bytes);
-    EXPECT_EQ(camera->image().data.size(), 161u * 121 * bytes);
+    EXPECT_EQ(image.step, 161 * bytes);
+    EXPECT_EQ(image.data.size(), 161u * 121 * bytes);
   }
 }
 
@@ -282,7 +287,7 @@ TEST(Camera, WithoutARendererACameraRendersNothing) {
                            simulation.spawn("camera_box", test::parseQuietly(cameraRobot({}), "camera_box"), {}))
                            .at(0);
   for (int step = 0; step < 200; ++step) simulation.step();
-  EXPECT_EQ(camera->frameCount(), 0u);
+  EXPECT_EQ(test::countOf<CameraImage>(*camera), 0u);
 }
 
 TEST(Camera, BadCameraTagsAreReportedWithTheirValues) {

@@ -18,6 +18,7 @@ using test::multiSensorUrdf;
 using test::parseExpecting;
 using test::Planar;
 using test::planar;
+using test::drivePlanar;
 using test::twist;
 
 /// Where a body starting at `start` ends after `seconds` at the body-frame velocity (vx, vy) [m/s] turning
@@ -28,18 +29,13 @@ Planar holonomicArc(const Planar& start, double vx, double vy, double w, double 
   return {start.x + (vx * (s - s0) + vy * (c - c0)) / w, start.y + (-vx * (c - c0) + vy * (s - s0)) / w, yaw};
 }
 
-/// Steps `seconds`, sending `command` to `drive` every 0.1 s as `rostopic pub -r 10` does.
-void drive(Simulation& simulation, PlanarMove& drive, const Twist& command, double seconds) {
-  test::stepSending(simulation, seconds, [&] { return drive.setCommand(command, simulation.time()); });
-}
-
 const SpawnPose kStart{.x = 0.5, .y = -0.3, .yaw = 0.4};
 
 TEST(PlanarMove, FollowsTheClosedFormOfAHolonomicArc) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", multiSensorRobot(), kStart);
   PlanarMove& planar_move = *test::pluginsOf<PlanarMove>(robot).at(0);
-  drive(simulation, planar_move, twist(0.3, 0.2, 0.5), 4.0);
+  drivePlanar(simulation, planar_move, twist(0.3, 0.2, 0.5), 4.0);
   const Planar truth = holonomicArc({kStart.x, kStart.y, kStart.yaw}, 0.3, 0.2, 0.5, 4.0);
   const Planar base = planar(robot.body().linkPose("base_footprint"));
   EXPECT_NEAR(base.x, truth.x, 2e-3);
@@ -56,7 +52,7 @@ TEST(PlanarMove, OdometryIsTheBasePoseAndAgreesWithItsTf) {
   ASSERT_EQ(outputs.size(), 2u);
   EXPECT_EQ(outputs[0].topic, "odom");
   const auto* tf = std::get<const Stream<TransformSample>*>(outputs[1].stream);
-  drive(simulation, planar_move, twist(0.3, 0.2, 0.5), 2.0);
+  drivePlanar(simulation, planar_move, twist(0.3, 0.2, 0.5), 2.0);
   const Odometry& odometry = test::latestOf<Odometry>(planar_move);
   EXPECT_NEAR(odometry.stamp, 2.0, 1e-9) << "50 Hz";
   EXPECT_EQ(odometry.frame_id, "odom");

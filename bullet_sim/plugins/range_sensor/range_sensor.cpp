@@ -9,6 +9,28 @@
 
 namespace bullet_sim {
 
+namespace {
+
+const TagTable kRangeTags = {
+    {"topicName", TagType::kTopic, "range", "", "the topic of the ranges; /range (a global name) when absent",
+     "range when absent, relative to the namespace"},
+    {"frameName", TagType::kFrame, "the sensor's link", "", "the messages' frame_id; /world when absent",
+     "the sensor's link when absent; a name that is no link is a warning, and is still the frame_id"},
+    {"radiation", TagType::kText, "ultrasound", "",
+     "the message's radiation_type: ultrasound, and any other word infrared",
+     "the same, with a warning for a word other than ultrasound or infrared"},
+    {"fov", TagType::kPositive, "0.05", "rad",
+     "the message's field_of_view only; the rays the sensor casts decide what it sees", ""},
+    {"gaussianNoise", TagType::kPositive, "0", "m",
+     "the standard deviation of a zero-mean noise on ranges below the maximum, which are then capped at it",
+     "noisy ranges are clamped to [min, max]"},
+    {"updateRate", TagType::kPositive, "0", "Hz",
+     "throttles the plugin below the sensor's <update_rate>; 0: at every sensor update", ""},
+    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+};
+
+}  // namespace
+
 void parseRange(const DeclarationSource& source, RangeConfig& config) {
   const std::string where = source.declaration.where();
   PluginTags& tags = source.tags;
@@ -23,17 +45,16 @@ void parseRange(const DeclarationSource& source, RangeConfig& config) {
                                "reads the rays before the sensor's noise): ignored; use the plugin's "
                                "<gaussianNoise>");
   }
-  config.topic = tags.text("topicName", config.topic);
+  config.topic = tags.text("topicName");
   config.frame = tags.frame("frameName", config.link);
-  const std::string radiation = tags.text("radiation", "ultrasound");
+  const std::string radiation = tags.text("radiation");
   config.infrared = radiation != "ultrasound";
   if (radiation != "ultrasound" && radiation != "infrared") {
     source.diagnostics.warning(tags.where() + " <radiation> must be ultrasound or infrared, not [" +
                                radiation + "]: infrared is used, as Gazebo does");
   }
-  config.field_of_view = tags.positive("fov", config.field_of_view, /*allow_zero=*/true);
-  config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-  tags.accept({"alwaysOn"});
+  config.field_of_view = tags.nonNegative("fov");
+  config.noise_stddev = tags.nonNegative("gaussianNoise");
   frameLink(source, "frameName", config.frame);
 }
 
@@ -83,11 +104,12 @@ void RangeSensor::sense(const StepTime& time, const RobotBody& body, const RayCa
 }
 
 BULLET_SIM_PLUGIN_FOLDER(range_sensor) {
-  PluginType type = pluginType<RangeSensor>("libgazebo_ros_range.so", parseRange, {});
+  PluginType type = pluginType<RangeSensor>("libgazebo_ros_range.so", parseRange, kRangeTags);
   type.sensor_types = {"ray"};
   // The plugin throttles the sensor's updates: the slower rate wins.
   type.rate = {RateRule::From::kSlowerOfSensorAndTags, {"updateRate"}, 0};
   type.needs = kNeedOwnRayBody;
+  type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));
 }
 

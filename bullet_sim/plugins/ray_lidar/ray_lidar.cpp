@@ -100,23 +100,60 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
 
 namespace {
 
-/// The plugin's tags: topic, frame, and the velodyne plugins' own range and noise.
-void readPluginTags(const std::string& filename, PluginTags& tags, RayLidarConfig& config) {
-  const bool velodyne = filename.find("velodyne") != std::string::npos;
-  config.output = velodyne                                     ? RayLidarConfig::Output::kPointCloud2
-                  : filename == "libgazebo_ros_block_laser.so" ? RayLidarConfig::Output::kPointCloud
-                                                               : RayLidarConfig::Output::kLaserScan;
-  config.topic = tags.text("topicName", config.topic);
-  config.frame = tags.frame("frameName", config.link);
-  if (velodyne) {
-    config.range_min = tags.positive("min_range", config.range_min, /*allow_zero=*/true);
-    config.range_max = tags.positive("max_range", config.range_max);
-    if (tags.has("gaussianNoise")) {
-      config.noise_mean = 0;
-      config.noise_stddev = tags.positive("gaussianNoise", 0, /*allow_zero=*/true);
-    }
+RayLidarConfig::Output outputOf(const std::string& filename) {
+  if (filename.find("velodyne") != std::string::npos) return RayLidarConfig::Output::kPointCloud2;
+  if (filename == "libgazebo_ros_block_laser.so") return RayLidarConfig::Output::kPointCloud;
+  return RayLidarConfig::Output::kLaserScan;
+}
+
+/// The velodyne plugins' own tags: a range band and a noise that replace the sensor's.
+void readVelodyneTags(PluginTags& tags, RayLidarConfig& config) {
+  config.range_min = tags.positive("min_range", config.range_min, /*allow_zero=*/true);
+  config.range_max = tags.positive("max_range", config.range_max);
+  if (tags.has("gaussianNoise")) config.noise_mean = 0;
+  config.noise_stddev = tags.positive("gaussianNoise", config.noise_stddev, /*allow_zero=*/true);
+}
+
+/// The plugin tags of a lidar of `output`: those every laser plugin shares, then the velodyne plugins' own.
+TagTable lidarTags(RayLidarConfig::Output output) {
+  const bool velodyne = output == RayLidarConfig::Output::kPointCloud2;
+  const bool block = output == RayLidarConfig::Output::kPointCloud;
+  TagTable table{
+      {"topicName", TagType::kTopic, "scan", "",
+       velodyne ? "the topic of the clouds; /points (a global name) when absent"
+                : "the topic of its messages; /world when absent, a name no one listens to",
+       "scan when absent, relative to the namespace"},
+      {"frameName", TagType::kFrame, "the sensor's link", "", "the messages' frame_id; /world when absent",
+       "the sensor's link when absent; a name that is no link is a warning, and is still the frame_id"},
+      {"updateRate", TagType::kIgnored, "", "Hz",
+       block ? "read, and never used: the sensor's <update_rate> sets the pace" : "not read",
+       "the sensor's <update_rate> sets the pace"},
+      {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+      {"hokuyoMinIntensity", TagType::kIgnored, "", "",
+       block ? "read (101 when absent) and used in no message" : "not read (block_laser's tag)", ""},
+      {"organize_cloud", TagType::kIgnored, "", "",
+       velodyne ? "true keeps every ray in a width x height cloud, NaN where nothing is in range; false when "
+                  "absent"
+                : "not read (the velodyne plugins' tag)",
+       velodyne ? "the cloud holds the in-range returns only, as with false" : ""},
+  };
+  if (!velodyne) {
+    table.add({"gaussianNoise", TagType::kIgnored, "", "m",
+               block ? "the standard deviation of a noise on each point's x, y and z, and on its intensity"
+                     : "not read (block_laser's and the velodyne plugins' tag)",
+               block ? "not applied: give the sensor a <ray><noise> instead" : ""});
+    return table;
   }
-  tags.accept({"gaussianNoise", "hokuyoMinIntensity", "alwaysOn", "organize_cloud"});
+  table.add({"min_range", TagType::kPositive, "the sensor's <range><min>", "m",
+             "returns at or below the larger of it and the sensor's <min> are left out; 0 when absent",
+             "replaces the sensor's <min>: returns below it are left out"});
+  table.add({"max_range", TagType::kPositive, "the sensor's <range><max>", "m",
+             "returns at or beyond the smaller of it and the sensor's <max> are left out; none when absent",
+             "replaces the sensor's <max>: rays reach it, and returns beyond it are left out"});
+  table.add({"gaussianNoise", TagType::kPositive, "the sensor's <noise>", "m",
+             "the standard deviation of a zero-mean noise on each kept range; 0 when absent",
+             "replaces the sensor's <noise>; noisy ranges are clamped to the range band"});
+  return table;
 }
 
 }  // namespace
@@ -143,7 +180,11 @@ std::vector<Eigen::Vector3f> rayDirections(const RayLidarConfig& config, int cha
 void parseRayLidar(const DeclarationSource& source, RayLidarConfig& config) {
   const std::string where = source.declaration.where();
   readRayTags(source.sensor, where, config, source);
-  readPluginTags(source.declaration.filename, source.tags, config);
+  PluginTags& tags = source.tags;
+  config.output = outputOf(source.declaration.filename);
+  config.topic = tags.text("topicName");
+  config.frame = tags.frame("frameName", config.link);
+  if (config.output == RayLidarConfig::Output::kPointCloud2) readVelodyneTags(tags, config);
   if (config.range_max <= config.range_min)
     source.diagnostics.error(where + " <range> <max> must exceed <min>");
   frameLink(source, "frameName", config.frame);
@@ -187,10 +228,6 @@ RayLidar::RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& c
       addOutput(config_.topic, legacy_cloud_);
       break;
   }
-}
-
-const PointCloud& RayLidar::cloud() const {
-  return config_.output == RayLidarConfig::Output::kPointCloud ? legacy_cloud_.latest() : cloud_.latest();
 }
 
 double RayLidar::measured(double range, std::normal_distribution<double>& gaussian) {
@@ -246,10 +283,15 @@ void RayLidar::publishCloud(const StepTime& time, const Eigen::Isometry3d& senso
 BULLET_SIM_PLUGIN_FOLDER(ray_lidar) {
   for (const char* filename : {"libgazebo_ros_laser.so", "libgazebo_ros_gpu_laser.so", "libgazebo_ros_velodyne_laser.so",
                                "libgazebo_ros_velodyne_gpu_laser.so", "libgazebo_ros_block_laser.so"}) {
-    PluginType type = pluginType<RayLidar>(filename, parseRayLidar, {});
+    PluginType type = pluginType<RayLidar>(filename, parseRayLidar, lidarTags(outputOf(filename)));
     type.sensor_types = {"ray", "gpu_ray"};
     type.rate = {RateRule::From::kSensor, {"updateRate"}, 0};
     type.needs = kNeedOwnRayBody;
+    // gazebo_ros_laser and gpu_laser search tf_prefix up from their namespace; the block laser and
+    // velodyne_simulator's plugins read <namespace>/tf_prefix only.
+    const std::string name = filename;
+    if (name != "libgazebo_ros_laser.so" && name != "libgazebo_ros_gpu_laser.so")
+      type.tf_prefix = TfPrefixRule::kNamespaceParam;
     registrar.add(std::move(type));
   }
 }

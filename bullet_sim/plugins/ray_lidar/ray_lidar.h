@@ -1,18 +1,8 @@
-// A lidar: <sensor type="ray"> (or gpu_ray) with one of Gazebo's laser plugins. The plugin filename chooses
-// the output, as in Gazebo:
-//   libgazebo_ros_laser.so, libgazebo_ros_gpu_laser.so                   sensor_msgs/LaserScan (the plane at
-//   0 elevation) libgazebo_ros_velodyne_laser.so, libgazebo_ros_velodyne_gpu_laser.so sensor_msgs/PointCloud2
-//   (x y z intensity ring) libgazebo_ros_block_laser.so sensor_msgs/PointCloud
-//
-// Sensor tags (SDF's): update_rate [Hz], pose, ray/scan/horizontal/{samples [640], resolution [1],
-//   min_angle [0], max_angle [0]}, ray/scan/vertical/{samples [1], resolution [1], min_angle [0], max_angle
-//   [0]} (channels, bottom first), ray/range/{min, max, resolution}, ray/noise/{type gaussian, mean, stddev}.
-// Plugin tags: topicName [scan; Gazebo's "/world" default meant nothing], frameName [the sensor's link],
-//   robotNamespace; the velodyne plugins also min_range, max_range [m] and gaussianNoise [m].
-// LaserScan follows Gazebo and REP 117: N = samples * resolution beams, angle_increment = (max - min) / (N -
-// 1); +inf when nothing is within range max, -inf for a hit closer than range min; noise only on in-range
-// values, which are then clamped to [min, max]. Point clouds hold the in-range returns only. Rays hit
-// collision geometry; they skip the part the sensor sits on.
+// A lidar: <sensor type="ray"> (or gpu_ray) with one of Gazebo's laser plugins, whose filename chooses the
+// output: libgazebo_ros_laser.so and libgazebo_ros_gpu_laser.so sensor_msgs/LaserScan (the plane at 0
+// elevation), the velodyne plugins sensor_msgs/PointCloud2 (x y z intensity ring) and
+// libgazebo_ros_block_laser.so sensor_msgs/PointCloud. Its plugin tags are the tag tables in ray_lidar.cpp;
+// README.md describes the sensor's <ray> block and the output (REP 117).
 #pragma once
 
 #include <random>
@@ -40,7 +30,7 @@ struct RayLidarConfig : PluginConfig {
   double noise_mean = 0;  ///< [m]
   double noise_stddev = 0;
   Output output = Output::kLaserScan;
-  std::string topic = "scan";
+  std::string topic;
   std::string frame;
 
   int beams() const;  ///< horizontal beams per channel
@@ -67,14 +57,6 @@ class RayLidar : public Plugin, public RaySensor {
   RayPattern rayPattern(const RobotBody& body) const override;
 
   const RayLidarConfig& config() const { return config_; }
-  /// The direction of every ray in the sensor frame (unit vectors), channel-major, bottom channel first.
-  const std::vector<Eigen::Vector3f>& directions() const { return directions_; }
-  /// The latest scan (LaserScan output).
-  const LaserScan& scan() const { return scan_.latest(); }
-  /// The latest point cloud (point-cloud outputs).
-  const PointCloud& cloud() const;
-  /// How many scans or clouds there were.
-  uint64_t scanCount() const { return scan_.count() + cloud_.count() + legacy_cloud_.count(); }
 
  private:
   void publishScan(const StepTime& time, const Eigen::Isometry3d& sensor);

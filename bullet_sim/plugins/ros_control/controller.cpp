@@ -7,15 +7,11 @@
 
 namespace bullet_sim {
 
-namespace {
-
-std::string joined(const std::vector<std::string>& names) {
+std::string joinedNames(const std::vector<std::string>& names, const std::string& none) {
   std::string text;
   for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text.empty() ? "none" : text;
+  return text.empty() ? none : text;
 }
-
-}  // namespace
 
 std::string stateName(ControllerState state) {
   switch (state) {
@@ -61,7 +57,7 @@ HardwareJoint& Controller::claim(const std::string& joint, JointInterface interf
     why += found ? "is driven through " + interfaceName(found->interface) + " by its transmission"
                  : "has no transmission ros_control drives";
     throw std::invalid_argument(why + ", and this controller needs " + interfaceName(interface) +
-                                didYouMean(joint, names) + "; the joints driven through it: " + joined(names));
+                                didYouMean(joint, names) + "; the joints driven through it: " + joinedNames(names, "none"));
   }
   if (std::count(claims_.resources.begin(), claims_.resources.end(), joint) == 0)
     claims_.resources.push_back(joint);

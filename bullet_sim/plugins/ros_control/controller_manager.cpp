@@ -11,12 +11,6 @@ namespace bullet_sim {
 
 namespace {
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 /// A ROS graph name made of relative parts ("arm/gripper_controller"): what a controller's topics can live
 /// under.
 bool isGraphName(const std::string& name) {
@@ -98,7 +92,7 @@ std::string ControllerManager::load(const std::string& name, std::vector<std::st
     const ControllerType* found = types_.find(type);
     if (!found) {
       return head + "type [" + type + "] is not a controller type bullet_sim has" + didYouMean(type, types_.names()) +
-             "; it has " + joined(types_.names());
+             "; it has " + joinedNames(types_.names());
     }
     std::vector<std::string> load_warnings;
     const ControllerSetup setup{name, type, parameters, hardware_, model_, load_warnings};
@@ -189,7 +183,7 @@ std::string ControllerManager::conflict(const std::vector<Controller*>& running)
   }
   for (const auto& [joint, names] : claimants) {
     if (names.size() > 1)
-      return "could not switch controllers: joint [" + joint + "] would be claimed by " + joined(names);
+      return "could not switch controllers: joint [" + joint + "] would be claimed by " + joinedNames(names);
   }
   return "";
 }

@@ -268,6 +268,15 @@ void RosControl::onReset() {
 BULLET_SIM_PLUGIN_FOLDER(ros_control) {
   PluginType type = pluginType<RosControl>("libgazebo_ros_control.so", parseRosControl, rosControlTags());
   type.needs = kNeedParameters;
+  type.tf_prefix = TfPrefixRule::kNone;  // its controllers name their frames as their parameters say
+  type.driven = [](const PluginDeclaration& declaration) {
+    DrivenJoints joints;
+    for (const DrivenJoint& joint : declaration.configAs<RosControlConfig>()->joints) joints.motors.push_back(joint.name);
+    joints.motors_note = "ros_control drives it through a <transmission>, and Gazebo freezes such a joint too "
+                         "(gazebo_ros_control's fmax is the effort limit, and it saturates commands at the velocity "
+                         "limit)";
+    return joints;
+  };
   type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery& query) {
     const auto& config = *declaration.configAs<RosControlConfig>();
     const std::string ns = rosControlNamespace(config, query.robot_name, query.robot_namespace);

@@ -52,7 +52,6 @@ class RosControl : public Plugin {
   void applyCommands(const StepTime& time, RobotBody& body) override;
   std::vector<PortGroup> portGroups() const override { return manager_->portGroups(); }
   uint64_t portGroupsRevision() const override { return manager_->revision(); }
-  bool prefixesFrames() const override { return false; }
 
   /// For in-process use (tests, tools): what the controller_manager services call.
   ControllerManager& controllerManager() { return *manager_; }

@@ -10,7 +10,6 @@
 
 #include "plugins/ackermann_drive/ackermann_drive.h"
 #include "plugins/joint_position/joint_position.h"
-#include "plugins/pinhole_camera/pinhole_camera.h"
 #include "plugins/ros_control/joint_trajectory_controller.h"
 #include "plugins/ros_control/ros_control_plugin.h"
 #include "bullet_sim/render/offscreen_renderer.h"
@@ -38,7 +37,7 @@ class PanTiltCar {
         test::expandXacro("yahboomcar_description", "urdf/yahboomcar.urdf.xacro", {"pan_tilt:=" + pan_tilt});
     urdf = test::replaceAfter(urdf, "<sensor name=\"camera\"", "<update_rate>30", "<update_rate>4");
     robot_ = &simulation_->spawn("car", test::parseQuietly(urdf, "yahboomcar " + pan_tilt), {});
-    camera_ = test::pluginsOf<PinholeCamera>(*robot_).at(0);
+    camera_ = robot_->outputs<CameraImage>().at(0).stream;
   }
 
   double angle(const std::string& joint) const {
@@ -46,10 +45,10 @@ class PanTiltCar {
   }
   /// Steps until the camera has rendered one more frame; that frame.
   const CameraImage& nextFrame() {
-    const uint64_t target = camera_->frameCount() + 1;
+    const uint64_t target = camera_->count() + 1;
     test::stepUntil(
-        *simulation_, [&] { return camera_->frameCount() >= target; }, 1.0, "a camera frame");
-    return camera_->image();
+        *simulation_, [&] { return camera_->count() >= target; }, 1.0, "a camera frame");
+    return camera_->latest();
   }
   void stepFor(double seconds) {
     for (long k = std::lround(seconds / simulation_->stepSize()); k > 0; --k) simulation_->step();
@@ -62,7 +61,7 @@ class PanTiltCar {
   OffscreenRenderer renderer_;
   std::unique_ptr<Simulation> simulation_;
   Robot* robot_ = nullptr;
-  PinholeCamera* camera_ = nullptr;
+  const Stream<CameraImage>* camera_ = nullptr;  ///< the camera's colour images
 };
 
 /// The mean absolute difference of two images' bytes.

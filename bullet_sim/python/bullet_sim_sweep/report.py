@@ -1,24 +1,30 @@
-"""The sweep's table (every run's result.json, one row each, as CSV and JSON) and its summary picture."""
+"""The sweep's table (every run's result.json, one row each, as CSV and JSON), its summary picture, and its
+counts per status and per node (sweep.json)."""
 import csv
 import json
 import math
+import sys
 
 import matplotlib
 
 matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLOURS = {"pass": "#2e9e44", "fail": "#d62728", "error": "#7f7f7f", "crash": "#000000", "timeout": "#9467bd"}
+COLOURS = {"pass": "#2e9e44", "fail": "#d62728", "error": "#7f7f7f", "crash": "#000000", "timeout": "#9467bd",
+           "never_started": "#ff7f0e", "lost": "#8c564b"}
 MAX_METRIC_PANELS = 8
 
 
-def row_of(index, values, status, run):
-    """One row: the cell, its verdict, every check's value and every metric, flattened to columns."""
+def row_of(index, values, status, run, starts):
+    """One row: the cell, its verdict, where it ran and how often it began (`starts`: its runs' (cell, node,
+    host, time)), every check's value and every metric, flattened to columns."""
     row = {"index": index}
     row.update({"axis:" + axis: value for axis, value in values.items()})
     result = run.get("result") or {}
-    row.update({"status": status, "exit_code": run["exit_code"], "message": result.get("message", ""),
-                "wall_s": round(run["wall_s"], 4), "host": run["host"]})
+    row.update({"status": status, "exit_code": run["exit_code"],
+                "message": run.get("no_run") or result.get("message", ""), "wall_s": round(run["wall_s"], 4),
+                "ended_s": round(run["ended_s"], 3), "host": run["host"], "node": run["node"],
+                "attempts": len(starts), "began_on": " ".join(start[1] for start in starts)})
     timing = result.get("timing") or {}
     row["rtf"] = timing.get("rtf")
     for number, check in enumerate(result.get("checks", [])):
@@ -103,3 +109,49 @@ def write_summary(rows, axes, title, path):
     figure.tight_layout()
     figure.savefig(path, dpi=90)
     plt.close(figure)
+
+
+def node_table(rows, starts, nodes, alive_at_start, runs_s):
+    """Per node that was alive when the sweep began or ran a cell: its address, CPUs, whether it was lost, the
+    runs it gave (each cell counts once, on the node whose run counted), the runs it began, its runs per minute
+    (from the sweep's start to its last run's end)."""
+    table = []
+    for node, state in nodes.items():
+        gave = [row for row in rows if row["node"] == node and row["status"] != "never_started"]
+        began = sum(1 for start in starts if start[1] == node)
+        if node not in alive_at_start and not began:
+            continue
+        span = max([row["ended_s"] for row in gave], default=runs_s)
+        table.append({"node_id": node, "address": state["address"], "cpus": state["cpus"], "alive": state["alive"],
+                      "lost": node in alive_at_start and not state["alive"], "runs": len(gave), "began": began,
+                      "runs_per_min": 60 * len(gave) / span if span > 0 else None})
+    return table
+
+
+def sweep_summary(rows, starts, nodes, alive_at_start, ray_start_s, runs_s):
+    """sweep.json: the counts per status, the pace, each node's share, the nodes lost and the runs begun again."""
+    statuses = [row["status"] for row in rows]
+    table = node_table(rows, starts, nodes, alive_at_start, runs_s)
+    return {"runs": len(rows), "passed": statuses.count("pass"), "failed": statuses.count("fail"),
+            "other": len(rows) - statuses.count("pass") - statuses.count("fail"),
+            "statuses": {status: statuses.count(status) for status in COLOURS if status in statuses},
+            "ray_start_s": ray_start_s, "runs_s": runs_s,
+            "runs_per_min": 60 * len(rows) / runs_s if runs_s > 0 else None,
+            "nodes": table, "lost_nodes": [node["node_id"] for node in table if node["lost"]],
+            "began_again": [{"index": row["index"], "began_on": row["began_on"].split()}
+                            for row in rows if row["attempts"] > 1]}
+
+
+def print_summary(name, summary, rows, results_path):
+    print("sweep %s: %d runs, %d passed, %d failed, %d could not run or crashed, in %.1f s (%.0f runs/min; "
+          "Ray started in %.1f s) on %d nodes, %d lost, %d runs begun again; %s" % (
+              name, summary["runs"], summary["passed"], summary["failed"], summary["other"], summary["runs_s"],
+              summary["runs_per_min"] or 0, summary["ray_start_s"], len(summary["nodes"]),
+              len(summary["lost_nodes"]), len(summary["began_again"]), results_path))
+    for row in rows:
+        if row["status"] in ("never_started", "lost"):
+            print("  cell %d: %s: %s" % (row["index"], row["status"].replace("_", " "), row["message"]),
+                  file=sys.stderr)
+        elif row["status"] != "pass" and row["status"] != "fail":
+            print("  cell %d: %s (exit code %s): %s" % (row["index"], row["status"], row["exit_code"],
+                                                       (row.get("log_tail") or "").strip()[-300:]), file=sys.stderr)

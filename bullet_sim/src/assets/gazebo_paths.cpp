@@ -83,7 +83,7 @@ GazeboExports readGazeboExports(const std::string& package_dir) {
 }
 
 GazeboPaths::GazeboPaths(const GazeboEnvironment& environment, const std::vector<GazeboExports>& exports,
-                         const std::string& shipped_models) {
+                         const std::string& shipped_models, const std::string& shipped_media) {
   appendNew(model_path_, environment.model_path);
   for (const auto& package : exports) appendNew(model_path_, package.model_path);
   if (!shipped_models.empty()) appendNew(model_path_, {shipped_models});
@@ -91,6 +91,7 @@ GazeboPaths::GazeboPaths(const GazeboEnvironment& environment, const std::vector
     appendNew(model_path_, {(fs::path(environment.home) / ".gazebo/models").string()});
 
   appendNew(resource_path_, environment.resource_path);
+  if (!shipped_media.empty()) appendNew(resource_path_, {shipped_media});
   for (const auto& package : exports) appendNew(resource_path_, package.media_path);
 }
 

@@ -133,7 +133,9 @@ const GazeboPaths& PackageResolver::gazeboPaths() const {
   if (!gazebo_paths_) {
     std::vector<GazeboExports> exports;
     forEachPackage([&](const std::string& directory) { exports.push_back(readGazeboExports(directory)); });
-    gazebo_paths_.emplace(gazebo_environment_, exports, shippedModels(packageDirectory("bullet_sim")));
+    const std::optional<std::string> bullet_sim = packageDirectory("bullet_sim");
+    // bullet_sim's own folder stands where Gazebo's media folder does: worlds/empty.world is ours.
+    gazebo_paths_.emplace(gazebo_environment_, exports, shippedModels(bullet_sim), bullet_sim.value_or(""));
   }
   return *gazebo_paths_;
 }

@@ -30,6 +30,10 @@
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "bullet_sim/tools/process_stats.h"
+#include "bullet_sim/tools/urdf_edits.h"
+#include "bullet_sim/web/web_viewer.h"
+#include "bench/bench_strikes.h"
+#include "bench/bench_viewer.h"
 #include "bench/bench_world.h"
 #include "tools/command_line.h"
 
@@ -43,7 +47,8 @@ constexpr char kUsage[] =
     "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
     "             [--obstacles N] [--boxes N] [--delete-cycles K] [--repeat K]\n"
-    "             [--camera WxH@HZ [--depth]] [--limit NAME=VALUE]...\n"
+    "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
+    "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
     "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
@@ -69,6 +74,11 @@ constexpr char kUsage[] =
     "  rtf_camera_idle         without lidars, with a camera nobody wants (it renders nothing);\n"
     "                          camera_idle_cost_pct: the CPU time it adds to the physics-only\n"
     "                          run before it (the median of those pairs)\n"
+    "  rtf_web_viewer          with --web-viewer: with its lidars and one page open on the live\n"
+    "                          viewer (a client on its own thread that takes in every frame, as\n"
+    "                          a browser does); web_viewer_cost_pct: the wall time it adds to the\n"
+    "                          lidar run before it (the median of those pairs); web_viewer_cpu_cost_pct:\n"
+    "                          the CPU time it adds to the simulation's thread\n"
     "with the inputs, every run's figures (medians are reported) and the load warnings.\n"
     "\n"
     "--wheel-model sets <wheelModel> in the robot's drive plugin. --lidar replaces the scan of the\n"
@@ -82,6 +92,14 @@ constexpr char kUsage[] =
     "--camera adds a 60 degree camera of WxH pixels at HZ on the robot's root link, 0.3 m ahead and\n"
     "1 m up, looking ahead (libgazebo_ros_camera.so); with --depth, a depth camera with its depth\n"
     "image and organized cloud (libgazebo_ros_openni_kinect.so).\n"
+    "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
+    "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
+    "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
+    "each cell is judged against bounds from the robot's mass, inertia and geometry. It prints the cells\n"
+    "run and passed, the largest tilt, rise and energy gain, the RTF at each step and the failed cells\n"
+    "(--strike-cells: every cell). --strike-filter runs the cells whose name (robot model 1ms 0.5m/s\n"
+    "30deg wall [coast]) holds every WORD. --strike-render writes a side and a chase view of each cell,\n"
+    "0.3 s after the first contact and at the end, into DIR.\n"
     "A relative --world is looked up in bullet_sim/worlds, then bullet_sim_bringup/worlds, then\n"
     "the working directory.\n"
     "Defaults: --world empty.world --pose 0,0,0 --step 0.001 --duration 10 --cmd 0.5,0.3 --delete-cycles 3\n"
@@ -100,6 +118,7 @@ constexpr double kPostHeight = 1.0;                 ///< [m]: lidars up to this 
 constexpr double kPostClearance = 1.5;              ///< [m] kept free around the commanded path
 constexpr uint64_t kPostSeed = 1;
 constexpr double kBoxClearance = 2.5;  ///< [m] from the start to --boxes' nearest row, on the right
+constexpr double kFirstFrameWait = 5;  ///< [wall s] --web-viewer's page gets for its first frame
 
 struct Options {
   std::string robot;
@@ -125,6 +144,9 @@ struct Options {
     bool depth = false;
   };
   std::optional<Camera> camera;
+  bool web_viewer = false;
+  bool strikes = false;
+  StrikeMatrixOptions strike_options;
   bool help = false;
 };
 
@@ -222,9 +244,14 @@ Options parseArguments(int argc, char** argv) {
           if (!options.camera) throw UsageError("--depth needs --camera WxH@HZ");
           options.camera->depth = true;
         },
-        false, /*flag=*/true}},
+        false, /*flag=*/true},
+       {"--web-viewer", [&](Value) { options.web_viewer = true; }, false, /*flag=*/true},
+       {"--strikes", [&](Value) { options.strikes = true; }, false, /*flag=*/true},
+       {"--strike-filter", [&](Value value) { options.strike_options.filter.push_back(value); }, true},
+       {"--strike-cells", [&](Value) { options.strike_options.list_cells = true; }, false, /*flag=*/true},
+       {"--strike-render", [&](Value value) { options.strike_options.render_dir = value; }}},
       &options.help);
-  if (options.help) return options;
+  if (options.help || options.strikes) return options;
   if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
   if (options.boxes > 0 && !options.world.empty())
     throw UsageError("--boxes makes a world: leave --world out");
@@ -289,27 +316,24 @@ void overrideScan(tinyxml2::XMLElement* sensor, int samples, int channels) {
 
 /// The URDF with the wheel model and lidar options applied to its <gazebo> blocks. Text that is not XML is
 /// returned as it is, for parseModel to report.
-std::string applyRobotOptions(const std::string& urdf, const Options& options) {
+std::string applyRobotOptions(const std::string& description, const Options& options) {
   const bool lidar = options.lidar_samples > 0 || options.lidar_rate;
-  if (!options.wheel_model && !lidar) return urdf;
+  int drives = 0;
+  const std::string urdf =
+      options.wheel_model ? withWheelModel(description, *options.wheel_model, &drives) : description;
+  if (options.wheel_model && drives == 0) {
+    throw Failure("--wheel-model: " + options.robot +
+                  " has no libgazebo_ros_diff_drive.so, libgazebo_ros_skid_steer_drive.so or "
+                  "libgazebo_ros_ackermann_drive.so plugin to set <wheelModel> in; bench drives robots through one");
+  }
+  if (!lidar) return urdf;
   tinyxml2::XMLDocument document;
   if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement())
     return urdf;
 
-  int drives = 0, sensors = 0;
+  int sensors = 0;
   for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
        gazebo = gazebo->NextSiblingElement("gazebo")) {
-    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin;
-         plugin = plugin->NextSiblingElement("plugin")) {
-      const char* filename = plugin->Attribute("filename");
-      const std::string name = filename ? filename : "";
-      if (!options.wheel_model ||
-          (name != "libgazebo_ros_diff_drive.so" && name != "libgazebo_ros_skid_steer_drive.so")) {
-        continue;
-      }
-      child(plugin, "wheelModel")->SetText(options.wheel_model->c_str());
-      ++drives;
-    }
     for (auto* sensor = gazebo->FirstChildElement("sensor"); sensor;
          sensor = sensor->NextSiblingElement("sensor")) {
       const char* type = sensor->Attribute("type");
@@ -319,12 +343,7 @@ std::string applyRobotOptions(const std::string& urdf, const Options& options) {
       ++sensors;
     }
   }
-  if (options.wheel_model && drives == 0) {
-    throw Failure("--wheel-model: " + options.robot +
-                  " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin to set "
-                  "<wheelModel> in; bench drives robots through one");
-  }
-  if (lidar && sensors == 0) {
+  if (sensors == 0) {
     throw Failure(
         "--lidar / --lidar-rate: " + options.robot +
         " declares no <sensor type=\"ray\"> in a <gazebo> block; add one, or leave these options out");
@@ -531,13 +550,16 @@ struct DriveRun {
   double wall_s = 0;           ///< of the driving, the settling left out
   double cpu_s = 0;            ///< the driving's CPU time on the simulation's thread
   uint64_t camera_frames = 0;  ///< rendered while driving
+  uint64_t viewer_frames = 0;  ///< --web-viewer: the frames its page took in
   std::string wheel_model;
   Planar settled, after_spin_up, end;  ///< of the drive axle
 };
 
-/// Cameras render only when `cameras_wanted`, as when someone subscribes to them.
+/// Cameras render only when `cameras_wanted`, as when someone subscribes to them. `after_step` is called
+/// after every step of the drive.
 DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options& options,
-                   std::vector<std::string>& warnings, bool cameras_wanted = true) {
+                   std::vector<std::string>& warnings, bool cameras_wanted = true,
+                   const std::function<void(const Simulation&)>& after_step = {}) {
   DriveRun run;
   SimulationOptions simulation_options;
   simulation_options.physics.step_size = options.step;
@@ -562,12 +584,27 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
   for (long i = 0; i < steps; ++i) {
     if (i % resend == 0) (*drive.command)(Twist{{options.v, 0, 0}, {0, 0, options.w}}, simulation.time());
     simulation.step();
+    if (after_step) after_step(simulation);
     if (i + 1 == spin_up) run.after_spin_up = axlePose(robot, drive.joints);
   }
   run.wall_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
   run.end = axlePose(robot, drive.joints);
   run.camera_frames = cameraFrames(robot);
+  return run;
+}
+
+/// A drive with one page open on the live viewer, which publishes a frame after every step that one is due.
+DriveRun driveWatched(const WorldSpec& world, const ModelSpec& model, const Options& options,
+                      std::vector<std::string>& warnings) {
+  WebViewerOptions viewer_options;
+  viewer_options.page_dir = PackageResolver::fromEnvironment().packageDirectory("bullet_sim").value_or(".") + "/web";
+  WebViewer viewer(viewer_options, [](const ViewerCommand&) {});
+  const ViewerProbe page(viewer.port());
+  DriveRun run = driveOnce(world, model, options, warnings, true,
+                           [&viewer](const Simulation& simulation) { viewer.update(simulation, false); });
+  page.waitForFrames(1, kFirstFrameWait);  // a run shorter than a frame's way to the page still shows one
+  run.viewer_frames = page.frames();
   return run;
 }
 
@@ -657,7 +694,7 @@ double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x,
 /// Everything bench measures, for the report.
 struct Figures {
   std::string world_file;
-  std::vector<DriveRun> lidar_runs, physics_runs, camera_runs, idle_camera_runs;
+  std::vector<DriveRun> lidar_runs, physics_runs, camera_runs, idle_camera_runs, viewer_runs;
   std::vector<RayPattern> lidars;
   std::vector<double> rays_per_s;
   double peak_rss_before_render_mb = 0;
@@ -680,10 +717,13 @@ Figures drive(const Options& options, const ModelSpec& model, const WorldSpec& w
   const auto camera_run = [&]() {
     figures.camera_runs.push_back(driveOnce(world, withCamera(model, *options.camera), options, warnings));
   };
+  const auto viewer_run = [&]() { figures.viewer_runs.push_back(driveWatched(world, model, options, warnings)); };
   for (int i = 0; i < options.repeat; ++i) {
     if (has_lidars) figures.lidar_runs.push_back(driveOnce(world, model, options, warnings));
     if (has_lidars && options.camera) camera_run();
+    if (has_lidars && options.web_viewer) viewer_run();
     figures.physics_runs.push_back(driveOnce(world, model_without_lidars, options, warnings));
+    if (!has_lidars && options.web_viewer) viewer_run();
     if (!options.camera) continue;
     if (!has_lidars) camera_run();
     figures.idle_camera_runs.push_back(
@@ -761,6 +801,23 @@ void reportCamera(Json& json, const Options& options, const Figures& figures) {
   json["rtf_camera_idle_runs"] = figureList(realTimeFactors(options, figures.idle_camera_runs));
 }
 
+/// --web-viewer's figures: RTF with a page open, and the wall time it adds to the run before it.
+void reportViewer(Json& json, const Options& options, const Figures& figures) {
+  const std::vector<DriveRun>& base = figures.lidar_runs.empty() ? figures.physics_runs : figures.lidar_runs;
+  std::vector<double> cost_pct, cpu_cost_pct, frames;
+  for (size_t i = 0; i < figures.viewer_runs.size(); ++i) {
+    cost_pct.push_back(100 * (figures.viewer_runs[i].wall_s / base.at(i).wall_s - 1));
+    cpu_cost_pct.push_back(100 * (figures.viewer_runs[i].cpu_s / base.at(i).cpu_s - 1));
+    frames.push_back(static_cast<double>(figures.viewer_runs[i].viewer_frames));
+  }
+  json["rtf_web_viewer"] = figure(median(realTimeFactors(options, figures.viewer_runs)));
+  json["web_viewer_cost_pct"] = figure(median(cost_pct));
+  json["web_viewer_cpu_cost_pct"] = figure(median(cpu_cost_pct));
+  json["web_viewer_frames_per_run"] = figure(median(frames));
+  json["rtf_web_viewer_runs"] = figureList(realTimeFactors(options, figures.viewer_runs));
+  json["web_viewer_cost_pct_runs"] = figureList(cost_pct);
+}
+
 /// The inputs, then the figures (medians of the runs), then every run's figures and the warnings.
 Json report(const Options& options, const Figures& figures) {
   const bool has_lidars = !figures.lidar_runs.empty();
@@ -795,6 +852,7 @@ Json report(const Options& options, const Figures& figures) {
   json["rtf_lidar"] = figure(median(rtf(figures.lidar_runs)));
   json["rays_per_s"] = figure(median(figures.rays_per_s));
   if (options.camera) reportCamera(json, options, figures);
+  if (options.web_viewer) reportViewer(json, options, figures);
   json["render_ms"] = figure(median(render.render_ms));
   json["png_ms"] = figure(median(render.png_ms));
   json["startup_s"] = first.startup_s;
@@ -826,6 +884,10 @@ Json report(const Options& options, const Figures& figures) {
 }
 
 int run(const Options& options) {
+  if (options.strikes) {
+    std::cout << strikeMatrixReport(options.strike_options).dump(2) << "\n";
+    return EXIT_SUCCESS;
+  }
   const Figures figures = measure(options);
   for (const auto& warning : figures.warnings) std::cerr << "bench: warning: " << warning << "\n";
   std::cout << report(options, figures).dump(2) << "\n";

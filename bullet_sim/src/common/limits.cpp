@@ -30,6 +30,8 @@ const NamedLimit kLimits[] = {
     {"max_mass", &Limits::max_mass},
     {"max_inertia", &Limits::max_inertia},
     {"mesh_import_seconds", &Limits::mesh_import_seconds},
+    {"decomposition_seconds", &Limits::decomposition_seconds},
+    {"max_convex_parts", &Limits::max_convex_parts},
     {"world_load_seconds", &Limits::world_load_seconds},
     {"max_effort", &Limits::max_effort},
     {"max_rate", &Limits::max_rate},

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -255,7 +256,7 @@ class Examination {
     }
     reportLookAlikes(look_alikes);
 
-    Diagnostics diagnostics(report_.source);
+    Diagnostics diagnostics(report_.source, /*strict=*/true);  // what Gazebo forgives silently is an error here
     const std::optional<ModelSpec> model =
         readModel(xml_, resolver_, PluginRegistry::builtin(), diagnostics, limits_);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);
@@ -580,15 +581,18 @@ class Examination {
     }
   }
 
-  /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>.
-  static std::set<std::string> drivenJoints(const ModelSpec& model) {
-    std::set<std::string> driven;
-    for (const Drive& plugin : drivenByPlugins(model))
-      driven.insert(plugin.joints.motors.begin(), plugin.joints.motors.end());
+  /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>, with what the
+  /// plugin adds about them.
+  static std::map<std::string, std::string> drivenJoints(const ModelSpec& model) {
+    std::map<std::string, std::string> driven;
+    for (const Drive& plugin : drivenByPlugins(model)) {
+      for (const std::string& joint : plugin.joints.motors) driven.emplace(joint, plugin.joints.motors_note);
+    }
     return driven;
   }
 
-  void checkDrivenJointLimits(const std::set<std::string>& driven, const tinyxml2::XMLElement& robot) {
+  void checkDrivenJointLimits(const std::map<std::string, std::string>& driven,
+                              const tinyxml2::XMLElement& robot) {
     // Read from the XML: the spec cannot tell a <limit effort="0"> from no <limit> at all.
     for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
       const char* name = joint->Attribute("name");
@@ -606,7 +610,8 @@ class Examination {
               "line " + std::to_string(limit->GetLineNum()) + ": joint [" + std::string(name) + "] <limit>",
               "its " + which +
                   " 0, yet a plugin drives it: a motor that honours the URDF limits "
-                  "(ros_control, Gazebo's SetForce, bullet_sim's joint holder) cannot move it",
+                  "(ros_control, Gazebo's SetForce, bullet_sim's joint holder) cannot move it" +
+                  (driven.at(name).empty() ? "" : "; " + driven.at(name)),
               "give the motor's real figures, e.g. effort=\"0.2\" [N m] velocity=\"5\" [rad/s] for a "
               "hobby servo"));
     }

@@ -405,8 +405,9 @@ class ModelParser {
                  joint != spec.joints.end()) {
         readJointBlock(gazebo, line, *joint);
       } else {
-        diagnostics_.error(line + "<gazebo reference=\"" + reference + "\"> names no link or joint" +
-                           didYouMean(reference, frames) + "; Gazebo would silently ignore this block");
+        diagnostics_.forgiven(line + "<gazebo reference=\"" + reference + "\"> names no link or joint" +
+                              didYouMean(reference, frames) +
+                              ": the block is skipped, as Gazebo skips it (an error under ~strict_models)");
       }
     }
   }
@@ -447,7 +448,7 @@ class ModelParser {
         }
       };
       if (name == "material") {
-        applyMaterial(tag->GetText() ? tag->GetText() : "", where, link);
+        applyMaterial(text ? text : "", where, link);
       } else if (name == "mu1") {
         number(&link.surface.mu1);
       } else if (name == "mu2") {
@@ -680,8 +681,9 @@ std::vector<std::string> ModelSpec::jointNames() const {
 }
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     const PluginParsers& plugins, std::vector<std::string>* warnings, const Limits& limits) {
-  Diagnostics diagnostics(source);
+                     const PluginParsers& plugins, std::vector<std::string>* warnings, const Limits& limits,
+                     bool strict) {
+  Diagnostics diagnostics(source, strict);
   std::optional<ModelSpec> spec = readModel(urdf_xml, resolver, plugins, diagnostics, limits);
   diagnostics.throwIfErrors();
   if (warnings)

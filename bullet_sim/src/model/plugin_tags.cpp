@@ -154,6 +154,7 @@ std::string PluginTags::frame(const std::string& tag, const std::string& fallbac
   const auto start = value.find_first_not_of('/');
   if (!has(tag) || start == 0 || value.empty()) return value;
   const std::string bare = start == std::string::npos ? "" : value.substr(start);
+  global_frames_.insert(bare);
   if (!gazebo_drops_slash) {
     diagnostics_.warning(where_ + " <" + tag + "> [" + value + "] is read as [" + bare +
                          "]: tf2 frame ids have no leading / (Gazebo's plugin keeps it)");

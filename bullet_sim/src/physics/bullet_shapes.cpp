@@ -26,7 +26,9 @@ btCollisionShape* BulletShapes::make(const Shape& shape, bool moving) {
       break;
     case Shape::Type::kMesh: {
       if (!shape.mesh) return nullptr;
-      if (moving) {
+      if (moving && shape.convex_parts) {
+        return makeParts(*shape.convex_parts);
+      } else if (moving) {
         btConvexHullShape full;
         for (const auto& v : shape.mesh->vertices) full.addPoint(toBullet(v), false);
         full.recalcLocalAabb();
@@ -50,6 +52,33 @@ btCollisionShape* BulletShapes::make(const Shape& shape, bool moving) {
   }
   shapes_.push_back(std::move(made));
   return shapes_.back().get();
+}
+
+btCompoundShape* BulletShapes::makeParts(const ConvexParts& parts) {
+  btCompoundShape* compound = makeCompound();
+  for (const auto& points : parts.hulls) {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Eigen::Vector3d& point : points) hull->addPoint(toBullet(point), false);
+    hull->recalcLocalAabb();
+    hull->setMargin(kHullMargin);
+    compound->addChildShape(btTransform::getIdentity(), hull.get());
+    shapes_.push_back(std::move(hull));
+  }
+  return compound;
+}
+
+int BulletShapes::addTo(btCompoundShape& compound, const btTransform& where, const Shape& shape,
+                        bool moving) {
+  btCollisionShape* made = make(shape, moving);
+  if (!made) return 0;
+  if (made->getShapeType() != COMPOUND_SHAPE_PROXYTYPE) {
+    compound.addChildShape(where, made);
+    return 1;
+  }
+  auto& parts = static_cast<btCompoundShape&>(*made);
+  for (int k = 0; k < parts.getNumChildShapes(); ++k)
+    compound.addChildShape(where * parts.getChildTransform(k), parts.getChildShape(k));
+  return parts.getNumChildShapes();
 }
 
 btCompoundShape* BulletShapes::makeCompound() {

@@ -29,14 +29,21 @@ inline Eigen::Isometry3d fromBullet(const btTransform& pose) {
 }
 
 /// Makes and owns Bullet shapes. Primitives stay analytic (URDF cylinders are btCylinderShapeZ); meshes
-/// become simplified convex hulls on moving bodies and BVH triangle meshes on static ones.
+/// become their convex parts (a compound of hulls) on moving bodies, or a simplified hull where they have
+/// none, and BVH triangle meshes on static ones.
 class BulletShapes {
  public:
   /// nullptr for a plane on a moving body, which cannot exist.
   btCollisionShape* make(const Shape& shape, bool moving);
   btCompoundShape* makeCompound();
+  /// Adds `shape` at `where` to `compound`: one child, or one per convex part of a moving mesh that has them
+  /// (a compound in a compound would hide from contacts which child of the outer one touched). The number of
+  /// children added; 0 for a plane on a moving body.
+  int addTo(btCompoundShape& compound, const btTransform& where, const Shape& shape, bool moving);
 
  private:
+  btCompoundShape* makeParts(const ConvexParts& parts);
+
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<std::unique_ptr<btTriangleMesh>> triangle_meshes_;
 };

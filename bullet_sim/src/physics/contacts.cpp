@@ -55,8 +55,13 @@ void nameCollisions(btCollisionObject& object, const CollisionNames& names) {
   object.setUserPointer(const_cast<CollisionNames*>(&names));  // Bullet's user pointer is not const
 }
 
-std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int child,
-                                         double dt) {
+const ContactTuner* tunerOf(const btCollisionObject& object) {
+  const auto* names = static_cast<const CollisionNames*>(object.getUserPointer());
+  return names ? names->tuner : nullptr;
+}
+
+std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int first,
+                                         int count, double dt) {
   std::vector<CollisionContact> contacts;
   btDispatcher& dispatcher = *world.getDispatcher();  // its manifold getters are not const
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
@@ -66,7 +71,8 @@ std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollis
     const btCollisionObject* other = ours == 0 ? manifold.getBody1() : manifold.getBody0();
     for (int p = 0; p < manifold.getNumContacts(); ++p) {
       const btManifoldPoint& point = manifold.getContactPoint(p);
-      if ((ours == 0 ? point.m_index0 : point.m_index1) != child) continue;
+      const int child = ours == 0 ? point.m_index0 : point.m_index1;
+      if (child < first || child >= first + count) continue;
       if (point.getDistance() > 0 && point.m_appliedImpulse <= 0) continue;  // near, not touching
       const std::string& other_name = nameOf(other, ours == 0 ? point.m_index1 : point.m_index0);
       auto found = std::find_if(contacts.begin(), contacts.end(),

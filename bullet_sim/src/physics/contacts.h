@@ -11,13 +11,24 @@
 
 class btCollisionObject;
 class btCollisionWorld;
+class btManifoldPoint;
 
 namespace bullet_sim {
 
+/// Adjusts, before each solve, the contacts of a collision object whose surface moves on its own (a wheel
+/// that spins): their friction and the motion their friction aims at.
+class ContactTuner {
+ public:
+  virtual ~ContactTuner() = default;
+  /// `point` touches the object's child `child`; `ours_is_a` when the object is the manifold's body A.
+  virtual void tune(btManifoldPoint& point, int child, bool ours_is_a) const = 0;
+};
+
 /// The Gazebo names (model::link::collision) of a collision object's collisions, by compound child index; a
-/// simple shape has one.
+/// simple shape has one. And its ContactTuner, if its contacts need one.
 struct CollisionNames {
   std::vector<std::string> names;
+  const ContactTuner* tuner = nullptr;
   /// The name of child `index`: the only one for a simple shape (whose index may be a triangle's).
   const std::string& at(int index) const;
 };
@@ -29,9 +40,18 @@ CollisionNames robotCollisionNames(const std::string& robot, const std::vector<G
 /// Makes `object`'s user pointer point at `names`, which must outlive it.
 void nameCollisions(btCollisionObject& object, const CollisionNames& names);
 
-/// What child `child` of `object` touches in `world`'s contact manifolds, after a step of `dt` [s]: the
-/// points that touch (no gap, or a force), grouped by the other collision.
-std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int child,
-                                         double dt);
+/// The ContactTuner of `object` (through its CollisionNames), or nullptr.
+const ContactTuner* tunerOf(const btCollisionObject& object);
+
+/// What children `first` to `first + count - 1` of `object` (one collision: a mesh may be several convex
+/// parts) touch in `world`'s contact manifolds, after a step of `dt` [s]: the points that touch (no gap, or a
+/// force), grouped by the other collision.
+std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object, int first,
+                                         int count, double dt);
+/// What child `child` of `object` touches.
+inline std::vector<CollisionContact> contactsOf(btCollisionWorld& world, const btCollisionObject& object,
+                                                int child, double dt) {
+  return contactsOf(world, object, child, 1, dt);
+}
 
 }  // namespace bullet_sim

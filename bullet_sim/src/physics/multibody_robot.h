@@ -20,6 +20,7 @@ class btCollisionShape;
 namespace bullet_sim {
 
 class BulletShapes;
+class SelfCollisionRule;
 
 /// Bullet collision filter groups: the robots' parts test only static geometry and other robots.
 enum CollisionGroup : int { kStaticGroup = 1, kRobotGroup = 2 };
@@ -35,8 +36,9 @@ class MultiBodyRobot : public PhysicsRobot {
   MultiBodyRobot(const MultiBodyRobot&) = delete;
   MultiBodyRobot& operator=(const MultiBodyRobot&) = delete;
 
-  void beforeStep() override;
+  void beforeSubstep(double substep) override;
   void afterStep() override;
+  SubstepLimit substepLimit() const override;
   void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) override;
   void teleport(const Eigen::Isometry3d& root_pose) override;
   void setJointPositions(const JointPositions& joints) override;
@@ -76,8 +78,9 @@ class MultiBodyRobot : public PhysicsRobot {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
-    double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step
+    double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step (setJointEffort)
     double applied_effort = 0;               ///< and in the last one
+    double step_effort = 0;  ///< [N m] or [N] pushed with through the coming step, applyJointEffort's too
   };
 
   void buildParts();
@@ -103,11 +106,16 @@ class MultiBodyRobot : public PhysicsRobot {
 
   std::unique_ptr<Scratch> scratch_;
   std::unique_ptr<BulletShapes> shapes_;
+  std::unique_ptr<SelfCollisionRule> self_collision_;  ///< which parts collide; the colliders ask it
   std::unique_ptr<btMultiBody> body_;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;  ///< per part
-  std::vector<CollisionNames> collision_names_;                      ///< per part, for contacts
+  std::vector<CollisionNames> collision_names_;                      ///< per part, by child, for contacts
+  /// Per part, per collision: its first compound child and how many it has (a mesh's convex parts).
+  std::vector<std::vector<std::pair<int, int>>> child_ranges_;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> constraints_;
   std::vector<Eigen::Isometry3d> part_poses_;  ///< world pose of each part's frame, after the last step
+  /// Per part: a force [N] at its centre of mass and a torque [N m], world axes, through the coming step.
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> part_wrenches_;
 };
 
 }  // namespace bullet_sim

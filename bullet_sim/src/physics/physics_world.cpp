@@ -4,6 +4,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "bullet_shapes.h"
@@ -14,6 +15,7 @@ namespace bullet_sim {
 
 namespace {
 constexpr double kStaticCell = 10;  // [m] side of the floor's cells whose static primitives share an object
+constexpr int kMaxSubsteps = 1000;  // per step: a limit so short it would stall the world is not followed
 }
 
 struct PhysicsWorld::Engine {
@@ -40,8 +42,12 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
     clamped_.clear();
     for (int m = 0; m < getDispatcher()->getNumManifolds(); ++m) {
       btPersistentManifold& manifold = *getDispatcher()->getManifoldByIndexInternal(m);
+      const ContactTuner* tuner_a = tunerOf(*manifold.getBody0());
+      const ContactTuner* tuner_b = tunerOf(*manifold.getBody1());
       for (int p = 0; p < manifold.getNumContacts(); ++p) {
         btManifoldPoint& point = manifold.getContactPoint(p);
+        if (tuner_a) tuner_a->tune(point, point.m_index0, /*ours_is_a=*/true);
+        if (tuner_b) tuner_b->tune(point, point.m_index1, /*ours_is_a=*/false);
         if (point.m_distance1 >= deepest) continue;
         clamped_.emplace_back(&point, point.m_distance1);
         point.m_distance1 = deepest;
@@ -68,6 +74,8 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   // on (a constant push, 2 mm/s^2 on the smartcar).
   solver.m_solverMode |= SOLVER_USE_ARTICULATED_WARMSTARTING;
   solver.m_articulatedWarmstartingFactor = 1.0;
+  // Contacts a ContactTuner gave friction directions (a raycast wheel's rim) keep them.
+  solver.m_solverMode |= SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
   solver.m_timeStep = options_.step_size;  // robots size their motor impulses from it before the first step
 
   // Bullet walks every collision object each step (10,000 boxes as as many objects took most of a step), so
@@ -129,7 +137,25 @@ void PhysicsWorld::releaseMemory() {
 
 btMultiBodyDynamicsWorld& PhysicsWorld::bullet() { return *world_; }
 
-void PhysicsWorld::step() { world_->stepSimulation(options_.step_size, 0, options_.step_size); }
+void PhysicsWorld::step(const std::function<void(double substep)>& before_substep) {
+  const double substep = this->substep();
+  for (int s = 0; s < substeps_; ++s) {
+    before_substep(substep);
+    world_->stepSimulation(substep, 0, substep);
+  }
+}
+
+void PhysicsWorld::setLongestSubstep(double longest) {
+  longest_substep_ = longest;
+  fitSubsteps();
+}
+
+void PhysicsWorld::fitSubsteps() {
+  // A hair of slack: a limit that divides the step exactly (1 ms into a 10 ms step) gives that many.
+  const double count = std::ceil(options_.step_size / longest_substep_ * (1 - 1e-9));
+  substeps_ = std::isfinite(count) ? static_cast<int>(std::clamp(count, 1.0, double(kMaxSubsteps))) : 1;
+  world_->getSolverInfo().m_timeStep = substep();
+}
 
 void PhysicsWorld::forgetContacts() {
   btDispatcher& dispatcher = *world_->getDispatcher();
@@ -138,7 +164,7 @@ void PhysicsWorld::forgetContacts() {
 
 void PhysicsWorld::setStepSize(double step_size) {
   options_.step_size = step_size;
-  world_->getSolverInfo().m_timeStep = step_size;
+  fitSubsteps();
 }
 
 Eigen::Vector3d PhysicsWorld::gravity() const { return fromBullet(world_->getGravity()); }

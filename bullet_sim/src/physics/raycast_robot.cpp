@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <sstream>
 
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 
@@ -18,8 +19,23 @@ namespace {
 
 constexpr double kSag = 0.0005;        // [m] suspension compression at rest: stiff, yet soft enough for 1 kHz
 constexpr double kDampingRatio = 1.0;  // critically damped suspension
-constexpr int kFrictionIterations = 4;  // sequential-impulse passes over the wheels per step
+constexpr int kIterations = 6;         // sequential-impulse passes over the wheels per substep
 constexpr double kVerticalAxis = 0.9;   // |axis . up| above which a continuous joint is a caster swivel
+// The suspension is integrated implicitly (stable at any substep); substeps of at most this fraction of its
+// period over 2 pi keep it as springy and damped as it is meant to be.
+constexpr double kSubstepsPerRadian = 5;
+// [m/s] at most, the speed at which a wheel's spring pushes the chassis off the ground, as the world's contacts
+// push penetrating bodies apart (PhysicsOptions::max_correcting_velocity): a wheel that finds the ground
+// above its rim (spawned under it, or a ray that steps onto a higher floor) rises onto it without a leap.
+constexpr double kMaxSeparatingSpeed = 0.1;
+// A ray hit whose surface tilts more than this from the chassis's up is a wall, not ground: it carries nothing.
+constexpr double kSteepestGround = 0.7;  // [rad], 40 degrees
+// Each wheel also collides, with walls and obstacles, as a rim: its collision shape this much smaller, so that
+// it clears the ground while the spring holds the wheel (twice the sag at rest); pressed further, it meets
+// the ground as a rigid wheel would.
+constexpr double kRimInset = 2 * kSag;  // [m]
+constexpr double kRollingNormMin = 0.5;   // |axis x normal| below which a contact is on the rim's flat side
+constexpr double kOtherFriction = 1.0;    // mu of what a rim meets: static geometry's (Gazebo's default)
 
 Eigen::Isometry3d jointMotion(const JointSpec& joint, double position) {
   Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
@@ -98,7 +114,7 @@ void RaycastRobot::buildWheels() {
         "or a cylinder along the joint axis): use <wheelModel>contact</wheelModel>");
   }
   diagnostics.throwIfErrors();
-  hub_in_root_.resize(wheels_.size());
+  hub_in_root_.assign(wheels_.size(), Eigen::Isometry3d::Identity());
   ray_origins_.resize(wheels_.size());
   ray_directions_.resize(wheels_.size());
   ray_hits_.resize(wheels_.size());
@@ -129,7 +145,9 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
       }
     }
   }
+  addWheelRims(*compound);
   chassis_names_ = robotCollisionNames(name_, gazeboCollisions(spec_), chassis_sources_);
+  chassis_names_.tuner = this;
   btRigidBody::btRigidBodyConstructionInfo info(mass_, nullptr, compound, toBullet(moments));
   info.m_friction = spec_.link(spec_.root)->surface.mu1;
   info.m_restitution = 0;
@@ -159,14 +177,66 @@ const std::vector<Eigen::Isometry3d>& RaycastRobot::linkFrames() const {
   return link_in_root_;
 }
 
+void RaycastRobot::addWheelRims(btCompoundShape& compound) {
+  const Eigen::Isometry3d body_to_root = root_to_body_.inverse();
+  for (size_t w = 0; w < wheels_.size(); ++w) {
+    const Wheel& wheel = wheels_[w];
+    const Joint& joint = joints_[wheel.joint];
+    const Collision& collision = spec_.links[joint.child_link].collisions.front();
+    Shape rim = collision.shape;
+    rim.radius -= kRimInset;
+    rim_children_.push_back(compound.getNumChildShapes());
+    compound.addChildShape(toBullet(body_to_root * link_in_root_[joint.child_link] * collision.origin),
+                           shapes_->make(rim, true));
+    chassis_sources_.push_back({spec_.links[joint.child_link].name, 0});
+  }
+}
+
 void RaycastRobot::updateHubs() {
   if (!hubs_stale_) return;
   const auto& frames = linkFrames();
-  for (size_t w = 0; w < wheels_.size(); ++w) hub_in_root_[w] = frames[joints_[wheels_[w].joint].child_link];
+  auto& compound = static_cast<btCompoundShape&>(*chassis_->getCollisionShape());
+  const Eigen::Isometry3d body_to_root = root_to_body_.inverse();
+  for (size_t w = 0; w < wheels_.size(); ++w) {
+    const int link = joints_[wheels_[w].joint].child_link;
+    if (hub_in_root_[w].isApprox(frames[link], 1e-12)) continue;
+    hub_in_root_[w] = frames[link];
+    // The rim follows kinematic joints (steering); a wheel's spin leaves its cylinder where it is.
+    const Eigen::Isometry3d origin = spec_.links[link].collisions.front().origin;
+    compound.updateChildTransform(rim_children_[w], toBullet(body_to_root * hub_in_root_[w] * origin), false);
+  }
+  compound.recalculateLocalAabb();
   hubs_stale_ = false;
 }
 
-void RaycastRobot::beforeStep() {
+void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const {
+  const auto rim = std::find(rim_children_.begin(), rim_children_.end(), child);
+  if (rim == rim_children_.end()) return;
+  const size_t w = static_cast<size_t>(rim - rim_children_.begin());
+  const Wheel& wheel = wheels_[w];
+  // A free wheel's spin yields to what it meets (its rim's friction stops it): ordinary friction.
+  if (wheel.max_torque <= 0) return;
+  const Joint& joint = joints_[wheel.joint];
+  const Eigen::Isometry3d root = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
+  const Eigen::Isometry3d hub = root * hub_in_root_[w];
+  const Eigen::Vector3d axis = hub.linear() * joint.spec->axis;
+  const Eigen::Vector3d normal = (ours_is_a ? 1.0 : -1.0) * fromBullet(point.m_normalWorldOnB);  // towards us
+  const Eigen::Vector3d rolling = axis.cross(normal);
+  if (rolling.norm() < kRollingNormMin) return;  // the wheel's flat side: ordinary friction
+  const Eigen::Vector3d on_us = fromBullet(ours_is_a ? point.getPositionWorldOnA() : point.getPositionWorldOnB());
+  // The rim's surface moves at spin x (point - hub) against the chassis; friction holds it to the other body.
+  const Eigen::Vector3d surface = (axis * joint.velocity).cross(on_us - hub.translation());
+  const Eigen::Vector3d direction = rolling.normalized();
+  point.m_lateralFrictionDir1 = toBullet(direction);
+  point.m_lateralFrictionDir2 = toBullet(normal.cross(direction));
+  point.m_contactMotion1 = (ours_is_a ? -1.0 : 1.0) * direction.dot(surface);
+  point.m_contactMotion2 = 0;
+  point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+  point.m_combinedFriction = wheel.friction * kOtherFriction;
+}
+
+void RaycastRobot::beforeSubstep(double substep) {
+  dt_ = substep;
   for (auto& joint : joints_) {
     if (joint.wheel < 0 && joint.velocity != 0) {  // kinematic joints move at their velocity
       joint.position += joint.velocity * dt_;
@@ -178,22 +248,41 @@ void RaycastRobot::beforeStep() {
   castWheelRays(root);
   const btMatrix3x3& inverse_inertia = chassis_->getInvInertiaTensorWorld();
   for (int r = 0; r < 3; ++r) inverse_inertia_.row(r) = fromBullet(inverse_inertia[r]);
-  // The suspension, then the motors and friction together: sequential impulses over the wheels, with each
-  // motor's impulse held within torque * dt and each contact's within the friction circle.
+  // What plugins push with acts through the whole step, one substep at a time.
+  chassis_->applyCentralImpulse(toBullet(step_force_ * dt_));
+  chassis_->applyTorqueImpulse(toBullet(step_torque_ * dt_));
   for (const auto& wheel : wheels_) {  // efforts from outside the drive (the world API's) spin the wheels
     Joint& joint = joints_[wheel.joint];
     joint.velocity += joint.external_effort * dt_ / wheel.inertia;
-    joint.external_effort = 0;
   }
+  // The suspension, the motors and friction together: sequential impulses over the wheels, with each spring
+  // solved implicitly, each motor's impulse held within torque * dt and each contact's within the friction
+  // circle.
   pressWheels(root);
-  for (int pass = 0; pass < kFrictionIterations; ++pass) {
-    for (size_t w = 0; w < wheels_.size(); ++w) driveWheel(w);
+  for (int pass = 0; pass < kIterations; ++pass) {
+    for (size_t w = 0; w < wheels_.size(); ++w) {
+      supportWheel(w);
+      driveWheel(w);
+    }
   }
   for (size_t w = 0; w < wheels_.size(); ++w) {
     Joint& joint = joints_[wheels_[w].joint];
     joint.effort = contacts_[w].motor_impulse / dt_;
     joint.position += joint.velocity * dt_;
   }
+}
+
+SubstepLimit RaycastRobot::substepLimit() const {
+  const double frequency = std::sqrt(std::abs(world_.getGravity().z()) / kSag);  // [rad/s] of each wheel's spring
+  std::ostringstream reason;
+  reason << "the raycast suspension's " << std::lround(frequency) << " rad/s";
+  return {1 / (kSubstepsPerRadian * frequency), reason.str()};
+}
+
+double RaycastRobot::elasticEnergy() const {
+  double energy = 0;
+  for (const auto& contact : contacts_) energy += 0.5 * spring_ * contact.compression * contact.compression;
+  return energy;
 }
 
 void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
@@ -205,7 +294,7 @@ void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
   // A ray reaches one radius below the rim, so a wheel finds the ground before it lands.
   double reach = 0;
   for (const auto& wheel : wheels_) reach = std::max(reach, 2 * wheel.radius);
-  ground_.castStatic(ray_origins_, ray_directions_, reach, ray_hits_);
+  ground_.castStatic(ray_origins_, ray_directions_, reach, ray_hits_, &ray_normals_);
 }
 
 inline Eigen::Vector3d RaycastRobot::velocityAt(const Eigen::Vector3d& offset) const {
@@ -220,23 +309,46 @@ inline double RaycastRobot::inverseMass(const Eigen::Vector3d& offset, const Eig
 void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
   const Eigen::Vector3d up = root.linear().col(2);
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  // The implicit spring-damper (Catto's soft constraint): over the substep, the wheel's impulse lambda leaves
+  // it separating at bias - softness * lambda, where the spring's compression x gives bias = k x / (h k + c)
+  // and softness = 1 / (h (h k + c)).
+  const double stiffness = dt_ * spring_ + damper_;
   for (size_t w = 0; w < wheels_.size(); ++w) {
     Wheel& wheel = wheels_[w];
     Contact& contact = contacts_[w];
     contact = Contact{};
     const double compression = wheel.radius - ray_hits_[w];
     if (!(compression > 0)) continue;  // in the air (a miss is +inf)
+    if (ray_normals_[w].dot(up) < std::cos(kSteepestGround)) continue;  // a wall carries no wheel
     const Eigen::Vector3d point = ray_origins_[w] - up * ray_hits_[w];
     contact.offset = point - com;
-    const double closing = -velocityAt(contact.offset).dot(up);  // [m/s] towards the ground
-    const double force = std::max(0.0, spring_ * compression + damper_ * closing);
-    contact.normal_impulse = force * dt_;
-    chassis_->applyImpulse(toBullet(up * contact.normal_impulse), toBullet(contact.offset));
+    contact.compression = compression;
+    contact.bias = spring_ * compression / stiffness;
+    contact.softness = 1 / (dt_ * stiffness);
+    contact.rigid_mass = 1 / inverseMass(contact.offset, up);
+    contact.on_ground = true;
+    contact.normal = up;
     const Eigen::Vector3d axis = root.linear() * hub_in_root_[w].linear() * joints_[wheel.joint].spec->axis;
     contact.forward = axis.cross(up).normalized();  // where a positive spin rolls the wheel
     contact.lateral = up.cross(contact.forward);
-    contact.touching = !wheel.caster;
+    contact.grips = !wheel.caster;
   }
+}
+
+void RaycastRobot::supportWheel(size_t w) {
+  Contact& contact = contacts_[w];
+  if (!contact.on_ground) return;
+  // How fast the wheel separates from the ground at the substep's end, gravity included (Bullet adds it next).
+  const double gravity = fromBullet(world_.getGravity()).dot(contact.normal) * dt_;
+  const double separating = velocityAt(contact.offset).dot(contact.normal) + gravity;
+  const double soft_mass = 1 / (1 / contact.rigid_mass + contact.softness);
+  const double wanted = contact.normal_impulse +
+                        (contact.bias - separating - contact.softness * contact.normal_impulse) * soft_mass;
+  // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed.
+  const double most = contact.normal_impulse + std::max(0.0, kMaxSeparatingSpeed - separating) * contact.rigid_mass;
+  const double total = std::clamp(wanted, 0.0, std::max(most, 0.0));
+  chassis_->applyImpulse(toBullet(contact.normal * (total - contact.normal_impulse)), toBullet(contact.offset));
+  contact.normal_impulse = total;
 }
 
 void RaycastRobot::driveWheel(size_t w) {
@@ -251,7 +363,7 @@ void RaycastRobot::driveWheel(size_t w) {
     joint.velocity += (total - contact.motor_impulse) / wheel.inertia;
     contact.motor_impulse = total;
   }
-  if (!contact.touching) return;
+  if (!contact.grips) return;
   const Eigen::Vector3d velocity = velocityAt(contact.offset);
   // Slip of the chassis over the rim, and the impulses that would cancel it (the rim shares the forward one).
   const double forward_slip = velocity.dot(contact.forward) - joint.velocity * wheel.radius;
@@ -279,6 +391,13 @@ void RaycastRobot::driveWheel(size_t w) {
 }
 
 void RaycastRobot::afterStep() {
+  step_force_.setZero();
+  step_torque_.setZero();
+  for (auto& joint : joints_) joint.external_effort = 0;
+  refreshPose();
+}
+
+void RaycastRobot::refreshPose() {
   frames_stale_ = true;  // the wheels turned
   root_pose_ = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
 }
@@ -295,12 +414,13 @@ void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPosition
   chassis_->setLinearVelocity(btVector3(0, 0, 0));
   chassis_->setAngularVelocity(btVector3(0, 0, 0));
   chassis_->clearForces();
+  for (auto& contact : contacts_) contact = Contact{};
   afterStep();
 }
 
 void RaycastRobot::teleport(const Eigen::Isometry3d& root_pose) {
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
-  afterStep();
+  refreshPose();
 }
 
 void RaycastRobot::setJointPositions(const JointPositions& joints) {
@@ -364,8 +484,8 @@ void RaycastRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::V
 void RaycastRobot::applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
                                    const Eigen::Vector3d& torque) {
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
-  chassis_->applyForce(toBullet(force), toBullet(linkPose(link).translation() - com));
-  chassis_->applyTorque(toBullet(torque));
+  step_force_ += force;
+  step_torque_ += torque + (linkPose(link).translation() - com).cross(force);
 }
 
 bool RaycastRobot::takesJointEffort(int joint) const {

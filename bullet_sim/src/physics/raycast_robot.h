@@ -20,6 +20,8 @@
 #include "physics/contacts.h"
 #include "physics/robot_parts.h"
 
+class btCompoundShape;
+class btManifoldPoint;
 class btMultiBodyDynamicsWorld;
 class btRigidBody;
 
@@ -27,7 +29,7 @@ namespace bullet_sim {
 
 class BulletShapes;
 
-class RaycastRobot : public PhysicsRobot {
+class RaycastRobot : public PhysicsRobot, private ContactTuner {
  public:
   /// Builds the robot with its root link at `root_pose` and adds its chassis to `world`; wheels find the
   /// ground in `ground`'s static bodies. Throws SpecError when the model cannot be simulated this way.
@@ -38,8 +40,10 @@ class RaycastRobot : public PhysicsRobot {
   RaycastRobot(const RaycastRobot&) = delete;
   RaycastRobot& operator=(const RaycastRobot&) = delete;
 
-  void beforeStep() override;
+  void beforeSubstep(double substep) override;
   void afterStep() override;
+  SubstepLimit substepLimit() const override;
+  double elasticEnergy() const override;
   void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) override;
   void teleport(const Eigen::Isometry3d& root_pose) override;
   void setJointPositions(const JointPositions& joints) override;
@@ -76,7 +80,7 @@ class RaycastRobot : public PhysicsRobot {
     double position = 0;  ///< [rad] or [m]
     double velocity = 0;  ///< [rad/s] or [m/s]; a kinematic joint moves at it
     double effort = 0;    ///< applied by the motor in the last step
-    double external_effort = 0;  ///< applyJointEffort's, for the coming step (wheels only)
+    double external_effort = 0;  ///< applyJointEffort's, through the coming step (wheels only)
   };
   struct Wheel {
     int joint;
@@ -89,19 +93,36 @@ class RaycastRobot : public PhysicsRobot {
     bool pushed = false;     ///< max_torque pushes the spin towards the sign of spin_target, whatever its speed
   };
 
-  /// A wheel's contact with the ground in one step, and the impulses solved for it.
+  /// A wheel's contact with the ground in one substep, and the impulses solved for it.
   struct Contact {
-    Eigen::Vector3d offset, forward, lateral;  ///< from the centre of mass; the rolling and side directions
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< from the centre of mass
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< the spring's direction: the chassis's up
+    Eigen::Vector3d forward = Eigen::Vector3d::UnitX(), lateral = Eigen::Vector3d::UnitY();  ///< roll, side
+    double compression = 0;  ///< [m] of the spring
+    double bias = 0;         ///< [m/s] the separating speed the spring asks for
+    double softness = 0;     ///< [m/(N s)] how much each unit of impulse relaxes it
+    double rigid_mass = 0;   ///< [kg] the chassis's mass felt at the wheel along the normal
     double normal_impulse = 0, forward_impulse = 0, lateral_impulse = 0;
-    double motor_impulse = 0;  ///< [N m s] on the wheel's spin this step, within its torque budget
-    bool touching = false;     ///< in contact and gripping (casters only carry load)
+    double motor_impulse = 0;  ///< [N m s] on the wheel's spin this substep, within its torque budget
+    bool on_ground = false;    ///< its ray found ground within the rim
+    bool grips = false;        ///< on the ground and gripping (casters only carry load)
   };
 
   void buildWheels();
+  /// Adds each wheel's rim to the chassis: its collision shape, a little smaller, so that walls stop it.
+  void addWheelRims(btCompoundShape& compound);
+  /// A driven wheel's rim contact rolls: friction along the rim holds its spinning surface to what it touches
+  /// (a driven wheel against a wall climbs it), as the contact model's wheels do. The rim's reaction on the
+  /// spin is left out: the motor holds it. A free wheel's rim has ordinary friction.
+  void tune(btManifoldPoint& point, int child, bool ours_is_a) const override;
   /// Casts each wheel's ray down from its hub; the root link is at `root`.
   void castWheelRays(const Eigen::Isometry3d& root);
-  /// The suspension: each wheel on the ground pushes the chassis up by its spring and damper.
+  /// Sets up each wheel's contact with the ground under it.
   void pressWheels(const Eigen::Isometry3d& root);
+  /// One pass of wheel `w`'s spring-damper impulse, solved implicitly.
+  void supportWheel(size_t w);
+  /// Caches the root pose after the chassis moved.
+  void refreshPose();
   /// One pass of wheel `w`'s motor and friction impulses.
   void driveWheel(size_t w);
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& offset) const;
@@ -135,14 +156,19 @@ class RaycastRobot : public PhysicsRobot {
   bool hubs_stale_ = true;
   std::vector<Eigen::Isometry3d> hub_in_root_;  ///< per wheel
   Eigen::Isometry3d root_pose_;                 ///< world pose of the root link after the last step
+  /// What plugins push the chassis with through the coming step: a force [N] at its centre of mass and a
+  /// torque [N m], world axes.
+  Eigen::Vector3d step_force_ = Eigen::Vector3d::Zero(), step_torque_ = Eigen::Vector3d::Zero();
 
   std::unique_ptr<BulletShapes> shapes_;
   std::unique_ptr<btRigidBody> chassis_;
   std::vector<CollisionSource> chassis_sources_;  ///< per child shape of the chassis
+  std::vector<int> rim_children_;                 ///< per wheel: its rim's child index in the chassis
   CollisionNames chassis_names_;
   // Per step scratch, kept to avoid allocating.
   std::vector<Eigen::Vector3d> ray_origins_, ray_directions_;
   std::vector<double> ray_hits_;
+  std::vector<Eigen::Vector3d> ray_normals_;
   std::vector<Contact> contacts_;    ///< per wheel
   Eigen::Matrix3d inverse_inertia_;  ///< the chassis's, in the world frame, this step
 };

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace bullet_sim {
@@ -14,48 +15,81 @@ double gaussian(double stddev, std::mt19937_64& noise) {
   return std::normal_distribution<double>(0.0, stddev)(noise);
 }
 
-/// "x y z" (a vector model) or one number (a scalar one, into x).
-Eigen::Vector3d readValues(PluginTags& tags, const std::string& tag, const Eigen::Vector3d& fallback,
-                           bool vector) {
-  if (!tags.has(tag)) return fallback;
-  if (!vector) return {tags.number(tag, fallback.x()), 0, 0};
-  return readVector3(tags, tag, fallback);
+/// Three finite numbers and nothing more, or nullopt.
+std::optional<Eigen::Vector3d> threeNumbers(const std::string& text) {
+  std::istringstream in(text);
+  Eigen::Vector3d value;
+  std::string rest;
+  if (!(in >> value.x() >> value.y() >> value.z()) || (in >> rest) || !value.allFinite()) return std::nullopt;
+  return value;
+}
+
+/// The name of the model's tag `field` ("Offset", ...) under `prefix`: accelOffset, or offset without one.
+std::string modelTag(const std::string& prefix, const std::string& field) {
+  if (prefix.empty()) return std::string(1, static_cast<char>(std::tolower(field[0]))) + field.substr(1);
+  return prefix + field;
 }
 
 }  // namespace
 
-Eigen::Vector3d readVector3(PluginTags& tags, const std::string& tag, const Eigen::Vector3d& fallback) {
-  if (!tags.has(tag)) return fallback;
-  const std::string text = tags.text(tag, "");
-  std::istringstream in(text);
-  Eigen::Vector3d value;
-  std::string rest;
-  if (!(in >> value.x() >> value.y() >> value.z()) || (in >> rest) || !value.allFinite()) {
-    tags.diagnostics().error(tags.where() + " <" + tag + "> must be three numbers (x y z), not [" + text +
-                             "]");
-    return fallback;
-  }
-  return value;
+std::vector<TagRow> sensorErrorRows(const std::string& prefix, bool vector, const std::string& unit) {
+  const TagType type = vector ? TagType::kText : TagType::kNumber;
+  const std::string form = vector ? "x y z: " : "";
+  const std::string seeded = "drawn from the plugin's seeded noise";
+  return {
+      {modelTag(prefix, "Offset"), type, "0", unit, form + "a constant error on every reading", ""},
+      {modelTag(prefix, "Drift"), type, "0", unit,
+       form + "the standard deviation of a slowly wandering error (first-order Gauss-Markov), drawn anew at "
+              "load and at every reset",
+       seeded},
+      {modelTag(prefix, "DriftFrequency"), type, "0.0002777777777777778", "Hz",
+       form + "how fast the drift wanders: 1/3600 Hz (one hour) when absent", ""},
+      {modelTag(prefix, "GaussianNoise"), type, "0", unit,
+       form + "the standard deviation of a white noise on every reading", seeded},
+      {modelTag(prefix, "ScaleError"), type, "1", "", form + "a factor on the true value", ""},
+  };
+}
+
+Eigen::Vector3d readVector3(PluginTags& tags, const std::string& tag) {
+  const bool given = tags.has(tag);
+  const std::string text = tags.text(tag);  // absent: the row's default
+  if (const auto value = threeNumbers(text)) return *value;
+  if (!given) return Eigen::Vector3d::Constant(std::stod(text));  // one default for every axis
+  tags.diagnostics().error(tags.where() + " <" + tag + "> must be three numbers (x y z), not [" + text + "]");
+  return Eigen::Vector3d::Zero();
 }
 
 SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, bool vector) {
-  const auto name = [&](const std::string& field) {
-    if (prefix.empty()) return std::string(1, static_cast<char>(std::tolower(field[0]))) + field.substr(1);
-    return prefix + field;
+  const auto read = [&](const std::string& field) -> Eigen::Vector3d {
+    const std::string tag = modelTag(prefix, field);
+    return vector ? readVector3(tags, tag) : Eigen::Vector3d(tags.number(tag), 0, 0);
   };
   SensorErrorConfig config;
-  config.offset = readValues(tags, name("Offset"), config.offset, vector);
-  config.drift = readValues(tags, name("Drift"), config.drift, vector);
-  config.drift_frequency = readValues(tags, name("DriftFrequency"), config.drift_frequency, vector);
-  config.gaussian_noise = readValues(tags, name("GaussianNoise"), config.gaussian_noise, vector);
-  config.scale_error = readValues(tags, name("ScaleError"), config.scale_error, vector);
+  config.offset = read("Offset");
+  config.drift = read("Drift");
+  config.drift_frequency = read("DriftFrequency");
+  config.gaussian_noise = read("GaussianNoise");
+  config.scale_error = read("ScaleError");
   const int axes = vector ? 3 : 1;
   if ((config.drift.head(axes).array() < 0).any() || (config.gaussian_noise.head(axes).array() < 0).any() ||
       (config.drift_frequency.head(axes).array() < 0).any()) {
-    tags.diagnostics().error(tags.where() + " <" + name("Drift") + ">, <" + name("DriftFrequency") +
-                             "> and <" + name("GaussianNoise") + "> must not be negative");
+    tags.diagnostics().error(tags.where() + " <" + modelTag(prefix, "Drift") + ">, <" +
+                             modelTag(prefix, "DriftFrequency") + "> and <" + modelTag(prefix, "GaussianNoise") +
+                             "> must not be negative");
   }
   return config;
+}
+
+std::vector<TagRow> hectorBodyAndTimerRows(const std::string& rate) {
+  return {
+      {"bodyName", TagType::kFrame, "the root link", "", "the link measured; the model's canonical link when absent",
+       "a name that is no link is a warning, and the root link is measured"},
+      {"updateRate", TagType::kPositive, rate, "Hz", "how often it publishes; 0: every step", ""},
+      {"updatePeriod", TagType::kPositive, "1 / updateRate", "s",
+       "the time between updates, instead of updateRate; 0: every step", ""},
+      {"updateOffset", TagType::kText, "0", "s", "delays the updates within each period",
+       "not honoured: a warning says so"},
+  };
 }
 
 std::string readHectorBody(const DeclarationSource& source, std::string* name) {
@@ -64,14 +98,14 @@ std::string readHectorBody(const DeclarationSource& source, std::string* name) {
   return frameLink(source, "bodyName", body, source.model.root);
 }
 
-double readHectorUpdateRate(PluginTags& tags, double fallback) {
-  double rate = tags.positive("updateRate", fallback, /*allow_zero=*/true);
+double readHectorUpdateRate(PluginTags& tags) {
+  double rate = tags.nonNegative("updateRate");
   if (tags.has("updatePeriod")) {
-    const double period = tags.positive("updatePeriod", 0, /*allow_zero=*/true);
+    const double period = tags.positive("updatePeriod", rate > 0 ? 1 / rate : 0, /*allow_zero=*/true);
     rate = period > 0 ? 1 / period : 0;
   }
   if (tags.has("updateOffset")) {
-    tags.text("updateOffset", "");
+    tags.text("updateOffset");
     tags.diagnostics().warning(tags.where() +
                                " <updateOffset> is not honoured: updates come one period after the start");
   }

@@ -20,6 +20,8 @@ Plugin::Plugin(const PluginDeclaration& declaration, const PluginSetup& setup)
     : name_(declaration.displayName()),
       robot_namespace_(setup.robot_namespace.value_or(declaration.config->robot_namespace)),
       where_(declaration.where()),
+      tf_prefix_(setup.tf_prefix),
+      global_frames_(declaration.config->global_frames),
       timer_(declaration.config->update_rate),
       seed_(setup.seed ^ stableHash(setup.robot_name + "/" + name_)),
       noise_(seed_) {}

@@ -132,6 +132,7 @@ std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSourc
     const ParseHead head = readHead(*type, source);
     std::shared_ptr<PluginConfig> config = type->parse(source, head);
     capUpdateRate(*config, source);
+    config->global_frames = source.tags.globalFrames();
     source.tags.finish();  // one warning for each tag the parser did not read
     return config;
   }
@@ -190,8 +191,8 @@ std::unique_ptr<Plugin> PluginRegistry::create(const PluginDeclaration& declarat
 }
 
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings, const Limits& limits) {
-  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings, limits);
+                     std::vector<std::string>* warnings, const Limits& limits, bool strict) {
+  return parseModel(urdf_xml, source, resolver, PluginRegistry::builtin(), warnings, limits, strict);
 }
 
 }  // namespace bullet_sim

@@ -13,10 +13,12 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "bullet_sim/simulation/simulation.h"
+#include "messages.h"
 
 namespace camera_info_manager {
 class CameraInfoManager;
@@ -26,24 +28,20 @@ namespace bullet_sim {
 
 class ActionConnection;
 
-/// Frame names as the robot publishes them: without leading or trailing '/', and under the robot's prefix,
-/// except the global frames (world, map).
-class FramePrefix {
- public:
-  explicit FramePrefix(std::string prefix) : prefix_(std::move(prefix)) {}
-  std::string operator()(const std::string& frame) const;
-
- private:
-  std::string prefix_;
+/// Which robot publishes which child frame on /tf, for the one warning when two publish the same.
+struct FrameOwners {
+  std::map<std::string, std::string> robot_of;  ///< child frame -> robot
+  std::set<std::string> warned;                 ///< "frame robot" pairs warned about
 };
 
 class RobotAdapter {
  public:
-  /// `robot_namespace` from the spawn request overrides every plugin's <robotNamespace> when it is not empty;
-  /// it is also the frame prefix, which is otherwise the first <robotNamespace> among the robot's plugins.
-  /// `sim_time` tells when an input arrived.
+  /// `robot_namespace` from the spawn request overrides every plugin's <robotNamespace> when it is not empty.
+  /// Each plugin's frames take the tf_prefix parameter by its type's rule (TfPrefixRule), never the namespace
+  /// by itself. `owners` is shared by the robots of one simulator; `sim_time` tells when an input arrived.
   RobotAdapter(Robot& robot, const std::string& robot_namespace, tf2_ros::TransformBroadcaster& tf,
-               std::function<double()> sim_time);
+               FrameOwners& owners, std::function<double()> sim_time);
+  ~RobotAdapter();
 
   /// Publishes what the plugins produced since the last call, and tells each plugin whether its on-demand
   /// outputs (camera images) have subscribers now and how many publish to its inputs.
@@ -51,6 +49,10 @@ class RobotAdapter {
   /// Connects the port groups that appeared since the last call and drops those that went.
   void refreshPorts();
 
+  /// The resolved name of one of `plugin`'s topics (relative to its namespace).
+  std::string topicName(const Plugin& plugin, const std::string& topic) const {
+    return handleFor(plugin.robotNamespace()).resolveName(topic);
+  }
   /// The topics this robot advertises and subscribes, for the log.
   const std::vector<std::string>& topics() const { return topics_; }
 
@@ -97,12 +99,15 @@ class RobotAdapter {
   void advertiseCameraInfo(const Connection& plugin, const OutputPort& port, const Stream<CameraInfo>* stream);
   void broadcast(const Connection& plugin, const Stream<TransformSample>* stream);
   ros::NodeHandle handleFor(const std::string& plugin_namespace) const;
+  /// The tf_prefix of `plugin`'s frames, read from the parameter server by its rule.
+  FramePrefix framesOf(const Plugin& plugin) const;
+  /// Sends a transform, warning once when another robot already publishes its child frame.
+  void sendTransform(const geometry_msgs::TransformStamped& transform);
 
   const std::string robot_name_;
   std::string namespace_;
-  FramePrefix frames_;
-  FramePrefix unprefixed_{""};  ///< for plugins whose frames are not prefixed (ros_control's)
   tf2_ros::TransformBroadcaster& tf_;
+  FrameOwners& owners_;
   std::function<double()> sim_time_;
   /// By the camera's namespace.
   std::map<std::string, std::shared_ptr<camera_info_manager::CameraInfoManager>> info_managers_;

@@ -59,13 +59,19 @@ class Readiness {
   std::vector<ros::Subscriber> subscribers_;
 };
 
-/// Sets the node's parameters from the scenario: its world, step, seed and pace, paused until ready.
-void setParameters(const ros::NodeHandle& node, const ScenarioSpec& spec) {
+/// Sets the node's parameters from the scenario: its world, step, seed and pace, paused until ready, and the
+/// bag --bag asks for.
+void setParameters(const ros::NodeHandle& node, const ScenarioSpec& spec, const std::optional<BagSettings>& bag) {
   node.setParam("world", spec.world);
   node.setParam("step_size", spec.step);
   node.setParam("seed", static_cast<int>(spec.seed));
   node.setParam("real_time_factor", spec.launch->real_time_factor);
   node.setParam("paused", true);
+  if (!bag) return;
+  node.setParam("record", bag->path);
+  if (!bag->topics.empty()) node.setParam("record_topics", bag->topics);
+  node.setParam("record_compression", bag->compression);
+  node.setParam("record_chunk_size", static_cast<int>(bag->chunk_size));
 }
 
 int host(const ScenarioCommand& command) {
@@ -77,7 +83,7 @@ int host(const ScenarioCommand& command) {
   const std::string out = outputFolder(command, &spec);
   RunTiming timing;
   ros::NodeHandle private_node("~");
-  setParameters(private_node, spec);
+  setParameters(private_node, spec, bagSettings(command, out));
   SimulatorNode node(ros::NodeHandle(), private_node);
   const ScenarioAssets assets = loadAssets(spec, PackageResolver::fromEnvironment());
   std::vector<std::string> warnings = assets.warnings;

@@ -83,10 +83,11 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
   options.images = imagesFrom([this]() -> SceneRenderer& { return renderer(); });
-  options.max_update_rate = real_time_factor_ / options.physics.step_size;
   options.parameters = &parameters_;
   simulation_ = std::make_unique<Simulation>(std::move(world), options);
-  world_api_ = std::make_unique<WorldApi>(private_, *simulation_, *this);
+  bag_ = NodeRecording::fromParameters(private_, [this] { return simulation_->time(); });
+  world_api_ = std::make_unique<WorldApi>(*simulation_, real_time_factor_ / options.physics.step_size);
+  gazebo_services_ = std::make_unique<GazeboServices>(private_, *simulation_, *world_api_, *this);
   snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
   recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
 
@@ -97,6 +98,28 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   services_.push_back(private_.advertiseService("pause_physics", &SimulatorNode::pause, this));
   services_.push_back(private_.advertiseService("unpause_physics", &SimulatorNode::unpause, this));
   services_.push_back(private_.advertiseService("snapshot", &SimulatorNode::snapshot, this));
+  web_ = startWebView();
+}
+
+std::unique_ptr<NodeWebView> SimulatorNode::startWebView() {
+  NodeWebView::Actions actions;
+  actions.pause = [this] { paused_ = true; };
+  actions.resume = [this] { setPaused(false); };
+  actions.reset = [this] {
+    std_srvs::Empty::Request request;
+    std_srvs::Empty::Response response;
+    resetSimulation(request, response);
+  };
+  actions.velocity_topic = [this](const std::string& robot) { return velocityTopic(robot); };
+  return NodeWebView::fromParameters(private_, std::move(actions));
+}
+
+std::string SimulatorNode::velocityTopic(const std::string& robot) const {
+  const Robot* found = simulation_->robot(robot);
+  const auto adapter = adapters_.find(robot);
+  if (!found || adapter == adapters_.end()) return "";
+  const auto inputs = found->inputs<Twist>();
+  return inputs.empty() ? "" : adapter->second->topicName(*inputs.front().plugin, inputs.front().topic);
 }
 
 void SimulatorNode::run() {
@@ -110,6 +133,7 @@ void SimulatorNode::run() {
     queue.callAvailable();  // commands and service calls land between steps
     refreshPorts();         // a controller loaded while paused is heard at once
     if (paused_) {
+      if (web_) web_->update(*simulation_, paused_);
       publishClock();
       queue.callAvailable(clock_period_);
       continue;
@@ -131,13 +155,15 @@ void SimulatorNode::run() {
 void SimulatorNode::step() {
   simulation_->step();
   for (auto& [name, adapter] : adapters_) adapter->publish();
-  world_api_->afterStep();
+  if (bag_) bag_->afterStep(*simulation_);
+  gazebo_services_->afterStep();
   if (ros::WallTime::now() - last_clock_ >= clock_period_) publishClock();
   afterStep();
 }
 
 void SimulatorNode::afterStep() {
   if (observer_) observer_(*simulation_);
+  if (web_) web_->update(*simulation_, paused_);
   if (const auto frame = recording_->afterStep(*simulation_)) {
     std::string error;
     if (!writeSnapshot(
@@ -170,27 +196,33 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
   std::unique_ptr<RobotAdapter> adapter;
   try {
     adapter =
-        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, [this] { return simulation_->time(); });
+        std::make_unique<RobotAdapter>(robot, robot_namespace, tf_, frame_owners_,
+                                             [this] { return simulation_->time(); });
   } catch (...) {
     simulation_->remove(name);
     throw;
   }
   for (const auto& warning : *warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
   for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
+  ROS_INFO("%s: %s", source.c_str(), simulation_->substepNote(name).c_str());
   adapters_[name] = std::move(adapter);
+  if (bag_) bag_->addRobot(robot, robot_namespace);
+  if (web_) web_->modelsChanged();
   return robot;
 }
 
 bool SimulatorNode::deleteRobot(const std::string& name) {
   adapters_.erase(name);
+  if (bag_) bag_->removeRobot(name);
   recording_->forget(name);
   const bool removed = simulation_->remove(name);
+  if (web_) web_->modelsChanged();
   malloc_trim(0);  // the robot's memory goes back to the system, not only to malloc
   return removed;
 }
 
 void SimulatorNode::physicsChanged() {
-  const PhysicsProperties physics = simulation_->physicsProperties();
+  const PhysicsProperties physics = world_api_->physicsProperties();
   real_time_factor_ = physics.step_size * physics.max_update_rate;
   anchorPacing();
 }
@@ -217,7 +249,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     pose_problems.throwIfErrors();
     warnings = pose_problems.warnings();
     ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings,
-                                 simulation_->limits());
+                                 simulation_->limits(), private_.param("strict_models", false));
     if (!request.robot_namespace.empty()) pose.robot_namespace = request.robot_namespace;
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];
@@ -238,6 +270,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
 bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   simulation_->resetSimulation();
   recording_->restart();
+  if (bag_) bag_->restart();  // sim time restarts: FILE_1.bag
   step();  // time restarts at the first step, and /clock is never 0
   anchorPacing();
   return true;

@@ -9,9 +9,11 @@
 //   [the world's <physics>: 1 ms, 1; 0 = as fast as possible], ~paused [false], ~seed [0],
 //   ~pub_clock_frequency [1000 wall Hz], ~gui (accepted: rendering is headless), ~snapshot_dir
 //   [$ROS_HOME/snapshots], ~snapshot_period [0 sim s = off] (numbered chase-view frames), ~model_states_rate
-//   (world_api.h), ~limits/<name> (common/limits.h: what a model or world may ask for).
+//   (gazebo_services.h), ~limits/<name> (common/limits.h: what a model or world may ask for), ~record and
+//   ~record_* (node_recording.h: a rosbag of the run in sim time), ~web_port and the live viewer's others
+//   (web_view.h).
 // Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
-//   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (world_api.h).
+//   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (gazebo_services.h).
 #pragma once
 
 #include <ros/ros.h>
@@ -31,10 +33,12 @@
 #include "bullet_sim/scene/scene.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
+#include "gazebo_services.h"
+#include "node_recording.h"
 #include "render_library.h"
 #include "robot_adapter.h"
 #include "ros_parameters.h"
-#include "world_api.h"
+#include "web_view.h"
 
 namespace bullet_sim {
 
@@ -85,13 +89,20 @@ class SimulatorNode final : public SimulationHost {
 
   /// Connects and drops the ports that came and went (ros_control's controllers) since the last call.
   void refreshPorts();
+  /// The live viewer of ~web_port, with what its pages may do; nullptr when off or when it cannot serve.
+  std::unique_ptr<NodeWebView> startWebView();
+  /// The resolved name of a robot's velocity input, or "" when it has none.
+  std::string velocityTopic(const std::string& robot) const;
 
   ros::NodeHandle node_;
   ros::NodeHandle private_;
   RosParameters parameters_;  ///< what plugins read at run time; outlives the simulation
   std::unique_ptr<Simulation> simulation_;
+  std::unique_ptr<NodeRecording> bag_;  ///< ~record's; closed before the simulation goes
+  FrameOwners frame_owners_;  ///< outlives the adapters, which release their frames
   std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
-  std::unique_ptr<WorldApi> world_api_;
+  std::unique_ptr<WorldApi> world_api_;  ///< before gazebo_services_, which serves it
+  std::unique_ptr<GazeboServices> gazebo_services_;
   tf2_ros::TransformBroadcaster tf_;
   ros::Publisher clock_;
   std::vector<ros::ServiceServer> services_;
@@ -107,6 +118,7 @@ class SimulatorNode final : public SimulationHost {
   std::filesystem::path snapshot_dir_;
   std::unique_ptr<Recording> recording_;  ///< trails and periodic frames (~snapshot_period)
   std::function<void(const Simulation&)> observer_;
+  std::unique_ptr<NodeWebView> web_;  ///< destroyed first: its commands call the node
 };
 
 }  // namespace bullet_sim

@@ -16,14 +16,18 @@ namespace bullet_sim {
 namespace {
 
 constexpr char kUsage[] =
-    "usage: scenario FILE.yaml [--out DIR] [--seed N] [--video]\n"
-    "       scenario --matrix M.yaml --index N [--out DIR] [--seed N] [--video]\n"
+    "usage: scenario FILE.yaml [--out DIR] [--seed N] [--video] [--bag [--bag-topics REGEX]...\n"
+    "                [--bag-compression none|lz4|bz2] [--bag-chunk-size BYTES]]\n"
+    "       scenario --matrix M.yaml --index N [--out DIR] [--seed N] [--video] [--bag ...]\n"
     "       scenario --matrix M.yaml --list\n"
     "\n"
     "Runs the scenario FILE (or cell N of the matrix M, numbered from 0) and writes into DIR\n"
     "(default scenario_out/<name>): result.json (the verdict, every check's measured value, the\n"
     "RTF, the wall time, the seed and the versions), trajectory.csv (each robot's root link every\n"
-    "record_period), top.png (a plan with the trails) and, with --video, video.mp4 (the chase view).\n"
+    "record_period), top.png (a plan with the trails), with --video, video.mp4 (the chase view) and,\n"
+    "with --bag, run.bag: a rosbag in sim time of each robot's ground truth, links, sensors and\n"
+    "commands (--bag-topics: regular expressions of the topics to record, default all but images and\n"
+    "point clouds; --bag-compression: lz4 by default; --bag-chunk-size: 786432 bytes by default).\n"
     "A timeline scenario runs in this process, without a ROS master, and is deterministic; a launch\n"
     "scenario starts its own master on a free port, the simulator and the launch file, and stops\n"
     "them all when it ends. --seed replaces the scenario's seed. --list prints the matrix's cells\n"
@@ -59,7 +63,8 @@ int run(const ScenarioCommand& command) {
     context.spec = &*spec;
     out = outputFolder(command, &*spec);
     const Verdict verdict =
-        spec->launch ? runLaunch(*spec, command, out) : runTimeline(*spec, context, out, command.video);
+        spec->launch ? runLaunch(*spec, command, out)
+                     : runTimeline(*spec, context, out, command.video, bagSettings(command, out));
     std::ifstream result(out + "/result.json");
     const auto json = nlohmann::json::parse(result, nullptr, false);
     const std::string message = json.is_object() ? json.value("message", "") : "";

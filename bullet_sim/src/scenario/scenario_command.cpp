@@ -16,6 +16,7 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv) {
       throw UsageError(option + " [" + text + "]: give a whole number from 0");
     return number;
   };
+  const auto bag = [&]() -> BagSettings& { return command.bag ? *command.bag : command.bag.emplace(); };
   const ToolOption file{"file", [&](Value value) {
                           if (!command.file.empty()) throw UsageError("give one scenario FILE");
                           command.file = value;
@@ -27,6 +28,11 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv) {
        {"--matrix", [&](Value value) { command.matrix = value; }},
        {"--index", [&](Value value) { command.index = static_cast<int>(whole(value, "--index", 1e6)); }},
        {"--video", [&](Value) { command.video = true; }, false, /*flag=*/true},
+       {"--bag", [&](Value) { bag(); }, false, /*flag=*/true},
+       {"--bag-topics", [&](Value value) { bag().topics.push_back(value); }, /*repeatable=*/true},
+       {"--bag-compression", [&](Value value) { bag().compression = value; }},
+       {"--bag-chunk-size",
+        [&](Value value) { bag().chunk_size = static_cast<uint32_t>(whole(value, "--bag-chunk-size", 1 << 30)); }},
        {"--list", [&](Value) { command.list = true; }, false, /*flag=*/true}},
       &command.help, &file);
   if (command.help) return command;
@@ -46,7 +52,19 @@ std::vector<std::string> scenarioArguments(const ScenarioCommand& command) {
   if (command.seed) words.insert(words.end(), {"--seed", std::to_string(*command.seed)});
   if (!command.out.empty()) words.insert(words.end(), {"--out", command.out});
   if (command.video) words.push_back("--video");
+  if (command.bag) {
+    words.insert(words.end(), {"--bag", "--bag-compression", command.bag->compression, "--bag-chunk-size",
+                               std::to_string(command.bag->chunk_size)});
+    for (const auto& topic : command.bag->topics) words.insert(words.end(), {"--bag-topics", topic});
+  }
   return words;
+}
+
+std::optional<BagSettings> bagSettings(const ScenarioCommand& command, const std::string& out) {
+  if (!command.bag) return std::nullopt;
+  BagSettings settings = *command.bag;
+  settings.path = std::filesystem::absolute(std::filesystem::path(out) / "run.bag").string();
+  return settings;
 }
 
 ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver, RunContext* context) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "bullet_sim/scenario/scenario_file.h"
 
@@ -42,6 +43,10 @@ std::vector<std::string> axisValues(const YAML::Node& node, const std::string& w
       count = 0;
     }
     if (count < 1 || count > kMaxRange) throw ScenarioError(where + ": {from, count} takes whole numbers, count 1 to 100000");
+    constexpr long kLargest = std::numeric_limits<long>::max();
+    if (from > kLargest - (count - 1))
+      throw ScenarioError(where + ": {from: " + std::to_string(from) + ", count: " + std::to_string(count) +
+                          "} goes past the largest whole number, " + std::to_string(kLargest));
     for (long i = 0; i < count; ++i) values.push_back(std::to_string(from + i));
   } else {
     throw ScenarioError(where + ": expected a list of values, or {from: A, count: N}");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 
 #include "bullet_sim/common/diagnostics.h"
@@ -13,6 +14,7 @@
 #include "bullet_sim/scene/robot_snapshot.h"
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/scenario/video_writer.h"
+#include "bullet_sim/tools/urdf_edits.h"
 #include "bullet_sim/tools/xacro_cache.h"
 
 namespace bullet_sim {
@@ -30,38 +32,6 @@ std::string readFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read robot.description [" + path + "]");
   return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-/// The URDF with <wheelModel> set in its drive plugins; text that is not XML is left for parseModel to report.
-std::string withWheelModel(const std::string& urdf, const std::string& wheel_model) {
-  tinyxml2::XMLDocument document;
-  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
-  for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
-       gazebo = gazebo->NextSiblingElement("gazebo")) {
-    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin; plugin = plugin->NextSiblingElement("plugin")) {
-      const std::string name = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
-      if (name != "libgazebo_ros_diff_drive.so" && name != "libgazebo_ros_skid_steer_drive.so" &&
-          name != "libgazebo_ros_ackermann_drive.so") {
-        continue;
-      }
-      tinyxml2::XMLElement* tag = plugin->FirstChildElement("wheelModel");
-      (tag ? tag : plugin->InsertNewChildElement("wheelModel"))->SetText(wheel_model.c_str());
-    }
-  }
-  tinyxml2::XMLPrinter printer;
-  document.Print(&printer);
-  return printer.CStr();
-}
-
-/// Every Twist input of a robot's plugins: where its cmd_vel goes.
-std::vector<const InputHandler<Twist>*> twistInputs(const Robot& robot) {
-  std::vector<const InputHandler<Twist>*> inputs;
-  for (const auto& plugin : robot.plugins()) {
-    for (const InputPort& port : plugin->ports().inputs) {
-      if (const auto* handler = std::get_if<InputHandler<Twist>>(&port.sink)) inputs.push_back(handler);
-    }
-  }
-  return inputs;
 }
 
 }  // namespace
@@ -106,7 +76,7 @@ TimelineDriver::TimelineDriver(const ScenarioSpec& spec, const Simulation& simul
     }
   }
   for (const auto& name : robots_) {
-    if (!segments_.empty() && twistInputs(*simulation.robot(name)).empty()) {
+    if (!segments_.empty() && simulation.robot(name)->inputs<Twist>().empty()) {
       throw ScenarioError("scenario " + spec.source + ": robot [" + name +
                           "] takes no cmd_vel: its description declares no drive plugin for the timeline to drive");
     }
@@ -114,7 +84,7 @@ TimelineDriver::TimelineDriver(const ScenarioSpec& spec, const Simulation& simul
   steps_per_resend_ = std::max(1L, std::lround(kCommandPeriod / simulation.stepSize()));
 }
 
-void TimelineDriver::beforeStep(const Simulation& simulation) {
+void TimelineDriver::beforeStep(const Simulation& simulation, RunRecorder* recorder) {
   if (segments_.empty() || simulation.steps() % steps_per_resend_ != 0) return;
   const double now = simulation.time();
   for (const auto& name : robots_) {
@@ -127,7 +97,10 @@ void TimelineDriver::beforeStep(const Simulation& simulation) {
       break;
     }
     const Robot* robot = simulation.robot(name);
-    for (const auto* input : twistInputs(*robot)) (*input)(command, now);
+    for (const RobotInput<Twist>& input : robot->inputs<Twist>()) {
+      (*input.handler)(command, now);
+      if (recorder) recorder->command(*robot, input, command, now);
+    }
   }
 }
 
@@ -148,7 +121,18 @@ void ScenarioVideo::afterStep(const Simulation& simulation, const ScenarioMonito
 
 void ScenarioVideo::finish() { writer_->finish(); }
 
-Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const std::string& out, bool video) {
+std::unique_ptr<RunRecorder> recordRobots(const BagSettings& settings, const Simulation& simulation) {
+  auto recorder = loadBagRecorder(settings, [](const std::string& error) { std::cerr << "scenario: " << error << "\n"; });
+  const std::vector<std::string> robots = simulation.robotNames();
+  for (const auto& name : robots) {
+    const std::string own = robots.size() > 1 ? name : "";
+    recorder->addRobot(*simulation.robot(name), own, own);
+  }
+  return recorder;
+}
+
+Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const std::string& out, bool video,
+                    const std::optional<BagSettings>& bag) {
   RunTiming timing;
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   ScenarioAssets assets = loadAssets(spec, resolver);
@@ -164,19 +148,22 @@ Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const s
   TimelineDriver driver(spec, simulation);
   std::error_code ec;
   fs::create_directories(out, ec);
-  std::unique_ptr<ScenarioVideo> recorder;
-  if (video) recorder = std::make_unique<ScenarioVideo>((fs::path(out) / "video.mp4").string(), spec, renderer);
+  std::unique_ptr<ScenarioVideo> scenario_video;
+  if (video) scenario_video = std::make_unique<ScenarioVideo>((fs::path(out) / "video.mp4").string(), spec, renderer);
+  const std::unique_ptr<RunRecorder> bag_recorder = bag ? recordRobots(*bag, simulation) : nullptr;
   timing.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - timing.start).count();
 
   const auto stepping = std::chrono::steady_clock::now();
   const long steps = std::lround(spec.duration / spec.step);
   for (long i = 0; i < steps; ++i) {
-    driver.beforeStep(simulation);
+    driver.beforeStep(simulation, bag_recorder.get());
     simulation.step();
     monitor.afterStep(simulation);
-    if (recorder) recorder->afterStep(simulation, monitor);
+    if (scenario_video) scenario_video->afterStep(simulation, monitor);
+    if (bag_recorder) bag_recorder->afterStep(simulation);
   }
-  if (recorder) recorder->finish();
+  if (scenario_video) scenario_video->finish();
+  if (bag_recorder) bag_recorder->close();
   timing.stepping = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping).count();
   timing.sim_time = simulation.time();
   return writeOutputs(out, context, monitor, simulation, renderer, timing);

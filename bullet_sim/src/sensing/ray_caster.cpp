@@ -549,13 +549,14 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
 
 void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
                            const std::vector<Eigen::Vector3d>& directions, double max_range,
-                           std::vector<double>& ranges) const {
+                           std::vector<double>& ranges, std::vector<Eigen::Vector3d>* normals) const {
   const Impl& impl = *impl_;
   if (impl.statics_changed)
     throw std::logic_error("RayCaster::castStatic: static bodies changed since the last commit()");
   CastContext context;
   rtcInitIntersectContext(&context.embree);
   ranges.resize(origins.size());
+  if (normals) normals->resize(origins.size());
   for (size_t i = 0; i < origins.size(); ++i) {
     RTCRayHit ray{};
     ray.ray.org_x = static_cast<float>(origins[i].x());
@@ -572,6 +573,9 @@ void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
     rtcIntersect1(impl.statics.get(), &context.embree, &ray);
     ranges[i] = ray.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<double>::infinity()
                                                           : static_cast<double>(ray.ray.tfar);
+    if (!normals || ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    const Eigen::Vector3d normal = Eigen::Vector3d(ray.hit.Ng_x, ray.hit.Ng_y, ray.hit.Ng_z).normalized();
+    (*normals)[i] = normal.dot(directions[i]) > 0 ? -normal : normal;
   }
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/sdf_model.h"
@@ -157,6 +158,7 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     }
   }
   rays_.commit();
+  fitSubsteps();
   if (options_.images) images_ = options_.images(*this);
 }
 
@@ -166,6 +168,7 @@ void Simulation::makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& pl
   Diagnostics diagnostics(world_.source);
   ModelSpec spec =
       toModelSpec(model, *options_.plugins, diagnostics, options_.limits, /*weld_unjoined=*/true);
+  decomposer_.attach(spec, options_.limits, diagnostics);
   diagnostics.throwIfErrors();
   const Eigen::Isometry3d root = model.pose * spec.root_in_model;
   auto body = std::make_unique<MultiBodyRobot>(std::move(spec), model.name, physics_->bullet(), root);
@@ -202,6 +205,20 @@ Eigen::Isometry3d Simulation::worldVisualFrame(size_t model, size_t visual) cons
   return placed.body->body().linkPose(world_.models[model].links[link].name) * placed.link_to_model[link];
 }
 
+void Simulation::moveWorldModel(size_t model, const Eigen::Isometry3d& pose) {
+  PlacedWorldModel& placed = world_models_.at(model);
+  placed.pose = pose;
+  physics_->setModelPose(model, pose);
+  if (placed.ray_body != kNoBody) {
+    // Static bodies share one tree, so a moved one is taken out and put back in.
+    rays_.removeBody(placed.ray_body);
+    placed.ray_body = rays_.addBody(world_.models[model].collisions, pose, /*is_static=*/true);
+    rays_.commit();
+  }
+}
+
+Robot* Simulation::worldBody(size_t model) { return world_models_.at(model).body.get(); }
+
 Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPose& pose,
                          std::vector<std::string>* warnings) {
   Diagnostics diagnostics(model.source);
@@ -226,6 +243,7 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (model.is_static) {  // a static model is rigid: its joints do not move
     for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
   }
+  decomposer_.attach(model, options_.limits, diagnostics);
   std::unique_ptr<PhysicsRobot> body;
   if (wheel_model == "raycast") {
     body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);
@@ -251,7 +269,27 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (warnings)
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   robots_.push_back(std::move(robot));
+  fitSubsteps();
   return *robots_.back();
+}
+
+void Simulation::fitSubsteps() {
+  double longest = std::numeric_limits<double>::infinity();
+  for (Robot* model : movingModels()) longest = std::min(longest, model->body_->substepLimit().seconds);
+  physics_->setLongestSubstep(longest);
+  for (Robot* model : movingModels()) model->body_->setStepSize(physics_->substep());
+}
+
+std::string Simulation::substepNote(const std::string& name) const {
+  const Robot* found = robot(name);
+  if (!found) throw std::invalid_argument("no robot [" + name + "]");
+  std::ostringstream note;
+  note.precision(3);
+  note << "physics substep " << physics_->substep() * 1e3 << " ms (" << physics_->substeps() << " per "
+       << stepSize() * 1e3 << " ms step)";
+  const SubstepLimit limit = found->body_->substepLimit();
+  if (!limit.reason.empty()) note << "; " << limit.reason << " allows " << limit.seconds * 1e3 << " ms";
+  return note.str();
 }
 
 void Simulation::addRayBodies(Robot& robot) {
@@ -274,6 +312,7 @@ void Simulation::equip(Robot& robot, const std::optional<std::string>& robot_nam
       setup.seed = options_.seed;
       setup.robot_namespace = robot_namespace;
       setup.diagnostics = &diagnostics;
+      if (type) setup.tf_prefix = type->tf_prefix;
       if (needs & kNeedGravity) setup.gravity = physics_->gravity();
       if (needs & kNeedOwnRayBody) {
         const int part = declaration.sensor ? robot.body().partOf(declaration.sensor->link) : -1;
@@ -304,9 +343,10 @@ bool Simulation::remove(const std::string& name) {
     if (body != kNoBody) rays_.removeBody(body);
   }
   rays_.commit();
-  clearScheduled(name);
   robots_.erase(found);
   physics_->releaseMemory();
+  for (StepHooks* hooks : hooks_) hooks->robotRemoved(name);
+  fitSubsteps();
   return true;
 }
 
@@ -332,20 +372,19 @@ std::vector<std::string> Simulation::robotNames() const {
 
 void Simulation::step() {
   const StepTime time{timeAfter(steps_ + 1), options_.physics.step_size};
-  applyScheduled();
+  for (StepHooks* hooks : hooks_) hooks->beforeStep();
   bool rays_due = false;
   for (auto& robot : robots_) {
     for (auto& plugin : robot->plugins_) {
       plugin->applyCommands(time, *robot->body_);
       rays_due |= plugin->castsRays(time);
     }
-    robot->body_->beforeStep();
   }
-  for (auto& placed : world_models_) {
-    if (placed.body) placed.body->body_->beforeStep();
-  }
-  physics_->step();
-  for (Robot* moving : movingModels()) moving->body_->afterStep();
+  const std::vector<Robot*> moving = movingModels();
+  physics_->step([&](double substep) {
+    for (Robot* model : moving) model->body_->beforeSubstep(substep);
+  });
+  for (Robot* model : moving) model->body_->afterStep();
   if (rays_due) refreshRays();
   for (auto& robot : robots_) {
     for (auto& plugin : robot->plugins_) plugin->sense(time, *robot->body_, rays_);
@@ -383,6 +422,26 @@ void Simulation::resetSimulation() {
   resetWorld();
   steps_ = steps_at_base_ = 0;
   time_base_ = 0;
+}
+
+void Simulation::setStepSize(double step_size) {
+  if (!(step_size > 0 && std::isfinite(step_size))) {
+    std::ostringstream message;
+    message << "step size [" << step_size << " s] must be positive and finite";
+    throw std::invalid_argument(message.str());
+  }
+  time_base_ = time();
+  steps_at_base_ = steps_;
+  options_.physics.step_size = step_size;
+  physics_->setStepSize(step_size);
+  fitSubsteps();
+}
+
+StepHooks::StepHooks(Simulation& simulation) : hooked_(simulation) { hooked_.hooks_.push_back(this); }
+
+StepHooks::~StepHooks() {
+  auto& hooks = hooked_.hooks_;
+  hooks.erase(std::remove(hooks.begin(), hooks.end(), this), hooks.end());
 }
 
 }  // namespace bullet_sim

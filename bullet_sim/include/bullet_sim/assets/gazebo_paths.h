@@ -30,13 +30,16 @@ GazeboExports readGazeboExports(const std::string& package_dir);
 /// The folders Gazebo searches, in order.
 class GazeboPaths {
  public:
-  /// `exports` in package search order; `shipped_models` is bullet_sim's own models folder ("" for none).
+  /// `exports` in package search order; `shipped_models` is bullet_sim's own models folder ("" for none);
+  /// `shipped_media` stands where Gazebo's own media folder stands on its resource path (bullet_sim's package
+  /// folder, whose worlds/ are Gazebo's worlds/ here; "" for none).
   GazeboPaths(const GazeboEnvironment& environment, const std::vector<GazeboExports>& exports,
-              const std::string& shipped_models);
+              const std::string& shipped_models, const std::string& shipped_media = "");
 
   /// GAZEBO_MODEL_PATH, the packages' gazebo_model_path exports, bullet_sim's models, ~/.gazebo/models.
   const std::vector<std::string>& modelPath() const { return model_path_; }
-  /// GAZEBO_RESOURCE_PATH, then the packages' gazebo_media_path exports.
+  /// GAZEBO_RESOURCE_PATH, then the shipped media (as Gazebo's setup.sh puts its own media folder after the
+  /// variable's folders), then the packages' gazebo_media_path exports.
   const std::vector<std::string>& resourcePath() const { return resource_path_; }
 
   /// The file or folder `relative` ("NAME" or "NAME/meshes/x.dae", from model://NAME/...) in the first model

@@ -7,13 +7,17 @@
 
 namespace bullet_sim {
 
-/// Collects the errors and warnings of one load. Messages say where (file, element), what, and the fix.
+/// Collects the errors and warnings of one load. Messages say where (file, element), what, and the fix. A
+/// strict load (~strict_models, urdf_doctor) takes what Gazebo forgives silently for an error.
 class Diagnostics {
  public:
-  explicit Diagnostics(std::string source) : source_(std::move(source)) {}
+  explicit Diagnostics(std::string source, bool strict = false) : source_(std::move(source)), strict_(strict) {}
 
   void error(const std::string& message) { errors_.push_back(message); }
   void warning(const std::string& message) { warnings_.push_back(message); }
+  /// What Gazebo forgives without a word: a warning, or an error when the load is strict.
+  void forgiven(const std::string& message) { strict_ ? error(message) : warning(message); }
+  bool strict() const { return strict_; }
 
   const std::string& source() const { return source_; }
   const std::vector<std::string>& errors() const { return errors_; }
@@ -24,6 +28,7 @@ class Diagnostics {
 
  private:
   std::string source_;
+  bool strict_ = false;
   std::vector<std::string> errors_;
   std::vector<std::string> warnings_;
 };

@@ -27,6 +27,9 @@ struct Limits {
   double max_mass = 1e6;                  ///< [kg] of one link
   double max_inertia = 1e9;               ///< [kg m^2] of one moment or product of inertia
   double mesh_import_seconds = 30;        ///< [s] of wall time for importing one mesh file
+  /// [s] of wall time for splitting one moving collision mesh into convex parts; beyond it, its hull is used
+  double decomposition_seconds = 60;
+  size_t max_convex_parts = 32;  ///< of one moving collision mesh; 1 collides by the mesh's hull
   double world_load_seconds = 120;        ///< [s] of wall time for reading a world (10,000 boxes: 0.3 s)
   // Values Gazebo accepts: beyond them, a warning names the value and the limit is used instead.
   double max_effort = 1e6;  ///< [N m] or [N]: joint effort limits, drive torques

@@ -6,10 +6,16 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/assets/mesh.h"
 
 namespace bullet_sim {
+
+/// A mesh split into convex parts, so that a moving body collides by shapes close to its mesh.
+struct ConvexParts {
+  std::vector<std::vector<Eigen::Vector3d>> hulls;  ///< per part, its hull's points [m], in the mesh's frame
+};
 
 struct Shape {
   enum class Type { kBox, kCylinder, kSphere, kMesh, kPlane };
@@ -21,6 +27,8 @@ struct Shape {
   std::string mesh_path;                                    ///< kMesh: resolved absolute path
   Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();
   std::shared_ptr<const TriangleMesh> mesh;  ///< kMesh: loaded, scale applied
+  /// kMesh of a moving model's collision: its convex parts (ConvexDecomposer); null: it collides by its hull.
+  std::shared_ptr<const ConvexParts> convex_parts;
 };
 
 struct Collision {

@@ -117,10 +117,12 @@ void declarePlugins(const std::vector<PluginElement>& elements, const PluginPars
 /// many links or shapes, missing collision meshes, references to missing links, bad plugin tags). What
 /// Gazebo accepts is a warning, appended to `warnings` when given: ignored tags, plugins not simulated, a
 /// missing visual mesh (not drawn), a frame naming no link (used as the frame_id), a body with no mass or a
-/// poor inertia (lumped as Gazebo does, then given a solid box's), transmissions nothing reads.
+/// poor inertia (lumped as Gazebo does, then given a solid box's), transmissions nothing reads, a <gazebo
+/// reference> naming nothing (skipped). With `strict` (~strict_models), what Gazebo forgives without a word
+/// (the last) is an error.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
                      const PluginParsers& plugins, std::vector<std::string>* warnings = nullptr,
-                     const Limits& limits = Limits());
+                     const Limits& limits = Limits(), bool strict = false);
 
 /// What parseModel reads, for tools that report problems instead of loading (urdf_doctor): never throws;
 /// every error and warning goes to `diagnostics`, and the model comes back as far as it could be read (a

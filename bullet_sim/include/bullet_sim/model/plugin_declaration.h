@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "bullet_sim/common/limits.h"
@@ -26,6 +27,8 @@ struct PluginConfig {
   /// a link (an IMU's <bodyName>) sets them itself.
   std::string link;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  /// Frames written with a leading '/' (global: tf::resolve gives them no tf_prefix), without it.
+  std::set<std::string> global_frames;
 };
 
 /// A <sensor> inside <gazebo reference="link">.

@@ -80,7 +80,8 @@ class PluginTags {
   /// ROS has no topic of that name, so Gazebo's plugin fails to load; that is an error.
   std::string text(const std::string& tag, const std::string& fallback);
   /// A tf frame or link name. A leading '/' is dropped: tf2 frame ids have none, and Gazebo's plugins drop it
-  /// too (tf::resolve) where `gazebo_drops_slash`; where they keep it, a warning says it is dropped.
+  /// too (tf::resolve) where `gazebo_drops_slash`; where they keep it, a warning says it is dropped. Either
+  /// way the frame is remembered as global (globalFrames): tf::resolve gives it no tf_prefix.
   std::string frame(const std::string& tag, const std::string& fallback, bool gazebo_drops_slash = true);
   double number(const std::string& tag, double fallback);
   /// A number that must be > 0 (or >= 0 with `allow_zero`).
@@ -102,6 +103,8 @@ class PluginTags {
   void accept(std::initializer_list<const char*> tags);
   /// Warns about the tags nothing read.
   void finish();
+  /// The frames read with a leading '/', without it: they take no tf_prefix.
+  const std::set<std::string>& globalFrames() const { return global_frames_; }
 
   Diagnostics& diagnostics() { return diagnostics_; }
   const std::string& where() const { return where_; }
@@ -119,6 +122,7 @@ class PluginTags {
   std::string where_;
   Diagnostics& diagnostics_;
   std::set<std::string> read_;
+  std::set<std::string> global_frames_;
 };
 
 }  // namespace bullet_sim

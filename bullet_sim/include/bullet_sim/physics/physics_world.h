@@ -3,6 +3,8 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -46,8 +48,14 @@ class PhysicsWorld {
   PhysicsWorld(const PhysicsWorld&) = delete;
   PhysicsWorld& operator=(const PhysicsWorld&) = delete;
 
-  /// Advances exactly one step of options.step_size.
-  void step();
+  /// Advances exactly one step of options.step_size, cut into substeps() equal substeps; before each,
+  /// `before_substep` gets its length [s] (the robots apply their forces again: Bullet clears them).
+  void step(const std::function<void(double substep)>& before_substep);
+  /// Cuts each step into the fewest equal substeps no longer than `longest` [s] (its robots' shortest
+  /// SubstepLimit); infinity leaves steps whole.
+  void setLongestSubstep(double longest);
+  int substeps() const { return substeps_; }
+  double substep() const { return options_.step_size / substeps_; }  ///< [s]
   /// Frees what the solver kept for the contacts of past steps (after a robot is removed: a robot resting on
   /// 3,000 shapes left 6 MB there).
   void releaseMemory();
@@ -56,7 +64,7 @@ class PhysicsWorld {
   void forgetContacts();
 
   double stepSize() const { return options_.step_size; }
-  /// From the next step on; robots must be told too (PhysicsRobot::setStepSize).
+  /// From the next step on; robots must be told the substep too (PhysicsRobot::setStepSize).
   void setStepSize(double step_size);
   Eigen::Vector3d gravity() const;  ///< [m/s^2]
   void setGravity(const Eigen::Vector3d& gravity);
@@ -71,7 +79,12 @@ class PhysicsWorld {
   size_t addStatic(btCollisionShape* shape, const btTransform& pose);
 
   struct Engine;  ///< Bullet's collision configuration, dispatcher, broadphase and solver, in creation order
+  /// Fits substeps_ to the step and longest_substep_, and tells the solver.
+  void fitSubsteps();
+
   PhysicsOptions options_;
+  double longest_substep_ = std::numeric_limits<double>::infinity();  ///< [s]
+  int substeps_ = 1;
   std::unique_ptr<Engine> engine_;
   class CappedWorld;  ///< Bullet's world, its contacts' push-out speed capped
   std::unique_ptr<CappedWorld> world_;

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -100,13 +101,24 @@ class RobotBody {
 /// Joint positions by joint index (see RobotBody::jointIndex): [rad] or [m].
 using JointPositions = std::vector<std::pair<int, double>>;
 
+/// The longest physics substep at which a robot stays accurate, and what sets it.
+struct SubstepLimit {
+  double seconds = std::numeric_limits<double>::infinity();  ///< [s]
+  std::string reason;  ///< e.g. "the raycast suspension's 140 rad/s"; "" when nothing limits it
+};
+
 /// The physics side of a robot: what the simulation calls around each step, on top of what plugins see.
 class PhysicsRobot : public RobotBody {
  public:
-  /// Applies what must be re-applied every step (joint damping); call before the world steps.
-  virtual void beforeStep() = 0;
-  /// Refreshes the cached link frames; call after the world steps.
+  /// Runs before each physics substep of `substep` [s] (PhysicsWorld::step): applies again what acts through
+  /// the whole step (plugins' forces and efforts, joint damping), since Bullet clears forces after each of
+  /// its steps, and recomputes the wheel model's forces.
+  virtual void beforeSubstep(double substep) = 0;
+  /// Refreshes the cached link frames and forgets the step's forces; call after the world's step.
   virtual void afterStep() = 0;
+  /// The longest substep its stiffest spring and lightest link allow: the world cuts its steps into substeps
+  /// no longer than any of its robots'.
+  virtual SubstepLimit substepLimit() const = 0;
   /// Puts the robot back at `root_pose`, at rest, with the joints in `joints` (index, position) there and
   /// every other joint at 0.
   virtual void reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) = 0;
@@ -114,8 +126,10 @@ class PhysicsRobot : public RobotBody {
   virtual void teleport(const Eigen::Isometry3d& root_pose) = 0;
   /// Puts the joints in `joints` (index, position) there, at rest; the root and the other joints stay.
   virtual void setJointPositions(const JointPositions& joints) = 0;
-  /// The world's step is now `step_size` [s]; the motors' limits are impulses per step.
+  /// The world's substep is now `step_size` [s]; the motors' limits are impulses per substep.
   virtual void setStepSize(double step_size) = 0;
+  /// [J] what the wheel model's springs hold now (the `raycast` suspension's 1/2 k x^2); 0 for none.
+  virtual double elasticEnergy() const { return 0; }
 };
 
 }  // namespace bullet_sim

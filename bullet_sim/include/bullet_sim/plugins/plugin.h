@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <random>
+#include <set>
 #include <string>
 
 #include "bullet_sim/model/model.h"
@@ -42,6 +43,14 @@ class UpdateTimer {
   double next_ = 0;
 };
 
+/// How a plugin's frames take a tf_prefix, as Noetic's gazebo_plugins do (tf::resolve(prefix, frame)); the node
+/// reads the prefix from the parameter server, and a frame written with a leading '/' takes none.
+enum class TfPrefixRule {
+  kSearched,        ///< the tf_prefix parameter searched up from the plugin's namespace (drives, lasers, cameras)
+  kNamespaceParam,  ///< <namespace>/tf_prefix only (p3d, range, bumper, block laser)
+  kNone,            ///< no prefix (the IMU plugins; ros_control's controllers name their frames in full)
+};
+
 /// What a plugin takes from the world at spawn beyond its body and names; a plugin type lists what it needs
 /// (PluginType::needs), and only that is set in its PluginSetup.
 enum Need : unsigned {
@@ -63,6 +72,7 @@ struct PluginSetup {
   std::optional<std::string> robot_namespace;
   /// Where a plugin reports what it finds wrong while it is built (parameters it reads then); may be nullptr.
   Diagnostics* diagnostics = nullptr;
+  TfPrefixRule tf_prefix = TfPrefixRule::kSearched;  ///< its plugin type's
 
   // Only what the plugin's type needs (Need); the rest keep these values:
   Eigen::Vector3d gravity{0, 0, -9.81};
@@ -95,9 +105,10 @@ class Plugin {
   virtual std::vector<PortGroup> portGroups() const { return {}; }
   /// Changes whenever portGroups() does.
   virtual uint64_t portGroupsRevision() const { return 0; }
-  /// Whether the node prefixes the frames this plugin publishes with the robot's namespace. ros_control's
-  /// controllers publish their frames exactly as their parameters name them, as on a real robot.
-  virtual bool prefixesFrames() const { return true; }
+  /// How its frames take a tf_prefix.
+  TfPrefixRule tfPrefixRule() const { return tf_prefix_; }
+  /// Its frames written with a leading '/': they take no tf_prefix.
+  const std::set<std::string>& globalFrames() const { return global_frames_; }
 
   /// Phase 1: apply commands to the robot (motor targets) for this step.
   virtual void applyCommands(const StepTime&, RobotBody&) {}
@@ -139,6 +150,8 @@ class Plugin {
   std::string name_;
   std::string robot_namespace_;
   std::string where_;
+  TfPrefixRule tf_prefix_;
+  std::set<std::string> global_frames_;
   UpdateTimer timer_;
   uint64_t seed_;
   std::mt19937_64 noise_;

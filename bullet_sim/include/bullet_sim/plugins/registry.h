@@ -38,6 +38,7 @@ struct DrivenJoints {
   std::string base_frame;                 ///< the frame the wheels' directions are judged in
   /// Joints moved by a motor whose effort or speed is the URDF <limit>: a zero limit freezes them.
   std::vector<std::string> motors;
+  std::string motors_note;  ///< what the doctor adds about them ("" for nothing)
 };
 
 /// What decides a robot's wheel-ground model, for a plugin that has a say in it.
@@ -73,6 +74,7 @@ struct PluginType {
   TagTable tags;
   RateRule rate;
   unsigned needs = 0;  ///< the Need flags of what it takes from the world at spawn (PluginSetup)
+  TfPrefixRule tf_prefix = TfPrefixRule::kSearched;  ///< how its frames take a tf_prefix
   ConfigParser parse;  ///< reads its own tags; the registry then warns once about each other tag
   PluginFactory create;
   /// What it drives (empty for most plugins).
@@ -153,6 +155,7 @@ void capUpdateRate(PluginConfig& config, const DeclarationSource& source);
 
 /// parseModel with the built-in plugins.
 ModelSpec parseModel(const std::string& urdf_xml, const std::string& source, const PackageResolver& resolver,
-                     std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits());
+                     std::vector<std::string>* warnings = nullptr, const Limits& limits = Limits(),
+                     bool strict = false);
 
 }  // namespace bullet_sim

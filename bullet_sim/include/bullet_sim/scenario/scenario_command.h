@@ -8,6 +8,7 @@
 
 #include "bullet_sim/scenario/scenario_run.h"
 #include "bullet_sim/scenario/scenario_file.h"
+#include "bullet_sim/tools/run_recorder.h"
 
 namespace bullet_sim {
 
@@ -18,6 +19,8 @@ struct ScenarioCommand {
   std::optional<uint64_t> seed;     ///< overrides the scenario's
   std::string out;                  ///< "" = scenario_out/<name>
   bool video = false;
+  /// --bag (or any --bag-* option): a rosbag of the run, DIR/run.bag; its path is set by bagSettings.
+  std::optional<BagSettings> bag;
   bool list = false;  ///< with --matrix alone: print the matrix's cells as JSON
   bool help = false;
 };
@@ -27,6 +30,9 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv);
 
 /// The words that give `command` again (for scenario_host), without --list and --help.
 std::vector<std::string> scenarioArguments(const ScenarioCommand& command);
+
+/// The bag the command asks for, written into the run's folder `out`; nullopt without --bag.
+std::optional<BagSettings> bagSettings(const ScenarioCommand& command, const std::string& out);
 
 /// The scenario the command names, its seed applied, and what result.json says about where it came from.
 ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver, RunContext* context);

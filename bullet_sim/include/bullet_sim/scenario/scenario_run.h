@@ -15,6 +15,7 @@
 #include "bullet_sim/simulation/simulation.h"
 #include "bullet_sim/scenario/scenario_monitor.h"
 #include "bullet_sim/scenario/scenario_file.h"
+#include "bullet_sim/tools/run_recorder.h"
 
 namespace bullet_sim {
 
@@ -44,8 +45,8 @@ class TimelineDriver {
  public:
   /// Throws ScenarioError when a robot has no cmd_vel input, or a segment names no robot of the run.
   TimelineDriver(const ScenarioSpec& spec, const Simulation& simulation);
-  /// Sends what is due at the step about to be taken.
-  void beforeStep(const Simulation& simulation);
+  /// Sends what is due at the step about to be taken, and tells `recorder` (when given) what it sent.
+  void beforeStep(const Simulation& simulation, RunRecorder* recorder = nullptr);
 
  private:
   std::vector<TimelineSegment> segments_;
@@ -99,8 +100,13 @@ Verdict writeOutputs(const std::string& out, const RunContext& context, const Sc
 /// Writes result.json for a run that could not happen, with `why`.
 void writeErrorResult(const std::string& out, const RunContext& context, const std::string& why);
 
-/// Runs a timeline scenario in-process into `out`; `video` adds video.mp4 of the chase view. Throws
-/// ScenarioError, SpecError or std::runtime_error when it cannot run.
-Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const std::string& out, bool video);
+/// Records a run's robots into a bag (bagSettings), each in its own namespace and tf_prefix, of its name, when
+/// there are several (as a launch scenario has them). Errors writing it go to stderr; the run goes on.
+std::unique_ptr<RunRecorder> recordRobots(const BagSettings& settings, const Simulation& simulation);
+
+/// Runs a timeline scenario in-process into `out`; `video` adds video.mp4 of the chase view, `bag` a rosbag.
+/// Throws ScenarioError, SpecError or std::runtime_error when it cannot run.
+Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const std::string& out, bool video,
+                    const std::optional<BagSettings>& bag = std::nullopt);
 
 }  // namespace bullet_sim

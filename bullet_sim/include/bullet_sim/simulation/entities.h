@@ -1,6 +1,6 @@
 // What Gazebo's world API (gazebo_ros's api plugin) reads and changes, as plain values: the states of models
 // and links, their properties, scheduled wrenches and joint efforts, the physics properties. ROS-free; the
-// Simulation serves them (simulation.h), and the ROS layer only translates messages.
+// WorldApi serves them (world_api.h), and the ROS layer only translates messages.
 //
 // Entity names are Gazebo's: a model ("robot"), a link scoped by its model ("robot::base_link"), or a bare
 // link name, meaning the first model (in modelNames() order) that has such a link. Reference frames name an

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/model/convex_decomposition.h"
 #include "bullet_sim/model/model.h"
 #include "bullet_sim/model/world.h"
-#include "bullet_sim/simulation/entities.h"
 #include "bullet_sim/physics/physics_world.h"
 #include "bullet_sim/physics/robot_body.h"
 #include "bullet_sim/plugins/plugin.h"
@@ -45,9 +45,6 @@ using ImageSourceFactory = std::function<std::unique_ptr<ImageSource>(const Simu
 
 struct SimulationOptions {
   PhysicsOptions physics;
-  /// [steps per wall s] the pace whoever runs the simulation keeps; 0 = as fast as possible. The simulation
-  /// only reports it (physicsProperties), and the world API may change it.
-  double max_update_rate = 1000;
   uint64_t seed = 0;  ///< seeds every sensor's noise; the same inputs and seed give a bit-identical run
   /// Builds the robots' plugins: the registry their models were parsed with. It must outlive the simulation.
   const PluginRegistry* plugins = &PluginRegistry::builtin();
@@ -59,6 +56,8 @@ struct SimulationOptions {
   ImageSourceFactory images;
   /// A spawn pose farther than max_length from the origin is refused.
   Limits limits;
+  /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
+  std::string convex_cache_dir = convexCacheDir();
 };
 
 /// One of a robot's outputs whose samples are `Sample`s: the plugin publishing it, its topic and its stream.
@@ -145,6 +144,25 @@ class Robot {
   std::string wheel_model_;
 };
 
+/// Work that a part outside the simulation (the world API's scheduled wrenches and efforts) has done at every
+/// step. It hooks itself into the simulation for its lifetime, which the simulation must outlast.
+class StepHooks {
+ public:
+  StepHooks(const StepHooks&) = delete;
+  StepHooks& operator=(const StepHooks&) = delete;
+  /// At the start of each step, before the plugins apply their commands; time() is the step's start.
+  virtual void beforeStep() = 0;
+  /// After robot `name` was removed.
+  virtual void robotRemoved(const std::string& name) = 0;
+
+ protected:
+  explicit StepHooks(Simulation& simulation);
+  virtual ~StepHooks();
+
+ private:
+  Simulation& hooked_;
+};
+
 class Simulation {
  public:
   explicit Simulation(WorldSpec world, SimulationOptions options = {});
@@ -166,8 +184,12 @@ class Simulation {
   const Robot* robot(const std::string& name) const;
   std::vector<std::string> robotNames() const;
 
-  /// One step: plugins apply commands, physics advances by the step size, then plugins sense.
+  /// One step: plugins apply commands, physics advances by the step size (in substeps, where a robot's
+  /// stiffest spring or lightest link needs shorter ones), then plugins sense.
   void step();
+  /// One line on the physics substep robot `name` runs at, and what sets it. Throws std::invalid_argument
+  /// for an unknown robot.
+  std::string substepNote(const std::string& name) const;
   /// Robots back at their spawn poses and plugins as at spawn; time goes on.
   void resetWorld();
   /// resetWorld, and time restarts: the next step ends at t = step size.
@@ -175,61 +197,31 @@ class Simulation {
 
   double time() const { return timeAfter(steps_); }  ///< [s]
   uint64_t steps() const { return steps_; }
-  double stepSize() const { return options_.physics.step_size; }
+  double stepSize() const { return options_.physics.step_size; }  ///< [s]
+  /// [s] from the next step on; sim time goes on from where it is. Throws std::invalid_argument unless
+  /// positive and finite.
+  void setStepSize(double step_size);
+  /// Gravity and the Bullet world.
+  PhysicsWorld& physics() { return *physics_; }
   const WorldSpec& world() const { return world_; }
   const Limits& limits() const { return options_.limits; }
-  /// Where each of the world's models is now (parallel to world().models): the world API moves them.
+
+  /// Where each of the world's models is now (parallel to world().models).
   Eigen::Isometry3d worldModelPose(size_t model) const;
   /// The frame in which visual `visual` of world model `model` has its origin now: the model's frame, or,
   /// for a visual on a link that turned on a joint, that frame moved with the link. Its pose is this frame *
   /// its origin.
   Eigen::Isometry3d worldVisualFrame(size_t model, size_t visual) const;
-
-  // Gazebo's world API (entities.h says how entities are named). A request that cannot be honoured throws
-  // std::invalid_argument saying why, and changes nothing; a setter returns a note on what it left out, or
-  // "".
-
-  /// Any model or link, in the world frame; "", "world", "map" and "/map" are the world frame itself.
-  EntityState entityState(const std::string& entity) const;
-  /// Every model: the world's (static ones included), in file order, then the robots, in spawn order.
-  std::vector<std::string> modelNames() const;
-  /// Every model's world state under its name, in modelNames() order.
-  std::vector<NamedState> modelStates() const;
-  /// Every link of every model, scoped ("robot::base_link"): a robot's parts (links merged by fixed joints
-  /// count as one, named by the first), and the links of the world's models.
-  std::vector<NamedState> linkStates() const;
-  /// A model's state: its frame (a robot's root link) relative to `reference`.
-  EntityState modelState(const std::string& model, const std::string& reference = "") const;
-  /// Teleports a model: a robot keeps its joint positions, and every link takes the twist (so the joints
-  /// stop), as in Gazebo; a world model, static or not, moves with all its collisions.
-  std::string setModelState(const std::string& model, const EntityState& state,
-                            const std::string& reference = "");
-  /// Any link, also one that a fixed joint merges into its parent.
-  EntityState linkState(const std::string& link, const std::string& reference = "") const;
-  /// Teleports the model of a link that is rigidly attached to its model frame (a robot's root part, or any
-  /// link of a world model) so that the link gets `state`.
-  std::string setLinkState(const std::string& link, const EntityState& state,
-                           const std::string& reference = "");
-  ModelProperties modelProperties(const std::string& model) const;
-  LinkProperties linkProperties(const std::string& link) const;
-  JointProperties jointProperties(const std::string& joint) const;
-  /// Sets a robot's joints (others keep theirs) at rest; the root stays. Resets do not keep them.
-  void setModelConfiguration(const std::string& model, const std::map<std::string, double>& positions);
-  /// Drives a moving joint towards `velocity` [rad/s or m/s] with at most `max_effort` [N m or N] until
-  /// something else drives it (Gazebo's joint "vel" and "fmax").
-  void driveJoint(const std::string& joint, double velocity, double max_effort);
-  /// Schedules a wrench; it is applied, at the link's centre of mass, before every step in its window.
-  std::string applyBodyWrench(const BodyWrench& wrench);
-  /// Drops every wrench scheduled on `body` (named as in applyBodyWrench).
-  void clearBodyWrenches(const std::string& body);
-  std::string applyJointEffort(const JointEffort& effort);
-  void clearJointEfforts(const std::string& joint);
-  PhysicsProperties physicsProperties() const;
-  /// A new step size takes effect from the next step on; sim time goes on from where it is.
-  void setPhysicsProperties(const PhysicsProperties& properties);
+  /// Moves static world model `model`, with its collisions, to `pose`.
+  void moveWorldModel(size_t model, const Eigen::Isometry3d& pose);
+  /// The rigid body of non-static world model `model`, a robot without plugins; nullptr for a static one.
+  Robot* worldBody(size_t model);
+  /// After bodies moved between steps (a teleport, joints set), the ray caster (sensors, raycast wheels)
+  /// sees them where they are now.
+  void refreshRays();
 
  private:
-  struct Entity;  ///< a model, or one of its links (entities.cpp)
+  friend class StepHooks;
   /// A world model as it is now: where, and its ray-caster body; or, for a non-static one, its rigid body,
   /// which the world API treats as a robot without plugins.
   struct PlacedWorldModel {
@@ -241,22 +233,11 @@ class Simulation {
     std::vector<Eigen::Isometry3d> link_to_model;
     std::vector<size_t> visual_link;
   };
-  /// A scheduled wrench (world axes, about the link's centre of mass) or joint effort, between two sim times.
-  struct ScheduledWrench {
-    std::string robot, link;
-    Eigen::Vector3d force, torque;
-    double start, end;  ///< [s]; end is +infinity until cleared
-  };
-  struct ScheduledEffort {
-    std::string robot;
-    int joint;
-    double effort, start, end;
-  };
-
   double timeAfter(uint64_t steps) const {
     return time_base_ + static_cast<double>(steps - steps_at_base_) * options_.physics.step_size;
   }
-  void refreshRays();
+  /// Cuts the step into substeps no longer than any moving model's SubstepLimit, and tells them.
+  void fitSubsteps();
   /// The non-static world model `model` as a body at its pose in the file, into `placed`.
   void makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& placed);
   /// The robots and the world's bodies: what steps.
@@ -265,31 +246,16 @@ class Simulation {
   void addRayBodies(Robot& robot);
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
-  /// Applies the scheduled wrenches and efforts whose window holds the step that starts now; drops the ended.
-  void applyScheduled();
-  /// Drops every wrench and effort scheduled on robot `robot`.
-  void clearScheduled(const std::string& robot);
-  void moveWorldModel(size_t model, const Eigen::Isometry3d& pose);
-  /// Throws std::invalid_argument naming `what` and the names there are.
-  Entity findEntity(const std::string& name, const std::string& what) const;
-  Entity findModel(const std::string& name) const;
-  Entity findLink(const std::string& name) const;
-  /// The robot and link a wrench acts on: a link, or a robot meaning its root link.
-  std::pair<Robot*, std::string> findBody(const std::string& name) const;
-  /// The robot and joint index of a moving joint ("robot::joint" or a bare name).
-  std::pair<Robot*, int> findJoint(const std::string& name) const;
-  EntityState worldState(const Entity& entity) const;
-  std::string setWorldState(const Entity& model, const EntityState& state);
 
   WorldSpec world_;
   SimulationOptions options_;
   std::unique_ptr<PhysicsWorld> physics_;
   RayCaster rays_;
+  ConvexDecomposer decomposer_{options_.convex_cache_dir};
   std::unique_ptr<ImageSource> images_;         ///< outlives the robots' cameras
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
-  std::vector<ScheduledWrench> wrenches_;
-  std::vector<ScheduledEffort> efforts_;
+  std::vector<StepHooks*> hooks_;  ///< in the order they hooked in
   uint64_t steps_ = 0;
   double time_base_ = 0;        ///< [s] at steps_at_base_: the step size may change
   uint64_t steps_at_base_ = 0;

@@ -1,4 +1,4 @@
-#include "world_api.h"
+#include "gazebo_services.h"
 
 #include <tf2_eigen/tf2_eigen.h>
 #include <tinyxml2.h>
@@ -132,8 +132,9 @@ const char* const kNoLights =
 
 }  // namespace
 
-WorldApi::WorldApi(ros::NodeHandle private_node, Simulation& simulation, SimulationHost& host)
-    : node_(private_node), simulation_(simulation), host_(host), ode_(gazeboOdeDefaults()) {
+GazeboServices::GazeboServices(ros::NodeHandle private_node, Simulation& simulation, WorldApi& world,
+                               SimulationHost& host)
+    : node_(private_node), simulation_(simulation), world_(world), host_(host), ode_(gazeboOdeDefaults()) {
   const double rate = node_.param("model_states_rate", kDefaultStatesRate);
   states_period_ = rate > 0 && std::isfinite(rate) ? 1.0 / rate : 0.0;
   // Subscribers are counted as they come and go, as Gazebo does, so a step without any costs nothing.
@@ -144,41 +145,41 @@ WorldApi::WorldApi(ros::NodeHandle private_node, Simulation& simulation, Simulat
                                                             counting(model_listeners_, -1));
   link_states_ = node_.advertise<gazebo_msgs::LinkStates>("link_states", 10, counting(link_listeners_, 1),
                                                           counting(link_listeners_, -1));
-  subscribers_.push_back(node_.subscribe("set_model_state", 10, &WorldApi::onModelState, this));
-  subscribers_.push_back(node_.subscribe("set_link_state", 10, &WorldApi::onLinkState, this));
+  subscribers_.push_back(node_.subscribe("set_model_state", 10, &GazeboServices::onModelState, this));
+  subscribers_.push_back(node_.subscribe("set_link_state", 10, &GazeboServices::onLinkState, this));
   advertiseServices();
 }
 
-void WorldApi::advertiseServices() {
+void GazeboServices::advertiseServices() {
   const auto serve = [this](const std::string& name, auto method) {
     services_.push_back(node_.advertiseService(name, method, this));
   };
-  serve("spawn_urdf_model", &WorldApi::spawnUrdf);
-  serve("spawn_sdf_model", &WorldApi::spawnSdf);
-  serve("delete_model", &WorldApi::deleteModel);
-  serve("get_model_state", &WorldApi::getModelState);
-  serve("set_model_state", &WorldApi::setModelState);
-  serve("get_link_state", &WorldApi::getLinkState);
-  serve("set_link_state", &WorldApi::setLinkState);
-  serve("get_model_properties", &WorldApi::getModelProperties);
-  serve("get_world_properties", &WorldApi::getWorldProperties);
-  serve("get_joint_properties", &WorldApi::getJointProperties);
-  serve("set_joint_properties", &WorldApi::setJointProperties);
-  serve("get_link_properties", &WorldApi::getLinkProperties);
-  serve("set_link_properties", &WorldApi::setLinkProperties);
-  serve("set_model_configuration", &WorldApi::setModelConfiguration);
-  serve("apply_body_wrench", &WorldApi::applyBodyWrench);
-  serve("clear_body_wrenches", &WorldApi::clearBodyWrenches);
-  serve("apply_joint_effort", &WorldApi::applyJointEffort);
-  serve("clear_joint_forces", &WorldApi::clearJointForces);
-  serve("get_physics_properties", &WorldApi::getPhysicsProperties);
-  serve("set_physics_properties", &WorldApi::setPhysicsProperties);
+  serve("spawn_urdf_model", &GazeboServices::spawnUrdf);
+  serve("spawn_sdf_model", &GazeboServices::spawnSdf);
+  serve("delete_model", &GazeboServices::deleteModel);
+  serve("get_model_state", &GazeboServices::getModelState);
+  serve("set_model_state", &GazeboServices::setModelState);
+  serve("get_link_state", &GazeboServices::getLinkState);
+  serve("set_link_state", &GazeboServices::setLinkState);
+  serve("get_model_properties", &GazeboServices::getModelProperties);
+  serve("get_world_properties", &GazeboServices::getWorldProperties);
+  serve("get_joint_properties", &GazeboServices::getJointProperties);
+  serve("set_joint_properties", &GazeboServices::setJointProperties);
+  serve("get_link_properties", &GazeboServices::getLinkProperties);
+  serve("set_link_properties", &GazeboServices::setLinkProperties);
+  serve("set_model_configuration", &GazeboServices::setModelConfiguration);
+  serve("apply_body_wrench", &GazeboServices::applyBodyWrench);
+  serve("clear_body_wrenches", &GazeboServices::clearBodyWrenches);
+  serve("apply_joint_effort", &GazeboServices::applyJointEffort);
+  serve("clear_joint_forces", &GazeboServices::clearJointForces);
+  serve("get_physics_properties", &GazeboServices::getPhysicsProperties);
+  serve("set_physics_properties", &GazeboServices::setPhysicsProperties);
   services_.push_back(refuse<gazebo_msgs::DeleteLight>(node_, "delete_light", kNoLights));
   services_.push_back(refuse<gazebo_msgs::GetLightProperties>(node_, "get_light_properties", kNoLights));
   services_.push_back(refuse<gazebo_msgs::SetLightProperties>(node_, "set_light_properties", kNoLights));
 }
 
-void WorldApi::afterStep() {
+void GazeboServices::afterStep() {
   if (model_listeners_ <= 0 && link_listeners_ <= 0) return;
   const double now = simulation_.time();
   if (now < states_due_ - states_period_) states_due_ = 0;  // time went back: a reset
@@ -187,10 +188,10 @@ void WorldApi::afterStep() {
   states_due_ = now + states_period_;
 }
 
-void WorldApi::publishStates() {
+void GazeboServices::publishStates() {
   if (model_listeners_ > 0) {
     gazebo_msgs::ModelStates message;
-    for (const NamedState& model : simulation_.modelStates()) {
+    for (const NamedState& model : world_.modelStates()) {
       message.name.push_back(model.name);
       fromState(model.state, message.pose.emplace_back(), message.twist.emplace_back());
     }
@@ -198,7 +199,7 @@ void WorldApi::publishStates() {
   }
   if (link_listeners_ > 0) {
     gazebo_msgs::LinkStates message;
-    for (const NamedState& link : simulation_.linkStates()) {
+    for (const NamedState& link : world_.linkStates()) {
       message.name.push_back(link.name);
       fromState(link.state, message.pose.emplace_back(), message.twist.emplace_back());
     }
@@ -206,14 +207,15 @@ void WorldApi::publishStates() {
   }
 }
 
-std::string WorldApi::spawn(const gazebo_msgs::SpawnModel::Request& request, bool sdf_too) {
+std::string GazeboServices::spawn(const gazebo_msgs::SpawnModel::Request& request, bool sdf_too) {
   const std::string source = "model [" + request.model_name + "]";
   std::vector<std::string> warnings;
   const std::string root = rootElement(request.model_xml);
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   ModelSpec model;
   if (root == "robot") {
-    model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits());
+    model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits(),
+                       node_.param("strict_models", false));
   } else if (root == "sdf" && sdf_too) {
     model = parseSdfModel(request.model_xml, source, resolver, PluginRegistry::builtin(), &warnings,
                           simulation_.limits());
@@ -226,31 +228,31 @@ std::string WorldApi::spawn(const gazebo_msgs::SpawnModel::Request& request, boo
   }
   // Gazebo places the model frame at the initial pose (composed with the model's own <pose>), taken in the
   // reference frame; the robot's root link sits in it.
-  const Eigen::Isometry3d pose = simulation_.entityState(request.reference_frame).pose *
+  const Eigen::Isometry3d pose = world_.entityState(request.reference_frame).pose *
                                  toIsometry(request.initial_pose) * model.placement * model.root_in_model;
   host_.spawnRobot(request.model_name, std::move(model), spawnPoseAt(pose), request.robot_namespace,
                    &warnings);
   return "SpawnModel: spawned " + source + joined(warnings);
 }
 
-bool WorldApi::spawnUrdf(gazebo_msgs::SpawnModel::Request& request,
+bool GazeboServices::spawnUrdf(gazebo_msgs::SpawnModel::Request& request,
                          gazebo_msgs::SpawnModel::Response& response) {
   answer(response, [&] { return spawn(request, /*sdf_too=*/false); });
   if (!response.success) ROS_ERROR("spawn_urdf_model refused: %s", response.status_message.c_str());
   return true;
 }
 
-bool WorldApi::spawnSdf(gazebo_msgs::SpawnModel::Request& request,
+bool GazeboServices::spawnSdf(gazebo_msgs::SpawnModel::Request& request,
                         gazebo_msgs::SpawnModel::Response& response) {
   answer(response, [&] { return spawn(request, /*sdf_too=*/true); });
   if (!response.success) ROS_ERROR("spawn_sdf_model refused: %s", response.status_message.c_str());
   return true;
 }
 
-bool WorldApi::deleteModel(gazebo_msgs::DeleteModel::Request& request,
+bool GazeboServices::deleteModel(gazebo_msgs::DeleteModel::Request& request,
                            gazebo_msgs::DeleteModel::Response& response) {
   return answer(response, [&] {
-    const std::vector<std::string> models = simulation_.modelNames();
+    const std::vector<std::string> models = world_.modelNames();
     if (host_.deleteRobot(request.model_name))
       return "DeleteModel: deleted model [" + request.model_name + "]";
     if (std::find(models.begin(), models.end(), request.model_name) != models.end()) {
@@ -263,10 +265,10 @@ bool WorldApi::deleteModel(gazebo_msgs::DeleteModel::Request& request,
   });
 }
 
-bool WorldApi::getModelState(gazebo_msgs::GetModelState::Request& request,
+bool GazeboServices::getModelState(gazebo_msgs::GetModelState::Request& request,
                              gazebo_msgs::GetModelState::Response& response) {
   return answer(response, [&] {
-    const EntityState state = simulation_.modelState(request.model_name, request.relative_entity_name);
+    const EntityState state = world_.modelState(request.model_name, request.relative_entity_name);
     fromState(state, response.pose, response.twist);
     response.header.seq = ++state_requests_[request.model_name];
     response.header.stamp = ros::Time(simulation_.time());
@@ -275,17 +277,17 @@ bool WorldApi::getModelState(gazebo_msgs::GetModelState::Request& request,
   });
 }
 
-bool WorldApi::setModelState(gazebo_msgs::SetModelState::Request& request,
+bool GazeboServices::setModelState(gazebo_msgs::SetModelState::Request& request,
                              gazebo_msgs::SetModelState::Response& response) {
   return answer(response, [&] {
     const gazebo_msgs::ModelState& state = request.model_state;
     const std::string note =
-        simulation_.setModelState(state.model_name, toState(state.pose, state.twist), state.reference_frame);
+        world_.setModelState(state.model_name, toState(state.pose, state.twist), state.reference_frame);
     return note.empty() ? "SetModelState: set model state done" : note;
   });
 }
 
-void WorldApi::onModelState(const gazebo_msgs::ModelState::ConstPtr& state) {
+void GazeboServices::onModelState(const gazebo_msgs::ModelState::ConstPtr& state) {
   gazebo_msgs::SetModelState::Request request;
   gazebo_msgs::SetModelState::Response response;
   request.model_state = *state;
@@ -293,10 +295,10 @@ void WorldApi::onModelState(const gazebo_msgs::ModelState::ConstPtr& state) {
   if (!response.success) ROS_WARN_THROTTLE(1, "set_model_state: %s", response.status_message.c_str());
 }
 
-bool WorldApi::getLinkState(gazebo_msgs::GetLinkState::Request& request,
+bool GazeboServices::getLinkState(gazebo_msgs::GetLinkState::Request& request,
                             gazebo_msgs::GetLinkState::Response& response) {
   return answer(response, [&] {
-    const EntityState state = simulation_.linkState(request.link_name, request.reference_frame);
+    const EntityState state = world_.linkState(request.link_name, request.reference_frame);
     fromState(state, response.link_state.pose, response.link_state.twist);
     response.link_state.link_name = request.link_name;
     response.link_state.reference_frame = request.reference_frame;
@@ -304,17 +306,17 @@ bool WorldApi::getLinkState(gazebo_msgs::GetLinkState::Request& request,
   });
 }
 
-bool WorldApi::setLinkState(gazebo_msgs::SetLinkState::Request& request,
+bool GazeboServices::setLinkState(gazebo_msgs::SetLinkState::Request& request,
                             gazebo_msgs::SetLinkState::Response& response) {
   return answer(response, [&] {
     const gazebo_msgs::LinkState& state = request.link_state;
     const std::string note =
-        simulation_.setLinkState(state.link_name, toState(state.pose, state.twist), state.reference_frame);
+        world_.setLinkState(state.link_name, toState(state.pose, state.twist), state.reference_frame);
     return note.empty() ? "SetLinkState: success" : note;
   });
 }
 
-void WorldApi::onLinkState(const gazebo_msgs::LinkState::ConstPtr& state) {
+void GazeboServices::onLinkState(const gazebo_msgs::LinkState::ConstPtr& state) {
   gazebo_msgs::SetLinkState::Request request;
   gazebo_msgs::SetLinkState::Response response;
   request.link_state = *state;
@@ -322,10 +324,10 @@ void WorldApi::onLinkState(const gazebo_msgs::LinkState::ConstPtr& state) {
   if (!response.success) ROS_WARN_THROTTLE(1, "set_link_state: %s", response.status_message.c_str());
 }
 
-bool WorldApi::getModelProperties(gazebo_msgs::GetModelProperties::Request& request,
+bool GazeboServices::getModelProperties(gazebo_msgs::GetModelProperties::Request& request,
                                   gazebo_msgs::GetModelProperties::Response& response) {
   return answer(response, [&] {
-    const ModelProperties properties = simulation_.modelProperties(request.model_name);
+    const ModelProperties properties = world_.modelProperties(request.model_name);
     response.body_names = properties.body_names;
     response.canonical_body_name = properties.body_names.empty() ? "" : properties.body_names.front();
     response.geom_names = properties.geom_names;
@@ -336,20 +338,20 @@ bool WorldApi::getModelProperties(gazebo_msgs::GetModelProperties::Request& requ
   });
 }
 
-bool WorldApi::getWorldProperties(gazebo_msgs::GetWorldProperties::Request&,
+bool GazeboServices::getWorldProperties(gazebo_msgs::GetWorldProperties::Request&,
                                   gazebo_msgs::GetWorldProperties::Response& response) {
   return answer(response, [&] {
     response.sim_time = simulation_.time();
-    response.model_names = simulation_.modelNames();
+    response.model_names = world_.modelNames();
     response.rendering_enabled = true;  // cameras render, headless
     return "GetWorldProperties: got properties";
   });
 }
 
-bool WorldApi::getJointProperties(gazebo_msgs::GetJointProperties::Request& request,
+bool GazeboServices::getJointProperties(gazebo_msgs::GetJointProperties::Request& request,
                                   gazebo_msgs::GetJointProperties::Response& response) {
   return answer(response, [&] {
-    const JointProperties properties = simulation_.jointProperties(request.joint_name);
+    const JointProperties properties = world_.jointProperties(request.joint_name);
     response.type = jointType(properties.type);
     response.damping = {properties.damping};
     response.position = {properties.position};
@@ -358,10 +360,10 @@ bool WorldApi::getJointProperties(gazebo_msgs::GetJointProperties::Request& requ
   });
 }
 
-bool WorldApi::getLinkProperties(gazebo_msgs::GetLinkProperties::Request& request,
+bool GazeboServices::getLinkProperties(gazebo_msgs::GetLinkProperties::Request& request,
                                  gazebo_msgs::GetLinkProperties::Response& response) {
   return answer(response, [&] {
-    const LinkProperties properties = simulation_.linkProperties(request.link_name);
+    const LinkProperties properties = world_.linkProperties(request.link_name);
     response.com = tf2::toMsg(Eigen::Isometry3d(Eigen::Translation3d(properties.com)));
     response.gravity_mode = properties.gravity;
     response.mass = properties.mass;
@@ -376,10 +378,10 @@ bool WorldApi::getLinkProperties(gazebo_msgs::GetLinkProperties::Request& reques
   });
 }
 
-bool WorldApi::setLinkProperties(gazebo_msgs::SetLinkProperties::Request& request,
+bool GazeboServices::setLinkProperties(gazebo_msgs::SetLinkProperties::Request& request,
                                  gazebo_msgs::SetLinkProperties::Response& response) {
   return answer(response, [&] {
-    const LinkProperties now = simulation_.linkProperties(request.link_name);
+    const LinkProperties now = world_.linkProperties(request.link_name);
     const auto differs = [](double a, double b) { return !sameValue(a, b); };
     std::vector<std::string> changed;
     if (differs(request.mass, now.mass)) changed.push_back("mass");
@@ -402,11 +404,11 @@ bool WorldApi::setLinkProperties(gazebo_msgs::SetLinkProperties::Request& reques
   });
 }
 
-bool WorldApi::setJointProperties(gazebo_msgs::SetJointProperties::Request& request,
+bool GazeboServices::setJointProperties(gazebo_msgs::SetJointProperties::Request& request,
                                   gazebo_msgs::SetJointProperties::Response& response) {
   return answer(response, [&] {
     const gazebo_msgs::ODEJointProperties& ode = request.ode_joint_config;
-    const JointProperties now = simulation_.jointProperties(request.joint_name);
+    const JointProperties now = world_.jointProperties(request.joint_name);
     std::string refused, unused;
     const auto check = [&](const char* name, const std::vector<double>& values, const double* current) {
       if (values.empty()) return;
@@ -434,13 +436,13 @@ bool WorldApi::setJointProperties(gazebo_msgs::SetJointProperties::Request& requ
                  "vel and fmax drive the joint's motor together, " + "one value each";
     }
     if (!refused.empty()) throw std::invalid_argument("SetJointProperties: " + refused);
-    if (!ode.vel.empty()) simulation_.driveJoint(request.joint_name, ode.vel[0], ode.fmax[0]);
+    if (!ode.vel.empty()) world_.driveJoint(request.joint_name, ode.vel[0], ode.fmax[0]);
     return "SetJointProperties: properties set" +
            (unused.empty() ? "" : "; accepted but not used (ODE's solver settings): " + unused);
   });
 }
 
-bool WorldApi::setModelConfiguration(gazebo_msgs::SetModelConfiguration::Request& request,
+bool GazeboServices::setModelConfiguration(gazebo_msgs::SetModelConfiguration::Request& request,
                                      gazebo_msgs::SetModelConfiguration::Response& response) {
   return answer(response, [&] {
     if (request.joint_names.size() != request.joint_positions.size()) {
@@ -451,12 +453,12 @@ bool WorldApi::setModelConfiguration(gazebo_msgs::SetModelConfiguration::Request
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       positions[request.joint_names[i]] = request.joint_positions[i];
     }
-    simulation_.setModelConfiguration(request.model_name, positions);
+    world_.setModelConfiguration(request.model_name, positions);
     return "SetModelConfiguration: success";
   });
 }
 
-bool WorldApi::applyBodyWrench(gazebo_msgs::ApplyBodyWrench::Request& request,
+bool GazeboServices::applyBodyWrench(gazebo_msgs::ApplyBodyWrench::Request& request,
                                gazebo_msgs::ApplyBodyWrench::Response& response) {
   return answer(response, [&] {
     BodyWrench wrench;
@@ -466,43 +468,43 @@ bool WorldApi::applyBodyWrench(gazebo_msgs::ApplyBodyWrench::Request& request,
     tf2::fromMsg(request.wrench.force, wrench.force);
     tf2::fromMsg(request.wrench.torque, wrench.torque);
     wrench.schedule = {request.start_time.toSec(), request.duration.toSec()};
-    return simulation_.applyBodyWrench(wrench);
+    return world_.applyBodyWrench(wrench);
   });
 }
 
-bool WorldApi::clearBodyWrenches(gazebo_msgs::BodyRequest::Request& request,
+bool GazeboServices::clearBodyWrenches(gazebo_msgs::BodyRequest::Request& request,
                                  gazebo_msgs::BodyRequest::Response&) {
   try {
-    simulation_.clearBodyWrenches(request.body_name);
+    world_.clearBodyWrenches(request.body_name);
   } catch (const std::exception& e) {
     ROS_WARN("clear_body_wrenches: %s", e.what());  // its response has no fields to say it in
   }
   return true;
 }
 
-bool WorldApi::applyJointEffort(gazebo_msgs::ApplyJointEffort::Request& request,
+bool GazeboServices::applyJointEffort(gazebo_msgs::ApplyJointEffort::Request& request,
                                 gazebo_msgs::ApplyJointEffort::Response& response) {
   return answer(response, [&] {
-    const std::string note = simulation_.applyJointEffort(
+    const std::string note = world_.applyJointEffort(
         {request.joint_name, request.effort, {request.start_time.toSec(), request.duration.toSec()}});
     return note.empty() ? "ApplyJointEffort: effort set" : note;
   });
 }
 
-bool WorldApi::clearJointForces(gazebo_msgs::JointRequest::Request& request,
+bool GazeboServices::clearJointForces(gazebo_msgs::JointRequest::Request& request,
                                 gazebo_msgs::JointRequest::Response&) {
   try {
-    simulation_.clearJointEfforts(request.joint_name);
+    world_.clearJointEfforts(request.joint_name);
   } catch (const std::exception& e) {
     ROS_WARN("clear_joint_forces: %s", e.what());  // its response has no fields to say it in
   }
   return true;
 }
 
-bool WorldApi::getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request&,
+bool GazeboServices::getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request&,
                                     gazebo_msgs::GetPhysicsProperties::Response& response) {
   return answer(response, [&] {
-    const PhysicsProperties physics = simulation_.physicsProperties();
+    const PhysicsProperties physics = world_.physicsProperties();
     response.time_step = physics.step_size;
     response.pause = host_.paused();
     response.max_update_rate = physics.max_update_rate;
@@ -512,12 +514,12 @@ bool WorldApi::getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request&,
   });
 }
 
-bool WorldApi::setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& request,
+bool GazeboServices::setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& request,
                                     gazebo_msgs::SetPhysicsProperties::Response& response) {
   return answer(response, [&] {
     PhysicsProperties physics{request.time_step, request.max_update_rate, {}};
     tf2::fromMsg(request.gravity, physics.gravity);
-    simulation_.setPhysicsProperties(physics);
+    world_.setPhysicsProperties(physics);
     ode_ = request.ode_config;
     host_.physicsChanged();
     return std::string(

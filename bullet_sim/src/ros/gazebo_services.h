@@ -1,5 +1,5 @@
-// The world API of gazebo_ros's api plugin, with gazebo_msgs types, under the simulator's private namespace
-// (/gazebo): it translates messages to the core's entity operations (Simulation, entities.h) and back.
+// The services and topics of gazebo_ros's api plugin, with gazebo_msgs types, under the simulator's private
+// namespace (/gazebo): they translate messages to the core's world API (simulation/world_api.h) and back.
 //
 // Topics: model_states and link_states (published after a step while someone subscribes, at most
 //   ~model_states_rate [sim Hz, default 1000; 0 = every step] each), set_model_state and set_link_state (in).
@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "bullet_sim/simulation/simulation.h"
+#include "bullet_sim/simulation/world_api.h"
 
 namespace bullet_sim {
 
@@ -59,9 +60,9 @@ class SimulationHost {
   virtual void physicsChanged() = 0;
 };
 
-class WorldApi {
+class GazeboServices {
  public:
-  WorldApi(ros::NodeHandle private_node, Simulation& simulation, SimulationHost& host);
+  GazeboServices(ros::NodeHandle private_node, Simulation& simulation, WorldApi& world, SimulationHost& host);
 
   /// Publishes model_states and link_states when they are due and someone listens; call after each step.
   void afterStep();
@@ -113,6 +114,7 @@ class WorldApi {
 
   ros::NodeHandle node_;
   Simulation& simulation_;
+  WorldApi& world_;
   SimulationHost& host_;
   std::vector<ros::ServiceServer> services_;
   std::vector<ros::Subscriber> subscribers_;

@@ -1,6 +1,6 @@
-// The Simulation's side of Gazebo's world API (entities.h): naming entities, their states in reference
-// frames, teleports, scheduled wrenches and efforts, physics properties. The semantics are those of
-// gazebo_ros's api plugin (noetic), unless a comment says otherwise.
+// Gazebo's world API over a simulation (world_api.h): naming entities, their states in reference frames,
+// teleports, scheduled wrenches and efforts, physics properties. The semantics are those of gazebo_ros's
+// api plugin (noetic), unless a comment says otherwise.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,7 +9,7 @@
 
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/gazebo_names.h"
-#include "bullet_sim/simulation/simulation.h"
+#include "bullet_sim/simulation/world_api.h"
 
 namespace bullet_sim {
 
@@ -87,30 +87,26 @@ double windowEnd(const Schedule& schedule, double start, double step) {
 
 }  // namespace
 
-struct Simulation::Entity {
-  Robot* robot = nullptr;  ///< the model is a robot,
-  int world_model = -1;    ///< or the world's model of this index
-  std::string link;        ///< "" for the model itself
-};
+WorldApi::WorldApi(Simulation& simulation, double max_update_rate)
+    : StepHooks(simulation), simulation_(simulation), max_update_rate_(max_update_rate) {}
 
-std::vector<std::string> Simulation::modelNames() const {
+std::vector<std::string> WorldApi::modelNames() const {
   std::vector<std::string> names;
-  for (const auto& model : world_.models) names.push_back(model.name);
-  for (const auto& robot : robots_) names.push_back(robot->name());
+  for (const auto& model : simulation_.world().models) names.push_back(model.name);
+  for (const std::string& robot : simulation_.robotNames()) names.push_back(robot);
   return names;
 }
 
-Simulation::Entity Simulation::findModel(const std::string& name) const {
-  for (size_t i = 0; i < world_.models.size(); ++i) {
-    if (world_.models[i].name == name) return {world_models_[i].body.get(), static_cast<int>(i), ""};
+WorldApi::Entity WorldApi::findModel(const std::string& name) const {
+  const std::vector<WorldModelSpec>& world_models = simulation_.world().models;
+  for (size_t i = 0; i < world_models.size(); ++i) {
+    if (world_models[i].name == name) return {simulation_.worldBody(i), static_cast<int>(i), ""};
   }
-  for (const auto& robot : robots_) {
-    if (robot->name() == name) return {robot.get(), -1, ""};
-  }
+  if (Robot* robot = simulation_.robot(name)) return {robot, -1, ""};
   throw std::invalid_argument("no model [" + name + "]" + didYouMean(name, modelNames()));
 }
 
-Simulation::Entity Simulation::findEntity(const std::string& name, const std::string& what) const {
+WorldApi::Entity WorldApi::findEntity(const std::string& name, const std::string& what) const {
   // Gazebo looks a name up as a model, then as a scoped link, then as any model's link of that bare name.
   std::vector<std::string> known;
   for (const std::string& model_name : modelNames()) {
@@ -120,7 +116,9 @@ Simulation::Entity Simulation::findEntity(const std::string& name, const std::st
     if (model.robot) {
       links = model.robot->body().spec().linkNames();
     } else {
-      for (const auto& link : world_.models[model.world_model].links) links.push_back(link.name);
+      for (const auto& link : simulation_.world().models[model.world_model].links) {
+        links.push_back(link.name);
+      }
     }
     for (const std::string& link : links) {
       if (scoped(model_name, link) == name) return {model.robot, model.world_model, link};
@@ -137,7 +135,7 @@ Simulation::Entity Simulation::findEntity(const std::string& name, const std::st
                               "; name a link as model::link");
 }
 
-Simulation::Entity Simulation::findLink(const std::string& name) const {
+WorldApi::Entity WorldApi::findLink(const std::string& name) const {
   Entity entity = findEntity(name, "link");
   if (entity.link.empty()) {
     throw std::invalid_argument("[" + name + "] is a model, not a link: name one of its links as [" + name +
@@ -146,7 +144,7 @@ Simulation::Entity Simulation::findLink(const std::string& name) const {
   return entity;
 }
 
-std::pair<Robot*, std::string> Simulation::findBody(const std::string& name) const {
+std::pair<Robot*, std::string> WorldApi::findBody(const std::string& name) const {
   const Entity entity = findEntity(name, "body");
   if (entity.robot && entity.robot->body().spec().is_static) {
     throw std::invalid_argument("body [" + name + "] belongs to static model [" + entity.robot->name() +
@@ -154,17 +152,23 @@ std::pair<Robot*, std::string> Simulation::findBody(const std::string& name) con
   }
   if (!entity.robot) {
     throw std::invalid_argument("body [" + name + "] belongs to the world's static model [" +
-                                world_.models[entity.world_model].name + "]: it takes no wrench");
+                                simulation_.world().models[entity.world_model].name +
+                                "]: it takes no wrench");
   }
   return {entity.robot, entity.link.empty() ? entity.robot->body().spec().root : entity.link};
 }
 
-std::pair<Robot*, int> Simulation::findJoint(const std::string& name) const {
-  std::vector<Robot*> models;  // the world's bodies, then the robots, as modelNames() lists them
-  for (const auto& placed : world_models_) {
-    if (placed.body) models.push_back(placed.body.get());
+std::vector<Robot*> WorldApi::modelsWithJoints() const {
+  std::vector<Robot*> models;
+  for (size_t i = 0; i < simulation_.world().models.size(); ++i) {
+    if (Robot* body = simulation_.worldBody(i)) models.push_back(body);
   }
-  for (const auto& robot : robots_) models.push_back(robot.get());
+  for (const std::string& robot : simulation_.robotNames()) models.push_back(simulation_.robot(robot));
+  return models;
+}
+
+std::pair<Robot*, int> WorldApi::findJoint(const std::string& name) const {
+  const std::vector<Robot*> models = modelsWithJoints();
   std::vector<std::string> known;
   for (Robot* robot : models) {
     for (const JointSpec& joint : robot->body().spec().joints) {
@@ -186,12 +190,12 @@ std::pair<Robot*, int> Simulation::findJoint(const std::string& name) const {
   throw std::invalid_argument("no moving joint [" + name + "]" + didYouMean(name, known));
 }
 
-EntityState Simulation::worldState(const Entity& entity) const {
+EntityState WorldApi::worldState(const Entity& entity) const {
   if (!entity.robot) {
     EntityState state;
-    state.pose = world_models_[entity.world_model].pose;
+    state.pose = simulation_.worldModelPose(entity.world_model);
     if (!entity.link.empty()) {
-      for (const auto& link : world_.models[entity.world_model].links) {
+      for (const auto& link : simulation_.world().models[entity.world_model].links) {
         if (link.name == entity.link) state.pose = state.pose * link.pose;
       }
     }
@@ -205,56 +209,57 @@ EntityState Simulation::worldState(const Entity& entity) const {
   return {body.linkPose(link) * frame, body.linkLinearVelocity(link), body.linkAngularVelocity(link)};
 }
 
-EntityState Simulation::entityState(const std::string& entity) const {
+EntityState WorldApi::entityState(const std::string& entity) const {
   return isWorldFrame(entity) ? EntityState{} : worldState(findEntity(entity, "reference frame"));
 }
 
-std::vector<NamedState> Simulation::modelStates() const {
+std::vector<NamedState> WorldApi::modelStates() const {
   std::vector<NamedState> states;
   for (const std::string& name : modelNames()) states.push_back({name, worldState(findModel(name))});
   return states;
 }
 
-std::vector<NamedState> Simulation::linkStates() const {
+std::vector<NamedState> WorldApi::linkStates() const {
   std::vector<NamedState> states;
-  for (size_t i = 0; i < world_.models.size(); ++i) {
-    for (const auto& link : world_.models[i].links) {
-      states.push_back({scoped(world_.models[i].name, link.name),
-                        worldState({world_models_[i].body.get(), static_cast<int>(i), link.name})});
+  const std::vector<WorldModelSpec>& world_models = simulation_.world().models;
+  for (size_t i = 0; i < world_models.size(); ++i) {
+    for (const auto& link : world_models[i].links) {
+      states.push_back({scoped(world_models[i].name, link.name),
+                        worldState({simulation_.worldBody(i), static_cast<int>(i), link.name})});
     }
   }
-  for (const auto& robot : robots_) {
+  for (const std::string& name : simulation_.robotNames()) {
+    Robot* robot = simulation_.robot(name);
     for (const RobotPart& part : robot->body().parts()) {
-      states.push_back(
-          {scoped(robot->name(), part.root_link), worldState({robot.get(), -1, part.root_link})});
+      states.push_back({scoped(name, part.root_link), worldState({robot, -1, part.root_link})});
     }
   }
   return states;
 }
 
-EntityState Simulation::modelState(const std::string& model, const std::string& reference) const {
+EntityState WorldApi::modelState(const std::string& model, const std::string& reference) const {
   const EntityState state = worldState(findModel(model));
   return isWorldFrame(reference) ? state : relativeTo(state, entityState(reference));
 }
 
-EntityState Simulation::linkState(const std::string& link, const std::string& reference) const {
+EntityState WorldApi::linkState(const std::string& link, const std::string& reference) const {
   const EntityState state = worldState(findLink(link));
   return isWorldFrame(reference) ? state : relativeTo(state, entityState(reference));
 }
 
-std::string Simulation::setModelState(const std::string& model, const EntityState& state,
+std::string WorldApi::setModelState(const std::string& model, const EntityState& state,
                                       const std::string& reference) {
   const Entity entity = findModel(model);
   const EntityState target = inWorld(state, entityState(reference));
-  checkState(target, "model [" + model + "]", options_.limits);
+  checkState(target, "model [" + model + "]", simulation_.limits());
   return setWorldState(entity, target);
 }
 
-std::string Simulation::setLinkState(const std::string& link, const EntityState& state,
+std::string WorldApi::setLinkState(const std::string& link, const EntityState& state,
                                      const std::string& reference) {
   const Entity entity = findLink(link);
   const EntityState target = inWorld(state, entityState(reference));
-  checkState(target, "link [" + link + "]", options_.limits);
+  checkState(target, "link [" + link + "]", simulation_.limits());
   if (!entity.robot) {
     const Entity model{nullptr, entity.world_model, ""};
     const Eigen::Isometry3d in_model = worldState(model).pose.inverse() * worldState(entity).pose;
@@ -278,42 +283,30 @@ std::string Simulation::setLinkState(const std::string& link, const EntityState&
   return setWorldState({entity.robot, -1, ""}, {root, linear, target.angular});
 }
 
-std::string Simulation::setWorldState(const Entity& model, const EntityState& state) {
+std::string WorldApi::setWorldState(const Entity& model, const EntityState& state) {
   const bool still = state.linear.isZero() && state.angular.isZero();
   if (model.robot) {
-    PhysicsRobot& body = *model.robot->body_;
+    PhysicsRobot& body = model.robot->body();
     body.teleport(state.pose * body.spec().root_in_model);
     body.setRootVelocity(state.linear, state.angular);
-    refreshRays();
+    simulation_.refreshRays();
     if (still || !body.spec().is_static) return "";
     return "model [" + model.robot->name() +
            "] is static: it moved, but it does not move by itself, so its "
            "twist is ignored";
   }
-  moveWorldModel(model.world_model, state.pose);
+  simulation_.moveWorldModel(model.world_model, state.pose);
   if (still) return "";
-  return "the world's model [" + world_.models[model.world_model].name +
+  return "the world's model [" + simulation_.world().models[model.world_model].name +
          "] is static geometry in bullet_sim: it moved, but it does not move by itself, so its twist is "
          "ignored";
 }
 
-void Simulation::moveWorldModel(size_t model, const Eigen::Isometry3d& pose) {
-  PlacedWorldModel& placed = world_models_.at(model);
-  placed.pose = pose;
-  physics_->setModelPose(model, pose);
-  if (placed.ray_body != kNoBody) {
-    // Static bodies share one tree, so a moved one is taken out and put back in.
-    rays_.removeBody(placed.ray_body);
-    placed.ray_body = rays_.addBody(world_.models[model].collisions, pose, /*is_static=*/true);
-    rays_.commit();
-  }
-}
-
-ModelProperties Simulation::modelProperties(const std::string& model) const {
+ModelProperties WorldApi::modelProperties(const std::string& model) const {
   const Entity entity = findModel(model);
   ModelProperties properties;
   if (entity.world_model >= 0) {  // named as its file names them
-    const WorldModelSpec& spec = world_.models[entity.world_model];
+    const WorldModelSpec& spec = simulation_.world().models[entity.world_model];
     properties.is_static = spec.is_static;
     for (const auto& joint : spec.joints) properties.joint_names.push_back(joint.name);
     std::set<std::string> children;
@@ -341,11 +334,11 @@ ModelProperties Simulation::modelProperties(const std::string& model) const {
   return properties;
 }
 
-LinkProperties Simulation::linkProperties(const std::string& link) const {
+LinkProperties WorldApi::linkProperties(const std::string& link) const {
   const Entity entity = findLink(link);
   if (!entity.robot) {
     throw std::invalid_argument("link [" + link + "] belongs to the world's static model [" +
-                                world_.models[entity.world_model].name +
+                                simulation_.world().models[entity.world_model].name +
                                 "], which bullet_sim keeps as static geometry, without mass");
   }
   const LinkSpec& spec = *entity.robot->body().spec().link(entity.link);
@@ -359,7 +352,7 @@ LinkProperties Simulation::linkProperties(const std::string& link) const {
   return properties;
 }
 
-JointProperties Simulation::jointProperties(const std::string& joint) const {
+JointProperties WorldApi::jointProperties(const std::string& joint) const {
   const auto [robot, index] = findJoint(joint);
   const RobotBody& body = robot->body();
   const std::string bare = joint.substr(joint.rfind("::") == std::string::npos ? 0 : joint.rfind("::") + 2);
@@ -368,13 +361,13 @@ JointProperties Simulation::jointProperties(const std::string& joint) const {
           spec.upper};
 }
 
-void Simulation::setModelConfiguration(const std::string& model,
+void WorldApi::setModelConfiguration(const std::string& model,
                                        const std::map<std::string, double>& positions) {
   const Entity entity = findModel(model);
   if (!entity.robot) {
     throw std::invalid_argument("model [" + model + "] is the world's: bullet_sim keeps its joints rigid");
   }
-  PhysicsRobot& body = *entity.robot->body_;
+  PhysicsRobot& body = entity.robot->body();
   std::string problems;
   JointPositions joints;
   for (const auto& [joint, position] : positions) {
@@ -382,7 +375,7 @@ void Simulation::setModelConfiguration(const std::string& model,
     if (index < 0) {
       problems += "; [" + joint + "] is not a moving joint of [" + model + "]" +
                   didYouMean(joint, body.spec().jointNames());
-    } else if (auto problem = boundProblem(position, options_.limits.max_length, "max_length", "")) {
+    } else if (auto problem = boundProblem(position, simulation_.limits().max_length, "max_length", "")) {
       problems += "; the position of [" + joint + "] " + *problem;
     } else {
       joints.emplace_back(index, position);
@@ -390,10 +383,10 @@ void Simulation::setModelConfiguration(const std::string& model,
   }
   if (!problems.empty()) throw std::invalid_argument(problems.substr(2));
   body.setJointPositions(joints);
-  refreshRays();
+  simulation_.refreshRays();
 }
 
-void Simulation::driveJoint(const std::string& joint, double velocity, double max_effort) {
+void WorldApi::driveJoint(const std::string& joint, double velocity, double max_effort) {
   checkBound(std::abs(velocity), kMaxSpeed, "the velocity of joint [" + joint + "]", "rad/s or m/s");
   if (!(max_effort >= 0)) throw std::invalid_argument("the effort of joint [" + joint + "] must be >= 0");
   checkBound(max_effort, kMaxLoad, "the effort of joint [" + joint + "]", "N m or N");
@@ -401,11 +394,12 @@ void Simulation::driveJoint(const std::string& joint, double velocity, double ma
   robot->body().setJointVelocity(index, velocity, max_effort);
 }
 
-std::string Simulation::applyBodyWrench(const BodyWrench& wrench) {
+std::string WorldApi::applyBodyWrench(const BodyWrench& wrench) {
   const std::string on = " on [" + wrench.body + "]";
   checkBound(wrench.force.lpNorm<Eigen::Infinity>(), kMaxLoad, "the force" + on, "N");
   checkBound(wrench.torque.lpNorm<Eigen::Infinity>(), kMaxLoad, "the torque" + on, "N m");
-  checkLength(wrench.reference_point.lpNorm<Eigen::Infinity>(), options_.limits, "the reference point" + on);
+  checkLength(wrench.reference_point.lpNorm<Eigen::Infinity>(), simulation_.limits(),
+              "the reference point" + on);
   if (!std::isfinite(wrench.schedule.start_time) || std::isnan(wrench.schedule.duration)) {
     throw std::invalid_argument("the start time or the duration of the wrench" + on + " is not a number");
   }
@@ -413,21 +407,21 @@ std::string Simulation::applyBodyWrench(const BodyWrench& wrench) {
   const Eigen::Matrix3d axes = entityState(wrench.reference_frame).pose.linear();
   if (wrench.schedule.duration == 0) return "duration 0: nothing is applied, as gazebo_msgs documents";
   const Eigen::Vector3d force = axes * wrench.force;
-  const double start = std::max(wrench.schedule.start_time, time());
+  const double start = std::max(wrench.schedule.start_time, simulation_.time());
   wrenches_.push_back({robot->name(), link, force,
                        axes * wrench.torque + (axes * wrench.reference_point).cross(force), start,
-                       windowEnd(wrench.schedule, start, stepSize())});
+                       windowEnd(wrench.schedule, start, simulation_.stepSize())});
   return "";
 }
 
-void Simulation::clearBodyWrenches(const std::string& body) {
+void WorldApi::clearBodyWrenches(const std::string& body) {
   const auto [robot, link] = findBody(body);
   eraseIf(wrenches_, [&, robot = robot, link = link](const ScheduledWrench& wrench) {
     return wrench.robot == robot->name() && wrench.link == link;
   });
 }
 
-std::string Simulation::applyJointEffort(const JointEffort& effort) {
+std::string WorldApi::applyJointEffort(const JointEffort& effort) {
   checkBound(std::abs(effort.effort), kMaxLoad, "the effort on joint [" + effort.joint + "]", "N m or N");
   if (!std::isfinite(effort.schedule.start_time) || std::isnan(effort.schedule.duration)) {
     throw std::invalid_argument("the start time or the duration of the effort on joint [" + effort.joint +
@@ -440,26 +434,26 @@ std::string Simulation::applyJointEffort(const JointEffort& effort) {
                                 "effort to it: give the robot's drive <wheelModel>contact</wheelModel>");
   }
   if (effort.schedule.duration == 0) return "duration 0: nothing is applied, as gazebo_msgs documents";
-  const double start = std::max(effort.schedule.start_time, time());
-  efforts_.push_back(
-      {robot->name(), index, effort.effort, start, windowEnd(effort.schedule, start, stepSize())});
-  if (effort.schedule.duration > 0 && effort.schedule.duration < stepSize()) {
+  const double start = std::max(effort.schedule.start_time, simulation_.time());
+  const double end = windowEnd(effort.schedule, start, simulation_.stepSize());
+  efforts_.push_back({robot->name(), index, effort.effort, start, end});
+  if (effort.schedule.duration > 0 && effort.schedule.duration < simulation_.stepSize()) {
     return "duration below the step size: applied for one step";
   }
   return "";
 }
 
-void Simulation::clearJointEfforts(const std::string& joint) {
+void WorldApi::clearJointEfforts(const std::string& joint) {
   const auto [robot, index] = findJoint(joint);
   eraseIf(efforts_, [&, robot = robot, index = index](const ScheduledEffort& effort) {
     return effort.robot == robot->name() && effort.joint == index;
   });
 }
 
-void Simulation::applyScheduled() {
+void WorldApi::beforeStep() {
   if (wrenches_.empty() && efforts_.empty()) return;  // the usual step
   // A window holds the steps that start in [start, end); half a step absorbs rounding in the times.
-  const double now = time() + stepSize() / 2;
+  const double now = simulation_.time() + simulation_.stepSize() / 2;
   eraseIf(wrenches_, [&](const ScheduledWrench& wrench) { return now >= wrench.end; });
   eraseIf(efforts_, [&](const ScheduledEffort& effort) { return now >= effort.end; });
   for (const ScheduledWrench& wrench : wrenches_) {
@@ -472,20 +466,21 @@ void Simulation::applyScheduled() {
                          wrench.torque + (com - pose.translation()).cross(wrench.force));
   }
   for (const ScheduledEffort& effort : efforts_) {
-    if (now >= effort.start) findModel(effort.robot).robot->body().applyJointEffort(effort.joint, effort.effort);
+    if (now < effort.start) continue;
+    findModel(effort.robot).robot->body().applyJointEffort(effort.joint, effort.effort);
   }
 }
 
-void Simulation::clearScheduled(const std::string& robot) {
-  eraseIf(wrenches_, [&](const ScheduledWrench& wrench) { return wrench.robot == robot; });
-  eraseIf(efforts_, [&](const ScheduledEffort& effort) { return effort.robot == robot; });
+void WorldApi::robotRemoved(const std::string& name) {
+  eraseIf(wrenches_, [&](const ScheduledWrench& wrench) { return wrench.robot == name; });
+  eraseIf(efforts_, [&](const ScheduledEffort& effort) { return effort.robot == name; });
 }
 
-PhysicsProperties Simulation::physicsProperties() const {
-  return {stepSize(), options_.max_update_rate, physics_->gravity()};
+PhysicsProperties WorldApi::physicsProperties() const {
+  return {simulation_.stepSize(), max_update_rate_, simulation_.physics().gravity()};
 }
 
-void Simulation::setPhysicsProperties(const PhysicsProperties& properties) {
+void WorldApi::setPhysicsProperties(const PhysicsProperties& properties) {
   if (!(properties.step_size > 0)) {
     throw std::invalid_argument("time_step [" + number(properties.step_size) + "] must be positive");
   }
@@ -495,18 +490,9 @@ void Simulation::setPhysicsProperties(const PhysicsProperties& properties) {
                                 "] must be >= 0 (0 runs as fast as possible)");
   }
   checkBound(properties.gravity.lpNorm<Eigen::Infinity>(), kMaxAcceleration, "gravity", "m/s^2");
-  if (properties.step_size != stepSize()) {
-    time_base_ = time();
-    steps_at_base_ = steps_;
-    options_.physics.step_size = properties.step_size;
-    physics_->setStepSize(properties.step_size);
-    for (auto& placed : world_models_) {
-      if (placed.body) placed.body->body_->setStepSize(properties.step_size);
-    }
-    for (auto& robot : robots_) robot->body_->setStepSize(properties.step_size);
-  }
-  options_.max_update_rate = properties.max_update_rate;
-  physics_->setGravity(properties.gravity);
+  if (properties.step_size != simulation_.stepSize()) simulation_.setStepSize(properties.step_size);
+  max_update_rate_ = properties.max_update_rate;
+  simulation_.physics().setGravity(properties.gravity);
 }
 
 }  // namespace bullet_sim

@@ -1,0 +1,203 @@
+#include "bullet_sim/model/convex_decomposition.h"
+
+#include <unistd.h>
+
+#include <array>
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+
+#include "assets/child_program.h"
+#include "model/coacd_program.h"
+
+namespace bullet_sim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kPython = "/usr/bin/python3";
+constexpr size_t kMemory = size_t{4} << 30;           // [bytes] for Python, numpy and CoACD
+constexpr size_t kMaxAnswer = size_t{256} << 20;      // [bytes] of parts from CoACD
+constexpr size_t kMaxPoints = 100000;                 // of one part's hull
+constexpr const char* kMagic = "bullet_sim convex parts 1\n";
+constexpr uint64_t kKeyBasis = 0xcbf29ce484222325ULL;  // FNV-1a's offset basis
+constexpr uint64_t kCheckBasis = 0x84222325cbf29ce4ULL;
+
+uint64_t fnv1a(const std::string& bytes, uint64_t hash) {
+  for (const unsigned char byte : bytes) hash = (hash ^ byte) * 0x100000001b3ULL;
+  return hash;
+}
+
+template <class T>
+void append(std::string& bytes, const T& value) {
+  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));  // little-endian: x86-64 and ARM64 alike
+}
+
+/// The mesh as kCoacdProgram reads it.
+std::string meshBytes(const TriangleMesh& mesh) {
+  std::string bytes;
+  bytes.reserve(16 + 24 * mesh.vertices.size() + 12 * mesh.triangles.size());
+  append(bytes, static_cast<uint64_t>(mesh.vertices.size()));
+  append(bytes, static_cast<uint64_t>(mesh.triangles.size()));
+  for (const Eigen::Vector3d& vertex : mesh.vertices)
+    bytes.append(reinterpret_cast<const char*>(vertex.data()), 24);
+  for (const std::array<int, 3>& triangle : mesh.triangles)
+    bytes.append(reinterpret_cast<const char*>(triangle.data()), 12);
+  return bytes;
+}
+
+/// Parts as kCoacdProgram writes them, from `offset` to the end of `bytes`; nullopt unless they are whole,
+/// 1 to `max_parts` of them, each of 1 to kMaxPoints finite points.
+std::optional<ConvexParts> parseParts(const std::string& bytes, size_t offset, size_t max_parts) {
+  const auto read = [&](uint64_t& value) {
+    if (bytes.size() - offset < sizeof(value)) return false;
+    std::memcpy(&value, bytes.data() + offset, sizeof(value));
+    offset += sizeof(value);
+    return true;
+  };
+  uint64_t count = 0;
+  if (offset > bytes.size() || !read(count) || count < 1 || count > max_parts) return std::nullopt;
+  ConvexParts parts;
+  for (uint64_t p = 0; p < count; ++p) {
+    uint64_t points = 0;
+    if (!read(points) || points < 1 || points > kMaxPoints || (bytes.size() - offset) / 24 < points)
+      return std::nullopt;
+    auto& hull = parts.hulls.emplace_back(points);
+    for (Eigen::Vector3d& point : hull) {
+      std::memcpy(point.data(), bytes.data() + offset, 24);
+      offset += 24;
+      if (!point.allFinite()) return std::nullopt;
+    }
+  }
+  if (offset != bytes.size()) return std::nullopt;
+  return parts;
+}
+
+std::string encodeParts(const ConvexParts& parts) {
+  std::string bytes;
+  append(bytes, static_cast<uint64_t>(parts.hulls.size()));
+  for (const auto& hull : parts.hulls) {
+    append(bytes, static_cast<uint64_t>(hull.size()));
+    for (const Eigen::Vector3d& point : hull) bytes.append(reinterpret_cast<const char*>(point.data()), 24);
+  }
+  return bytes;
+}
+
+std::string readAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return in ? std::string(std::istreambuf_iterator<char>(in), {}) : std::string();
+}
+
+/// A cache entry: kMagic, the check hash, then the parts.
+std::optional<ConvexParts> readEntry(const fs::path& path, uint64_t check, size_t max_parts) {
+  const std::string bytes = readAll(path);
+  const size_t header = std::strlen(kMagic) + sizeof(check);
+  if (bytes.size() < header || bytes.compare(0, std::strlen(kMagic), kMagic) != 0) return std::nullopt;
+  uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + std::strlen(kMagic), sizeof(stored));
+  if (stored != check) return std::nullopt;
+  return parseParts(bytes, header, max_parts);
+}
+
+/// Writes the entry through a file of its own beside it, renamed into place, so that no reader sees half of
+/// it; a cache that cannot be written is no error.
+void writeEntry(const fs::path& path, uint64_t check, const ConvexParts& parts) {
+  std::error_code ec;
+  fs::create_directories(path.parent_path(), ec);
+  const fs::path temporary = path.string() + ".tmp" + std::to_string(getpid());
+  std::string bytes = kMagic;
+  append(bytes, check);
+  std::ofstream out(temporary, std::ios::binary);
+  out << bytes << encodeParts(parts);
+  out.close();
+  if (out) fs::rename(temporary, path, ec);
+  if (!out || ec) fs::remove(temporary, ec);
+}
+
+/// The last line of what a program wrote on stderr.
+std::string lastLine(std::string text) {
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+  const size_t newline = text.rfind('\n');
+  return newline == std::string::npos ? text : text.substr(newline + 1);
+}
+
+}  // namespace
+
+std::string convexCacheDir() {
+  if (const char* dir = std::getenv("BULLET_SIM_CACHE_DIR"); dir && *dir) return std::string(dir) + "/convex";
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  if (xdg && *xdg) return std::string(xdg) + "/bullet_sim/convex";
+  const char* home = std::getenv("HOME");
+  return std::string(home && *home ? home : "/tmp") + "/.cache/bullet_sim/convex";
+}
+
+std::shared_ptr<const ConvexParts> ConvexDecomposer::decompose(const TriangleMesh& mesh, const Limits& limits,
+                                                               std::string* warning) {
+  if (limits.max_convex_parts <= 1) return nullptr;
+  const std::string bytes = meshBytes(mesh);
+  // The settings are part of the key: the program and the most parts.
+  const std::string settings = std::string(kCoacdProgram) + std::to_string(limits.max_convex_parts);
+  const uint64_t key = fnv1a(bytes, fnv1a(settings, kKeyBasis));
+  if (const auto known = known_.find(key); known != known_.end()) return known->second;
+  std::ostringstream name;
+  name << std::hex << key << ".convex";
+  const fs::path entry = fs::path(cache_dir_) / name.str();
+  const uint64_t check = fnv1a(bytes, fnv1a(settings, kCheckBasis));
+  std::shared_ptr<const ConvexParts>& parts = known_[key];
+  if (auto cached = readEntry(entry, check, limits.max_convex_parts)) {
+    parts = std::make_shared<const ConvexParts>(std::move(*cached));
+  } else if ((parts = split(bytes, limits, warning))) {
+    writeEntry(entry, check, *parts);
+  }
+  return parts;
+}
+
+std::shared_ptr<const ConvexParts> ConvexDecomposer::split(const std::string& mesh_bytes,
+                                                           const Limits& limits, std::string* warning) {
+  if (coacd_missing_) return nullptr;
+  const ProgramOutcome outcome =
+      runProgram({kPython, "-c", kCoacdProgram, std::to_string(limits.max_convex_parts)}, mesh_bytes, kMemory,
+                 limits.decomposition_seconds, kMaxAnswer);
+  std::ostringstream why;
+  if (outcome.ending == ProgramOutcome::Ending::kExited && outcome.status == 0) {
+    if (auto parts = parseParts(outcome.output, 0, limits.max_convex_parts))
+      return std::make_shared<const ConvexParts>(std::move(*parts));
+    why << "CoACD's answer was garbled";
+  } else if (outcome.ending == ProgramOutcome::Ending::kExited && outcome.status == 3) {
+    coacd_missing_ = true;
+    why << "CoACD is not installed (" << lastLine(outcome.errors)
+        << "): moving meshes collide by their hulls; install it with `" << kPython
+        << " -m pip install --break-system-packages coacd` (scripts/workspace.sh install does)";
+  } else if (outcome.ending == ProgramOutcome::Ending::kTimedOut) {
+    why << "splitting it into convex parts took longer than " << limits.decomposition_seconds
+        << " s (decomposition_seconds)";
+  } else if (outcome.ending == ProgramOutcome::Ending::kExited) {
+    why << "CoACD failed on it: " << lastLine(outcome.errors);
+  } else {
+    why << "CoACD could not split it: " << (outcome.why.empty() ? lastLine(outcome.errors) : outcome.why);
+  }
+  if (warning) *warning = why.str() + (coacd_missing_ ? "" : ": it collides by its hull");
+  return nullptr;
+}
+
+void ConvexDecomposer::attach(ModelSpec& model, const Limits& limits, Diagnostics& diagnostics) {
+  if (model.is_static) return;
+  for (LinkSpec& link : model.links) {
+    for (Collision& collision : link.collisions) {
+      Shape& shape = collision.shape;
+      if (shape.type != Shape::Type::kMesh || !shape.mesh) continue;
+      std::string warning;
+      shape.convex_parts = decompose(*shape.mesh, limits, &warning);
+      if (warning.empty()) continue;
+      diagnostics.warning("link [" + link.name + "] <collision> mesh [" + shape.mesh_path + "]: " + warning);
+    }
+  }
+}
+
+}  // namespace bullet_sim
