@@ -482,9 +482,12 @@ BULLET_SIM_PLUGIN_FOLDER(ackermann_drive) {
   PluginType type =
       pluginType<AckermannDrive>("libgazebo_ros_ackermann_drive.so", parseAckermann, ackermannTags());
   type.rate = {RateRule::From::kTags, {"update_rate", "updateRate"}, 100};
-  type.driven = [](const PluginDeclaration&) {
+  type.driven = [](const PluginDeclaration& declaration) {
+    const AckermannConfig& config = *declaration.configAs<AckermannConfig>();
     DrivenJoints joints;
     joints.drive = true;  // each wheel's sign comes from its axis
+    joints.traction = Traction{{config.rear_left_joint, config.rear_right_joint}, config.rear_left.effort,
+                               config.geometry.wheel_radius, 0, config.max_speed};
     return joints;
   };
   type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery&) {

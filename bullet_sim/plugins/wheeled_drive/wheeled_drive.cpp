@@ -391,6 +391,7 @@ BULLET_SIM_PLUGIN_FOLDER(wheeled_drive) {
     DrivenJoints joints{true, config.left_joints, config.right_joints, config.robot_base_frame};
     joints.motors = config.left_joints;
     joints.motors.insert(joints.motors.end(), config.right_joints.begin(), config.right_joints.end());
+    joints.traction = Traction{joints.motors, config.torque, config.wheel_diameter / 2, config.acceleration};
     return joints;
   };
   using Parser = void (*)(const DeclarationSource&, DriveConfig&);
