@@ -158,12 +158,6 @@ std::optional<double> optionalPositive(PluginTags& tags, const std::string& tag)
   return tags.positive(tag, 0.0);
 }
 
-std::string vectorText(const Eigen::Vector3d& v) {
-  std::ostringstream text;
-  text << v.x() << ' ' << v.y() << ' ' << v.z();
-  return text.str();
-}
-
 /// One warning about ROS 2's tags that change nothing here: the PID gains, the steering wheel and the outputs
 /// we do not publish.
 void warnOfRos2Extras(PluginTags& tags) {
@@ -224,10 +218,7 @@ void readAckermannTags(PluginTags& tags, AckermannConfig& config) {
   config.wheel_base = optionalPositive(tags, "wheel_base");
   config.track_width = optionalPositive(tags, "track_width");
   config.wheel_radius = optionalPositive(tags, "wheel_radius");
-  const double x = tags.nonNegative("covariance_x");
-  const double y = tags.nonNegative("covariance_y");
-  const double yaw = tags.nonNegative("covariance_yaw");
-  config.pose_covariance = config.twist_covariance = planarCovariance(x, y, yaw);
+  readPlanarCovariance(tags, config);
   warnOfRos2Extras(tags);
 }
 

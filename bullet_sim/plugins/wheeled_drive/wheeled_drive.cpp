@@ -156,12 +156,6 @@ void checkWheelsDistinct(const DeclarationSource& source, const DriveConfig& con
   }
 }
 
-std::string vectorText(const Eigen::Vector3d& v) {
-  std::ostringstream text;
-  text << v.x() << ' ' << v.y() << ' ' << v.z();
-  return text.str();
-}
-
 /// Checks one side's wheels against the model: each must be a moving joint; a reversed one and a collision
 /// of another diameter are said. Returns each wheel's roll sign and its offset across the base [m].
 std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig& config,
@@ -259,10 +253,7 @@ void parseSkidSteer(const DeclarationSource& source, DriveConfig& config) {
   config.torque = wheelTorque(source, "torque");
   config.publish_odometry = true;  // Gazebo's skid steer always publishes it
   config.publish_odom_tf = tags.flag("broadcastTF");
-  const double x = tags.nonNegative("covariance_x");
-  const double y = tags.nonNegative("covariance_y");
-  const double yaw = tags.nonNegative("covariance_yaw");
-  config.pose_covariance = config.twist_covariance = planarCovariance(x, y, yaw);
+  readPlanarCovariance(tags, config);
   checkWheels(source, config);
 }
 

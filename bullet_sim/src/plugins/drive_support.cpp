@@ -78,6 +78,19 @@ void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead
   }
 }
 
+void readPlanarCovariance(PluginTags& tags, DriveConfigHead& head) {
+  const double x = tags.nonNegative("covariance_x");
+  const double y = tags.nonNegative("covariance_y");
+  const double yaw = tags.nonNegative("covariance_yaw");
+  head.pose_covariance = head.twist_covariance = planarCovariance(x, y, yaw);
+}
+
+std::string vectorText(const Eigen::Vector3d& v) {
+  std::ostringstream text;
+  text << v.x() << ' ' << v.y() << ' ' << v.z();
+  return text.str();
+}
+
 std::array<double, 36> planarCovariance(double x, double y, double yaw) {
   std::array<double, 36> covariance{};
   covariance[0] = x;

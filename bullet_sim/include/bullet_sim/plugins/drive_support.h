@@ -58,6 +58,11 @@ std::optional<std::string> driveWheelModel(const PluginDeclaration& declaration)
 
 /// A pose or twist covariance that knows x, y and yaw, and nothing (1e12) of z, roll and pitch.
 std::array<double, 36> planarCovariance(double x, double y, double yaw);
+/// Reads covariance_x, covariance_y and covariance_yaw (>= 0, the table's defaults) into the head's pose and
+/// twist covariances (planarCovariance).
+void readPlanarCovariance(PluginTags& tags, DriveConfigHead& head);
+/// "x y z", as a URDF writes a vector.
+std::string vectorText(const Eigen::Vector3d& v);
 
 /// Whether a positive velocity of `joint` rolls its wheel forward (+1) or backward (-1) in `base_frame`: a
 /// wheel spinning about the base's +y (its left) rolls forward, by REP 103. `poses` are the model's link
