@@ -105,13 +105,7 @@ inline Twist twist(double x, double y, double yaw_rate) {
 
 /// Steps `seconds`, sending `command` to the robot's planar move every 0.1 s as `rostopic pub -r 10` does.
 inline void drivePlanar(Simulation& simulation, PlanarMove& drive, const Twist& command, double seconds) {
-  const auto steps = std::lround(seconds / simulation.stepSize());
-  for (long i = 0; i < steps; ++i) {
-    if (i % 100 == 0) {
-      ASSERT_TRUE(drive.setCommand(command, simulation.time()));
-    }
-    simulation.step();
-  }
+  stepSending(simulation, seconds, [&] { return drive.setCommand(command, simulation.time()); });
 }
 
 /// The plugin of type T named `name` (its sensor's name for a sensor's plugin).

@@ -60,6 +60,20 @@ uint64_t countOf(const Plugin& plugin, const std::string& topic = "") {
   return streamOf<Sample>(plugin, topic).count();
 }
 
+/// Steps `seconds` of sim time, calling `send()` every 0.1 s from the first step, as `rostopic pub -r 10`
+/// sends; `send` returns whether its command was taken, and a refusal fails the test.
+template <class Send>
+void stepSending(Simulation& simulation, double seconds, Send send) {
+  const auto steps = std::lround(seconds / simulation.stepSize());
+  const auto resend = std::lround(0.1 / simulation.stepSize());
+  for (long i = 0; i < steps; ++i) {
+    if (i % resend == 0) {
+      ASSERT_TRUE(send());
+    }
+    simulation.step();
+  }
+}
+
 /// Runs a shell command line, as a user would type it; its exit status, stdout and stderr.
 inline CommandResult run(const std::string& command) {
   std::string error;

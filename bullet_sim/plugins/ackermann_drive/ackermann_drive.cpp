@@ -16,54 +16,151 @@ namespace {
 constexpr double kGeometryTolerance = 0.005;  // [m] tag figures vs URDF geometry before we say so
 constexpr double kMinVerticalAxis = 0.9;      // |z| of a steering axis, as a unit vector in the base frame
 
+/// A ROS 1 spelling of ROS 2's `tag`, which our other drives use: read as it.
+TagRow aliasRow(const std::string& tag, const TagRow& ros2) {
+  TagRow row = ros2;
+  row.name = tag;
+  row.gazebo = "not read (the ROS 1 drives' spelling of " + ros2.name + ")";
+  row.ours = "read as " + ros2.name + ", which wins when both are given";
+  return row;
+}
+
+/// The topics, frames and rate, each in ROS 2's spelling and then in ROS 1's.
+std::vector<TagRow> headRows() {
+  const std::vector<std::pair<TagRow, std::string>> rows = {
+      {{"command_topic", TagType::kTopic, "cmd_vel", "",
+        "not read: ROS 2's plugin follows cmd_vel, renamed with <ros><remapping>",
+        "the geometry_msgs/Twist it follows: linear.x [m/s] and angular.z, a turn rate [rad/s]"},
+       "commandTopic"},
+      {{"odometry_topic", TagType::kTopic, "odom", "",
+        "not read: ROS 2's plugin publishes on odom, renamed with <ros><remapping>",
+        "the topic of its nav_msgs/Odometry"},
+       "odometryTopic"},
+      {{"odometry_frame", TagType::kFrame, "odom", "",
+        "the odometry's frame_id, and the parent frame of its tf", ""},
+       "odometryFrame"},
+      {{"robot_base_frame", TagType::kFrame, "base_footprint", "",
+        "the odometry's child_frame_id; the pose is the model's",
+        "the pose is this link's, and the URDF's geometry is measured in it; when it names no link, a "
+        "warning, and the root link's"},
+       "robotBaseFrame"},
+      {{"update_rate", TagType::kPositive, "100", "Hz",
+        "how often the joints get new commands and the odometry is published; 0: every step", ""},
+       "updateRate"},
+  };
+  std::vector<TagRow> head;
+  for (const auto& [ros2, ros1] : rows) {
+    head.push_back(ros2);
+    head.push_back(aliasRow(ros1, ros2));
+  }
+  return head;
+}
+
+std::vector<TagRow> jointRows() {
+  const auto joint = [](const std::string& tag, const std::string& gazebo, const std::string& ours) {
+    return TagRow{tag, TagType::kText, tag, "", gazebo, ours};
+  };
+  const std::string front = "rolls freely; it must exist and move";
+  const std::string rear =
+      "turned by a velocity motor as strong as its URDF effort limit, at the speed an open differential "
+      "gives it; it must have an effort limit";
+  const std::string steering =
+      "held at its Ackermann angle by a position motor as strong as its URDF effort limit; it must turn "
+      "about the vertical and have an effort limit";
+  return {
+      joint("front_left_joint", "the front left wheel's joint, which rolls freely", front),
+      joint("front_right_joint", "the front right wheel's joint, which rolls freely", front),
+      joint("rear_left_joint", "the rear left wheel's joint, pushed by a PID-controlled force", rear),
+      joint("rear_right_joint",
+            "the rear right wheel's joint, pushed by a PID-controlled force; its collision's radius is the "
+            "wheel radius",
+            rear + "; the rear wheels' collision radius is the wheel radius"),
+      joint("left_steering_joint", "the left steering hinge, pushed by a PID-controlled force", steering),
+      joint("right_steering_joint", "the right steering hinge, pushed by a PID-controlled force", steering),
+      joint("steering_wheel_joint", "a steering wheel, set to the tyres' mean angle over the steering ratio",
+            "not turned: a warning when the tag is given"),
+  };
+}
+
+/// The PID gains of ROS 2's joint forces, which our motors have no use for.
+std::vector<TagRow> gainRows() {
+  const std::string ignored = "read and ignored with a warning: the joints are driven by motors";
+  std::vector<TagRow> rows;
+  for (const auto& [prefix, force] : {std::pair{"left_steering", "the left steering force"},
+                                      std::pair{"right_steering", "the right steering force"},
+                                      std::pair{"linear_velocity", "the rear wheels' force"}}) {
+    rows.push_back({std::string(prefix) + "_pid_gain", TagType::kList, "0 0 0", "",
+                    std::string("the P, I and D gains of ") + force, ignored});
+    rows.push_back({std::string(prefix) + "_i_range", TagType::kList, "0 0", "",
+                    std::string("the range of the integral term of ") + force, ignored});
+  }
+  return rows;
+}
+
+/// The figures ROS 2's plugin measures in the model, which we read to check them against the URDF.
+std::vector<TagRow> figureRows() {
+  const auto figure = [](const std::string& tag, const std::string& gazebo, const std::string& what) {
+    return TagRow{tag, TagType::kPositive, "the URDF's", "m", gazebo,
+                  "optional: a warning when it is more than 5 mm off the URDF's " + what + ", which is used"};
+  };
+  return {
+      figure("wheel_base", "not read: ROS 2's plugin measures it between the axles' wheel centres",
+             "rear axle to the steering joints' line"),
+      figure("track_width", "not read: ROS 2's plugin measures the front wheels' separation",
+             "distance between the rear wheels' joints"),
+      figure("wheel_radius", "not read: ROS 2's plugin takes the rear right wheel's collision radius",
+             "rear wheels' collision radius"),
+  };
+}
+
+TagTable ackermannTags() {
+  TagTable table;
+  const auto add = [&](const std::vector<TagRow>& rows) {
+    for (const TagRow& row : rows) table.add(row);
+  };
+  const auto covariance = [](const std::string& tag, const std::string& fallback, const std::string& of) {
+    return TagRow{tag, TagType::kPositive, fallback, "", "the variance of " + of + " in the odometry", ""};
+  };
+  const std::string not_published = "not published: a warning when true";
+  add(headRows());
+  add(jointRows());
+  add({
+      {"max_steer", TagType::kPositive, "0.6", "rad",
+       "the largest steering angle, of a virtual wheel between the front two",
+       "the largest angle of each tyre, within its joint's limits; it must be below pi/2"},
+      {"max_steering_angle", TagType::kIgnored, "7.85", "rad",
+       "the steering wheel's largest angle, which only sets its ratio", "no steering wheel is turned"},
+      {"max_speed", TagType::kPositive, "20", "m/s", "linear.x is clamped to +-max_speed", ""},
+  });
+  add(gainRows());
+  add({
+      {"publish_odom", TagType::kFlag, "false", "", "the odometry: the model's pose in the world",
+       "the pose of robot_base_frame in the world"},
+      {"publish_odom_tf", TagType::kFlag, "false", "", "the odometry's tf", ""},
+      {"publish_wheel_tf", TagType::kFlag, "false", "", "each wheel joint's frame on /tf", not_published},
+      {"publish_distance", TagType::kFlag, "false", "",
+       "the distance travelled, on distance (std_msgs/Float32)", not_published},
+      covariance("covariance_x", "1e-5", "x [m^2]"),
+      covariance("covariance_y", "1e-5", "y [m^2]"),
+      covariance("covariance_yaw", "1e-3", "the yaw [rad^2]"),
+  });
+  add(figureRows());
+  add({
+      {"rosDebugLevel", TagType::kIgnored, "", "", "not read", ""},
+      {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+  });
+  add(ownDriveTagRows());
+  return table;
+}
+
 std::optional<double> optionalPositive(PluginTags& tags, const std::string& tag) {
   if (!tags.has(tag)) return std::nullopt;
   return tags.positive(tag, 0.0);
 }
 
-std::string vectorText(const Eigen::Vector3d& v) {
-  std::ostringstream text;
-  text << v.x() << ' ' << v.y() << ' ' << v.z();
-  return text.str();
-}
-
-/// The tags, with ROS 2's names; the URDF's figures come later (readGeometry).
-void readAckermannTags(PluginTags& tags, AckermannConfig& config) {
-  // ROS 2's names first, and the ROS 1 names our other drives use.
-  readDriveHead(tags,
-                {{"command_topic", "commandTopic"},
-                 {"odometry_topic", "odometryTopic"},
-                 {"odometry_frame", "odometryFrame"},
-                 {"robot_base_frame", "robotBaseFrame"},
-                 {"update_rate", "updateRate"}},
-                config);
-
-  config.front_left_joint = tags.text("front_left_joint", config.front_left_joint);
-  config.front_right_joint = tags.text("front_right_joint", config.front_right_joint);
-  config.rear_left_joint = tags.text("rear_left_joint", config.rear_left_joint);
-  config.rear_right_joint = tags.text("rear_right_joint", config.rear_right_joint);
-  config.left_steering_joint = tags.text("left_steering_joint", config.left_steering_joint);
-  config.right_steering_joint = tags.text("right_steering_joint", config.right_steering_joint);
-
-  config.max_steer = tags.positive("max_steer", config.max_steer);
-  if (config.max_steer >= M_PI / 2) {
-    std::ostringstream message;
-    message << tags.where() << " <max_steer> must be below pi/2 rad (a wheel across the car), not "
-            << config.max_steer;
-    tags.diagnostics().error(message.str());
-    config.max_steer = AckermannConfig{}.max_steer;
-  }
-  config.max_speed = tags.positive("max_speed", config.max_speed);
-  config.publish_odometry = tags.flag("publish_odom", config.publish_odometry);
-  config.publish_odom_tf = tags.flag("publish_odom_tf", config.publish_odom_tf);
-  config.wheel_base = optionalPositive(tags, "wheel_base");
-  config.track_width = optionalPositive(tags, "track_width");
-  config.wheel_radius = optionalPositive(tags, "wheel_radius");
-  const double x = tags.positive("covariance_x", 1e-5, /*allow_zero=*/true);
-  const double y = tags.positive("covariance_y", 1e-5, /*allow_zero=*/true);
-  const double yaw = tags.positive("covariance_yaw", 1e-3, /*allow_zero=*/true);
-  config.pose_covariance = config.twist_covariance = planarCovariance(x, y, yaw);
-
+/// One warning about ROS 2's tags that change nothing here: the PID gains, the steering wheel and the outputs
+/// we do not publish.
+void warnOfRos2Extras(PluginTags& tags) {
   // ROS 2's plugin pushes its joints with PID-controlled forces; ours are motors (see the header).
   std::string gains;
   for (const char* tag : {"left_steering_pid_gain", "left_steering_i_range", "right_steering_pid_gain",
@@ -81,16 +178,48 @@ void readAckermannTags(PluginTags& tags, AckermannConfig& config) {
   }
   if (tags.has("steering_wheel_joint")) {
     tags.diagnostics().warning(tags.where() + " <steering_wheel_joint> [" +
-                               tags.text("steering_wheel_joint", "") +
-                               "] is not turned by bullet_sim: ignored");
+                               tags.text("steering_wheel_joint") + "] is not turned by bullet_sim: ignored");
   }
   for (const char* tag : {"publish_wheel_tf", "publish_distance"}) {
-    if (tags.flag(tag, false)) {
+    if (tags.flag(tag)) {
       tags.diagnostics().warning(tags.where() + " <" + tag + "> is not published by bullet_sim: ignored");
     }
   }
-  // max_steering_angle only scales the steering wheel.
-  tags.accept({"max_steering_angle"});
+}
+
+/// The tags, with ROS 2's names; the URDF's figures come later (readGeometry).
+void readAckermannTags(PluginTags& tags, AckermannConfig& config) {
+  // ROS 2's names first, and the ROS 1 names our other drives use.
+  readDriveHead(tags,
+                {{"command_topic", "commandTopic"},
+                 {"odometry_topic", "odometryTopic"},
+                 {"odometry_frame", "odometryFrame"},
+                 {"robot_base_frame", "robotBaseFrame"}},
+                config);
+
+  config.front_left_joint = tags.text("front_left_joint");
+  config.front_right_joint = tags.text("front_right_joint");
+  config.rear_left_joint = tags.text("rear_left_joint");
+  config.rear_right_joint = tags.text("rear_right_joint");
+  config.left_steering_joint = tags.text("left_steering_joint");
+  config.right_steering_joint = tags.text("right_steering_joint");
+
+  config.max_steer = tags.positive("max_steer");
+  if (config.max_steer >= M_PI / 2) {
+    std::ostringstream message;
+    message << tags.where() << " <max_steer> must be below pi/2 rad (a wheel across the car), not "
+            << config.max_steer;
+    tags.diagnostics().error(message.str());
+    config.max_steer = tableDefaultNumber(tags, "max_steer");
+  }
+  config.max_speed = tags.positive("max_speed");
+  config.publish_odometry = tags.flag("publish_odom");
+  config.publish_odom_tf = tags.flag("publish_odom_tf");
+  config.wheel_base = optionalPositive(tags, "wheel_base");
+  config.track_width = optionalPositive(tags, "track_width");
+  config.wheel_radius = optionalPositive(tags, "wheel_radius");
+  readPlanarCovariance(tags, config);
+  warnOfRos2Extras(tags);
 }
 
 /// Checks the joints the drive moves and reads their figures from the URDF at the zero pose.
@@ -341,10 +470,15 @@ void AckermannDrive::onReset() {
 
 // ROS 2's gazebo_plugins' Ackermann drive (Gazebo classic on ROS 1 has none).
 BULLET_SIM_PLUGIN_FOLDER(ackermann_drive) {
-  PluginType type = pluginType<AckermannDrive>("libgazebo_ros_ackermann_drive.so", parseAckermann, {});
-  type.driven = [](const PluginDeclaration&) {
+  PluginType type =
+      pluginType<AckermannDrive>("libgazebo_ros_ackermann_drive.so", parseAckermann, ackermannTags());
+  type.rate = {RateRule::From::kTags, {"update_rate", "updateRate"}, 100};
+  type.driven = [](const PluginDeclaration& declaration) {
+    const AckermannConfig& config = *declaration.configAs<AckermannConfig>();
     DrivenJoints joints;
     joints.drive = true;  // each wheel's sign comes from its axis
+    joints.traction = Traction{{config.rear_left_joint, config.rear_right_joint}, config.rear_left.effort,
+                               config.geometry.wheel_radius, 0, config.max_speed};
     return joints;
   };
   type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery&) {

@@ -20,19 +20,8 @@
 // [rad/s] as for every cmd_vel here (REP 103: +w turns counter-clockwise), and max_steer bounds the angle of
 // every tyre, as its documentation says, not that of a virtual wheel between them.
 //
-// Tags (ROS 2's names and defaults):
-//   front_left_joint front_right_joint rear_left_joint rear_right_joint left_steering_joint
-//   right_steering_joint max_steer [0.6 rad] max_speed [20 m/s] update_rate [100 Hz; 0 = every step]
-//   odometry_frame [odom] robot_base_frame [base_footprint] publish_odom [false] publish_odom_tf [false]
-//   covariance_x [1e-5] covariance_y [1e-5] covariance_yaw [1e-3]
-//   wheel_base track_width (of the rear axle) wheel_radius [m]: optional, checked against the URDF
-//   left_steering_pid_gain right_steering_pid_gain linear_velocity_pid_gain and their *_i_range: read and
-//     ignored with one warning (our joints are driven by motors, whose strength is the URDF effort limit)
-//   steering_wheel_joint publish_wheel_tf publish_distance: read; a warning says we do not simulate them
-// Ours (Gazebo ignores them): command_topic [cmd_vel] odometry_topic [odom] (ROS 2 remaps these with <ros>),
-//   robotNamespace, commandTimeout [0 s = off], wheelModel [contact | raycast; the simulator's default]
-//   chooses the wheel-ground model as for the other drives. The ROS 1 spellings commandTopic odometryTopic
-//   odometryFrame robotBaseFrame updateRate are read too.
+// Its tags, ROS 2's with their defaults, their ROS 1 spellings and ours (commandTimeout, wheelModel), are the
+// table ackermannTags() in ackermann_drive.cpp.
 #pragma once
 
 #include <array>
@@ -61,13 +50,15 @@ struct AckermannJoint {
   double effort = 0;  ///< [N m] the URDF's effort limit, the motor's strength
 };
 
+/// Filled from the tag table by the parser; ackermann_joint_commander fills it from its parameters, with the
+/// same defaults for max_steer and max_speed.
 struct AckermannConfig : DriveConfigHead {
-  std::string front_left_joint = "front_left_joint";
-  std::string front_right_joint = "front_right_joint";
-  std::string rear_left_joint = "rear_left_joint";
-  std::string rear_right_joint = "rear_right_joint";
-  std::string left_steering_joint = "left_steering_joint";
-  std::string right_steering_joint = "right_steering_joint";
+  std::string front_left_joint;
+  std::string front_right_joint;
+  std::string rear_left_joint;
+  std::string rear_right_joint;
+  std::string left_steering_joint;
+  std::string right_steering_joint;
   double max_steer = 0.6;              ///< [rad] no tyre steers further (nor beyond its joint limits)
   double max_speed = 20;               ///< [m/s] |v| is clamped to this
   std::optional<double> wheel_base;    ///< [m] only checked against the URDF
@@ -79,12 +70,6 @@ struct AckermannConfig : DriveConfigHead {
   AckermannJoint left_steering, right_steering, rear_left, rear_right, front_left, front_right;
   /// Steering limits per wheel [rad], max_steer and the joint limits combined: {right turn, left turn}.
   std::array<double, 2> left_limits{}, right_limits{};
-
-  AckermannConfig() {
-    update_rate = 100;
-    publish_odometry = false;
-    publish_odom_tf = false;
-  }
 };
 
 /// Read and checked against the model: the joints exist and move, the steering joints turn about the vertical

@@ -228,8 +228,8 @@ TEST_P(Tianracer, DrivesStraightAndPublishesOdometry) {
   const Eigen::Vector2d heading(std::cos(yaw), std::sin(yaw));
   EXPECT_NEAR(moved.dot(heading), 1.5, 0.05) << "0.5 m/s for 3 s, less the spin-up";
   EXPECT_LT(std::abs(moved.x() * heading.y() - moved.y() * heading.x()), 0.02 * 1.5) << "sideways";
-  EXPECT_EQ(drive_->odometryCount(), 300u);  // 100 Hz for 3 s
-  const Odometry& odometry = drive_->odometry();
+  EXPECT_EQ(test::countOf<Odometry>(*drive_), 300u);  // 100 Hz for 3 s
+  const Odometry& odometry = test::latestOf<Odometry>(*drive_);
   EXPECT_DOUBLE_EQ(odometry.stamp, simulation_.time());
   EXPECT_TRUE(odometry.pose.isApprox(robot_->body().linkPose("base_footprint"), 1e-12));
   EXPECT_NEAR(odometry.linear_velocity.x(), 0.5, 0.02);

@@ -26,15 +26,37 @@ Eigen::Vector3d lumpedCentreOfMass(const ModelSpec& model, const std::string& li
   return mass > 0 ? Eigen::Vector3d(moment / mass) : Eigen::Vector3d::Zero();
 }
 
+/// Planar move's tags, hector's gains and its tf switch.
+TagTable forceBasedMoveTags() {
+  TagTable table = holonomicTags();
+  const auto gain = [](const std::string& tag, const std::string& fallback, const std::string& unit,
+                       const std::string& what) {
+    return TagRow{tag, TagType::kPositive, fallback, unit, what, ""};
+  };
+  for (const TagRow& row : std::vector<TagRow>{
+           {"robotBaseFrame", TagType::kFrame, "base_footprint", "",
+            "the link the force and torque act on, and the odometry's child_frame_id",
+            "an error when it names no link"},
+           gain("x_velocity_p_gain", "10000", "N s/m", "the force along the base's x per m/s of velocity error"),
+           gain("y_velocity_p_gain", "10000", "N s/m", "the force along the base's y per m/s of velocity error"),
+           gain("yaw_velocity_p_gain", "100", "N m s", "the torque about the world's z per rad/s of turn error"),
+           {"publishOdometryTf", TagType::kFlag, "true", "",
+            "the odometry's tf (odometryFrame to robotBaseFrame)", ""},
+       }) {
+    table.add(row);
+  }
+  return table;
+}
+
 }  // namespace
 
 void parseForceBasedMove(const DeclarationSource& source, ForceBasedMoveConfig& config) {
   PluginTags& tags = source.tags;
   readHolonomicTags(source, config);
-  config.yaw_gain = tags.positive("yaw_velocity_p_gain", config.yaw_gain, /*allow_zero=*/true);
-  config.x_gain = tags.positive("x_velocity_p_gain", config.x_gain, /*allow_zero=*/true);
-  config.y_gain = tags.positive("y_velocity_p_gain", config.y_gain, /*allow_zero=*/true);
-  config.publish_odometry_tf = tags.flag("publishOdometryTf", true);
+  config.yaw_gain = tags.nonNegative("yaw_velocity_p_gain");
+  config.x_gain = tags.nonNegative("x_velocity_p_gain");
+  config.y_gain = tags.nonNegative("y_velocity_p_gain");
+  config.publish_odometry_tf = tags.flag("publishOdometryTf");
   if (source.model.link(config.robot_base_frame)) {
     config.centre_of_mass = lumpedCentreOfMass(source.model, config.robot_base_frame);
   } else {
@@ -106,7 +128,8 @@ void ForceBasedMove::onReset() {
 
 // hector_gazebo_plugins' force-based move.
 BULLET_SIM_PLUGIN_FOLDER(force_based_move) {
-  registrar.add(pluginType<ForceBasedMove>("libgazebo_ros_force_based_move.so", parseForceBasedMove, {}));
+  registrar.add(
+      pluginType<ForceBasedMove>("libgazebo_ros_force_based_move.so", parseForceBasedMove, forceBasedMoveTags()));
 }
 
 }  // namespace bullet_sim

@@ -3,11 +3,9 @@
 // centre of mass, the force k_x (x - v_x), k_y (y - v_y) in its own axes (v: the root link's velocity in
 // its frame) and the torque -k_yaw (w_z - angular.z) about the world's z.
 //
-// Tags and defaults (hector's): the planar move's commandTopic, odometryTopic, odometryFrame, robotBaseFrame
-//   [base_footprint: must be a link], odometryRate [20 Hz], robotNamespace, and x_velocity_p_gain [10000
-//   N s/m], y_velocity_p_gain [10000 N s/m], yaw_velocity_p_gain [100 N m s], publishOdometryTf [true].
-//   A gain k with k dt / m >= 2 makes the velocity oscillate (as in Gazebo): a robot lighter than k dt / 2
-//   needs smaller gains. There is no command timeout: the last command holds.
+// Its tags, hector's with their defaults, are the table forceBasedMoveTags() in force_based_move.cpp. A gain
+// k with k dt / m >= 2 makes the velocity oscillate (as in Gazebo): a robot lighter than k dt / 2 needs smaller
+// gains. There is no command timeout: the last command holds.
 // Odometry is dead reckoning, as hector's: from the start pose, the root link's velocities in its frame,
 //   integrated over each odometry period along an arc; hector's covariances.
 #pragma once
@@ -17,9 +15,9 @@
 namespace bullet_sim {
 
 struct ForceBasedMoveConfig : HolonomicConfig {
-  double x_gain = 10000;    ///< [N s/m]
-  double y_gain = 10000;    ///< [N s/m]
-  double yaw_gain = 100;    ///< [N m s]
+  double x_gain = 0;    ///< [N s/m]
+  double y_gain = 0;    ///< [N s/m]
+  double yaw_gain = 0;  ///< [N m s]
   Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();  ///< [m] of robotBaseFrame as Gazebo lumps it
 };
 

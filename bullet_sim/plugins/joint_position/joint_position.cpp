@@ -8,10 +8,25 @@
 
 namespace bullet_sim {
 
+namespace {
+
+const TagTable kJointPositionTags = {
+    {"topicName", TagType::kTopic, "set_joint_trajectory", "",
+     "the trajectory_msgs/JointTrajectory whose points it plays, setting the joints' positions",
+     "the first point's positions become the targets the motors hold"},
+    {"jointName", TagType::kList, "", "", "not read (bullet_sim's tag)",
+     "the joints held, separated by commas or spaces, each where the robot spawned until commanded; each "
+     "must move and have an effort limit, the motor's strength; without the tag, a warning, and none is held"},
+    {"updateRate", TagType::kIgnored, "0", "Hz", "how often the trajectory advances; 0: every step",
+     "the joints are held every step"},
+    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+};
+
+}  // namespace
+
 void parseJointPosition(const DeclarationSource& source, JointPositionConfig& config) {
   PluginTags& tags = source.tags;
-  config.topic = tags.text("topicName", config.topic);
-  tags.accept({"updateRate", "alwaysOn"});
+  config.topic = tags.text("topicName");
   for (const auto& name : tags.list("jointName")) {
     const JointSpec* joint = source.model.joint(name);
     if (!joint || !joint->moves()) {
@@ -78,7 +93,8 @@ void JointPosition::onReset() {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(joint_position) {
-  PluginType type = pluginType<JointPosition>("libgazebo_ros_joint_pose_trajectory.so", parseJointPosition, {});
+  PluginType type = pluginType<JointPosition>("libgazebo_ros_joint_pose_trajectory.so", parseJointPosition,
+                                              kJointPositionTags);
   type.driven = [](const PluginDeclaration& declaration) {
     DrivenJoints driven;
     driven.motors = declaration.configAs<JointPositionConfig>()->joints;

@@ -1,8 +1,7 @@
 // Holds named joints at commanded positions with a motor, so that a pan/tilt does not sag under gravity.
 // Declared as libgazebo_ros_joint_pose_trajectory.so (Gazebo's plugin that sets joints from a
-// trajectory_msgs/JointTrajectory). Tags: topicName [set_joint_trajectory], updateRate, robotNamespace;
-// ours: jointName [comma-separated; the joints held, where the robot spawned until commanded]. The motor's
-// effort is the joint's URDF effort limit.
+// trajectory_msgs/JointTrajectory). Its tags, with our jointName (the joints held), are kJointPositionTags in
+// joint_position.cpp. The motor's effort is the joint's URDF effort limit.
 #pragma once
 
 #include <string>
@@ -13,7 +12,7 @@
 namespace bullet_sim {
 
 struct JointPositionConfig : PluginConfig {
-  std::string topic = "set_joint_trajectory";
+  std::string topic;
   std::vector<std::string> joints;  ///< moving joints with an effort limit, checked
 };
 

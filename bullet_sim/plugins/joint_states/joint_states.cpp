@@ -4,10 +4,25 @@
 
 namespace bullet_sim {
 
+namespace {
+
+const TagTable kJointStatesTags = {
+    {"robotNamespace", TagType::kText, "", "",
+     "the namespace of joint_states; the model's name when absent or empty",
+     "the root namespace when absent or empty; spawn_model's -robot_namespace replaces it"},
+    {"jointName", TagType::kList, "every moving joint", "",
+     "the joints published, separated by commas; none when absent",
+     "separated by commas or spaces; every moving joint when absent; a name that is no moving joint is an "
+     "error naming the nearest one"},
+    {"updateRate", TagType::kPositive, "100", "Hz", "how often it publishes; 0: every step", ""},
+    {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+};
+
+}  // namespace
+
 void parseJointStates(const DeclarationSource& source, JointStatesConfig& config) {
   PluginTags& tags = source.tags;
   const ModelSpec& model = source.model;
-  tags.accept({"alwaysOn"});
   std::vector<std::string> names = tags.list("jointName");
   if (!tags.has("jointName")) {
     for (const auto& joint : model.joints) {
@@ -52,7 +67,8 @@ void JointStates::sense(const StepTime& time, const RobotBody& body, const RayCa
 }
 
 BULLET_SIM_PLUGIN_FOLDER(joint_states) {
-  PluginType type = pluginType<JointStates>("libgazebo_ros_joint_state_publisher.so", parseJointStates, {});
+  PluginType type =
+      pluginType<JointStates>("libgazebo_ros_joint_state_publisher.so", parseJointStates, kJointStatesTags);
   type.rate = {RateRule::From::kTags, {"updateRate"}, 100};
   registrar.add(std::move(type));
 }

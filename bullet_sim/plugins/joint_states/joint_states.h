@@ -1,5 +1,5 @@
-// libgazebo_ros_joint_state_publisher.so: positions, velocities and efforts of named joints.
-// Tags: jointName [comma-separated; every moving joint when absent], updateRate [100 Hz], robotNamespace.
+// libgazebo_ros_joint_state_publisher.so: positions, velocities and efforts of named joints, on joint_states.
+// Its tags are kJointStatesTags in joint_states.cpp.
 #pragma once
 
 #include <string>
@@ -11,7 +11,6 @@ namespace bullet_sim {
 
 struct JointStatesConfig : PluginConfig {
   std::vector<std::string> joints;  ///< moving joints, checked
-
 };
 
 void parseJointStates(const DeclarationSource& source, JointStatesConfig& config);
@@ -22,9 +21,6 @@ class JointStates : public Plugin {
               const PluginSetup& setup);
 
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-
-  const JointStateSample& states() const { return states_.latest(); }
-  uint64_t statesCount() const { return states_.count(); }
 
  private:
   std::vector<int> joints_;

@@ -13,21 +13,44 @@ namespace {
 
 double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)); }
 
+TagTable planarMoveTags() {
+  TagTable table = holonomicTags();
+  table.add({"cmdTimeout", TagType::kNumber, "-1", "s",
+             "the robot stops once cmd_vel has been silent this long; below 0: the last command holds for ever",
+             ""});
+  return table;
+}
+
 }  // namespace
+
+TagTable holonomicTags() {
+  return {
+      {"commandTopic", TagType::kTopic, "cmd_vel", "",
+       "the geometry_msgs/Twist it follows: linear.x and linear.y [m/s], angular.z [rad/s]", ""},
+      {"odometryTopic", TagType::kTopic, "odom", "", "the topic of its nav_msgs/Odometry", ""},
+      {"odometryFrame", TagType::kFrame, "odom", "",
+       "the odometry's frame_id, and the parent frame of its tf", ""},
+      {"robotBaseFrame", TagType::kFrame, "base_footprint", "",
+       "the odometry's child_frame_id; the pose is the model's",
+       "the pose is this link's; when it names no link, a warning, and the root link's"},
+      {"odometryRate", TagType::kNumber, "20", "Hz",
+       "how often the odometry and its tf are published; 0 or less: never", ""},
+      {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+  };
+}
 
 void readHolonomicTags(const DeclarationSource& source, HolonomicConfig& config) {
   PluginTags& tags = source.tags;
-  config.command_topic = tags.text("commandTopic", config.command_topic);
-  config.odometry_topic = tags.text("odometryTopic", config.odometry_topic);
-  config.odometry_frame = tags.frame("odometryFrame", config.odometry_frame);
-  config.robot_base_frame = tags.frame("robotBaseFrame", config.robot_base_frame);
-  config.update_rate = tags.number("odometryRate", config.update_rate);
-  tags.accept({"alwaysOn"});
+  config.command_topic = tags.text("commandTopic");
+  config.odometry_topic = tags.text("odometryTopic");
+  config.odometry_frame = tags.frame("odometryFrame", tableDefault(tags, "odometryFrame"));
+  config.robot_base_frame = tags.frame("robotBaseFrame", tableDefault(tags, "robotBaseFrame"));
+  config.update_rate = tags.number("odometryRate");
 }
 
 void parsePlanarMove(const DeclarationSource& source, PlanarMoveConfig& config) {
   readHolonomicTags(source, config);
-  config.command_timeout = source.tags.number("cmdTimeout", config.command_timeout);
+  config.command_timeout = source.tags.number("cmdTimeout");
   frameLink(source, "robotBaseFrame", config.robot_base_frame, source.model.root);
 }
 
@@ -118,7 +141,7 @@ void PlanarMove::onReset() {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(planar_move) {
-  registrar.add(pluginType<PlanarMove>("libgazebo_ros_planar_move.so", parsePlanarMove, {}));
+  registrar.add(pluginType<PlanarMove>("libgazebo_ros_planar_move.so", parsePlanarMove, planarMoveTags()));
 }
 
 }  // namespace bullet_sim

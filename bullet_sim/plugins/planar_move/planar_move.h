@@ -1,11 +1,8 @@
 // libgazebo_ros_planar_move.so (gazebo_plugins on Noetic): cmd_vel's linear.x, linear.y and angular.z drive
 // the robot holonomically. Before every step the root link gets that velocity, turned into the world by its
 // yaw, with no vertical or tilting speed (Gazebo's Model::SetLinearVel and SetAngularVel); the ground's
-// friction still acts within the step, as in Gazebo.
-//
-// Tags and defaults (gazebo_plugins'): commandTopic [cmd_vel], odometryTopic [odom], odometryFrame [odom],
-//   robotBaseFrame [base_footprint], odometryRate [20 Hz; 0 publishes neither odometry nor tf], cmdTimeout
-//   [-1 = none: the last command holds for ever; else [s] of sim time after which it stops], robotNamespace.
+// friction still acts within the step, as in Gazebo. Its tags, Noetic's with their defaults, are the table
+// planarMoveTags() in planar_move.cpp.
 // Odometry, every 1 / odometryRate: the pose of robotBaseFrame in the world (the root link's when it names
 //   no link: Gazebo's model pose); its velocity from the poses' difference since the last odometry, in the
 //   base frame; pose covariances 1e-5 (x, y), 1e-3 (yaw), 1e12 (z, roll, pitch). Noetic always publishes the
@@ -19,23 +16,24 @@
 
 namespace bullet_sim {
 
-/// What planar move and hector's force-based move share.
+/// What planar move and hector's force-based move share, filled from their tag tables (update_rate is the
+/// odometryRate).
 struct HolonomicConfig : PluginConfig {
-  std::string command_topic = "cmd_vel";
-  std::string odometry_topic = "odom";
-  std::string odometry_frame = "odom";
-  std::string robot_base_frame = "base_footprint";
-  double command_timeout = -1;      ///< [s]; < 0 = none
-  bool publish_odometry_tf = true;
-
-  HolonomicConfig() { update_rate = 20; }  // odometryRate
+  std::string command_topic;
+  std::string odometry_topic;
+  std::string odometry_frame;
+  std::string robot_base_frame;
+  double command_timeout = -1;      ///< [s]; < 0 = none (force-based move has no timeout)
+  bool publish_odometry_tf = true;  ///< always, for planar move
 };
 
 struct PlanarMoveConfig : HolonomicConfig {};
 
 void parsePlanarMove(const DeclarationSource& source, PlanarMoveConfig& config);
 
-/// Reads the tags planar move and force-based move share into `config`; `where` heads the messages.
+/// The rows of the tags planar move and force-based move share (readHolonomicTags reads them).
+TagTable holonomicTags();
+/// Reads the tags planar move and force-based move share into `config`.
 void readHolonomicTags(const DeclarationSource& source, HolonomicConfig& config);
 
 class PlanarMove : public Plugin {
@@ -48,8 +46,6 @@ class PlanarMove : public Plugin {
   /// The latest cmd_vel: linear.x and linear.y [m/s] and angular.z [rad/s]. Returns false, and changes
   /// nothing, when a value is not finite.
   bool setCommand(const Twist& command, double sim_time);
-  const Odometry& odometry() const { return odometry_.latest(); }
-  uint64_t odometryCount() const { return odometry_.count(); }
 
  protected:
   /// The command in force at `sim_time` (zero once it timed out): x [m/s], y [m/s], yaw rate [rad/s].

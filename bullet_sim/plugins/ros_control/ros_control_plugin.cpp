@@ -13,6 +13,28 @@ namespace {
 
 constexpr const char* kDefaultSimType = "gazebo_ros_control/DefaultRobotHWSim";
 
+TagTable rosControlTags() {
+  return {
+      {"robotNamespace", TagType::kText, "the model's name", "",
+       "the namespace of the controller manager and of its controllers' parameters", ""},
+      {"controlPeriod", TagType::kPositive, "0", "s",
+       "the controllers' update period; the physics step when absent",
+       "0 (or absent): every step; the simulation's rate limit caps it"},
+      {"robotParam", TagType::kIgnored, "robot_description", "",
+       "the parameter holding the URDF whose transmissions it drives",
+       "the URDF the robot was spawned from is driven"},
+      {"eStopTopic", TagType::kTopic, "", "",
+       "a std_msgs/Bool topic: true is an emergency stop that holds every joint; none when absent", ""},
+      {"robotSimType", TagType::kText, kDefaultSimType, "", "the RobotHWSim plugin that drives the joints",
+       "only its default is simulated: another is an error"},
+      {"legacyModeNS", TagType::kIgnored, "", "", "not read on Noetic; Kinetic's made DefaultRobotHWSim ignore robotNamespace",
+       "ignored with a warning"},
+      {"wheelModel", TagType::kText, "", "", "not read (bullet_sim's tag)",
+       "the robot's wheel-ground model, contact or raycast; when absent, chosen by the controllers and "
+       "transmissions (see the reference's ros_control page)"},
+  };
+}
+
 /// The interface a <hardwareInterface> names, in either of ros_control's spellings; nullopt for another.
 std::optional<JointInterface> interfaceNamed(const std::string& name, bool* deprecated) {
   static const std::pair<const char*, JointInterface> kInterfaces[] = {
@@ -109,21 +131,19 @@ std::set<std::string> diffDriveWheels(const ParameterTree& robot_parameters) {
 void parseRosControl(const DeclarationSource& source, RosControlConfig& config) {
   PluginTags& tags = source.tags;
   config.namespace_given = tags.has("robotNamespace");
-  config.control_period = tags.positive("controlPeriod", 0, /*allow_zero=*/true);
+  config.control_period = tags.nonNegative("controlPeriod");
   config.update_rate = config.control_period > 0 ? 1 / config.control_period : 0;
-  tags.text("robotParam", "robot_description");  // the URDF the robot was spawned from is the one driven
-  config.e_stop_topic = tags.text("eStopTopic", "");
-  const std::string sim_type = tags.text("robotSimType", kDefaultSimType);
+  config.e_stop_topic = tags.text("eStopTopic");
+  const std::string sim_type = tags.text("robotSimType");
   if (sim_type != kDefaultSimType) {
     source.diagnostics.error(tags.where() + " <robotSimType> [" + sim_type +
                              "] is a RobotHWSim bullet_sim does not have: only " + kDefaultSimType +
                              " is simulated (leave the tag out to use it)");
   }
   if (tags.has("legacyModeNS")) {
-    tags.text("legacyModeNS", "");
     source.diagnostics.warning(tags.where() + " <legacyModeNS> is gone from Noetic's gazebo_ros_control: ignored");
   }
-  config.wheel_model = tags.text("wheelModel", "");
+  config.wheel_model = tags.text("wheelModel");
   if (!config.wheel_model.empty() && config.wheel_model != "contact" && config.wheel_model != "raycast") {
     source.diagnostics.error(tags.where() + " <wheelModel> must be contact or raycast, not [" +
                              config.wheel_model + "]");
@@ -241,7 +261,7 @@ void RosControl::onReset() {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(ros_control) {
-  PluginType type = pluginType<RosControl>("libgazebo_ros_control.so", parseRosControl, {});
+  PluginType type = pluginType<RosControl>("libgazebo_ros_control.so", parseRosControl, rosControlTags());
   type.needs = kNeedParameters;
   type.tf_prefix = TfPrefixRule::kNone;  // its controllers name their frames as their parameters say
   type.driven = [](const PluginDeclaration& declaration) {

@@ -4,10 +4,8 @@
 // switch_controller, list_controllers, list_controller_types and reload_controller_libraries. Its controllers
 // read their parameters from the parameter server and update at the control period, in sim time.
 //
-// Tags (Noetic's): robotNamespace [the model's name], controlPeriod [s; the simulation's step], robotParam
-// [robot_description; bullet_sim drives the URDF it spawned], eStopTopic [none; std_msgs/Bool, true holds every
-// joint], robotSimType [gazebo_ros_control/DefaultRobotHWSim, the only one]; legacyModeNS is gone from Noetic
-// and is ignored with a warning. Ours (Gazebo ignores it): wheelModel [by the rule of rosControlWheelModel].
+// Its tags, Noetic's with their defaults and our wheelModel, are the table rosControlTags() in
+// ros_control_plugin.cpp.
 #pragma once
 
 #include <memory>

@@ -14,16 +14,132 @@ namespace {
 
 constexpr double kGeometryTolerance = 0.005;  // [m] plugin figures vs URDF geometry before we say so
 
+/// The rows both drives share, in the order their tables list them: the topics, frames and rate first.
+std::vector<TagRow> headRows() {
+  return {
+      {"commandTopic", TagType::kTopic, "cmd_vel", "",
+       "the geometry_msgs/Twist it follows: linear.x [m/s] and angular.z [rad/s]", ""},
+      {"odometryTopic", TagType::kTopic, "odom", "", "the topic of its nav_msgs/Odometry", ""},
+      {"odometryFrame", TagType::kFrame, "odom", "",
+       "the odometry's frame_id, and the parent frame of its tf", ""},
+      {"robotBaseFrame", TagType::kFrame, "base_footprint", "",
+       "the odometry's child_frame_id; the pose is the model's",
+       "the pose is this link's; when it names no link, a warning, and the root link's pose"},
+      {"updateRate", TagType::kPositive, "100", "Hz",
+       "how often the wheels get new speeds and the odometry is published; 0: every step", ""},
+  };
+}
+
+/// The wheel figures both drives share.
+std::vector<TagRow> wheelRows(const std::string& separation) {
+  return {
+      {"wheelSeparation", TagType::kPositive, separation, "m",
+       "the distance between the left and right wheels",
+       "a warning when it is more than 5 mm off the distance between the wheels' joints"},
+      {"wheelDiameter", TagType::kPositive, "0.15", "m", "the wheels' diameter",
+       "a warning when it is more than 5 mm off a wheel's collision cylinder or sphere"},
+  };
+}
+
+/// A wheel joint's row.
+TagRow jointRow(const std::string& tag, const std::string& fallback, const std::string& wheel) {
+  return {tag, TagType::kText, fallback, "",
+          "the " + wheel + " wheel's joint; the plugin does not load when the model has no such joint",
+          "an error naming the nearest joint when it is missing or fixed; a wheel turning the other way "
+          "(about -y) is driven with the opposite sign, with a warning"};
+}
+
+/// The tags that Gazebo's plugins share with older versions and that change nothing here.
+std::vector<TagRow> ignoredRows(const std::string& debug_level) {
+  return {
+      {"rosDebugLevel", TagType::kIgnored, "", "", debug_level, ""},
+      {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
+  };
+}
+
+TagTable tableOf(const std::vector<std::vector<TagRow>>& parts) {
+  TagTable table;
+  for (const auto& part : parts) {
+    for (const TagRow& row : part) table.add(row);
+  }
+  return table;
+}
+
+TagTable diffDriveTags() {
+  return tableOf({
+      headRows(),
+      {jointRow("leftJoint", "left_joint", "left"), jointRow("rightJoint", "right_joint", "right")},
+      wheelRows("0.34"),
+      {
+          {"wheelTorque", TagType::kPositive, "5", "N m", "the most torque each wheel's velocity motor gives",
+           "above max_effort, that limit, with a warning"},
+          {"wheelAcceleration", TagType::kPositive, "0", "m/s^2",
+           "how fast the rims' speed may change towards the command; 0: at once",
+           "ramps the commanded rim speed from update to update"},
+          {"odometrySource", TagType::kText, "world", "",
+           "world: the model's pose in the world; encoder: integrated from the wheels' speeds",
+           "encoder integrates the angles the wheels turned; another value is read as world, with a warning"},
+          {"publishTf", TagType::kFlag, "true", "",
+           "false: no odometry, nor its tf; a warning when the tag is absent", "false: no odometry message"},
+          {"publishOdomTF", TagType::kFlag, "true", "",
+           "the odometry's tf (odometryFrame to robotBaseFrame), sent with each odometry",
+           "sent even when publishTf is false"},
+          {"publishWheelTF", TagType::kFlag, "false", "",
+           "each wheel's link in its parent link's frame on /tf", ""},
+          {"publishWheelJointState", TagType::kFlag, "false", "",
+           "the wheels' positions on joint_states (sensor_msgs/JointState)",
+           "their velocities and efforts too"},
+          {"legacyMode", TagType::kFlag, "false", "",
+           "not read on Noetic; Kinetic's and Melodic's swapped the wheels when true, their default",
+           "read and ignored with a warning: REP 103 is followed"},
+      },
+      ignoredRows("the log level of the plugin's ROS node"),
+      ownDriveTagRows(),
+  });
+}
+
+TagTable skidSteerTags() {
+  const auto covariance = [](const std::string& tag, const std::string& fallback, const std::string& of) {
+    return TagRow{tag, TagType::kPositive, fallback, "", "the variance of " + of + " in the odometry's pose "
+                  "and twist covariances", ""};
+  };
+  return tableOf({
+      headRows(),
+      {jointRow("leftFrontJoint", "left_front_joint", "left front"),
+       jointRow("rightFrontJoint", "right_front_joint", "right front"),
+       jointRow("leftRearJoint", "left_rear_joint", "left rear"),
+       jointRow("rightRearJoint", "right_rear_joint", "right rear")},
+      wheelRows("0.4"),
+      {
+          {"torque", TagType::kPositive, "5", "N m", "the most torque each wheel's velocity motor gives",
+           "above max_effort, that limit, with a warning"},
+          {"broadcastTF", TagType::kFlag, "false", "",
+           "the odometry's tf (odometryFrame to robotBaseFrame), sent with each odometry", ""},
+          covariance("covariance_x", "0.0001", "x [m^2]"),
+          covariance("covariance_y", "0.0001", "y [m^2]"),
+          covariance("covariance_yaw", "0.01", "the yaw [rad^2]"),
+      },
+      ignoredRows("not read"),
+      ownDriveTagRows(),
+  });
+}
+
 void readCommon(const DeclarationSource& source, DriveConfig& config) {
   PluginTags& tags = source.tags;
   readDriveHead(tags, DriveTagNames{}, config);
-  config.wheel_separation = tags.positive("wheelSeparation", config.wheel_separation);
-  config.wheel_diameter = tags.positive("wheelDiameter", config.wheel_diameter);
+  config.wheel_separation = tags.positive("wheelSeparation");
+  config.wheel_diameter = tags.positive("wheelDiameter");
   for (const auto& [tag, value] : {std::pair{"wheelSeparation", &config.wheel_separation},
                                    std::pair{"wheelDiameter", &config.wheel_diameter}}) {
     if (auto problem = boundProblem(*value, source.limits.max_length, "max_length", "m"))
       source.diagnostics.error(tags.where() + " <" + tag + "> " + *problem);
   }
+}
+
+/// A wheel's velocity motor's torque limit [N m], read from `tag`.
+double wheelTorque(const DeclarationSource& source, const std::string& tag) {
+  return source.tags.capped(tag, tableDefaultNumber(source.tags, tag), source.limits.max_effort, "max_effort",
+                            "N m");
 }
 
 /// A wheel named twice, on both sides or on one, would be driven twice: an error.
@@ -38,12 +154,6 @@ void checkWheelsDistinct(const DeclarationSource& source, const DriveConfig& con
       seen.push_back(joint);
     }
   }
-}
-
-std::string vectorText(const Eigen::Vector3d& v) {
-  std::ostringstream text;
-  text << v.x() << ' ' << v.y() << ' ' << v.z();
-  return text.str();
 }
 
 /// Checks one side's wheels against the model: each must be a moving joint; a reversed one and a collision
@@ -110,23 +220,23 @@ void checkWheels(const DeclarationSource& source, DriveConfig& config) {
 void parseDiffDrive(const DeclarationSource& source, DriveConfig& config) {
   PluginTags& tags = source.tags;
   readCommon(source, config);
-  config.left_joints = {tags.text("leftJoint", "left_joint")};
-  config.right_joints = {tags.text("rightJoint", "right_joint")};
-  config.torque = tags.capped("wheelTorque", 5.0, source.limits.max_effort, "max_effort", "N m");
-  config.acceleration = tags.positive("wheelAcceleration", 0.0, /*allow_zero=*/true);
-  const std::string odometry_source = tags.text("odometrySource", "world");
+  config.left_joints = {tags.text("leftJoint")};
+  config.right_joints = {tags.text("rightJoint")};
+  config.torque = wheelTorque(source, "wheelTorque");
+  config.acceleration = tags.nonNegative("wheelAcceleration");
+  const std::string odometry_source = tags.text("odometrySource");
   if (odometry_source == "encoder") {
     config.odometry_from_encoders = true;
   } else if (odometry_source != "world") {
     tags.diagnostics().warning(tags.where() + " <odometrySource> must be world or encoder, not [" +
                                odometry_source + "]: world is used, as Gazebo does");
   }
-  config.publish_odometry = tags.flag("publishTf", true);
-  config.publish_odom_tf = tags.flag("publishOdomTF", true);
-  config.publish_wheel_tf = tags.flag("publishWheelTF", false);
-  config.publish_wheel_joint_state = tags.flag("publishWheelJointState", false);
+  config.publish_odometry = tags.flag("publishTf");
+  config.publish_odom_tf = tags.flag("publishOdomTF");
+  config.publish_wheel_tf = tags.flag("publishWheelTF");
+  config.publish_wheel_joint_state = tags.flag("publishWheelJointState");
   if (tags.has("legacyMode")) {
-    tags.flag("legacyMode", false);
+    tags.flag("legacyMode");
     tags.diagnostics().warning(
         tags.where() +
         " <legacyMode> is a Kinetic tag (it swapped the wheels): ignored; REP 103 is followed");
@@ -137,18 +247,13 @@ void parseDiffDrive(const DeclarationSource& source, DriveConfig& config) {
 
 void parseSkidSteer(const DeclarationSource& source, DriveConfig& config) {
   PluginTags& tags = source.tags;
-  config.wheel_separation = 0.4;
   readCommon(source, config);
-  config.left_joints = {tags.text("leftFrontJoint", "left_front_joint"),
-                        tags.text("leftRearJoint", "left_rear_joint")};
-  config.right_joints = {tags.text("rightFrontJoint", "right_front_joint"),
-                         tags.text("rightRearJoint", "right_rear_joint")};
-  config.torque = tags.capped("torque", 5.0, source.limits.max_effort, "max_effort", "N m");
-  config.publish_odom_tf = tags.flag("broadcastTF", false);
-  const double x = tags.positive("covariance_x", 1e-4, true);
-  const double y = tags.positive("covariance_y", 1e-4, true);
-  const double yaw = tags.positive("covariance_yaw", 0.01, true);
-  config.pose_covariance = config.twist_covariance = planarCovariance(x, y, yaw);
+  config.left_joints = {tags.text("leftFrontJoint"), tags.text("leftRearJoint")};
+  config.right_joints = {tags.text("rightFrontJoint"), tags.text("rightRearJoint")};
+  config.torque = wheelTorque(source, "torque");
+  config.publish_odometry = true;  // Gazebo's skid steer always publishes it
+  config.publish_odom_tf = tags.flag("broadcastTF");
+  readPlanarCovariance(tags, config);
   checkWheels(source, config);
 }
 
@@ -277,17 +382,21 @@ BULLET_SIM_PLUGIN_FOLDER(wheeled_drive) {
     DrivenJoints joints{true, config.left_joints, config.right_joints, config.robot_base_frame};
     joints.motors = config.left_joints;
     joints.motors.insert(joints.motors.end(), config.right_joints.begin(), config.right_joints.end());
+    joints.traction = Traction{joints.motors, config.torque, config.wheel_diameter / 2, config.acceleration};
     return joints;
   };
-  for (auto [filename, parse] : {std::pair{"libgazebo_ros_diff_drive.so", parseDiffDrive},
-                                 std::pair{"libgazebo_ros_skid_steer_drive.so", parseSkidSteer}}) {
-    PluginType type = pluginType<WheeledDrive>(filename, parse, {});
+  using Parser = void (*)(const DeclarationSource&, DriveConfig&);
+  const auto add = [&](const char* filename, Parser parse, TagTable tags) {
+    PluginType type = pluginType<WheeledDrive>(filename, parse, std::move(tags));
+    type.rate = {RateRule::From::kTags, {"updateRate"}, 100};
     type.driven = driven;
     type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery&) {
       return driveWheelModel(declaration);
     };
     registrar.add(std::move(type));
-  }
+  };
+  add("libgazebo_ros_diff_drive.so", parseDiffDrive, diffDriveTags());
+  add("libgazebo_ros_skid_steer_drive.so", parseSkidSteer, skidSteerTags());
 }
 
 }  // namespace bullet_sim

@@ -2,18 +2,8 @@
 //   libgazebo_ros_diff_drive.so        two wheels; wheelAcceleration ramp; odometrySource world | encoder
 //   libgazebo_ros_skid_steer_drive.so  four wheels, each side driven alike; ground-truth odometry
 // Both follow REP 103: +angular.z turns counter-clockwise. Each side's rim speed is v -/+ w * separation / 2.
-//
-// Tags (Gazebo's names and defaults):
-//   commandTopic [cmd_vel] odometryTopic [odom] odometryFrame [odom] robotBaseFrame [base_footprint]
-//   robotNamespace updateRate [100 Hz; 0 = every step] wheelSeparation [m] wheelDiameter [m]
-//   diff drive: leftJoint rightJoint wheelTorque [5 N m] wheelAcceleration [0 m/s^2 = none]
-//               odometrySource [world] publishTf [true: gates odom] publishOdomTF [true]
-//               publishWheelJointState [false] publishWheelTF [false: the wheels' links in their parents'
-//               frames on /tf] legacyMode (read, ignored)
-//   skid steer: leftFrontJoint rightFrontJoint leftRearJoint rightRearJoint torque [5 N m]
-//               broadcastTF [false] covariance_x [1e-4] covariance_y [1e-4] covariance_yaw [0.01]
-// Ours (Gazebo ignores them): commandTimeout [0 s = off] stops the robot when cmd_vel falls silent;
-//   wheelModel [raycast] chooses the wheel-ground model.
+// Their tags, with Gazebo's names and defaults and our commandTimeout and wheelModel, are the tables
+// diffDriveTags() and skidSteerTags() in wheeled_drive.cpp.
 //
 // Unlike Gazebo, a wheel whose joint axis points the other way (e.g. 0 -1 0 on the right) is driven with the
 // sign that rolls the robot forward, and that is said at load.
@@ -31,15 +21,13 @@ struct DriveConfig : DriveConfigHead {
   std::vector<std::string> right_joints;
   std::vector<double> left_signs;   ///< per left joint: +1 when a positive velocity rolls it forward
   std::vector<double> right_signs;  ///< the same for the right joints
-  double wheel_separation = 0.34;   ///< [m]
-  double wheel_diameter = 0.15;     ///< [m]
-  double torque = 5.0;              ///< [N m] per wheel
+  double wheel_separation = 0;      ///< [m]
+  double wheel_diameter = 0;        ///< [m]
+  double torque = 0;                ///< [N m] per wheel
   double acceleration = 0;          ///< [m/s^2] rim acceleration limit; 0 = none
   bool odometry_from_encoders = false;
   bool publish_wheel_joint_state = false;
   bool publish_wheel_tf = false;
-
-  DriveConfig() { update_rate = 100; }
 };
 
 /// Read and checked against the model: the joints exist and move, the base frame exists, the figures agree
@@ -55,8 +43,6 @@ class WheeledDrive : public DrivePlugin {
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
 
   const DriveConfig& config() const { return config_; }
-  const JointStateSample& wheelJointStates() const { return wheel_states_.latest(); }
-  uint64_t wheelJointStatesCount() const { return wheel_states_.count(); }
 
  private:
   struct Wheel {

@@ -1,47 +1,94 @@
 #include "bullet_sim/plugins/drive_support.h"
 
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 
 namespace bullet_sim {
 
 namespace {
 
-/// The text of the first of `names` present, or `fallback`; every one of them counts as read.
-std::string firstText(PluginTags& tags, const std::vector<std::string>& names, const std::string& fallback) {
-  std::string value = fallback;
-  for (auto name = names.rbegin(); name != names.rend(); ++name) value = tags.text(*name, value);
-  return value;
+/// The text of the first of `names` present, else the first's default in the table; every one present counts
+/// as read.
+std::string firstText(PluginTags& tags, const std::vector<std::string>& names) {
+  std::optional<std::string> value;
+  for (const auto& name : names) {
+    if (!tags.has(name)) continue;
+    const std::string text = tags.text(name);
+    if (!value) value = text;
+  }
+  return value ? *value : tags.text(names.front());
 }
 
 /// firstText for frames (see PluginTags::frame).
-std::string firstFrame(PluginTags& tags, const std::vector<std::string>& names, const std::string& fallback) {
-  std::string value = fallback;
-  for (auto name = names.rbegin(); name != names.rend(); ++name) value = tags.frame(*name, value);
-  return value;
+std::string firstFrame(PluginTags& tags, const std::vector<std::string>& names) {
+  std::optional<std::string> value;
+  for (const auto& name : names) {
+    if (!tags.has(name)) continue;
+    const std::string frame = tags.frame(name, "");
+    if (!value) value = frame;
+  }
+  return value ? *value : tags.frame(names.front(), tableDefault(tags, names.front()));
 }
 
 }  // namespace
+
+std::string tableDefault(const PluginTags& tags, const std::string& tag) {
+  const TagRow* row = tags.table() ? tags.table()->row(tag) : nullptr;
+  if (!row) throw std::logic_error(tags.where() + " reads <" + tag + ">, which its plugin's tag table lacks");
+  return row->fallback;
+}
+
+double tableDefaultNumber(const PluginTags& tags, const std::string& tag) {
+  const std::string text = tableDefault(tags, tag);
+  try {
+    return std::stod(text);
+  } catch (const std::exception&) {
+    throw std::logic_error(tags.where() + " <" + tag + ">'s table default [" + text + "] is no number");
+  }
+}
 
 std::optional<std::string> driveWheelModel(const PluginDeclaration& declaration) {
   return declaration.configAs<DriveConfigHead>()->wheel_model;
 }
 
+std::vector<TagRow> ownDriveTagRows() {
+  return {
+      {"commandTimeout", TagType::kPositive, "0", "s", "not read (bullet_sim's tag)",
+       "the robot stops once cmd_vel has been silent this long; 0: the last command holds for ever, as in "
+       "Gazebo"},
+      {"wheelModel", TagType::kText, kDefaultWheelModel, "", "not read (bullet_sim's tag)",
+       "the robot's wheel-ground model: raycast (one body, a ray per wheel) or contact (a multibody whose "
+       "wheels touch the ground)"},
+  };
+}
+
 void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead& head) {
-  head.command_topic = firstText(tags, names.command_topic, head.command_topic);
-  head.odometry_topic = firstText(tags, names.odometry_topic, head.odometry_topic);
-  head.odometry_frame = firstFrame(tags, names.odometry_frame, head.odometry_frame);
-  head.robot_base_frame = firstFrame(tags, names.robot_base_frame, head.robot_base_frame);
-  for (auto name = names.update_rate.rbegin(); name != names.update_rate.rend(); ++name)
-    head.update_rate = tags.positive(*name, head.update_rate, /*allow_zero=*/true);
-  head.command_timeout = tags.positive("commandTimeout", 0.0, /*allow_zero=*/true);
-  head.wheel_model = tags.text("wheelModel", head.wheel_model);
+  head.command_topic = firstText(tags, names.command_topic);
+  head.odometry_topic = firstText(tags, names.odometry_topic);
+  head.odometry_frame = firstFrame(tags, names.odometry_frame);
+  head.robot_base_frame = firstFrame(tags, names.robot_base_frame);
+  head.command_timeout = tags.nonNegative("commandTimeout");
+  head.wheel_model = tags.text("wheelModel");
   if (head.wheel_model != "contact" && head.wheel_model != "raycast") {
     tags.diagnostics().error(tags.where() + " <wheelModel> must be contact or raycast, not [" +
                              head.wheel_model + "]");
     head.wheel_model = kDefaultWheelModel;
   }
-  tags.accept({"rosDebugLevel", "alwaysOn"});
+}
+
+void readPlanarCovariance(PluginTags& tags, DriveConfigHead& head) {
+  const double x = tags.nonNegative("covariance_x");
+  const double y = tags.nonNegative("covariance_y");
+  const double yaw = tags.nonNegative("covariance_yaw");
+  head.pose_covariance = head.twist_covariance = planarCovariance(x, y, yaw);
+}
+
+std::string vectorText(const Eigen::Vector3d& v) {
+  std::ostringstream text;
+  text << v.x() << ' ' << v.y() << ' ' << v.z();
+  return text.str();
 }
 
 std::array<double, 36> planarCovariance(double x, double y, double yaw) {

@@ -79,7 +79,6 @@ const PluginRegistry& PluginRegistry::builtin() {
 }
 
 void PluginRegistry::add(PluginType type) {
-  type.table_checked = !type.tags.rows().empty();
   type.tags = headTable(type);
   auto same = std::find_if(types_.begin(), types_.end(), [&](const PluginType& known) {
     return known.filename == type.filename && known.sensor_types == type.sensor_types;
@@ -128,7 +127,7 @@ std::string PluginRegistry::listing() const {
 std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSource& source) const {
   const PluginDeclaration& declaration = source.declaration;
   if (const PluginType* type = typeOf(declaration)) {
-    if (type->table_checked) source.tags.useTable(&type->tags);
+    source.tags.useTable(&type->tags);
     const ParseHead head = readHead(*type, source);
     std::shared_ptr<PluginConfig> config = type->parse(source, head);
     capUpdateRate(*config, source);

@@ -116,10 +116,6 @@ std::string tagTable(const PluginType& type) {
         << cell(row.unit) << " | " << cell(row.gazebo) << " | " << (row.ours.empty() ? "the same" : cell(row.ours))
         << " |\n";
   }
-  if (!type.table_checked) {
-    out << "\nIts parser does not read through a tag table yet: the table holds only the tags the registry reads "
-           "for every plugin.\n";
-  }
   return out.str();
 }
 

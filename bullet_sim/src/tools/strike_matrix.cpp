@@ -13,12 +13,9 @@
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/assets/package_resolver.h"
 #include "bullet_sim/plugins/parameter_tree.h"
+#include "bullet_sim/plugins/registry.h"
 #include "bullet_sim/simulation/world_api.h"
 #include "bullet_sim/tools/urdf_edits.h"
-#include "plugins/ackermann_drive/ackermann_drive.h"
-#include "plugins/ros_control/diff_drive_controller.h"
-#include "plugins/ros_control/ros_control_plugin.h"
-#include "plugins/wheeled_drive/wheeled_drive.h"
 
 namespace bullet_sim {
 
@@ -147,37 +144,39 @@ double wheelRadiusOf(const ModelSpec& model, const std::string& joint) {
   return link && !link->collisions.empty() ? link->collisions.front().shape.radius : 0.0;
 }
 
-/// The robot's plugins that are `Concrete`s. (What the drive is and how to command it should come from the
-/// registry and the typed inputs instead: issue 27's last step.)
-template <class Concrete>
-std::vector<Concrete*> pluginsOfType(Robot& robot) {
-  std::vector<Concrete*> found;
-  for (const auto& plugin : robot.plugins()) {
-    if (auto* typed = dynamic_cast<Concrete*>(plugin.get())) found.push_back(typed);
-  }
-  return found;
+/// A command of `speed` along x through `input`, a cmd_vel.
+std::function<void(double speed, double sim_time)> forwardCommand(const InputHandler<Twist>& input) {
+  return [&input](double speed, double sim_time) {
+    Twist twist;
+    twist.linear.x() = speed;
+    input(twist, sim_time);
+  };
 }
 
-/// The robot's ros_control diff drive: the controller's wheels, limits and cmd_vel.
-std::optional<Drive> rosControlDrive(Robot& robot, const ParameterTree& parameters, double time) {
-  const auto controls = pluginsOfType<RosControl>(robot);
-  if (controls.empty()) return std::nullopt;
-  ControllerManager& manager = controls.front()->controllerManager();
+/// Calls `robot`'s service that serves `Request`s (its controller manager's), throwing what it refuses.
+template <class Request>
+void callService(const Robot& robot, const Request& request, const std::string& what) {
+  typename Request::Reply reply;
+  const std::string problem = (*robot.services<Request>().front().handler)(request, reply);
+  if (!problem.empty()) throw std::runtime_error(what + ": " + problem);
+}
+
+/// The robot's ros_control diff drive, once every controller in `parameters` is loaded and started through
+/// the controller manager's services: the controller's wheels, limits and cmd_vel.
+std::optional<Drive> rosControlDrive(const Robot& robot, const ParameterTree& parameters) {
+  if (robot.services<LoadControllerRequest>().empty()) return std::nullopt;
   SwitchControllerRequest start;
   start.strictness = SwitchControllerRequest::kStrict;
   for (const auto& name : parameters.keys()) {
     if (!parameters.has(name + "/type")) continue;
-    const std::string problem = manager.load(name, nullptr);
-    if (!problem.empty()) throw std::runtime_error("controller [" + name + "]: " + problem);
+    callService(robot, LoadControllerRequest{name}, "controller [" + name + "]");
     start.start.push_back(name);
   }
-  const std::string problem = manager.switchControllers(start, time, nullptr);
-  if (!problem.empty()) throw std::runtime_error("starting the controllers: " + problem);
+  callService(robot, start, "starting the controllers");
   for (const auto& name : start.start) {
-    auto* controller = dynamic_cast<DiffDriveController*>(manager.find(name));
-    if (!controller) continue;
-    Drive drive;
     const ParameterTree config = parameters.at(name);
+    if (config.text("type", "") != "diff_drive_controller/DiffDriveController") continue;
+    Drive drive;
     drive.joints = config.texts("left_wheel");
     for (const auto& joint : config.texts("right_wheel")) drive.joints.push_back(joint);
     const ModelSpec& model = robot.body().spec();
@@ -187,44 +186,37 @@ std::optional<Drive> rosControlDrive(Robot& robot, const ParameterTree& paramete
       drive.acceleration = config.number("linear/x/max_acceleration", 0);
     if (config.flag("linear/x/has_velocity_limits", false))
       drive.max_speed = config.number("linear/x/max_velocity", drive.max_speed);
-    for (const InputPort& port : controller->ports().inputs) {
-      if (const auto* handler = std::get_if<InputHandler<Twist>>(&port.sink)) {
-        drive.command = [handler](double speed, double sim_time) {
-          Twist twist;
-          twist.linear.x() = speed;
-          (*handler)(twist, sim_time);
-        };
-      }
+    for (const auto& input : robot.inputs<Twist>()) {
+      if (input.topic == name + "/cmd_vel") drive.command = forwardCommand(*input.handler);
     }
+    if (!drive.command) throw std::logic_error("controller [" + name + "] takes no cmd_vel");
     return drive;
   }
   throw std::runtime_error("no diff_drive_controller/DiffDriveController among the controllers");
 }
 
-Drive driveOf(Robot& robot, const ParameterTree& parameters, double time) {
-  if (auto drive = rosControlDrive(robot, parameters, time)) return *drive;
-  Drive drive;
-  const auto drives = pluginsOfType<DrivePlugin>(robot);
-  if (drives.empty()) throw std::runtime_error("the robot has no drive plugin nor ros_control to drive it");
-  DrivePlugin* plugin = drives.front();
-  drive.command = [plugin](double speed, double sim_time) { plugin->setCommand(speed, 0, sim_time); };
-  if (const auto* wheeled = dynamic_cast<WheeledDrive*>(plugin)) {
-    const DriveConfig& config = wheeled->config();
-    drive.joints = config.left_joints;
-    drive.joints.insert(drive.joints.end(), config.right_joints.begin(), config.right_joints.end());
-    drive.torque = config.torque;
-    drive.radius = config.wheel_diameter / 2;
-    drive.acceleration = config.acceleration;
-  } else if (const auto* ackermann = dynamic_cast<AckermannDrive*>(plugin)) {
-    const AckermannConfig& config = ackermann->config();
-    drive.joints = {config.rear_left_joint, config.rear_right_joint};
-    drive.torque = config.rear_left.effort;
-    drive.radius = config.geometry.wheel_radius;
-    drive.max_speed = config.max_speed;
-  } else {
-    throw std::runtime_error("the robot's drive plugin is neither a wheeled nor an Ackermann drive");
+/// The robot's drive plugin, by what its plugin type says of its traction, commanded through its cmd_vel.
+Drive pluginDrive(const Robot& robot) {
+  const PluginRegistry& registry = PluginRegistry::builtin();
+  for (const PluginDeclaration& declaration : robot.body().spec().plugins) {
+    const PluginType* type = registry.typeOf(declaration);
+    if (!type || !type->driven) continue;
+    const std::optional<Traction> traction = type->driven(declaration).traction;
+    if (!traction) continue;
+    Drive drive{traction->wheels, traction->torque, traction->wheel_radius, traction->acceleration,
+                traction->max_speed, nullptr};
+    for (const auto& input : robot.inputs<Twist>()) {
+      if (input.plugin->name() == declaration.name) drive.command = forwardCommand(*input.handler);
+    }
+    if (!drive.command) throw std::logic_error(declaration.where() + " takes no cmd_vel");
+    return drive;
   }
-  return drive;
+  throw std::runtime_error("the robot has no drive plugin with wheels of its own, nor ros_control, to drive it");
+}
+
+Drive driveOf(const Robot& robot, const ParameterTree& parameters) {
+  if (auto drive = rosControlDrive(robot, parameters)) return *drive;
+  return pluginDrive(robot);
 }
 
 /// The robot's collision surfaces, sampled, in its parts' frames.
@@ -742,7 +734,7 @@ class StrikeRun {
     if (cell.coast) urdf = withMotorsOff(urdf);
     std::vector<std::string> warnings;
     robot_body_ = &simulation_.spawn(robot.name, parseModel(urdf, robot.name, PackageResolver::fromEnvironment(), &warnings), SpawnPose{});
-    drive_ = driveOf(*robot_body_, parameters_, simulation_.time());
+    drive_ = driveOf(*robot_body_, parameters_);
     points_ = samplePoints(robot_body_->body(), drive_);
     for (long i = 0; i < std::lround(kSettleTime / cell.step); ++i) {
       if (i % resendSteps() == 0) drive_.command(0, simulation_.time());

@@ -12,35 +12,45 @@
 
 namespace bullet_sim {
 
-/// The config every drive starts with.
+/// The config every drive starts with. Its parser fills it from the drive's tag table, whose defaults rule.
 struct DriveConfigHead : PluginConfig {
-  std::string command_topic = "cmd_vel";
-  std::string odometry_topic = "odom";
-  std::string odometry_frame = "odom";
+  std::string command_topic;
+  std::string odometry_topic;
+  std::string odometry_frame;
+  /// Gazebo's default, which readers of a drive's figures without a parser (ackermann_joint_commander) keep.
   std::string robot_base_frame = "base_footprint";
   /// The link the odometry follows and the wheels are measured in: robot_base_frame's, or the root link when
   /// it names none (Gazebo's drives follow the model, whose pose is its root link's).
   std::string base_link = "base_footprint";
-  bool publish_odometry = true;  ///< odometry on odometry_topic
-  bool publish_odom_tf = true;   ///< odometry_frame -> robot_base_frame on /tf
-  double command_timeout = 0;    ///< [s]; 0 = off (ours: Gazebo keeps the last command for ever)
-  std::string wheel_model = kDefaultWheelModel;  ///< "contact" or "raycast" (ours)
+  bool publish_odometry = false;  ///< odometry on odometry_topic
+  bool publish_odom_tf = false;   ///< odometry_frame -> robot_base_frame on /tf
+  double command_timeout = 0;     ///< [s]; 0 = off (ours: Gazebo keeps the last command for ever)
+  std::string wheel_model;        ///< "contact" or "raycast" (ours)
   std::array<double, 36> pose_covariance{};
   std::array<double, 36> twist_covariance{};
 };
 
 /// The tag names a drive reads its head's fields under; where several are given, the first present wins (the
-/// Ackermann drive takes ROS 2's names, and ROS 1's too).
+/// Ackermann drive takes ROS 2's names, and ROS 1's too). Each must have a row in the drive's tag table.
 struct DriveTagNames {
   std::vector<std::string> command_topic{"commandTopic"};
   std::vector<std::string> odometry_topic{"odometryTopic"};
   std::vector<std::string> odometry_frame{"odometryFrame"};
   std::vector<std::string> robot_base_frame{"robotBaseFrame"};
-  std::vector<std::string> update_rate{"updateRate"};
 };
 
-/// Reads the head: its topics, frames and update rate under `names`, then our commandTimeout and wheelModel,
-/// which every drive spells alike.
+/// The rows of our own tags that every drive reads alike (Gazebo ignores them): commandTimeout and
+/// wheelModel.
+std::vector<TagRow> ownDriveTagRows();
+
+/// The default the plugin's tag table gives `tag`, for the readers that take an explicit fallback
+/// (PluginTags::frame, capped); a std::logic_error when the table has no such row.
+std::string tableDefault(const PluginTags& tags, const std::string& tag);
+/// The same, as a number.
+double tableDefaultNumber(const PluginTags& tags, const std::string& tag);
+
+/// Reads the head through the drive's tag table: its topics and frames under `names`, then our commandTimeout
+/// and wheelModel. The registry has read the update rate (the drive's RateRule).
 void readDriveHead(PluginTags& tags, const DriveTagNames& names, DriveConfigHead& head);
 
 /// A drive's plugin type's say in its robot's wheel model: its <wheelModel>.
@@ -48,6 +58,11 @@ std::optional<std::string> driveWheelModel(const PluginDeclaration& declaration)
 
 /// A pose or twist covariance that knows x, y and yaw, and nothing (1e12) of z, roll and pitch.
 std::array<double, 36> planarCovariance(double x, double y, double yaw);
+/// Reads covariance_x, covariance_y and covariance_yaw (>= 0, the table's defaults) into the head's pose and
+/// twist covariances (planarCovariance).
+void readPlanarCovariance(PluginTags& tags, DriveConfigHead& head);
+/// "x y z", as a URDF writes a vector.
+std::string vectorText(const Eigen::Vector3d& v);
 
 /// Whether a positive velocity of `joint` rolls its wheel forward (+1) or backward (-1) in `base_frame`: a
 /// wheel spinning about the base's +y (its left) rolls forward, by REP 103. `poses` are the model's link
@@ -85,9 +100,6 @@ class DrivePlugin : public Plugin {
   /// The latest cmd_vel: forward speed [m/s] and turn rate [rad/s]. Returns false, and changes nothing, when
   /// a value is not finite.
   bool setCommand(double linear, double angular, double sim_time);
-  /// The latest odometry, and how many have been produced (a new one when the count changes).
-  const Odometry& odometry() const { return odometry_.latest(); }
-  uint64_t odometryCount() const { return odometry_.count(); }
 
  protected:
   const VelocityCommand& command() const { return command_; }

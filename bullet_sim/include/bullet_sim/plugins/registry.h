@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,6 +29,15 @@ struct RateRule {
   double fallback = 0;            ///< [Hz] when no tag gives it (kTags)
 };
 
+/// How a drive pushes its robot forward along its x, for tools that drive a robot at a speed (bench --strikes).
+struct Traction {
+  std::vector<std::string> wheels;  ///< the joints of the wheels that push
+  double torque = 0;                ///< [N m] the most each of them gets
+  double wheel_radius = 0;          ///< [m]
+  double acceleration = 0;          ///< [m/s^2] how fast the drive lets its speed change; 0: at once
+  double max_speed = std::numeric_limits<double>::infinity();  ///< [m/s] the drive's cap on linear.x
+};
+
 /// What a plugin drives, for urdf_doctor's checks of wheels and limits, which it asks each plugin type for.
 struct DrivenJoints {
   bool drive = false;  ///< it moves the robot and publishes its odometry: a robot has one drive at most
@@ -39,6 +49,8 @@ struct DrivenJoints {
   /// Joints moved by a motor whose effort or speed is the URDF <limit>: a zero limit freezes them.
   std::vector<std::string> motors;
   std::string motors_note;  ///< what the doctor adds about them ("" for nothing)
+  /// A drive's, when it follows a cmd_vel (its Twist input) with wheels of its own.
+  std::optional<Traction> traction;
 };
 
 /// What decides a robot's wheel-ground model, for a plugin that has a say in it.
@@ -70,7 +82,8 @@ using PluginFactory =
 struct PluginType {
   std::string filename;                   ///< Gazebo's, e.g. libgazebo_ros_diff_drive.so
   std::vector<std::string> sensor_types;  ///< the <sensor type>s it serves; empty for a model plugin
-  /// Every tag it reads, the head's (robotNamespace, the rate's tags) first once registered.
+  /// Every tag it reads, the head's (robotNamespace, the rate's tags) first once registered; its parser reads
+  /// through it (PluginTags::useTable).
   TagTable tags;
   RateRule rate;
   unsigned needs = 0;  ///< the Need flags of what it takes from the world at spawn (PluginSetup)
@@ -83,8 +96,6 @@ struct PluginType {
   std::function<std::optional<std::string>(const PluginDeclaration& declaration, const WheelModelQuery& query)>
       wheel_model;
   std::string folder;  ///< the folder under plugins/ that registered it
-  /// Whether its parser reads through its table (set by PluginRegistry::add when it brings rows of its own).
-  bool table_checked = false;
 };
 
 /// A plugin type whose config `Config` is filled by `parse` after the registry's head, and whose behaviour is

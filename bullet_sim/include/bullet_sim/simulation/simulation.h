@@ -76,6 +76,14 @@ struct RobotInput {
   const InputHandler<Input>* handler = nullptr;
 };
 
+/// One of a robot's services that serves `Request`s (a controller manager's): the plugin, its name and its handler.
+template <class Request>
+struct RobotService {
+  const Plugin* plugin = nullptr;
+  std::string name;  ///< relative to the plugin's namespace
+  const ServiceHandler<Request>* handler = nullptr;
+};
+
 /// A spawned robot: its physics and its plugins.
 class Robot {
  public:
@@ -119,6 +127,18 @@ class Robot {
       for (const InputPort& port : ports.inputs) {
         if (auto* handler = std::get_if<InputHandler<Input>>(&port.sink))
           found.push_back({&plugin, port.topic, handler});
+      }
+    });
+    return found;
+  }
+  /// Every service of its plugins that serves `Request`s, in plugin order.
+  template <class Request>
+  std::vector<RobotService<Request>> services() const {
+    std::vector<RobotService<Request>> found;
+    forEachPorts([&](const Plugin& plugin, const PluginPorts& ports) {
+      for (const ServicePort& port : ports.services) {
+        if (auto* handler = std::get_if<ServiceHandler<Request>>(&port.handler))
+          found.push_back({&plugin, port.name, handler});
       }
     });
     return found;
