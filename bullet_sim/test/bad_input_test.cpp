@@ -204,7 +204,7 @@ TEST(BadInput, ServicePosesThatAreNotFiniteAreRefusedNamingTheValue) {
   Diagnostics orientation("spawn");
   spawnPoseFrom(Eigen::Vector3d::Zero(), Eigen::Quaterniond(nan, 0, 0, 1), true, orientation);
   EXPECT_THAT(::testing::PrintToString(orientation.errors()),
-              HasSubstr("spawn orientation (x y z w) [  0   0   1 nan] is not finite"));
+              HasSubstr("spawn orientation (x y z w) [0 0 1 nan] is not finite"));
   Diagnostics zero("spawn");
   const SpawnPose identity =
       spawnPoseFrom(Eigen::Vector3d(1, 2, 3), Eigen::Quaterniond(0, 0, 0, 0), false, zero);

@@ -238,7 +238,7 @@ class BadInput(unittest.TestCase):
             start = self.wait_until(self.odometry.messages[-1].header.stamp.to_sec() + 1.0)[-1]  # up to speed
             for field, value, message in (
                     ("position.x", float("nan"), "spawn position [nan   0   0] is not finite"),
-                    ("orientation.w", float("inf"), "spawn orientation (x y z w) [  0   0   0 inf] is not finite"),
+                    ("orientation.w", float("inf"), "spawn orientation (x y z w) [0 0 0 inf] is not finite"),
                     ("position.y", 1e9, "spawn pose y [1e+09] m is beyond the limit of 10000 m (max_length)")):
                 request = SpawnModelRequest(model_name="bad", model_xml=minimal, place_on_ground=True)
                 request.initial_pose.orientation.w = 1.0

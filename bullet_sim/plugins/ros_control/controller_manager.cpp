@@ -139,7 +139,13 @@ std::string ControllerManager::switchControllers(const SwitchControllerRequest& 
   }
   if (const std::string refused = conflict(running); !refused.empty()) return refused;
   for (Controller* controller : stop) controller->stop(time);
-  for (Controller* controller : start) controller->start(time);
+  for (Controller* controller : start) {
+    try {
+      controller->start(time);
+    } catch (const std::exception& e) {  // it stays as it was; those stopped above stay stopped, as in ros_control
+      return "could not start controller [" + controller->name() + "]: " + e.what();
+    }
+  }
   return "";
 }
 

@@ -26,9 +26,14 @@ template <class Service, class Request, class Convert>
 ros::ServiceServer serveOk(ros::NodeHandle& handle, const std::string& name, ServiceHandler<Request> handler,
                            const std::string& robot, Convert convert) {
   return handle.advertiseService<typename Service::Request, typename Service::Response>(
-      name, [handler, robot, convert](typename Service::Request& request, typename Service::Response& response) {
+      name, [handler, robot, convert, name](typename Service::Request& request, typename Service::Response& response) {
         typename Request::Reply reply;
-        const std::string refused = handler(convert(request), reply);
+        std::string refused;
+        try {
+          refused = handler(convert(request), reply);
+        } catch (const std::exception& e) {  // answered, not thrown into roscpp
+          refused = name + ": " + e.what();
+        }
         logWarnings(reply, robot);
         if (!refused.empty()) ROS_ERROR("[%s] %s", robot.c_str(), refused.c_str());
         response.ok = refused.empty();

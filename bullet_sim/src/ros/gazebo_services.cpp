@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "bullet_sim/assets/package_resolver.h"
+#include "bullet_sim/common/request_values.h"
 #include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
 
@@ -29,16 +30,17 @@ bool answer(Response& response, Body body) {
   return true;
 }
 
-/// As Gazebo reads a pose: the quaternion normalised, and (0, 0, 0, 0), an unset one, as no rotation.
-Eigen::Isometry3d toIsometry(const geometry_msgs::Pose& pose) {
-  Eigen::Quaterniond rotation(pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z);
-  rotation = rotation.norm() > 0 ? rotation.normalized() : Eigen::Quaterniond::Identity();
-  return Eigen::Translation3d(pose.position.x, pose.position.y, pose.position.z) * rotation;
+/// As Gazebo reads a pose: the quaternion normalised, and (0, 0, 0, 0), an unset one, as no rotation. Throws
+/// naming `field` when the quaternion is no rotation (request_values.h); the world API checks the position.
+Eigen::Isometry3d toIsometry(const geometry_msgs::Pose& pose, const std::string& field) {
+  const geometry_msgs::Quaternion& q = pose.orientation;
+  return Eigen::Translation3d(pose.position.x, pose.position.y, pose.position.z) *
+         requireRotation(q.x, q.y, q.z, q.w, field + ".orientation");
 }
 
 EntityState toState(const geometry_msgs::Pose& pose, const geometry_msgs::Twist& twist) {
   EntityState state;
-  state.pose = toIsometry(pose);
+  state.pose = toIsometry(pose, "pose");
   tf2::fromMsg(twist.linear, state.linear);
   tf2::fromMsg(twist.angular, state.angular);
   return state;
@@ -209,6 +211,11 @@ void GazeboServices::publishStates() {
 
 std::string GazeboServices::spawn(const gazebo_msgs::SpawnModel::Request& request, bool sdf_too) {
   const std::string source = "model [" + request.model_name + "]";
+  // The pose first: a refusal of it costs no parsing.
+  Eigen::Vector3d position;
+  tf2::fromMsg(request.initial_pose.position, position);
+  requireFinite(position, "SpawnModel: initial_pose.position");
+  const Eigen::Isometry3d initial_pose = toIsometry(request.initial_pose, "SpawnModel: initial_pose");
   std::vector<std::string> warnings;
   const std::string root = rootElement(request.model_xml);
   const PackageResolver resolver = PackageResolver::fromEnvironment();
@@ -229,9 +236,11 @@ std::string GazeboServices::spawn(const gazebo_msgs::SpawnModel::Request& reques
   // Gazebo places the model frame at the initial pose (composed with the model's own <pose>), taken in the
   // reference frame; the robot's root link sits in it.
   const Eigen::Isometry3d pose = world_.entityState(request.reference_frame).pose *
-                                 toIsometry(request.initial_pose) * model.placement * model.root_in_model;
-  host_.spawnRobot(request.model_name, std::move(model), spawnPoseAt(pose), request.robot_namespace,
-                   &warnings);
+                                 initial_pose * model.placement * model.root_in_model;
+  SpawnPose spawn = spawnPoseAt(pose);
+  // As gazebo_ros puts it into every plugin's <robotNamespace>, so that they read their parameters there.
+  if (!request.robot_namespace.empty()) spawn.robot_namespace = request.robot_namespace;
+  host_.spawnRobot(request.model_name, std::move(model), spawn, request.robot_namespace, &warnings);
   return "SpawnModel: spawned " + source + joined(warnings);
 }
 

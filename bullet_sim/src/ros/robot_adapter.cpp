@@ -229,8 +229,9 @@ void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
 
 template <class Message, class Input>
 void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, const InputHandler<Input>& handler) {
-  const auto warn = [name = robot_name_](const std::string& why) {
-    if (!why.empty()) ROS_WARN_THROTTLE(5, "[%s] ignored %s", name.c_str(), why.c_str());
+  const std::string topic = plugin.handle.resolveName(port.topic);
+  const auto warn = [name = robot_name_, topic](const std::string& why) {
+    if (!why.empty()) ROS_WARN_THROTTLE(5, "[%s] %s: ignored %s", name.c_str(), topic.c_str(), why.c_str());
   };
   ros::Subscriber subscriber = plugin.handle.subscribe<Message>(
       port.topic, 10, [this, handler, warn](const typename Message::ConstPtr& message) {

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bullet_sim/common/request_values.h"
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/sdf_model.h"
 #include "physics/multibody_robot.h"
@@ -119,18 +120,16 @@ SpawnPose spawnPoseFrom(const Eigen::Vector3d& position, const Eigen::Quaternion
     diagnostics.error(message.str());
     return spawn;
   }
-  if (!orientation.coeffs().allFinite()) {
-    std::ostringstream message;
-    message << "spawn orientation (x y z w) [" << orientation.coeffs().transpose() << "] is not finite";
-    diagnostics.error(message.str());
+  Eigen::Matrix3d rotation;
+  try {
+    const Eigen::Vector4d& q = orientation.coeffs();
+    rotation = requireRotation(q.x(), q.y(), q.z(), q.w(), "spawn orientation").toRotationMatrix();
+  } catch (const std::invalid_argument& e) {
+    diagnostics.error(e.what());
     return spawn;
   }
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  if (orientation.norm() > 1e-12) {
-    rotation = orientation.normalized().toRotationMatrix();
-  } else {
+  if (orientation.coeffs().isZero(0))
     diagnostics.warning("spawn orientation (x y z w) [0 0 0 0] is no rotation: the identity is used");
-  }
   spawn.x = position.x();
   spawn.y = position.y();
   spawn.yaw = std::atan2(rotation(1, 0), rotation(0, 0));

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/common/request_values.h"
 #include "bullet_sim/model/gazebo_names.h"
 #include "bullet_sim/simulation/world_api.h"
 
@@ -25,11 +26,16 @@ std::string scoped(const std::string& model, const std::string& link) { return m
 
 // What a request may ask, far beyond any robot's world: past it, Bullet and the single-precision ray caster
 // lose the model (Embree aborts on a ray cast from infinity). Positions and offsets are bounded by
-// limits().max_length, as spawn poses and descriptions are.
+// limits().max_length, as spawn poses and descriptions are. Every component is checked: a norm lets a NaN
+// or an overflow past.
 constexpr double kMaxSpeed = 1e6;         // [m/s], [rad/s]
 constexpr double kMaxLoad = 1e12;         // [N], [N m]: a force, a torque, an effort
 constexpr double kMaxAcceleration = 1e6;  // [m/s^2] of gravity
+constexpr double kMinStep = 1e-6;         // [s]: below it, Bullet's impulses (divided by the step) overflow
 constexpr double kMaxStep = 1.0;          // [s]
+// [steps per wall s], unless 0 (as fast as possible): one step in 1000 s. Slower, the node's wait for the
+// next step leaves the range of a ROS duration.
+constexpr double kMinUpdateRate = 1e-3;
 
 std::string number(double value) {
   std::ostringstream text;
@@ -37,27 +43,27 @@ std::string number(double value) {
   return text.str();
 }
 
-/// Throws naming `what` unless `magnitude` is finite and at most `bound` [unit].
-void checkBound(double magnitude, double bound, const std::string& what, const std::string& unit) {
-  if (!std::isfinite(magnitude)) throw std::invalid_argument(what + " is not finite");
-  if (magnitude > bound) {
-    throw std::invalid_argument(what + " [" + number(magnitude) + " " + unit + "] is beyond the " +
-                                number(bound) + " " + unit + " bullet_sim simulates");
+/// Throws naming `field` (and its component) unless each component is finite and within limits.max_length.
+void checkPosition(const Eigen::Vector3d& position, const Limits& limits, const std::string& field) {
+  for (int i = 0; i < 3; ++i) {
+    if (auto problem = boundProblem(position[i], limits.max_length, "max_length", "m"))
+      throw std::invalid_argument(field + "." + "xyz"[i] + " " + *problem);
   }
 }
 
-/// Throws naming `what` unless `value` is finite and within limits.max_length.
-void checkLength(double value, const Limits& limits, const std::string& what) {
-  if (auto problem = boundProblem(value, limits.max_length, "max_length", "m"))
-    throw std::invalid_argument(what + " " + *problem);
+/// Throws naming the field of a state requested for `what` (gazebo_msgs' names) that cannot be simulated.
+void checkState(const EntityState& state, const std::string& what, const Limits& limits) {
+  if (!state.pose.linear().allFinite())
+    throw std::invalid_argument(what + ": pose.orientation is not finite");
+  checkPosition(state.pose.translation(), limits, what + ": pose.position");
+  requireWithin(state.linear, kMaxSpeed, what + ": twist.linear", "m/s");
+  requireWithin(state.angular, kMaxSpeed, what + ": twist.angular", "rad/s");
 }
 
-void checkState(const EntityState& state, const std::string& what, const Limits& limits) {
-  if (!state.pose.matrix().allFinite()) throw std::invalid_argument("the pose of " + what + " is not finite");
-  // Largest components, not lengths, which could overflow.
-  checkLength(state.pose.translation().lpNorm<Eigen::Infinity>(), limits, "a coordinate of " + what);
-  checkBound(state.linear.lpNorm<Eigen::Infinity>(), kMaxSpeed, "a velocity of " + what, "m/s");
-  checkBound(state.angular.lpNorm<Eigen::Infinity>(), kMaxSpeed, "an angular velocity of " + what, "rad/s");
+/// Throws naming `what` unless a wrench's or an effort's window is made of numbers.
+void checkSchedule(const Schedule& schedule, const std::string& what) {
+  requireFinite(schedule.start_time, what + ": start_time");
+  if (std::isnan(schedule.duration)) throw std::invalid_argument(what + ": duration [nan] is not a number");
 }
 
 /// A world state seen from a frame whose world state is `frame`, as Gazebo computes it: the frame's
@@ -250,16 +256,18 @@ EntityState WorldApi::linkState(const std::string& link, const std::string& refe
 std::string WorldApi::setModelState(const std::string& model, const EntityState& state,
                                       const std::string& reference) {
   const Entity entity = findModel(model);
+  checkState(state, "model [" + model + "]", simulation_.limits());
   const EntityState target = inWorld(state, entityState(reference));
-  checkState(target, "model [" + model + "]", simulation_.limits());
+  checkState(target, "model [" + model + "] in the world", simulation_.limits());
   return setWorldState(entity, target);
 }
 
 std::string WorldApi::setLinkState(const std::string& link, const EntityState& state,
                                      const std::string& reference) {
   const Entity entity = findLink(link);
+  checkState(state, "link [" + link + "]", simulation_.limits());
   const EntityState target = inWorld(state, entityState(reference));
-  checkState(target, "link [" + link + "]", simulation_.limits());
+  checkState(target, "link [" + link + "] in the world", simulation_.limits());
   if (!entity.robot) {
     const Entity model{nullptr, entity.world_model, ""};
     const Eigen::Isometry3d in_model = worldState(model).pose.inverse() * worldState(entity).pose;
@@ -387,22 +395,20 @@ void WorldApi::setModelConfiguration(const std::string& model,
 }
 
 void WorldApi::driveJoint(const std::string& joint, double velocity, double max_effort) {
-  checkBound(std::abs(velocity), kMaxSpeed, "the velocity of joint [" + joint + "]", "rad/s or m/s");
-  if (!(max_effort >= 0)) throw std::invalid_argument("the effort of joint [" + joint + "] must be >= 0");
-  checkBound(max_effort, kMaxLoad, "the effort of joint [" + joint + "]", "N m or N");
+  requireWithin(velocity, kMaxSpeed, "joint [" + joint + "]: vel", "rad/s or m/s");
+  requireWithin(max_effort, kMaxLoad, "joint [" + joint + "]: fmax", "N m or N");
+  if (max_effort < 0)
+    throw std::invalid_argument("joint [" + joint + "]: fmax [" + number(max_effort) + "] must be >= 0");
   const auto [robot, index] = findJoint(joint);
   robot->body().setJointVelocity(index, velocity, max_effort);
 }
 
 std::string WorldApi::applyBodyWrench(const BodyWrench& wrench) {
-  const std::string on = " on [" + wrench.body + "]";
-  checkBound(wrench.force.lpNorm<Eigen::Infinity>(), kMaxLoad, "the force" + on, "N");
-  checkBound(wrench.torque.lpNorm<Eigen::Infinity>(), kMaxLoad, "the torque" + on, "N m");
-  checkLength(wrench.reference_point.lpNorm<Eigen::Infinity>(), simulation_.limits(),
-              "the reference point" + on);
-  if (!std::isfinite(wrench.schedule.start_time) || std::isnan(wrench.schedule.duration)) {
-    throw std::invalid_argument("the start time or the duration of the wrench" + on + " is not a number");
-  }
+  const std::string on = "the wrench on [" + wrench.body + "]";
+  requireWithin(wrench.force, kMaxLoad, on + ": wrench.force", "N");
+  requireWithin(wrench.torque, kMaxLoad, on + ": wrench.torque", "N m");
+  checkPosition(wrench.reference_point, simulation_.limits(), on + ": reference_point");
+  checkSchedule(wrench.schedule, on);
   const auto [robot, link] = findBody(wrench.body);
   const Eigen::Matrix3d axes = entityState(wrench.reference_frame).pose.linear();
   if (wrench.schedule.duration == 0) return "duration 0: nothing is applied, as gazebo_msgs documents";
@@ -422,11 +428,9 @@ void WorldApi::clearBodyWrenches(const std::string& body) {
 }
 
 std::string WorldApi::applyJointEffort(const JointEffort& effort) {
-  checkBound(std::abs(effort.effort), kMaxLoad, "the effort on joint [" + effort.joint + "]", "N m or N");
-  if (!std::isfinite(effort.schedule.start_time) || std::isnan(effort.schedule.duration)) {
-    throw std::invalid_argument("the start time or the duration of the effort on joint [" + effort.joint +
-                                "] is not a number");
-  }
+  const std::string on = "the effort on joint [" + effort.joint + "]";
+  requireWithin(effort.effort, kMaxLoad, on + ": effort", "N m or N");
+  checkSchedule(effort.schedule, on);
   const auto [robot, index] = findJoint(effort.joint);
   if (!robot->body().takesJointEffort(index)) {
     throw std::invalid_argument("joint [" + effort.joint + "] of robot [" + robot->name() +
@@ -481,15 +485,23 @@ PhysicsProperties WorldApi::physicsProperties() const {
 }
 
 void WorldApi::setPhysicsProperties(const PhysicsProperties& properties) {
+  requireFinite(properties.step_size, "time_step");
   if (!(properties.step_size > 0)) {
     throw std::invalid_argument("time_step [" + number(properties.step_size) + "] must be positive");
   }
-  checkBound(properties.step_size, kMaxStep, "time_step", "s");
-  if (!(properties.max_update_rate >= 0 && std::isfinite(properties.max_update_rate))) {
-    throw std::invalid_argument("max_update_rate [" + number(properties.max_update_rate) +
-                                "] must be >= 0 (0 runs as fast as possible)");
+  if (properties.step_size < kMinStep) {
+    throw std::invalid_argument("time_step [" + number(properties.step_size) + " s] is below the " +
+                                number(kMinStep) + " s bullet_sim steps by");
   }
-  checkBound(properties.gravity.lpNorm<Eigen::Infinity>(), kMaxAcceleration, "gravity", "m/s^2");
+  requireWithin(properties.step_size, kMaxStep, "time_step", "s");
+  requireFinite(properties.max_update_rate, "max_update_rate");
+  const double rate = properties.max_update_rate;
+  if (rate < 0 || (rate > 0 && rate < kMinUpdateRate)) {
+    throw std::invalid_argument("max_update_rate [" + number(rate) +
+                                "] must be 0 (as fast as possible) or at least " + number(kMinUpdateRate) +
+                                " steps per second");
+  }
+  requireWithin(properties.gravity, kMaxAcceleration, "gravity", "m/s^2");
   if (properties.step_size != simulation_.stepSize()) simulation_.setStepSize(properties.step_size);
   max_update_rate_ = properties.max_update_rate;
   simulation_.physics().setGravity(properties.gravity);

@@ -7,12 +7,14 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <variant>
 #include <vector>
 
 #include "bullet_sim/plugins/actions.h"
+#include "bullet_sim/plugins/input_checks.h"
 #include "bullet_sim/plugins/outputs.h"
 #include "bullet_sim/plugins/requests.h"
 
@@ -58,6 +60,20 @@ struct OutputPort {
 /// Takes an input at `sim_time` [s]; returns "" when taken, else why it was refused (the node warns).
 template <class Input>
 using InputHandler = std::function<std::string(const Input& input, double sim_time)>;
+
+/// `handler` behind checkInput: a message that fails it is dropped, with the reason, before the plugin sees
+/// it.
+template <class Input>
+InputHandler<Input> checkedInput(InputHandler<Input> handler) {
+  return [handler = std::move(handler)](const Input& input, double sim_time) -> std::string {
+    try {
+      checkInput(input);
+    } catch (const std::invalid_argument& e) {
+      return std::string("a message whose ") + e.what();
+    }
+    return handler(input, sim_time);
+  };
+}
 
 using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTrajectory>, InputHandler<Float64Command>,
                                InputHandler<Float64ArrayCommand>, InputHandler<BoolCommand>>;
@@ -132,7 +148,7 @@ struct PluginPorts {
   }
   template <class Input>
   void addInput(const std::string& topic, InputHandler<Input> handler, Publishers* publishers = nullptr) {
-    inputs.push_back({topic, std::move(handler), publishers});
+    inputs.push_back({topic, checkedInput(std::move(handler)), publishers});
   }
   template <class Request, class Handler>
   void addService(const std::string& name, Handler handler) {
@@ -140,6 +156,19 @@ struct PluginPorts {
   }
   template <class Action>
   void addAction(const std::string& name, ActionHandlers<Action> handlers) {
+    // A goal that fails checkInput is rejected as invalid before the plugin sees it.
+    handlers.goal = [goal = std::move(handlers.goal)](GoalId id, const typename Action::Goal& request,
+                                                      double sim_time) {
+      try {
+        checkInput(request);
+      } catch (const std::invalid_argument& e) {
+        GoalDecision<Action> rejected;
+        rejected.result.error_code = Action::Result::kInvalidGoal;
+        rejected.result.error_string = std::string("a goal whose ") + e.what();
+        return rejected;
+      }
+      return goal(id, request, sim_time);
+    };
     actions.push_back({name, std::move(handlers)});
   }
 };
