@@ -144,17 +144,23 @@ class PageClient {
   bool open() const { return !error_; }
   beast::error_code error() const { return error_; }
 
-  /// The next message, text or binary; throws after kReadTimeoutSeconds without one.
-  std::string read(bool* binary = nullptr) {
+  /// The next message, text or binary. While none comes, calls `idle` (a step and an update of the
+  /// simulation) every millisecond; throws after kReadTimeoutSeconds without one.
+  std::string read(bool* binary = nullptr, const std::function<void()>& idle = {}) {
     beast::flat_buffer buffer;
     std::optional<beast::error_code> result;
     ws_.async_read(buffer, [&](beast::error_code ec, size_t) { result = ec; });
-    io_.restart();
-    io_.run_for(std::chrono::seconds(kReadTimeoutSeconds));
-    if (!result) {
-      ws_.next_layer().cancel();
-      io_.run();
-      throw std::runtime_error("the page got no message in " + std::to_string(kReadTimeoutSeconds) + " s");
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kReadTimeoutSeconds);
+    while (!result) {
+      io_.restart();
+      io_.run_for(idle ? std::chrono::milliseconds(1) : std::chrono::milliseconds(1000 * kReadTimeoutSeconds));
+      if (result) break;
+      if (std::chrono::steady_clock::now() > deadline) {
+        ws_.next_layer().close();
+        io_.run();
+        throw std::runtime_error("the page got no message in " + std::to_string(kReadTimeoutSeconds) + " s");
+      }
+      if (idle) idle();
     }
     if (*result) throw std::runtime_error("the page could not read: " + result->message());
     if (binary) *binary = ws_.got_binary();
@@ -163,11 +169,12 @@ class PageClient {
     if (ws_.got_binary() || message.find(R"("type":"frame")") != std::string::npos) send({{"type", "ack"}});
     return message;
   }
-  /// Reads until a text message of `type` for which `accept` holds.
-  Json readUntil(const std::string& type, const std::function<bool(const Json&)>& accept = {}) {
+  /// Reads until a text message of `type` for which `accept` holds, calling `idle` while none comes.
+  Json readUntil(const std::string& type, const std::function<bool(const Json&)>& accept = {},
+                 const std::function<void()>& idle = {}) {
     for (;;) {
       bool binary = false;
-      const std::string message = read(&binary);
+      const std::string message = read(&binary, idle);
       if (binary) continue;
       Json json = Json::parse(message);
       if (json["type"] == type && (!accept || accept(json))) return json;
@@ -248,13 +255,23 @@ bool stepUntil(Simulation& simulation, WebViewer& viewer, const std::function<bo
   return done();
 }
 
-/// Reads the scene a page is sent first, stepping and updating until the server has it.
+/// A step of the simulation and an update of the viewer: what a page waits on.
+std::function<void()> stepper(Simulation& simulation, WebViewer& viewer) {
+  return [&simulation, &viewer] {
+    simulation.step();
+    viewer.update(simulation, false);
+  };
+}
+
+/// An update of the viewer without a step: a frame of the simulation as it is.
+std::function<void()> updater(Simulation& simulation, WebViewer& viewer) {
+  return [&simulation, &viewer] { viewer.update(simulation, false); };
+}
+
+/// Reads the scene a page is sent first, stepping and updating until it comes.
 Json sceneOf(PageClient& page, Simulation& simulation, WebViewer& viewer) {
   EXPECT_TRUE(page.open());
-  EXPECT_TRUE(stepUntil(simulation, viewer, [&] { return viewer.viewers() > 0; }));
-  simulation.step();
-  viewer.update(simulation, false);
-  return page.readUntil("scene");
+  return page.readUntil("scene", {}, stepper(simulation, viewer));
 }
 
 ModelSpec lidarMast() {
@@ -341,7 +358,8 @@ TEST(WebViewerServer, APageGetsTheSceneThenFramesWithTheRobotsPoseAndLidarHits) 
   ASSERT_EQ(scans.size(), 1u);
   ASSERT_TRUE(stepUntil(simulation, viewer, [&] { return scans[0].stream->count() > 0; }));
   const double time = simulation.time();
-  const Json frame = page.readUntil("frame", [&](const Json& json) { return json["time"] >= time - 1e-6; });
+  const Json frame = page.readUntil("frame", [&](const Json& json) { return json["time"] >= time - 1e-6; },
+                                    updater(simulation, viewer));
   EXPECT_EQ(frame["revision"], scene["revision"]);
   const Eigen::Vector3d where = robot.body().linkPose(robot.body().spec().root).translation();
   bool found = false;
@@ -412,7 +430,8 @@ TEST(WebViewerServer, APageThatStopsReadingNeitherBlocksTheSimulationNorOtherPag
     viewer.update(simulation, false);
   }
   const double time = simulation.time();
-  const Json frame = reader.readUntil("frame", [&](const Json& json) { return json["time"] >= time - 1e-6; });
+  const Json frame = reader.readUntil("frame", [&](const Json& json) { return json["time"] >= time - 1e-6; },
+                                      updater(simulation, viewer));
   EXPECT_NEAR(frame["time"].get<double>(), time, 1e-6);
   EXPECT_EQ(viewer.viewers(), 2u);
 }
@@ -436,7 +455,7 @@ TEST(WebViewerServer, APageWatchingACameraGetsItsLatestImage) {
   }
   for (;;) {
     bool binary = false;
-    const std::string message = page.read(&binary);
+    const std::string message = page.read(&binary, stepper(simulation, viewer));
     if (!binary) continue;
     ASSERT_GT(message.size(), 4u);
     const uint32_t length = static_cast<uint8_t>(message[0]) | static_cast<uint8_t>(message[1]) << 8 |

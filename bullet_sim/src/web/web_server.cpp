@@ -134,6 +134,8 @@ struct WebServer::Impl {
   void accept();
   void schedulePump();
   void pumpViewers();
+  /// A page is ready for a frame: asks the simulation for one, at most frame_rate times a second.
+  void wantFrame();
   Response respond(const Request& request) const;
   /// The answer refusing a WebSocket upgrade, or nullopt when it may open.
   std::optional<Response> refuseUpgrade(const Request& request) const;
@@ -147,6 +149,7 @@ struct WebServer::Impl {
   std::atomic<size_t> viewers{0};
   std::atomic<bool> pump_posted{false};
   std::atomic<bool> stopping{false};
+  std::atomic<bool> frame_wanted{false};  ///< the simulation publishes a frame at its next update
   mutable std::mutex mutex;  ///< guards the slots and `watched`
   Slot scene, frame;
   std::map<std::string, Slot> images;
@@ -155,6 +158,9 @@ struct WebServer::Impl {
 
   net::io_context io{1};
   tcp::acceptor acceptor{io};
+  net::steady_timer request_timer{io};
+  bool request_armed = false;                          ///< on the io thread
+  std::chrono::steady_clock::time_point last_request;  ///< on the io thread
   std::thread thread;
 };
 
@@ -192,6 +198,7 @@ class WebServer::Impl::ViewerSession : public std::enable_shared_from_this<Viewe
   void pump() {
     if (writing_ || server_.stopping) return;
     const std::shared_ptr<const Outgoing> message = next();
+    if (!message && unacknowledged_ < kMaxUnacknowledged) server_.wantFrame();
     if (!message) return;
     writing_ = true;
     ws_.binary(message->binary());
@@ -371,6 +378,23 @@ void WebServer::Impl::schedulePump() {
   });
 }
 
+void WebServer::Impl::wantFrame() {
+  if (request_armed || frame_wanted.load(std::memory_order_relaxed)) return;
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1 / options.frame_rate));
+  const auto ask = [this] {
+    last_request = std::chrono::steady_clock::now();
+    frame_wanted.store(true, std::memory_order_release);
+  };
+  if (std::chrono::steady_clock::now() >= last_request + period) return ask();
+  request_armed = true;
+  request_timer.expires_at(last_request + period);
+  request_timer.async_wait([this, ask](beast::error_code ec) {
+    request_armed = false;
+    if (!ec) ask();
+  });
+}
+
 void WebServer::Impl::pumpViewers() {
   std::vector<std::weak_ptr<ViewerSession>> alive;
   for (const auto& weak : sessions) {
@@ -457,6 +481,11 @@ WebServer::~WebServer() {
 uint16_t WebServer::port() const { return impl_->port; }
 
 size_t WebServer::viewers() const { return impl_->viewers.load(std::memory_order_relaxed); }
+
+bool WebServer::takeFrameRequest() {
+  std::atomic<bool>& wanted = impl_->frame_wanted;
+  return wanted.load(std::memory_order_relaxed) && wanted.exchange(false, std::memory_order_acquire);
+}
 
 void WebServer::publishScene(std::shared_ptr<const Outgoing> scene) {
   {

@@ -1,7 +1,9 @@
 // The live viewer's server (Boost.Beast): serves the page's files over HTTP and, over a WebSocket at /ws, pushes
 // each page the latest messages the simulation published, one at a time: a page that reads slowly gets fewer
-// frames, never a queue, and the simulation never waits for it. What pages ask (pause, teleop, ...) goes to a
-// CommandSink, on the server's thread: the host queues it for between steps. ROS-free.
+// frames, never a queue, and the simulation never waits for it. The server asks the simulation for a frame
+// when a page is ready for one, at most frame_rate times a second (takeFrameRequest: one atomic load per step
+// otherwise). What pages ask (pause, teleop, ...) goes to a CommandSink, on the server's thread: the host queues
+// it for between steps. ROS-free.
 #pragma once
 
 #include <cstdint>
@@ -87,6 +89,8 @@ class WebServer {
   uint16_t port() const;
   /// Pages connected now; safe from any thread.
   size_t viewers() const;
+  /// Whether a page is ready for a frame (then the next call says false until one is again); any thread.
+  bool takeFrameRequest();
 
   // From any thread: the latest of each kind is what pages are sent next.
   void publishScene(std::shared_ptr<const Outgoing> scene);

@@ -72,14 +72,10 @@ uint16_t WebViewer::port() const { return server_->port(); }
 size_t WebViewer::viewers() const { return server_->viewers(); }
 
 void WebViewer::update(const Simulation& simulation, bool paused) {
-  if (server_->viewers() == 0) return;
   if (!watched_.empty()) keepCamerasWanted(simulation);
-  const auto now = RtfMeter::Clock::now();
-  if (now < next_frame_) return;
-  next_frame_ = now + std::chrono::duration_cast<RtfMeter::Clock::duration>(
-                          std::chrono::duration<double>(1 / options_.frame_rate));
+  if (!server_->takeFrameRequest()) return;
   if (layout_stale_ || !layout_) publishLayout(simulation);
-  publishFrame(simulation, paused, now);
+  publishFrame(simulation, paused, RtfMeter::Clock::now());
   publishImages(simulation);
 }
 
@@ -110,6 +106,7 @@ void WebViewer::publishImages(const Simulation& simulation) {
 }
 
 void WebViewer::keepCamerasWanted(const Simulation& simulation) {
+  if (server_->viewers() == 0) watched_.clear();  // the last page went: no frame comes to say so
   if (!layout_) return;
   for (const std::string& key : watched_) {
     for (const ViewerCamera& camera : layout_->cameras) {

@@ -3,9 +3,9 @@
 // reset and teleop back. ROS-free: the host (the simulator node, bench) calls update() after every step and
 // applies the commands between steps.
 //
-// Costs the simulation nothing without a page open (one atomic load per update), and with one a snapshot of
-// the link poses and hits at most frame_rate times per wall second; the server's thread turns it into JSON.
-// A slow or vanished page gets fewer frames: the simulation never waits for it.
+// Costs the simulation one atomic load per update, and, when a page is ready for a frame (at most frame_rate
+// times per wall second), a snapshot of the poses and hits; the server's thread turns it into JSON. A slow or
+// vanished page gets fewer frames: the simulation never waits for it.
 #pragma once
 
 #include <chrono>
@@ -74,7 +74,7 @@ class WebViewer {
   /// Pages connected now.
   size_t viewers() const;
 
-  /// After every step, and while paused (`paused`): publishes a frame when one is due and a page is open.
+  /// After every step, and while paused (`paused`): publishes a frame when a page is ready for one.
   /// Keeps the cameras that pages watch rendering, as a subscriber does.
   void update(const Simulation& simulation, bool paused);
   /// A robot or a world model came or went: pages are sent the geometry again.
@@ -92,7 +92,6 @@ class WebViewer {
   bool layout_stale_ = true;
   uint64_t revision_ = 0;
   RtfMeter rtf_;
-  RtfMeter::Clock::time_point next_frame_{};
   std::vector<std::string> watched_;                   ///< cameras some page watches, as of the last frame
   std::map<std::string, uint64_t> image_counts_;  ///< per camera, the count of the image published last
 };
