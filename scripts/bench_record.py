@@ -182,7 +182,8 @@ def main():
     print("\n".join(lines))
     if args.readme:
         write_section(args.readme, "bench-record", lines,
-                      lambda text, section: text.replace("\n## Tests\n", "\n" + section + "\n\n## Tests\n", 1))
+                      lambda text, section: text.replace("\n### Scenarios and sweeps\n", "\n### Recording\n" + section
+                                                          + "\n\n### Scenarios and sweeps\n", 1))
 
 
 if __name__ == "__main__":
