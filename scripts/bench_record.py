@@ -89,6 +89,9 @@ class Clock:
 def run_once(real_time_factor, bag, window, clock):
     """One simulator run: its RTF and CPU figures over `window` wall seconds."""
     import rosservice
+    import rospy
+    if rospy.has_param("/gazebo/record"):  # a private parameter outlives the run that set it
+        rospy.delete_param("/gazebo/record")
     command = ["rosrun", "bullet_sim", "simulator", "__name:=gazebo", "_world:=home.world",
                "_real_time_factor:=%g" % real_time_factor]
     if bag:
@@ -107,6 +110,8 @@ def run_once(real_time_factor, bag, window, clock):
         writer = thread_named(simulator.pid, "bag_writer")
         if bag and not writer:
             raise RuntimeError("the simulator has no bag_writer thread")
+        if writer and not bag:
+            raise RuntimeError("the simulator records a bag without ~record")
         writer_cpu = (lambda: cpu_seconds(writer)) if writer else (lambda: 0.0)
         wall0, sim0, cpu0, main0, writer0 = (time.monotonic(), clock.latest, cpu_seconds(process),
                                              cpu_seconds(thread), writer_cpu())
