@@ -373,8 +373,11 @@ void RaycastRobot::driveWheel(size_t w) {
   const double forward_mass = 1 / (inverseMass(contact.offset, contact.forward) +
                                    (held ? 0.0 : wheel.radius * wheel.radius / wheel.inertia));
   const double lateral_mass = 1 / inverseMass(contact.offset, contact.lateral);
-  Eigen::Vector2d total(contact.forward_impulse - forward_slip * forward_mass,
-                        contact.lateral_impulse - lateral_slip * lateral_mass);
+  // One mass for both directions: with a mass each, the clamped impulse would settle along M * slip, not
+  // against the slip, and skid steering would turn off Coulomb's rate (issue 29). The smaller one is stable.
+  const double mass = std::min(forward_mass, lateral_mass);
+  Eigen::Vector2d total(contact.forward_impulse - forward_slip * mass,
+                        contact.lateral_impulse - lateral_slip * mass);
   const double limit = wheel.friction * contact.normal_impulse;  // the friction circle
   if (total.norm() > limit) total *= limit / total.norm();
   const Eigen::Vector2d change = total - Eigen::Vector2d(contact.forward_impulse, contact.lateral_impulse);
