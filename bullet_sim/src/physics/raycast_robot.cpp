@@ -233,15 +233,16 @@ void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const
   point.m_contactMotion1 = (ours_is_a ? -1.0 : 1.0) * direction.dot(surface);
   point.m_contactMotion2 = 0;
   point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
-  // The motor turns the rim against this friction: it carries at most its torque over the radius. The rim's
-  // normal impulse this substep is estimated from the last solve's, plus what stopping the chassis's approach
-  // at this point takes (a strike's first contact). Bullet has one coefficient for both directions, so a rim
-  // whose motor cannot hold the friction also slides along the wall more easily.
+  point.m_combinedFriction = wheel.friction * kOtherFriction;
+  // On a wall, the motor turns the rim against this friction: it lifts the wheel by at most its torque over
+  // the radius. The rim's normal impulse this substep is estimated from the last solve's, plus what stopping
+  // the chassis's approach at this point takes (a strike's first contact). Bullet has one coefficient for
+  // both directions, so a rim whose motor cannot hold the friction also slides along the wall more easily.
+  if (normal.dot(root.linear().col(2)) > std::cos(kSteepestGround)) return;  // ground: the rim as a wheel
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
   const double approach = std::max(0.0, -velocityAt(on_us - com).dot(normal));
   const double pressed = rim_normal_impulse_[w] + mass_ * approach;
   const double most = wheel.max_torque * dt_ / wheel.radius;  // [N s] the motor's rim impulse this substep
-  point.m_combinedFriction = wheel.friction * kOtherFriction;
   if (point.m_combinedFriction * pressed > most) point.m_combinedFriction = most / pressed;
 }
 
