@@ -234,11 +234,11 @@ void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const
   point.m_contactMotion2 = 0;
   point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
   point.m_combinedFriction = wheel.friction * kOtherFriction;
-  // On a wall, the motor turns the rim against this friction: it lifts the wheel by at most its torque over
-  // the radius. The rim's normal impulse this substep is estimated from the last solve's, plus what stopping
-  // the chassis's approach at this point takes (a strike's first contact). Bullet has one coefficient for
-  // both directions, so a rim whose motor cannot hold the friction also slides along the wall more easily.
-  if (normal.dot(root.linear().col(2)) > std::cos(kSteepestGround)) return;  // ground: the rim as a wheel
+  // The motor turns the rim against this friction: it carries at most its torque over the radius. The rim's
+  // normal impulse this substep is estimated from the last solve's, plus what stopping the chassis's approach
+  // at this point takes (a strike's first contact). Bullet has one coefficient for both directions, so a rim
+  // whose motor cannot hold the friction also slides along a wall more easily (and a coasting robot's, its
+  // motors at 1e-9 N m, meets walls without friction).
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
   const double approach = std::max(0.0, -velocityAt(on_us - com).dot(normal));
   const double pressed = rim_normal_impulse_[w] + mass_ * approach;
