@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """rostest node: in multi_robot.launch each robot publishes odom and scan in its own namespace with frames that
-carry its prefix, tf reaches each robot's lidar from its odom, and nothing is published un-namespaced."""
+carry its prefix, tf reaches each robot's lidar from its odom, and nothing is published un-namespaced. ~count
+is the launch's count (0: its three robots robot1 to robot3; N: its fleet, robot1 to robotN)."""
 import sys
 import time
 import unittest
@@ -14,19 +15,19 @@ from sensor_msgs.msg import LaserScan
 
 from bringup_support import Collector, ray_sensor
 
-ROBOTS = ["robot1", "robot2", "robot3"]
-
-
 class MultiRobotTopics(unittest.TestCase):
     def test_each_robot_has_its_own_topics_and_frames(self):
         buffer = tf2_ros.Buffer()
         tf2_ros.TransformListener(buffer)
-        for ns in ROBOTS:
+        count = rospy.get_param("~count", 0)
+        robots = ["robot%d" % (i + 1) for i in range(count or 3)]
+        for ns in robots:
             odom = Collector("/%s/odom" % ns, Odometry).wait_for(lambda m: m, 90, "/%s/odom" % ns)[0]
             self.assertEqual(odom.header.frame_id, ns + "/odom")
             self.assertEqual(odom.child_frame_id, ns + "/base_footprint")
             scan = Collector("/%s/scan" % ns, LaserScan).wait_for(lambda m: m, 90, "/%s/scan" % ns)[0]
-            lidar_link = ray_sensor(rospy.get_param("/%s/robot_description" % ns)).findtext("plugin/frameName")
+            description = rospy.get_param("/%s/robot_description" % ns if count == 0 else "/robot_description")
+            lidar_link = ray_sensor(description).findtext("plugin/frameName")
             self.assertEqual(scan.header.frame_id, ns + "/" + lidar_link)
             self.assertTrue(buffer.can_transform(ns + "/odom", scan.header.frame_id, rospy.Time(0), rospy.Duration(30)),
                             "no tf from %s/odom to %s" % (ns, scan.header.frame_id))
