@@ -190,6 +190,14 @@ class WorldApi(unittest.TestCase):
         self.assertAlmostEqual(joint.position[0], 1.25, delta=0.05)
         uneven = service("set_model_configuration", SetModelConfiguration)(ROBOT, "", ["a", "b"], [1.0])
         self.assertFalse(uneven.success)
+        # As Gazebo, a joint the model lacks is skipped and the call succeeds (spawn_model -J ... -unpause then
+        # unpauses); the status names it.
+        skipped = service("set_model_configuration", SetModelConfiguration)(
+            ROBOT, "", ["wheel_rear_left_joint", "gripper_joint"], [0.5, 0.1])
+        self.assertTrue(skipped.success, skipped.status_message)
+        self.assertIn("[gripper_joint] is not a moving joint", skipped.status_message)
+        joint = service("get_joint_properties", GetJointProperties)("wheel_rear_left_joint")
+        self.assertAlmostEqual(joint.position[0], 0.5, delta=0.05)
 
     def test_a_body_wrench_lifts_the_robot_for_its_duration(self):
         mass = sum(service("get_link_properties", GetLinkProperties)(ROBOT + "::" + name).mass

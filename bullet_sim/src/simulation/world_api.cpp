@@ -369,20 +369,20 @@ JointProperties WorldApi::jointProperties(const std::string& joint) const {
           spec.upper};
 }
 
-void WorldApi::setModelConfiguration(const std::string& model,
-                                       const std::map<std::string, double>& positions) {
+std::string WorldApi::setModelConfiguration(const std::string& model,
+                                              const std::map<std::string, double>& positions) {
   const Entity entity = findModel(model);
   if (!entity.robot) {
     throw std::invalid_argument("model [" + model + "] is the world's: bullet_sim keeps its joints rigid");
   }
   PhysicsRobot& body = entity.robot->body();
-  std::string problems;
+  std::string problems, skipped;
   JointPositions joints;
   for (const auto& [joint, position] : positions) {
     const int index = body.jointIndex(joint);
     if (index < 0) {
-      problems += "; [" + joint + "] is not a moving joint of [" + model + "]" +
-                  didYouMean(joint, body.spec().jointNames());
+      skipped += "; [" + joint + "] is not a moving joint of [" + model + "]" +
+                 didYouMean(joint, body.spec().jointNames());
     } else if (auto problem = boundProblem(position, simulation_.limits().max_length, "max_length", "")) {
       problems += "; the position of [" + joint + "] " + *problem;
     } else {
@@ -392,6 +392,7 @@ void WorldApi::setModelConfiguration(const std::string& model,
   if (!problems.empty()) throw std::invalid_argument(problems.substr(2));
   body.setJointPositions(joints);
   simulation_.refreshRays();
+  return skipped.empty() ? "" : "skipped, as Gazebo skips them: " + skipped.substr(2);
 }
 
 void WorldApi::driveJoint(const std::string& joint, double velocity, double max_effort) {

@@ -46,8 +46,9 @@ class WorldApi : private StepHooks {
   ModelProperties modelProperties(const std::string& model) const;
   LinkProperties linkProperties(const std::string& link) const;
   JointProperties jointProperties(const std::string& joint) const;
-  /// Sets a robot's joints (others keep theirs) at rest; the root stays. Resets do not keep them.
-  void setModelConfiguration(const std::string& model, const std::map<std::string, double>& positions);
+  /// Sets a robot's joints (others keep theirs) at rest; the root stays. Resets do not keep them. As Gazebo, a
+  /// name that is no moving joint of the robot is skipped; the note returned names those skipped ("" if none).
+  std::string setModelConfiguration(const std::string& model, const std::map<std::string, double>& positions);
   /// Drives a moving joint towards `velocity` [rad/s or m/s] with at most `max_effort` [N m or N] until
   /// something else drives it (Gazebo's joint "vel" and "fmax").
   void driveJoint(const std::string& joint, double velocity, double max_effort);
