@@ -109,6 +109,23 @@ std::vector<DrivenJoint> drivenJoints(const DeclarationSource& source) {
   return joints;
 }
 
+/// `joints` but the followers of a mimic coupling (which moves them), each left out with a warning: Noetic's
+/// DefaultRobotHWSim has no mimic support, so driving one would fight the coupling.
+std::vector<DrivenJoint> withoutFollowers(const std::vector<DrivenJoint>& joints, const ModelSpec& model,
+                                          std::vector<std::string>& warnings) {
+  std::vector<DrivenJoint> driven;
+  for (const DrivenJoint& joint : joints) {
+    const JointSpec* spec = model.joint(joint.name);
+    if (spec && spec->mimic) {
+      warnings.push_back("joint [" + joint.name + "] follows [" + spec->mimic->joint + "] by " + spec->mimic->source +
+                         ": ros_control does not drive it, its coupling does");
+    } else {
+      driven.push_back(joint);
+    }
+  }
+  return driven;
+}
+
 /// The joints named as wheels by the robot's diff_drive_controllers.
 std::set<std::string> diffDriveWheels(const ParameterTree& robot_parameters) {
   std::set<std::string> wheels;
@@ -191,7 +208,8 @@ RosControl::RosControl(const PluginDeclaration& declaration, const RosControlCon
   setRobotNamespace(ns);
   const ParameterTree parameters = setup.parameters ? setup.parameters->fetch("/" + ns) : ParameterTree();
   std::vector<std::string> warnings;
-  hardware_ = std::make_unique<RobotHardware>(config.joints, setup.body, parameters, &warnings);
+  const std::vector<DrivenJoint> joints = withoutFollowers(config.joints, setup.body.spec(), warnings);
+  hardware_ = std::make_unique<RobotHardware>(joints, setup.body, parameters, &warnings);
   for (const auto& warning : warnings) {
     if (setup.diagnostics) setup.diagnostics->warning(where() + ": " + warning);
   }

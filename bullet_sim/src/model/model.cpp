@@ -14,6 +14,7 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/assets/gazebo_materials.h"
 #include "bullet_sim/model/model_geometry.h"
+#include "model/mimic_joints.h"
 #include "model/tag_node_xml.h"
 #include "model/urdf_values.h"
 
@@ -320,6 +321,10 @@ class ModelParser {
     if (joint.dynamics) {
       spec.damping = joint.dynamics->damping;
       spec.friction = joint.dynamics->friction;
+    }
+    if (joint.mimic) {
+      spec.mimic = JointSpec::Mimic{joint.mimic->joint_name, joint.mimic->multiplier, joint.mimic->offset, 0,
+                                    "<mimic>"};
     }
     return spec;
   }
@@ -644,7 +649,8 @@ void declarePlugins(const std::vector<PluginElement>& elements, const PluginPars
     declaration.config = plugins.parse(source);
     if (declaration.config) model.plugins.push_back(std::move(declaration));
   }
-  plugins.checkModel(model, diagnostics);
+  plugins.completeModel(model, diagnostics);
+  resolveMimics(model, limits, diagnostics);
 }
 
 const LinkSpec* ModelSpec::link(const std::string& name) const {
@@ -652,6 +658,10 @@ const LinkSpec* ModelSpec::link(const std::string& name) const {
     if (l.name == name) return &l;
   }
   return nullptr;
+}
+
+JointSpec* ModelSpec::joint(const std::string& name) {
+  return const_cast<JointSpec*>(static_cast<const ModelSpec&>(*this).joint(name));
 }
 
 const JointSpec* ModelSpec::joint(const std::string& name) const {

@@ -2,6 +2,7 @@
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyGearConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
@@ -25,6 +26,8 @@ constexpr double kVelocityGain = 1.0;
 constexpr double kHoldPositionGain = 0.2;
 constexpr double kHoldVelocityGain = 1.0;
 constexpr double kLightLinkTime = 0.02;  // [s] see substepLimit
+// The share of a mimic follower's position error its coupling corrects per substep (with Bullet's erp2).
+constexpr double kCouplingGain = 1.0;
 
 }  // namespace
 
@@ -130,7 +133,27 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
     }
     if (spec.friction > 0) motorFor(joint);  // dry joint friction: a motor holding zero velocity
   }
+  for (auto& joint : joints_) couple(joint);
   reset(root_pose, {});
+}
+
+// Bullet's gear constraint holds q_follower + ratio * q_leader at a target: ratio -multiplier, target offset.
+void MultiBodyRobot::couple(Joint& follower) {
+  const auto& mimic = follower.spec->mimic;
+  const auto leader = mimic ? joint_index_.find(mimic->joint) : joint_index_.end();
+  if (leader == joint_index_.end()) return;
+  const int leader_link = joints_[leader->second].bullet_link;
+  auto coupling = std::make_unique<btMultiBodyGearConstraint>(
+      body_.get(), follower.bullet_link, body_.get(), leader_link, btVector3(0, 0, 0), btVector3(0, 0, 0),
+      btMatrix3x3::getIdentity(), btMatrix3x3::getIdentity());
+  coupling->setGearRatio(-mimic->multiplier);
+  coupling->setRelativePositionTarget(mimic->offset);
+  coupling->setErp(kCouplingGain);
+  coupling->setMaxAppliedImpulse(mimic->max_effort * dt_);
+  coupling->finalizeMultiDof();  // as for motors: reading its effort needs Bullet's impulse buffer now
+  follower.coupling = coupling.get();
+  world_.addMultiBodyConstraint(coupling.get());
+  constraints_.push_back(std::move(coupling));
 }
 
 void MultiBodyRobot::setupJoint(int k) {
@@ -341,6 +364,7 @@ void MultiBodyRobot::setJointPositions(const JointPositions& joints) {
 void MultiBodyRobot::setStepSize(double step_size) {
   for (auto& joint : joints_) {
     if (joint.motor) joint.motor->setMaxAppliedImpulse(joint.motor->getMaxAppliedImpulse() * step_size / dt_);
+    if (joint.coupling) joint.coupling->setMaxAppliedImpulse(joint.spec->mimic->max_effort * step_size);
   }
   dt_ = step_size;
 }
@@ -360,8 +384,10 @@ double MultiBodyRobot::jointVelocity(int joint) const {
 
 double MultiBodyRobot::jointEffort(int joint) const {
   const Joint& state = joints_.at(joint);
-  auto* motor = state.motor;  // Bullet's getter is not const
-  return state.applied_effort + (motor ? motor->getAppliedImpulse(0) / dt_ : 0.0);
+  auto* motor = state.motor;  // Bullet's getters are not const
+  auto* coupling = state.coupling;
+  return state.applied_effort + (motor ? motor->getAppliedImpulse(0) / dt_ : 0.0) +
+         (coupling ? coupling->getAppliedImpulse(0) / dt_ : 0.0);
 }
 
 void MultiBodyRobot::setJointVelocity(int joint, double velocity, double max_effort) {

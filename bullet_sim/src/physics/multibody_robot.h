@@ -15,6 +15,7 @@ class btMultiBodyDynamicsWorld;
 class btMultiBodyJointMotor;
 class btMultiBodyLinkCollider;
 class btMultiBodyConstraint;
+class btMultiBodyGearConstraint;
 class btCollisionShape;
 
 namespace bullet_sim {
@@ -78,6 +79,7 @@ class MultiBodyRobot : public PhysicsRobot {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
+    btMultiBodyGearConstraint* coupling = nullptr;  ///< to the joint it mimics, if any; owned by `constraints_`
     double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step (setJointEffort)
     double applied_effort = 0;               ///< and in the last one
     double step_effort = 0;  ///< [N m] or [N] pushed with through the coming step, applyJointEffort's too
@@ -90,6 +92,8 @@ class MultiBodyRobot : public PhysicsRobot {
   /// Gives part `k` its collision shape, friction and contact stiffness.
   void addCollider(int k);
   btMultiBodyJointMotor* motorFor(Joint& joint);
+  /// Couples a mimic joint to the joint it follows, as strongly as its max_effort.
+  void couple(Joint& follower);
 
   ModelSpec spec_;
   std::string name_;

@@ -78,6 +78,10 @@ RaycastRobot::RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamics
     joint_index_[joint.name] = static_cast<int>(joints_.size());
     joints_.push_back({&joint, linkIndex(joint.child), linkIndex(joint.parent)});
   }
+  for (auto& joint : joints_) {
+    const auto& mimic = joint.spec->mimic;
+    if (mimic && joint_index_.count(mimic->joint)) joint.leader = joint_index_.at(mimic->joint);
+  }
   link_in_root_.resize(spec_.links.size(), Eigen::Isometry3d::Identity());
   buildWheels();
   buildChassis(root_pose);
@@ -270,6 +274,7 @@ void RaycastRobot::beforeSubstep(double substep) {
       hubs_stale_ = frames_stale_ = true;
     }
   }
+  followLeaders();
   updateHubs();
   weighRimContacts();
   const Eigen::Isometry3d root = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
@@ -419,6 +424,19 @@ void RaycastRobot::driveWheel(size_t w) {
       held ? std::clamp(contact.motor_impulse + reaction, -budget, budget) : contact.motor_impulse;
   joint.velocity -= (reaction - (motor - contact.motor_impulse)) / wheel.inertia;
   contact.motor_impulse = motor;
+}
+
+void RaycastRobot::followLeaders() {
+  for (auto& joint : joints_) {
+    if (joint.leader < 0 || joint.wheel >= 0) continue;  // a wheel's spin is dynamic: it follows nothing
+    const JointSpec::Mimic& mimic = *joint.spec->mimic;
+    const Joint& leader = joints_[joint.leader];
+    const double position = std::clamp(mimic.multiplier * leader.position + mimic.offset, joint.spec->lower,
+                                       joint.spec->upper);
+    if (position != joint.position) hubs_stale_ = frames_stale_ = true;
+    joint.position = position;
+    joint.velocity = mimic.multiplier * leader.velocity;
+  }
 }
 
 void RaycastRobot::afterStep() {

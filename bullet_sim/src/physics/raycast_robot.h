@@ -77,6 +77,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     int child_link;  ///< index into spec_.links
     int parent_link;
     int wheel = -1;       ///< index into wheels_, or -1 for a kinematic joint
+    int leader = -1;      ///< index into joints_ of the joint it mimics, or -1
     double position = 0;  ///< [rad] or [m]
     double velocity = 0;  ///< [rad/s] or [m/s]; a kinematic joint moves at it
     double effort = 0;    ///< applied by the motor in the last step
@@ -136,6 +137,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   const std::vector<Eigen::Isometry3d>& linkFrames() const;
   /// Where each wheel's hub is in the root frame, with its axle: only kinematic joints move them.
   void updateHubs();
+  /// Puts each kinematic mimic joint where the joint it follows says (within its limits).
+  void followLeaders();
   int linkIndex(const std::string& link) const;
 
   ModelSpec spec_;

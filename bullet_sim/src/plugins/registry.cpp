@@ -1,6 +1,7 @@
 #include "bullet_sim/plugins/registry.h"
 
 #include <algorithm>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -145,7 +146,40 @@ std::shared_ptr<const PluginConfig> PluginRegistry::parse(const DeclarationSourc
   return nullptr;
 }
 
-void PluginRegistry::checkModel(const ModelSpec& model, Diagnostics& diagnostics) const {
+namespace {
+
+/// Each mimic plugin's coupling on its follower, in place of the follower's <mimic>: one coupling drives it.
+void applyMimicPlugins(const PluginRegistry& registry, ModelSpec& model, Diagnostics& diagnostics) {
+  std::set<std::string> coupled;
+  for (const auto& plugin : model.plugins) {
+    const PluginType* type = registry.typeOf(plugin);
+    if (!type || !type->mimic) continue;
+    auto coupling = type->mimic(plugin);
+    JointSpec* follower = coupling ? model.joint(coupling->first) : nullptr;
+    if (!follower) continue;  // its parser said why
+    if (!coupled.insert(follower->name).second) {
+      diagnostics.warning(plugin.where() + ": joint [" + follower->name + "] already follows [" +
+                          follower->mimic->joint + "] by " + follower->mimic->source +
+                          "; this plugin is ignored (two couplings would fight)");
+      continue;
+    }
+    const JointSpec::Mimic& by_plugin = coupling->second;
+    // The usual pair (<mimic> for robot_state_publisher, the plugin for Gazebo) agree; say so when they do not.
+    if (follower->mimic && (follower->mimic->joint != by_plugin.joint ||
+                            follower->mimic->multiplier != by_plugin.multiplier ||
+                            follower->mimic->offset != by_plugin.offset)) {
+      diagnostics.warning(plugin.where() + " makes joint [" + follower->name + "] follow [" + by_plugin.joint +
+                          "] otherwise than its <mimic> of [" + follower->mimic->joint +
+                          "] says: the plugin's coupling is the one simulated");
+    }
+    follower->mimic = by_plugin;
+  }
+}
+
+}  // namespace
+
+void PluginRegistry::completeModel(ModelSpec& model, Diagnostics& diagnostics) const {
+  applyMimicPlugins(*this, model, diagnostics);
   std::vector<const PluginDeclaration*> drives;
   for (const auto& plugin : model.plugins) {
     const PluginType* type = typeOf(plugin);

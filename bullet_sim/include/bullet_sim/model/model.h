@@ -61,6 +61,16 @@ struct JointSpec {
   /// <disableFixedJointLumping> or <preserveFixedJoint>: Gazebo keeps a fixed joint's child link apart instead
   /// of lumping it into the parent (which changes the names of its collisions, not its physics).
   bool lumping_disabled = false;
+  /// URDF's <mimic>, or a mimic joint plugin's: this joint follows another, held at multiplier * its
+  /// position + offset by a coupling as strong as `max_effort`.
+  struct Mimic {
+    std::string joint;  ///< the joint it follows
+    double multiplier = 1;
+    double offset = 0;     ///< [rad] or [m]
+    double max_effort = 0;  ///< [N m] or [N]
+    std::string source;     ///< who asked for it, for messages: "<mimic>" or a plugin's where()
+  };
+  std::optional<Mimic> mimic;
 
   bool moves() const { return type != Type::kFixed; }
 };
@@ -90,6 +100,7 @@ struct ModelSpec {
 
   const LinkSpec* link(const std::string& name) const;
   const JointSpec* joint(const std::string& name) const;
+  JointSpec* joint(const std::string& name);
   /// The joint whose child is `link`, or nullptr for the root.
   const JointSpec* parentJoint(const std::string& link) const;
   std::vector<std::string> linkNames() const;
@@ -106,7 +117,7 @@ struct PluginElement {
 
 /// Types each element with `plugins` into model.plugins, in order; one that bullet_sim does not simulate is
 /// left out after the parser's warning, and one without a filename is an error; then checks what the plugins
-/// ask together (PluginParsers::checkModel). The model's links and joints must be complete: plugins name them.
+/// ask together and what they add to its joints (PluginParsers::completeModel). The model's links and joints must be complete: plugins name them.
 void declarePlugins(const std::vector<PluginElement>& elements, const PluginParsers& plugins,
                     ModelSpec& model, Diagnostics& diagnostics, const Limits& limits);
 

@@ -83,9 +83,10 @@ class PluginParsers {
   /// The config; nullptr, after one warning, when bullet_sim does not simulate the declaration. Problems
   /// with its tags go to `source.diagnostics`.
   virtual std::shared_ptr<const PluginConfig> parse(const DeclarationSource& source) const = 0;
-  /// Checks what the model's plugins ask of it together (two drives on one robot), once every declaration
-  /// has its config. Problems go to `diagnostics`.
-  virtual void checkModel(const ModelSpec&, Diagnostics&) const {}
+  /// Checks what the model's plugins ask of it together (two drives on one robot) and adds what they declare
+  /// about its joints (a mimic plugin's coupling), once every declaration has its config. Problems go to
+  /// `diagnostics`.
+  virtual void completeModel(ModelSpec&, Diagnostics&) const {}
 };
 
 }  // namespace bullet_sim

@@ -95,6 +95,9 @@ struct PluginType {
   /// The wheel-ground model it asks for its robot, or nullopt when it has no say (most plugins).
   std::function<std::optional<std::string>(const PluginDeclaration& declaration, const WheelModelQuery& query)>
       wheel_model;
+  /// The joint it makes follow another, and how (a mimic joint plugin), or nullopt (most plugins).
+  std::function<std::optional<std::pair<std::string, JointSpec::Mimic>>(const PluginDeclaration& declaration)>
+      mimic;
   std::string folder;  ///< the folder under plugins/ that registered it
 };
 
@@ -134,8 +137,8 @@ class PluginRegistry final : public PluginParsers {
 
   /// The typed config, or nullptr after one warning when no type matches.
   std::shared_ptr<const PluginConfig> parse(const DeclarationSource& source) const override;
-  /// A robot has at most one drive.
-  void checkModel(const ModelSpec& model, Diagnostics& diagnostics) const override;
+  /// A robot has at most one drive; a mimic plugin's coupling replaces the follower's <mimic>.
+  void completeModel(ModelSpec& model, Diagnostics& diagnostics) const override;
   /// The plugin of a declaration this registry parsed.
   std::unique_ptr<Plugin> create(const PluginDeclaration& declaration, const PluginSetup& setup) const;
   /// The wheel-ground model its plugins ask for the robot, or nullopt when none has a say.
