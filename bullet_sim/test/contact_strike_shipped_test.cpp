@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "contact_support.h"
 
 namespace bullet_sim {
@@ -28,6 +30,28 @@ TEST(ShippedStrike, TheYahboomCarsDrivenFrontWheelsClimbTheWall) {
     EXPECT_GT(outcome.bounds.climb_ratio, 1.5);
     EXPECT_GT(outcome.max_tilt, 0.1) << "it climbs";
     EXPECT_TRUE(outcome.passed()) << test::describe(outcome);
+  }
+}
+
+// The wheelchair struck at 60 degrees at 2 m/s meets the wall with its left drive wheel first. Its motor's
+// 30 N m over the 0.284 m radius lets the wall's friction lift that wheel by at most 106 N, less than the
+// 141 N on it (climb ratio 0.75): it stays on the ground and the chair slides along the wall, upright. (The
+// raycast rim once took the wall's friction without the motor's limit, climbed, and rolled the chair onto its
+// side: 1.4 to 1.9 rad.)
+TEST(ShippedStrike, TheWheelchairStruckAtSixtyDegreesAtSpeedStaysUpright) {
+  const StrikeRobot wheelchair = test::shippedRobots()[0];
+  for (const double step : {0.001, 0.01}) {
+    for (const StrikeTarget target : {StrikeTarget::kWall, StrikeTarget::kDoorEdge}) {
+      const StrikeCell cell{"raycast", step, 2.0, M_PI / 3, target};
+      SCOPED_TRACE(cellName(wheelchair, cell));
+      const StrikeOutcome outcome = runStrike(wheelchair, cell, test::emptyWorld());
+      EXPECT_TRUE(outcome.bounds.wheel_first);
+      EXPECT_FALSE(outcome.bounds.tips());
+      EXPECT_LT(outcome.bounds.climb_ratio, 0.8) << "the motor cannot carry the wheel up the wall";
+      EXPECT_TRUE(outcome.reached);
+      EXPECT_LT(outcome.max_tilt, 0.35) << "the matrix's bound at 2 m/s";
+      EXPECT_TRUE(outcome.passed()) << test::describe(outcome);
+    }
   }
 }
 

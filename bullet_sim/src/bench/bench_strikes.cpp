@@ -1,6 +1,7 @@
 #include "bench/bench_strikes.h"
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <map>
 
@@ -92,12 +93,32 @@ Json cellJson(const std::string& name, const StrikeCell& cell, const StrikeOutco
   return json;
 }
 
-/// Writes `dir`/<cell>_<moment>_side.png and _chase.png.
-StrikeSnapshot strikePictures(const std::string& dir, const std::string& cell) {
+/// A cell's name as a file name's stem.
+std::string fileStem(const std::string& cell) {
   std::string stem = cell;
   for (char& c : stem) {
     if (c == ' ' || c == '/') c = '_';
   }
+  return stem;
+}
+
+/// Writes `dir`/<cell>_trail.csv: the root link every 50 ms of the run.
+void writeTrail(const std::string& dir, const std::string& cell, const std::vector<StrikeTrailPoint>& trail) {
+  std::ofstream csv(dir + "/" + fileStem(cell) + "_trail.csv");
+  csv << "time,x,y,z,roll,pitch,yaw,vx,vy,vz,wx,wy,wz,tilt\n";
+  for (const auto& p : trail) {
+    csv << p.time;
+    for (const Eigen::Vector3d* v : {&p.position, &p.rpy, &p.linear, &p.angular}) {
+      for (int i = 0; i < 3; ++i) csv << "," << (*v)[i];
+    }
+    csv << "," << p.tilt << "\n";
+  }
+  if (!csv) std::cerr << "bench: cannot write the trail of [" << cell << "] into " << dir << "\n";
+}
+
+/// Writes `dir`/<cell>_<moment>_side.png and _chase.png.
+StrikeSnapshot strikePictures(const std::string& dir, const std::string& cell) {
+  const std::string stem = fileStem(cell);
   return [dir, stem](const Simulation& simulation, const std::string& robot, const std::string& moment) {
     static OffscreenRenderer renderer;
     Scene scene = simulationScene(simulation, View::kChase, robot);
@@ -129,6 +150,7 @@ Json strikeMatrixReport(const StrikeMatrixOptions& options) {
       if (!matches(name, options.filter)) continue;
       const StrikeOutcome outcome = runStrike(
           robot, cell, world, options.render_dir.empty() ? StrikeSnapshot() : strikePictures(options.render_dir, name));
+      if (!options.render_dir.empty()) writeTrail(options.render_dir, name, outcome.trail);
       ++cells;
       passed += outcome.passed();
       tilt = std::max(tilt, outcome.max_tilt);

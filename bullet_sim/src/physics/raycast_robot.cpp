@@ -119,6 +119,7 @@ void RaycastRobot::buildWheels() {
   ray_directions_.resize(wheels_.size());
   ray_hits_.resize(wheels_.size());
   contacts_.resize(wheels_.size());
+  rim_normal_impulse_.resize(wheels_.size());
 }
 
 void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
@@ -233,6 +234,32 @@ void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const
   point.m_contactMotion2 = 0;
   point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
   point.m_combinedFriction = wheel.friction * kOtherFriction;
+  // The motor turns the rim against this friction: it carries at most its torque over the radius. The rim's
+  // normal impulse this substep is estimated from the last solve's, plus what stopping the chassis's approach
+  // at this point takes (a strike's first contact). Bullet has one coefficient for both directions, so a rim
+  // whose motor cannot hold the friction also slides along a wall more easily (and a coasting robot's, its
+  // motors at 1e-9 N m, meets walls without friction).
+  const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  const double approach = std::max(0.0, -velocityAt(on_us - com).dot(normal));
+  const double pressed = rim_normal_impulse_[w] + mass_ * approach;
+  const double most = wheel.max_torque * dt_ / wheel.radius;  // [N s] the motor's rim impulse this substep
+  if (point.m_combinedFriction * pressed > most) point.m_combinedFriction = most / pressed;
+}
+
+void RaycastRobot::weighRimContacts() {
+  std::fill(rim_normal_impulse_.begin(), rim_normal_impulse_.end(), 0.0);
+  btDispatcher& dispatcher = *world_.getDispatcher();
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
+    const bool ours_is_a = manifold.getBody0() == chassis_.get();
+    if (!ours_is_a && manifold.getBody1() != chassis_.get()) continue;
+    for (int p = 0; p < manifold.getNumContacts(); ++p) {
+      const btManifoldPoint& point = manifold.getContactPoint(p);
+      const int child = ours_is_a ? point.m_index0 : point.m_index1;
+      const auto rim = std::find(rim_children_.begin(), rim_children_.end(), child);
+      if (rim != rim_children_.end()) rim_normal_impulse_[rim - rim_children_.begin()] += point.m_appliedImpulse;
+    }
+  }
 }
 
 void RaycastRobot::beforeSubstep(double substep) {
@@ -244,6 +271,7 @@ void RaycastRobot::beforeSubstep(double substep) {
     }
   }
   updateHubs();
+  weighRimContacts();
   const Eigen::Isometry3d root = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
   castWheelRays(root);
   const btMatrix3x3& inverse_inertia = chassis_->getInvInertiaTensorWorld();

@@ -112,9 +112,12 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   /// Adds each wheel's rim to the chassis: its collision shape, a little smaller, so that walls stop it.
   void addWheelRims(btCompoundShape& compound);
   /// A driven wheel's rim contact rolls: friction along the rim holds its spinning surface to what it touches
-  /// (a driven wheel against a wall climbs it), as the contact model's wheels do. The rim's reaction on the
-  /// spin is left out: the motor holds it. A free wheel's rim has ordinary friction.
+  /// (a driven wheel against a wall climbs it), as the contact model's wheels do, within what the motor's
+  /// torque can carry. The rim's reaction on the spin is left out: the motor holds it. A free wheel's rim has
+  /// ordinary friction.
   void tune(btManifoldPoint& point, int child, bool ours_is_a) const override;
+  /// Sums each wheel's rim's normal impulses in the last solve (rim_normal_impulse_).
+  void weighRimContacts();
   /// Casts each wheel's ray down from its hub; the root link is at `root`.
   void castWheelRays(const Eigen::Isometry3d& root);
   /// Sets up each wheel's contact with the ground under it.
@@ -170,6 +173,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   std::vector<double> ray_hits_;
   std::vector<Eigen::Vector3d> ray_normals_;
   std::vector<Contact> contacts_;    ///< per wheel
+  std::vector<double> rim_normal_impulse_;  ///< [N s] per wheel: what its rim met took in the last solve
   Eigen::Matrix3d inverse_inertia_;  ///< the chassis's, in the world frame, this step
 };
 

@@ -640,12 +640,29 @@ class StrikeWatch {
       outcome.path += (root.translation() - last_sample_).norm();
       last_sample_ = root.translation();
       next_sample_ += kSamplePeriod;
+      outcome.trail.push_back(trailPoint(time, std::acos(std::clamp(up.z(), -1.0, 1.0))));
     }
   }
 
   static constexpr double kNearGap = 0.05;  ///< [m] closer than this, every point is watched every step
 
  private:
+  StrikeTrailPoint trailPoint(double time, double tilt) const {
+    const PhysicsRobot& body = robot_.body();
+    const std::string& root = body.spec().root;
+    const Eigen::Isometry3d pose = body.linkPose(root);
+    StrikeTrailPoint point;
+    point.time = time;
+    point.position = pose.translation();
+    const Eigen::Matrix3d& r = pose.linear();
+    point.rpy = Eigen::Vector3d(std::atan2(r(2, 1), r(2, 2)), std::asin(std::clamp(-r(2, 0), -1.0, 1.0)),
+                                std::atan2(r(1, 0), r(0, 0)));
+    point.linear = body.linkLinearVelocity(root);
+    point.angular = body.linkAngularVelocity(root);
+    point.tilt = tilt;
+    return point;
+  }
+
   const Robot& robot_;
   const std::vector<SurfacePoint>& points_;
   const Settled& settled_;

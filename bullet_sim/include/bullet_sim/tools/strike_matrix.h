@@ -81,6 +81,16 @@ struct StrikeBounds {
   bool mayClimb() const { return climb_ratio > 0.8 && climb_ratio < 1.2; }  ///< too close to tell
 };
 
+/// Where the robot's root link was at one moment of a run.
+struct StrikeTrailPoint {
+  double time = 0;  ///< [s] since the approach began
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< [m] world
+  Eigen::Vector3d rpy = Eigen::Vector3d::Zero();       ///< [rad] roll, pitch, yaw (world axes)
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();    ///< [m/s]
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();   ///< [rad/s]
+  double tilt = 0;  ///< [rad] from its settled attitude
+};
+
 /// What happened in one run, and the rules it broke.
 struct StrikeOutcome {
   StrikeBounds bounds;
@@ -97,6 +107,7 @@ struct StrikeOutcome {
   double energy_allowance = 0;  ///< [J] coasting: 1/2 M (0.1 m/s)^2 + 1 % of the start
   double sim_seconds = 0;     ///< [s] of sim time
   double wall_seconds = 0;    ///< [s] the run took
+  std::vector<StrikeTrailPoint> trail;  ///< the root link every 50 ms (the path's samples)
   std::vector<std::string> failures;  ///< each rule broken, in words; empty when the cell passes
   bool passed() const { return failures.empty(); }
 };
