@@ -389,10 +389,40 @@ std::string withStrikeWheelModel(const std::string& urdf, const std::string& whe
                        [](const std::string&) { return "wheelModel"; }, wheel_model);
 }
 
-std::string withMotorsOff(const std::string& urdf) {
+namespace {
+
+/// The joints of the wheels that drive the robot: each drive plugin's traction, as its plugin type says, and
+/// the left and right wheels of each diff_drive_controller in `controllers`.
+std::vector<std::string> tractionWheels(const ModelSpec& model, const ParameterTree& controllers) {
+  std::vector<std::string> wheels;
+  const PluginRegistry& registry = PluginRegistry::builtin();
+  for (const PluginDeclaration& declaration : model.plugins) {
+    const PluginType* type = registry.typeOf(declaration);
+    if (!type || !type->driven) continue;
+    const std::optional<Traction> traction = type->driven(declaration).traction;
+    if (traction) wheels.insert(wheels.end(), traction->wheels.begin(), traction->wheels.end());
+  }
+  for (const auto& name : controllers.keys()) {
+    if (!controllers.has(name + "/type")) continue;
+    const ParameterTree config = controllers.at(name);
+    if (config.text("type", "") != "diff_drive_controller/DiffDriveController") continue;
+    for (const char* side : {"left_wheel", "right_wheel"}) {
+      for (const auto& joint : config.texts(side)) wheels.push_back(joint);
+    }
+  }
+  return wheels;
+}
+
+}  // namespace
+
+std::string withMotorsOff(const std::string& urdf, const std::string& control_yaml) {
+  std::vector<std::string> warnings;  // parseModel of the edited URDF reports them
+  const ModelSpec model = parseModel(urdf, "motors off", PackageResolver::fromEnvironment(), &warnings);
+  const ParameterTree controllers =
+      control_yaml.empty() ? ParameterTree() : ParameterTree::fromYaml(control_yaml, "motors off");
   std::ostringstream torque;
   torque << kMotorsOffTorque;
-  return withPluginTag(urdf, {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so"},
+  return withPluginTag(withEffortLimit(urdf, tractionWheels(model, controllers), kMotorsOffTorque), {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so"},
                        [](const std::string& filename) {
                          return filename == "libgazebo_ros_diff_drive.so" ? "wheelTorque" : "torque";
                        },
@@ -748,7 +778,7 @@ class StrikeRun {
         source_(parameters_), simulation_(withTarget(world, cell), options(cell, source_)),
         given_at_start_(given_at_start) {
     std::string urdf = withStrikeWheelModel(robot.urdf, cell.wheel_model);
-    if (cell.coast) urdf = withMotorsOff(urdf);
+    if (cell.coast) urdf = withMotorsOff(urdf, robot.control_yaml);
     std::vector<std::string> warnings;
     robot_body_ = &simulation_.spawn(robot.name, parseModel(urdf, robot.name, PackageResolver::fromEnvironment(), &warnings), SpawnPose{});
     drive_ = driveOf(*robot_body_, parameters_);

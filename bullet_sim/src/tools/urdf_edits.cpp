@@ -30,6 +30,25 @@ std::string withPluginTag(const std::string& urdf, const std::vector<std::string
   return printer.CStr();
 }
 
+std::string withEffortLimit(const std::string& urdf, const std::vector<std::string>& joints, double effort) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
+  for (auto* joint = document.RootElement()->FirstChildElement("joint"); joint;
+       joint = joint->NextSiblingElement("joint")) {
+    const char* name = joint->Attribute("name");
+    if (!name || std::find(joints.begin(), joints.end(), name) == joints.end()) continue;
+    tinyxml2::XMLElement* limit = joint->FirstChildElement("limit");
+    if (!limit) {
+      limit = joint->InsertNewChildElement("limit");
+      limit->SetAttribute("velocity", 0.0);
+    }
+    limit->SetAttribute("effort", effort);
+  }
+  tinyxml2::XMLPrinter printer;
+  document.Print(&printer);
+  return printer.CStr();
+}
+
 std::string withWheelModel(const std::string& urdf, const std::string& wheel_model, int* drives) {
   return withPluginTag(
       urdf, {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so", "libgazebo_ros_ackermann_drive.so"},

@@ -132,7 +132,9 @@ double robotMass(const ModelSpec& model);
 /// `urdf` with every drive plugin's (and ros_control's) <wheelModel> set; text that is not XML is returned.
 std::string withStrikeWheelModel(const std::string& urdf, const std::string& wheel_model);
 
-/// `urdf` with its drive plugins' torque 1e-9 N m: motors off.
-std::string withMotorsOff(const std::string& urdf);
+/// `urdf` with its drive's motors off, at 1e-9 N m: the diff drive's and skid steer's torque tags, and the
+/// effort limit of the wheels that drive it (its drive plugin's traction, or the left and right wheels of the
+/// diff_drive_controllers in `control_yaml`), where the Ackermann drive and ros_control take their torque.
+std::string withMotorsOff(const std::string& urdf, const std::string& control_yaml = "");
 
 }  // namespace bullet_sim

@@ -17,4 +17,8 @@ std::string withPluginTag(const std::string& urdf, const std::vector<std::string
                           const std::function<std::string(const std::string& filename)>& tag,
                           const std::string& text, int* plugins = nullptr);
 
+/// The URDF with the <limit effort> of each joint in `joints` set to `effort` (a <limit> is added where there is
+/// none). Text that is not XML is returned as it is.
+std::string withEffortLimit(const std::string& urdf, const std::vector<std::string>& joints, double effort);
+
 }  // namespace bullet_sim
