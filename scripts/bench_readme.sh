@@ -16,7 +16,7 @@ all | physics | camera | web) ;;
   exit 2
   ;;
 esac
-export PATH=/usr/bin:/usr/local/bin:$PATH  # Debian's ROS tools and the python3 below
+export PATH=/usr/bin:$PATH:/usr/local/bin  # Debian's ROS tools and the python3 below
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 REPEAT=${BENCH_REPEAT:-5}
 SCENARIO=$REPO/bullet_sim/bench

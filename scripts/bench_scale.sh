@@ -6,7 +6,7 @@
 # make it:
 #   source devel/setup.bash && scripts/bench_scale.sh      # BENCH_REPEAT=5 node starts per figure (medians)
 set -euo pipefail
-export PATH=/usr/bin:/usr/local/bin:$PATH
+export PATH=/usr/bin:$PATH:/usr/local/bin
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 REPEAT=${BENCH_REPEAT:-5}
 OUT=$(mktemp -d)

@@ -14,7 +14,7 @@ REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # shellcheck source=scripts/lib.sh
 source "$REPO/scripts/lib.sh"
 WS=$(workspace_of "$REPO")
-export PATH=/usr/bin:/usr/local/bin:$PATH
+export PATH=/usr/bin:$PATH:/usr/local/bin
 set +u  # catkin's setup.bash reads unset variables
 # shellcheck disable=SC1091
 source "$WS/devel/setup.bash"

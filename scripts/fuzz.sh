@@ -27,7 +27,7 @@ WS=$DIR/ws
 TARGETS=(fuzz_model fuzz_world fuzz_mesh)
 CI_MUTATIONS=100     # new inputs per target in the CI's short run, after its corpus
 CI_SEED=1
-export PATH=/usr/bin:/usr/local/bin:$PATH
+export PATH=/usr/bin:$PATH:/usr/local/bin
 export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1
 export LSAN_OPTIONS="suppressions=$REPO/scripts/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

@@ -11,7 +11,7 @@ set -euo pipefail
 
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 WS=${BULLET_SIM_SANITIZE_WS:-/tmp/bullet_sim_sanitize}
-export PATH=/usr/bin:/usr/local/bin:$PATH
+export PATH=/usr/bin:$PATH:/usr/local/bin
 
 # shellcheck source=scripts/lib.sh
 source "$REPO/scripts/lib.sh"

@@ -8,7 +8,7 @@ set -euo pipefail
 
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 SIM_SECONDS=${1:-60}
-export PATH=/usr/bin:/usr/local/bin:$PATH
+export PATH=/usr/bin:$PATH:/usr/local/bin
 
 "$REPO/scripts/workspace.sh" build
 # shellcheck source=scripts/lib.sh

@@ -15,7 +15,7 @@ REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$REPO/scripts/lib.sh"
 WS=$(workspace_of "$REPO")
 # Debian's ROS tools run on /usr/bin/python3, not on a pyenv or venv interpreter earlier on PATH.
-export PATH=/usr/bin:/usr/local/bin:$PATH
+export PATH=/usr/bin:$PATH:/usr/local/bin
 
 DEBIAN_PACKAGES=(
   catkin ros-base-dev libroscpp-dev python3-rostest python3-roslaunch python3-rostopic rosbash
