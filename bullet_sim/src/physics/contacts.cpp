@@ -55,7 +55,7 @@ void nameCollisions(btCollisionObject& object, const CollisionNames& names) {
   object.setUserPointer(const_cast<CollisionNames*>(&names));  // Bullet's user pointer is not const
 }
 
-const ContactTuner* tunerOf(const btCollisionObject& object) {
+ContactTuner* tunerOf(const btCollisionObject& object) {
   const auto* names = static_cast<const CollisionNames*>(object.getUserPointer());
   return names ? names->tuner : nullptr;
 }

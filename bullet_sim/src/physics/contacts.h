@@ -16,19 +16,22 @@ class btManifoldPoint;
 namespace bullet_sim {
 
 /// Adjusts, before each solve, the contacts of a collision object whose surface moves on its own (a wheel
-/// that spins): their friction and the motion their friction aims at.
+/// that spins): their friction and the motion their friction aims at. Before each substep, it is shown its
+/// contacts with the impulses the last solve gave them.
 class ContactTuner {
  public:
   virtual ~ContactTuner() = default;
   /// `point` touches the object's child `child`; `ours_is_a` when the object is the manifold's body A.
   virtual void tune(btManifoldPoint& point, int child, bool ours_is_a) const = 0;
+  /// `point`, with the impulses of the last solve, touches the object's child `child`.
+  virtual void weigh(const btManifoldPoint& point, int child) = 0;
 };
 
 /// The Gazebo names (model::link::collision) of a collision object's collisions, by compound child index; a
 /// simple shape has one. And its ContactTuner, if its contacts need one.
 struct CollisionNames {
   std::vector<std::string> names;
-  const ContactTuner* tuner = nullptr;
+  ContactTuner* tuner = nullptr;
   /// The name of child `index`: the only one for a simple shape (whose index may be a triangle's).
   const std::string& at(int index) const;
 };
@@ -41,7 +44,7 @@ CollisionNames robotCollisionNames(const std::string& robot, const std::vector<G
 void nameCollisions(btCollisionObject& object, const CollisionNames& names);
 
 /// The ContactTuner of `object` (through its CollisionNames), or nullptr.
-const ContactTuner* tunerOf(const btCollisionObject& object);
+ContactTuner* tunerOf(const btCollisionObject& object);
 
 /// What children `first` to `first + count - 1` of `object` (one collision: a mesh may be several convex
 /// parts) touch in `world`'s contact manifolds, after a step of `dt` [s]: the points that touch (no gap, or a

@@ -16,7 +16,7 @@ namespace bullet_sim {
 namespace {
 constexpr double kStaticCell = 10;  // [m] side of the floor's cells whose static primitives share an object
 constexpr int kMaxSubsteps = 1000;  // per step: a limit so short it would stall the world is not followed
-}
+}  // namespace
 
 struct PhysicsWorld::Engine {
   btDefaultCollisionConfiguration configuration;
@@ -26,8 +26,35 @@ struct PhysicsWorld::Engine {
   std::unique_ptr<btMultiBodyConstraintSolver> solver = std::make_unique<btMultiBodyConstraintSolver>();
 };
 
+namespace {
+/// How far, beyond its approach, a body may close a gap within one solve (other contacts' impulses) [m/s].
+constexpr double kSpeculativeSlack = 0.2;
+
+/// A contact between two rigid bodies (or one and the static world) whose gap the bodies cannot close in
+/// this substep: its solver row would stay at zero impulse. Bullet keeps such points within 2 cm (a raycast
+/// wheel's rim hovers 0.5 mm over the ground for as long as its spring holds it), and solving them cost a
+/// raycast robot half its step.
+bool outOfReach(const btManifoldPoint& point, const btCollisionObject& a, const btCollisionObject& b,
+                double gravity, double dt) {
+  if (point.m_distance1 <= 0) return false;
+  const btRigidBody* body_a = btRigidBody::upcast(&a);
+  const btRigidBody* body_b = btRigidBody::upcast(&b);
+  const bool rigid_a = body_a || a.isStaticObject();
+  const bool rigid_b = body_b || b.isStaticObject();
+  if (!rigid_a || !rigid_b) return false;  // a multibody link: its velocity is the multibody's to tell
+  btVector3 relative(0, 0, 0);
+  if (body_a) relative +=
+      body_a->getVelocityInLocalPoint(point.getPositionWorldOnA() - body_a->getCenterOfMassPosition());
+  if (body_b) relative -=
+      body_b->getVelocityInLocalPoint(point.getPositionWorldOnB() - body_b->getCenterOfMassPosition());
+  const double approach = std::max(0.0, -static_cast<double>(relative.dot(point.m_normalWorldOnB)));
+  return point.m_distance1 > (approach + gravity * dt + kSpeculativeSlack) * dt;
+}
+}  // namespace
+
 /// Bullet's solver pushes a contact's bodies apart at erp * depth / dt. For the solver only, a contact
 /// deeper than `max_correcting_velocity` allows looks that deep; its real depth comes back after the solve.
+/// A contact out of reach (outOfReach) looks farther than any solver row reaches, and carries no impulse.
 class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
  public:
   CappedWorld(Engine& engine, double max_correcting_velocity)
@@ -39,27 +66,38 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
     // Multibody contacts correct with erp2, rigid bodies with erp or erp2: the larger one bounds both.
     const btScalar erp = std::max(info.m_erp, info.m_erp2);
     const btScalar deepest = -max_correcting_velocity_ * info.m_timeStep / erp - info.m_linearSlop;
-    clamped_.clear();
+    const double gravity = getGravity().length();
+    moved_.clear();
     for (int m = 0; m < getDispatcher()->getNumManifolds(); ++m) {
       btPersistentManifold& manifold = *getDispatcher()->getManifoldByIndexInternal(m);
-      const ContactTuner* tuner_a = tunerOf(*manifold.getBody0());
-      const ContactTuner* tuner_b = tunerOf(*manifold.getBody1());
+      ContactTuner* tuner_a = tunerOf(*manifold.getBody0());
+      ContactTuner* tuner_b = tunerOf(*manifold.getBody1());
       for (int p = 0; p < manifold.getNumContacts(); ++p) {
         btManifoldPoint& point = manifold.getContactPoint(p);
+        if (outOfReach(point, *manifold.getBody0(), *manifold.getBody1(), gravity, info.m_timeStep)) {
+          hide(point, manifold.getContactProcessingThreshold());
+          continue;
+        }
         if (tuner_a) tuner_a->tune(point, point.m_index0, /*ours_is_a=*/true);
         if (tuner_b) tuner_b->tune(point, point.m_index1, /*ours_is_a=*/false);
         if (point.m_distance1 >= deepest) continue;
-        clamped_.emplace_back(&point, point.m_distance1);
+        moved_.emplace_back(&point, point.m_distance1);
         point.m_distance1 = deepest;
       }
     }
     btMultiBodyDynamicsWorld::solveConstraints(info);
-    for (const auto& [point, distance] : clamped_) point->m_distance1 = distance;
+    for (const auto& [point, distance] : moved_) point->m_distance1 = distance;
   }
 
  private:
+  void hide(btManifoldPoint& point, btScalar processing_threshold) {
+    moved_.emplace_back(&point, point.m_distance1);
+    point.m_distance1 = std::max(processing_threshold, btScalar(0)) * 2 + 1;
+    point.m_appliedImpulse = point.m_appliedImpulseLateral1 = point.m_appliedImpulseLateral2 = 0;
+  }
+
   double max_correcting_velocity_;                            ///< [m/s]
-  std::vector<std::pair<btManifoldPoint*, btScalar>> clamped_;  ///< and their depths, kept between steps
+  std::vector<std::pair<btManifoldPoint*, btScalar>> moved_;  ///< and their distances, kept between steps
 };
 
 PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options)
@@ -140,8 +178,24 @@ btMultiBodyDynamicsWorld& PhysicsWorld::bullet() { return *world_; }
 void PhysicsWorld::step(const std::function<void(double substep)>& before_substep) {
   const double substep = this->substep();
   for (int s = 0; s < substeps_; ++s) {
+    weighTunedContacts();
     before_substep(substep);
     world_->stepSimulation(substep, 0, substep);
+  }
+}
+
+void PhysicsWorld::weighTunedContacts() {
+  btDispatcher& dispatcher = *world_->getDispatcher();
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
+    ContactTuner* tuner_a = tunerOf(*manifold.getBody0());
+    ContactTuner* tuner_b = tunerOf(*manifold.getBody1());
+    if (!tuner_a && !tuner_b) continue;
+    for (int p = 0; p < manifold.getNumContacts(); ++p) {
+      const btManifoldPoint& point = manifold.getContactPoint(p);
+      if (tuner_a) tuner_a->weigh(point, point.m_index0);
+      if (tuner_b) tuner_b->weigh(point, point.m_index1);
+    }
   }
 }
 

@@ -124,6 +124,7 @@ void RaycastRobot::buildWheels() {
   ray_hits_.resize(wheels_.size());
   contacts_.resize(wheels_.size());
   rim_normal_impulse_.resize(wheels_.size());
+  rim_impulse_weighed_.resize(wheels_.size());
 }
 
 void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
@@ -244,26 +245,17 @@ void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const
   // whose motor cannot hold the friction also slides along a wall more easily (and a coasting robot's, its
   // motors at 1e-9 N m, meets walls without friction).
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
-  const double approach = std::max(0.0, -velocityAt(on_us - com).dot(normal));
+  const Eigen::Vector3d velocity = fromBullet(chassis_->getLinearVelocity()) +
+                                   fromBullet(chassis_->getAngularVelocity()).cross(on_us - com);
+  const double approach = std::max(0.0, -velocity.dot(normal));
   const double pressed = rim_normal_impulse_[w] + mass_ * approach;
   const double most = wheel.max_torque * dt_ / wheel.radius;  // [N s] the motor's rim impulse this substep
   if (point.m_combinedFriction * pressed > most) point.m_combinedFriction = most / pressed;
 }
 
-void RaycastRobot::weighRimContacts() {
-  std::fill(rim_normal_impulse_.begin(), rim_normal_impulse_.end(), 0.0);
-  btDispatcher& dispatcher = *world_.getDispatcher();
-  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
-    const bool ours_is_a = manifold.getBody0() == chassis_.get();
-    if (!ours_is_a && manifold.getBody1() != chassis_.get()) continue;
-    for (int p = 0; p < manifold.getNumContacts(); ++p) {
-      const btManifoldPoint& point = manifold.getContactPoint(p);
-      const int child = ours_is_a ? point.m_index0 : point.m_index1;
-      const auto rim = std::find(rim_children_.begin(), rim_children_.end(), child);
-      if (rim != rim_children_.end()) rim_normal_impulse_[rim - rim_children_.begin()] += point.m_appliedImpulse;
-    }
-  }
+void RaycastRobot::weigh(const btManifoldPoint& point, int child) {
+  const auto rim = std::find(rim_children_.begin(), rim_children_.end(), child);
+  if (rim != rim_children_.end()) rim_impulse_weighed_[rim - rim_children_.begin()] += point.m_appliedImpulse;
 }
 
 void RaycastRobot::beforeSubstep(double substep) {
@@ -276,7 +268,8 @@ void RaycastRobot::beforeSubstep(double substep) {
   }
   followLeaders();
   updateHubs();
-  weighRimContacts();
+  rim_normal_impulse_.swap(rim_impulse_weighed_);  // what the last solve weighed; the next one sums afresh
+  std::fill(rim_impulse_weighed_.begin(), rim_impulse_weighed_.end(), 0.0);
   const Eigen::Isometry3d root = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
   castWheelRays(root);
   const btMatrix3x3& inverse_inertia = chassis_->getInvInertiaTensorWorld();
@@ -292,12 +285,16 @@ void RaycastRobot::beforeSubstep(double substep) {
   // solved implicitly, each motor's impulse held within torque * dt and each contact's within the friction
   // circle.
   pressWheels(root);
+  linear_velocity_ = fromBullet(chassis_->getLinearVelocity());  // the passes work on a copy, kept in Eigen
+  angular_velocity_ = fromBullet(chassis_->getAngularVelocity());
   for (int pass = 0; pass < kIterations; ++pass) {
     for (size_t w = 0; w < wheels_.size(); ++w) {
       supportWheel(w);
       driveWheel(w);
     }
   }
+  chassis_->setLinearVelocity(toBullet(linear_velocity_));
+  chassis_->setAngularVelocity(toBullet(angular_velocity_));
   for (size_t w = 0; w < wheels_.size(); ++w) {
     Joint& joint = joints_[wheels_[w].joint];
     joint.effort = contacts_[w].motor_impulse / dt_;
@@ -331,7 +328,12 @@ void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
 }
 
 inline Eigen::Vector3d RaycastRobot::velocityAt(const Eigen::Vector3d& offset) const {
-  return fromBullet(chassis_->getLinearVelocity()) + fromBullet(chassis_->getAngularVelocity()).cross(offset);
+  return linear_velocity_ + angular_velocity_.cross(offset);
+}
+
+inline void RaycastRobot::push(const Eigen::Vector3d& impulse, const Eigen::Vector3d& offset) {
+  linear_velocity_ += impulse / mass_;
+  angular_velocity_ += inverse_inertia_ * offset.cross(impulse);
 }
 
 inline double RaycastRobot::inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const {
@@ -380,7 +382,7 @@ void RaycastRobot::supportWheel(size_t w) {
   // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed.
   const double most = contact.normal_impulse + std::max(0.0, kMaxSeparatingSpeed - separating) * contact.rigid_mass;
   const double total = std::clamp(wanted, 0.0, std::max(most, 0.0));
-  chassis_->applyImpulse(toBullet(contact.normal * (total - contact.normal_impulse)), toBullet(contact.offset));
+  push(contact.normal * (total - contact.normal_impulse), contact.offset);
   contact.normal_impulse = total;
 }
 
@@ -416,8 +418,7 @@ void RaycastRobot::driveWheel(size_t w) {
   const Eigen::Vector2d change = total - Eigen::Vector2d(contact.forward_impulse, contact.lateral_impulse);
   contact.forward_impulse = total.x();
   contact.lateral_impulse = total.y();
-  chassis_->applyImpulse(toBullet(contact.forward * change.x() + contact.lateral * change.y()),
-                         toBullet(contact.offset));
+  push(contact.forward * change.x() + contact.lateral * change.y(), contact.offset);
   // The rim feels the reaction; a holding motor takes what it can, the rest turns the wheel.
   const double reaction = wheel.radius * change.x();
   const double motor =
@@ -464,6 +465,8 @@ void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPosition
   chassis_->setAngularVelocity(btVector3(0, 0, 0));
   chassis_->clearForces();
   for (auto& contact : contacts_) contact = Contact{};
+  std::fill(rim_normal_impulse_.begin(), rim_normal_impulse_.end(), 0.0);
+  std::fill(rim_impulse_weighed_.begin(), rim_impulse_weighed_.end(), 0.0);
   afterStep();
 }
 

@@ -117,8 +117,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   /// torque can carry. The rim's reaction on the spin is left out: the motor holds it. A free wheel's rim has
   /// ordinary friction.
   void tune(btManifoldPoint& point, int child, bool ours_is_a) const override;
-  /// Sums each wheel's rim's normal impulses in the last solve (rim_normal_impulse_).
-  void weighRimContacts();
+  /// Sums each wheel's rim's normal impulses in the last solve (into rim_impulse_weighed_).
+  void weigh(const btManifoldPoint& point, int child) override;
   /// Casts each wheel's ray down from its hub; the root link is at `root`.
   void castWheelRays(const Eigen::Isometry3d& root);
   /// Sets up each wheel's contact with the ground under it.
@@ -129,7 +129,10 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   void refreshPose();
   /// One pass of wheel `w`'s motor and friction impulses.
   void driveWheel(size_t w);
+  /// The chassis's velocity at `offset` from its centre of mass, as the wheels' passes have left it.
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& offset) const;
+  /// Applies `impulse` at `offset` to the passes' copy of the chassis's velocity.
+  void push(const Eigen::Vector3d& impulse, const Eigen::Vector3d& offset);
   /// The chassis's inverse mass felt at `offset` from its centre of mass along `direction`.
   double inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const;
   void buildChassis(const Eigen::Isometry3d& root_pose);
@@ -177,7 +180,10 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   std::vector<Eigen::Vector3d> ray_normals_;
   std::vector<Contact> contacts_;    ///< per wheel
   std::vector<double> rim_normal_impulse_;  ///< [N s] per wheel: what its rim met took in the last solve
+  std::vector<double> rim_impulse_weighed_;  ///< [N s] per wheel: the same, as the world weighs it
   Eigen::Matrix3d inverse_inertia_;  ///< the chassis's, in the world frame, this step
+  Eigen::Vector3d linear_velocity_ = Eigen::Vector3d::Zero();   ///< the chassis's, during the wheels' passes
+  Eigen::Vector3d angular_velocity_ = Eigen::Vector3d::Zero();  ///< the chassis's, during the wheels' passes
 };
 
 }  // namespace bullet_sim

@@ -81,6 +81,9 @@ class PhysicsWorld {
   struct Engine;  ///< Bullet's collision configuration, dispatcher, broadphase and solver, in creation order
   /// Fits substeps_ to the step and longest_substep_, and tells the solver.
   void fitSubsteps();
+  /// Shows each ContactTuner its contacts with the last solve's impulses: one walk over the manifolds for
+  /// every robot, before each substep.
+  void weighTunedContacts();
 
   PhysicsOptions options_;
   double longest_substep_ = std::numeric_limits<double>::infinity();  ///< [s]
