@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes docs/performance.md's camera table (issue 13's figures beside their targets) from the JSON of the
 four `bench --camera` runs that scripts/bench_readme.sh makes, between <!-- bench-camera:begin --> and
-<!-- bench-camera:end --> (created at the top of the section "## Cameras" when missing).
+<!-- bench-camera:end --> (created at the top of the section "## Cameras" when missing), and the camera
+profile, each camera's wall time a frame, as docs/images/bench_camera.png.
 
 usage: bench_readme_camera.py RUNS_DIR PAGE REPEAT"""
 import datetime
@@ -51,6 +52,32 @@ def table(runs):
     return ["| figure | ours | target | met |", "|---|---|---|---|"] + ["| %s |" % " | ".join(row) for row in rows]
 
 
+CAMERAS = [("rgb", "RGB 640 x 480"), ("depth", "depth + points 640 x 480"), ("rgb_hd", "RGB 1920 x 1080"),
+           ("depth_hd", "depth + points 1920 x 1080")]
+
+
+def plot(runs, image):
+    """The camera profile: what a frame costs, per camera, with each frame's share of a 30 Hz budget."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    names = [label for _, label in CAMERAS]
+    costs = [runs[key]["camera_ms_per_frame"] for key, _ in CAMERAS]
+    figure, axes = plt.subplots(figsize=(7, 3))
+    bars = axes.barh(names, costs, color=["#4c72b0", "#dd8452", "#4c72b0", "#dd8452"])
+    axes.bar_label(bars, labels=["%.1f ms (RTF %.1f)" % (cost, runs[key]["rtf_camera"])
+                                 for cost, (key, _) in zip(costs, CAMERAS)], padding=3)
+    axes.axvline(1000 / 30, color="gray", linestyle="--")
+    axes.text(1000 / 30, 3, " 30 frames a\n wall second", color="gray", va="center")
+    axes.invert_yaxis()
+    axes.set_xlabel("wall time a frame adds [ms], llvmpipe on %d cores" % len(os.sched_getaffinity(0)))
+    axes.set_xlim(0, max(max(costs) * 1.6, 1000 / 30 * 1.3))
+    axes.set_title("Cameras on the CPU: the wheelchair in home.world")
+    figure.tight_layout()
+    figure.savefig(image, dpi=100)
+    plt.close(figure)
+
+
 def main():
     out, readme, repeat = sys.argv[1], sys.argv[2], sys.argv[3]
     runs = {name[:-5]: json.load(open(os.path.join(out, name))) for name in os.listdir(out) if name.endswith(".json")}
@@ -76,6 +103,9 @@ def main():
     warnings = sorted({w for run in runs.values() for w in run["warnings"]})
     if warnings:
         lines += ["", "Load warnings:"] + ["- " + w for w in warnings]
+
+    lines += ["", "![Each camera's wall time a frame](images/bench_camera.png)"]
+    plot(runs, os.path.join(os.path.dirname(os.path.abspath(readme)), "images", "bench_camera.png"))
 
     heading = "<!-- bench:end -->\n\n## Cameras\n"  # the Performance section's, below its table
     write_section(readme, "bench-camera", lines, lambda text, section: text.replace(heading, heading + section + "\n", 1))
