@@ -95,10 +95,8 @@ void JointPosition::onReset() {
 BULLET_SIM_PLUGIN_FOLDER(joint_position) {
   PluginType type = pluginType<JointPosition>("libgazebo_ros_joint_pose_trajectory.so", parseJointPosition,
                                               kJointPositionTags);
-  type.driven = [](const PluginDeclaration& declaration) {
-    DrivenJoints driven;
-    driven.motors = declaration.configAs<JointPositionConfig>()->joints;
-    return driven;
+  type.check = [](const PluginCheckInput& input) {  // urdf_doctor's: zero limits on the joints it holds
+    return checks::zeroLimitsOnMotors(input, input.declaration.configAs<JointPositionConfig>()->joints);
   };
   type.tf_prefix = TfPrefixRule::kNamespaceParam;
   registrar.add(std::move(type));

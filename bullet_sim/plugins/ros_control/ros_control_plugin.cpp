@@ -282,13 +282,13 @@ BULLET_SIM_PLUGIN_FOLDER(ros_control) {
   PluginType type = pluginType<RosControl>("libgazebo_ros_control.so", parseRosControl, rosControlTags());
   type.needs = kNeedParameters;
   type.tf_prefix = TfPrefixRule::kNone;  // its controllers name their frames as their parameters say
-  type.driven = [](const PluginDeclaration& declaration) {
-    DrivenJoints joints;
-    for (const DrivenJoint& joint : declaration.configAs<RosControlConfig>()->joints) joints.motors.push_back(joint.name);
-    joints.motors_note = "ros_control drives it through a <transmission>, and Gazebo freezes such a joint too "
-                         "(gazebo_ros_control's fmax is the effort limit, and it saturates commands at the velocity "
-                         "limit)";
-    return joints;
+  type.check = [](const PluginCheckInput& input) {  // urdf_doctor's: zero limits on the joints it drives
+    std::vector<std::string> motors;
+    for (const DrivenJoint& joint : input.declaration.configAs<RosControlConfig>()->joints) motors.push_back(joint.name);
+    return checks::zeroLimitsOnMotors(
+        input, motors,
+        "ros_control drives it through a <transmission>, and Gazebo freezes such a joint too "
+        "(gazebo_ros_control's fmax is the effort limit, and it saturates commands at the velocity limit)");
   };
   type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery& query) {
     const auto& config = *declaration.configAs<RosControlConfig>();

@@ -376,13 +376,17 @@ void WheeledDrive::onReset() {
   }
 }
 
+std::vector<std::string> driveWheels(const DriveConfig& config) {
+  std::vector<std::string> wheels = config.left_joints;
+  wheels.insert(wheels.end(), config.right_joints.begin(), config.right_joints.end());
+  return wheels;
+}
+
 BULLET_SIM_PLUGIN_FOLDER(wheeled_drive) {
   const auto driven = [](const PluginDeclaration& declaration) {
     const DriveConfig& config = *declaration.configAs<DriveConfig>();
     DrivenJoints joints{true, config.left_joints, config.right_joints, config.robot_base_frame};
-    joints.motors = config.left_joints;
-    joints.motors.insert(joints.motors.end(), config.right_joints.begin(), config.right_joints.end());
-    joints.traction = Traction{joints.motors, config.torque, config.wheel_diameter / 2, config.acceleration};
+    joints.traction = Traction{driveWheels(config), config.torque, config.wheel_diameter / 2, config.acceleration};
     return joints;
   };
   using Parser = void (*)(const DeclarationSource&, DriveConfig&);
@@ -390,6 +394,7 @@ BULLET_SIM_PLUGIN_FOLDER(wheeled_drive) {
     PluginType type = pluginType<WheeledDrive>(filename, parse, std::move(tags));
     type.rate = {RateRule::From::kTags, {"updateRate"}, 100};
     type.driven = driven;
+    type.check = checkWheeledDrive;
     type.wheel_model = [](const PluginDeclaration& declaration, const WheelModelQuery&) {
       return driveWheelModel(declaration);
     };

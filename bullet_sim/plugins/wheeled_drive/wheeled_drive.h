@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bullet_sim/plugins/drive_support.h"
+#include "bullet_sim/plugins/plugin_checks.h"
 
 namespace bullet_sim {
 
@@ -34,6 +35,10 @@ struct DriveConfig : DriveConfigHead {
 /// with the URDF geometry. Problems go to the source's diagnostics.
 void parseDiffDrive(const DeclarationSource& source, DriveConfig& config);
 void parseSkidSteer(const DeclarationSource& source, DriveConfig& config);
+/// The left wheels, then the right.
+std::vector<std::string> driveWheels(const DriveConfig& config);
+/// urdf_doctor's check of either drive (doctor_check.cpp): wheels that roll backwards, zero limits on them.
+std::vector<PluginFinding> checkWheeledDrive(const PluginCheckInput& input);
 
 class WheeledDrive : public DrivePlugin {
  public:

@@ -8,19 +8,18 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <iomanip>
 #include <limits>
 #include <map>
 #include <optional>
 #include <set>
 #include <sstream>
 
-// The doctor reads the drive plugins' joints with the simulator's own config parsers, so it sees the same
-// tags and defaults that a spawn would.
+// The doctor reads the plugins with the simulator's own config parsers, so that their checks see the same tags
+// and defaults that a spawn would.
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/model.h"
-#include "bullet_sim/plugins/drive_support.h"
+#include "bullet_sim/plugins/plugin_checks.h"
 #include "bullet_sim/plugins/registry.h"
 #include "model/urdf_values.h"
 
@@ -97,23 +96,13 @@ std::string lineOf(const std::string& text, int line) {
   return "";
 }
 
-std::string number(double value) {
-  std::ostringstream out;
-  out << std::setprecision(5) << (std::abs(value) < 1e-9 ? 0.0 : value);
-  return out.str();
-}
-
-std::string vectorText(const Eigen::Vector3d& v) {
-  return number(v.x()) + " " + number(v.y()) + " " + number(v.z());
-}
+using checks::message;
+using checks::number;
+using checks::vectorText;
 
 /// A unit direction as a user writes it: components within rounding of 0 (a turn by 1.5707963) are 0.
 std::string directionText(const Eigen::Vector3d& v) {
   return vectorText(v.unaryExpr([](double c) { return std::abs(c) < 1e-6 ? 0.0 : c; }));
-}
-
-std::string message(const std::string& element, const std::string& problem, const std::string& fix) {
-  return element + ": " + problem + ". Fix: " + fix + ".";
 }
 
 /// Why tinyxml2 could not parse the text, located by line and column, with the likely cause.
@@ -237,8 +226,8 @@ bool isPrimitive(Shape::Type type) {
 class Examination {
  public:
   Examination(const std::string& xml, const std::string& source, const PackageResolver& resolver,
-              const Limits& limits)
-      : xml_(xml), resolver_(resolver), limits_(limits) {
+              const Limits& limits, const PluginRegistry& registry)
+      : xml_(xml), resolver_(resolver), limits_(limits), registry_(registry) {
     report_.source = source;
   }
 
@@ -258,7 +247,7 @@ class Examination {
 
     Diagnostics diagnostics(report_.source, /*strict=*/true);  // what Gazebo forgives silently is an error here
     const std::optional<ModelSpec> model =
-        readModel(xml_, resolver_, PluginRegistry::builtin(), diagnostics, limits_);
+        readModel(xml_, resolver_, registry_, diagnostics, limits_);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);
     for (const auto& warning : diagnostics.warnings()) add(Severity::kWarning, warning);
 
@@ -279,10 +268,8 @@ class Examination {
     const std::set<std::string> lost_visuals = linksMissing(model, robot, "visual");
 
     if (lost_collisions.empty()) checkFootprint(model);  // a lost wheel mesh would move the lowest point
-    const std::vector<Drive> drive_plugins = drives(model);
-    checkDriveAxes(model, drive_plugins);
-    checkMirroredWheelAxes(model, drive_plugins, lost_collisions);
-    checkDrivenJointLimits(drivenJoints(model), robot);
+    checkPlugins(model, zeroLimitsOf(robot));
+    checkMirroredWheelAxes(model, lost_collisions);
     checkRevoluteLimits(model);
     checkLimitRanges(model);
     for (const auto& link : model.links) {
@@ -427,68 +414,49 @@ class Examination {
     }
   }
 
-  struct Drive {
-    std::string plugin;
-    DrivenJoints joints;
-  };
-
-  /// What each plugin drives, as its plugin type tells (readModel reported their tag problems).
-  static std::vector<Drive> drivenByPlugins(const ModelSpec& model) {
-    std::vector<Drive> found;
+  /// Each plugin's own check, as its type registered it (readModel reported the plugins' tag problems). When
+  /// two plugins find a fault in the same element, the first one's finding is reported.
+  void checkPlugins(const ModelSpec& model, const std::vector<ZeroLimit>& zero_limits) {
+    std::set<std::string> subjects;
     for (const auto& plugin : model.plugins) {
-      const PluginType* type = PluginRegistry::builtin().typeOf(plugin);
-      if (type && type->driven) found.push_back({plugin.name, type->driven(plugin)});
+      const PluginType* type = registry_.typeOf(plugin);
+      if (!type || !type->check) continue;
+      for (const PluginFinding& finding : type->check({model, plugin, zero_limits})) {
+        if (!subjects.insert(finding.subject).second) continue;
+        add(finding.error ? Severity::kError : Severity::kWarning, finding.message);
+      }
+    }
+  }
+
+  /// The <limit>s that write effort or velocity as 0, read from the XML: the model cannot tell a
+  /// <limit effort="0"> from no <limit> at all.
+  static std::vector<ZeroLimit> zeroLimitsOf(const tinyxml2::XMLElement& robot) {
+    std::vector<ZeroLimit> found;
+    for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+      const char* name = joint->Attribute("name");
+      const auto* limit = joint->FirstChildElement("limit");
+      if (!name || !limit) continue;
+      ZeroLimit zero{name, limit->GetLineNum(), {}};
+      for (const char* attribute : {"effort", "velocity"}) {
+        if (limit->Attribute(attribute) && limit->DoubleAttribute(attribute, -1) == 0)
+          zero.attributes.push_back(attribute);
+      }
+      if (!zero.attributes.empty()) found.push_back(std::move(zero));
     }
     return found;
   }
 
-  /// The plugins that send one sign to each side's wheels (Gazebo's diff drive and skid steer).
-  static std::vector<Drive> drives(const ModelSpec& model) {
-    std::vector<Drive> found = drivenByPlugins(model);
-    found.erase(std::remove_if(found.begin(), found.end(),
-                               [](const Drive& drive) { return drive.joints.left_wheels.empty(); }),
-                found.end());
-    return found;
-  }
-
-  /// The wheel joints that the drive plugins name, on either side.
-  static std::set<std::string> wheelJoints(const std::vector<Drive>& drive_plugins) {
+  /// The wheel joints that drive plugins name, on either side.
+  std::set<std::string> driveWheels(const ModelSpec& model) const {
     std::set<std::string> joints;
-    for (const Drive& drive : drive_plugins) {
-      joints.insert(drive.joints.left_wheels.begin(), drive.joints.left_wheels.end());
-      joints.insert(drive.joints.right_wheels.begin(), drive.joints.right_wheels.end());
+    for (const auto& plugin : model.plugins) {
+      const PluginType* type = registry_.typeOf(plugin);
+      if (!type || !type->driven) continue;
+      const DrivenJoints driven = type->driven(plugin);
+      joints.insert(driven.left_wheels.begin(), driven.left_wheels.end());
+      joints.insert(driven.right_wheels.begin(), driven.right_wheels.end());
     }
     return joints;
-  }
-
-  /// Every drive wheel must turn about the robot's +y (REP 103: a positive wheel speed rolls it forward).
-  /// Gazebo's drives send the same sign to both sides, so one reversed wheel spins the robot in place.
-  void checkDriveAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins) {
-    const auto poses = linkPosesAtZero(model);
-    for (const Drive& drive : drive_plugins) {
-      std::vector<const JointSpec*> forward, backward;
-      for (const auto& side : {drive.joints.left_wheels, drive.joints.right_wheels}) {
-        for (const auto& name : side) {
-          const JointSpec* joint = model.joint(name);
-          if (!joint || !joint->moves()) continue;  // readModel reported it
-          (wheelRollSign(poses, drive.joints.base_frame, *joint) > 0 ? forward : backward)
-              .push_back(joint);
-        }
-      }
-      for (const JointSpec* joint : backward) {
-        const std::string against =
-            forward.empty() ? "like every drive wheel of plugin [" + drive.plugin +
-                                  "], so a forward command drives the robot backwards"
-                            : "while joint [" + forward.front()->name + "] turns about " +
-                                  vectorText(forward.front()->axis) + ": plugin [" + drive.plugin +
-                                  "] then turns them against each other and the robot spins in place instead "
-                                  "of driving (bullet_sim compensates and says so, Gazebo does not)";
-        add(Severity::kError, message("joint [" + joint->name + "]",
-                                      "turns about " + vectorText(joint->axis) + ", backwards (-y) in [" +
-                                          drive.joints.base_frame + "], " + against,
-                                      "write <axis xyz=\"" + vectorText(-joint->axis) + "\"/>"));
-      }
-    }
   }
 
   /// A wheel as the geometry shows it: a joint that turns for ever (continuous, or revolute with a full turn
@@ -556,10 +524,9 @@ class Examination {
   /// Mirrored wheels, found from the geometry alone, must turn about the same direction across the robot:
   /// every drive (Gazebo's diff drive and skid steer, ros_control's diff_drive_controller) sends both sides
   /// the same sign to go forward. The one turning about -y (REP 103: +y rolls a wheel forward) is reported;
-  /// wheels a drive plugin names are checkDriveAxes's.
-  void checkMirroredWheelAxes(const ModelSpec& model, const std::vector<Drive>& drive_plugins,
-                              const std::set<std::string>& dropped) {
-    const std::set<std::string> driven = wheelJoints(drive_plugins);
+  /// wheels a drive plugin names are the drive's own check's.
+  void checkMirroredWheelAxes(const ModelSpec& model, const std::set<std::string>& dropped) {
+    const std::set<std::string> driven = driveWheels(model);
     const std::vector<Wheel> wheels = wheelsOf(model, dropped);
     for (const Wheel& wheel : wheels) {
       const Wheel* mirror = mirrorOf(wheel, wheels);
@@ -578,42 +545,6 @@ class Examination {
                   "sends both sides the same sign to go forward, so these wheels turn against each other "
                   "and the robot spins in place",
               "write <axis xyz=\"" + directionText(-wheel.joint->axis) + "\"/>, so that both turn about +y"));
-    }
-  }
-
-  /// Joints a plugin drives with a motor whose effort or speed comes from the URDF <limit>, with what the
-  /// plugin adds about them.
-  static std::map<std::string, std::string> drivenJoints(const ModelSpec& model) {
-    std::map<std::string, std::string> driven;
-    for (const Drive& plugin : drivenByPlugins(model)) {
-      for (const std::string& joint : plugin.joints.motors) driven.emplace(joint, plugin.joints.motors_note);
-    }
-    return driven;
-  }
-
-  void checkDrivenJointLimits(const std::map<std::string, std::string>& driven,
-                              const tinyxml2::XMLElement& robot) {
-    // Read from the XML: the spec cannot tell a <limit effort="0"> from no <limit> at all.
-    for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
-      const char* name = joint->Attribute("name");
-      const auto* limit = joint->FirstChildElement("limit");
-      if (!name || !limit || !driven.count(name)) continue;
-      std::vector<std::string> zero;
-      for (const char* attribute : {"effort", "velocity"}) {
-        if (limit->Attribute(attribute) && limit->DoubleAttribute(attribute, -1) == 0)
-          zero.push_back(attribute);
-      }
-      if (zero.empty()) continue;
-      const std::string which = zero.size() == 2 ? "effort and velocity are" : zero.front() + " is";
-      add(Severity::kError,
-          message(
-              "line " + std::to_string(limit->GetLineNum()) + ": joint [" + std::string(name) + "] <limit>",
-              "its " + which +
-                  " 0, yet a plugin drives it: a motor that honours the URDF limits "
-                  "(ros_control, Gazebo's SetForce, bullet_sim's joint holder) cannot move it" +
-                  (driven.at(name).empty() ? "" : "; " + driven.at(name)),
-              "give the motor's real figures, e.g. effort=\"0.2\" [N m] velocity=\"5\" [rad/s] for a "
-              "hobby servo"));
     }
   }
 
@@ -749,6 +680,7 @@ class Examination {
   const std::string& xml_;
   const PackageResolver& resolver_;
   const Limits& limits_;
+  const PluginRegistry& registry_;
   tinyxml2::XMLDocument document_;
   DoctorReport report_;
 };
@@ -783,7 +715,12 @@ std::string DoctorReport::text() const {
 
 DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
                          const PackageResolver& resolver, const Limits& limits) {
-  return Examination(urdf_xml, source, resolver, limits).run();
+  return examineUrdf(urdf_xml, source, resolver, limits, PluginRegistry::builtin());
+}
+
+DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
+                         const PackageResolver& resolver, const Limits& limits, const PluginRegistry& registry) {
+  return Examination(urdf_xml, source, resolver, limits, registry).run();
 }
 
 DoctorReport unreadableReport(const std::string& source, const std::string& reason) {

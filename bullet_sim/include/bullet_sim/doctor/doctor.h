@@ -4,12 +4,12 @@
 // urdfdom's complaints, missing meshes, NaN, zero, negative and absurd numbers, the plugins' tags, unexpanded
 // macro calls, <gazebo reference> to a missing link, invalid inertia, massless moving links), it finds:
 //   - a base_footprint root whose robot does not stand on z = 0 (it falls or sinks at spawn in Gazebo);
-//   - drive wheels (from the diff-drive or skid-steer plugin) whose axes point in opposite directions, and,
-//     without a drive plugin, mirrored wheels found from the geometry whose axes disagree;
+//   - what each plugin's own check finds (PluginType::check, in the plugin's folder): drive wheels of a diff
+//     drive or skid steer that roll backwards, zero effort or velocity limits on a joint the plugin drives;
+//   - mirrored wheels, found from the geometry, whose axes disagree (a drive plugin's own wheels are its check's);
 //   - frameName, bodyName and robotBaseFrame tags naming no link;
 //   - revolute limits beyond 2 pi (degrees written where URDF wants radians), and revolute or prismatic
 //     limits that are equal (the joint cannot move) or inverted;
-//   - zero effort or velocity limits on a joint that a plugin drives;
 //   - inertia far from that of the link's collision shapes, and masses denser than any material;
 //   - collisions nowhere near their visuals (the seeds' collision origins that repeat the joint origin),
 //     and a primitive collision of another shape than its visual;
@@ -23,6 +23,8 @@
 #include "bullet_sim/assets/package_resolver.h"
 
 namespace bullet_sim {
+
+class PluginRegistry;
 
 struct DoctorFinding {
   enum class Severity { kWarning, kError };
@@ -50,6 +52,9 @@ struct DoctorReport {
 /// in the text.
 DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
                          const PackageResolver& resolver, const Limits& limits = Limits());
+/// The same with the plugin types of `registry` (their parsers and their checks) instead of the built-in ones.
+DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
+                         const PackageResolver& resolver, const Limits& limits, const PluginRegistry& registry);
 
 /// The report for a file that could not be read or expanded: `reason` is its one finding, exit code 2.
 DoctorReport unreadableReport(const std::string& source, const std::string& reason);

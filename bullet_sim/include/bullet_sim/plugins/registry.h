@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bullet_sim/plugins/plugin.h"
+#include "bullet_sim/plugins/plugin_checks.h"
 
 namespace bullet_sim {
 
@@ -38,7 +39,8 @@ struct Traction {
   double max_speed = std::numeric_limits<double>::infinity();  ///< [m/s] the drive's cap on linear.x
 };
 
-/// What a plugin drives, for urdf_doctor's checks of wheels and limits, which it asks each plugin type for.
+/// What a drive plugin drives, for the tools that drive a robot (bench) and urdf_doctor's check of mirrored
+/// wheels, which leaves a drive's own wheels to the drive's check.
 struct DrivenJoints {
   bool drive = false;  ///< it moves the robot and publishes its odometry: a robot has one drive at most
   /// Wheels sent one sign per side, which must turn about the robot's +y to go forward (empty when the plugin
@@ -46,9 +48,6 @@ struct DrivenJoints {
   std::vector<std::string> left_wheels;
   std::vector<std::string> right_wheels;
   std::string base_frame;                 ///< the frame the wheels' directions are judged in
-  /// Joints moved by a motor whose effort or speed is the URDF <limit>: a zero limit freezes them.
-  std::vector<std::string> motors;
-  std::string motors_note;  ///< what the doctor adds about them ("" for nothing)
   /// A drive's, when it follows a cmd_vel (its Twist input) with wheels of its own.
   std::optional<Traction> traction;
 };
@@ -95,6 +94,8 @@ struct PluginType {
   /// The wheel-ground model it asks for its robot, or nullopt when it has no say (most plugins).
   std::function<std::optional<std::string>(const PluginDeclaration& declaration, const WheelModelQuery& query)>
       wheel_model;
+  /// urdf_doctor's check of a plugin of this type (empty for most plugins).
+  PluginCheck check;
   /// The joint it makes follow another, and how (a mimic joint plugin), or nullopt (most plugins).
   std::function<std::optional<std::pair<std::string, JointSpec::Mimic>>(const PluginDeclaration& declaration)>
       mimic;
