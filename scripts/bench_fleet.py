@@ -5,6 +5,7 @@ docs/images/bench_fleet.png: RTF against the number of robots, log-log, beside t
 
     source devel/setup.bash && /usr/bin/python3 scripts/bench_fleet.py [--robots 1,10,30,100] [--duration S]
                                                                         [--repeat K] [--out DIR] [--no-page]
+    /usr/bin/python3 scripts/bench_fleet.py --from-json DIR/bench_fleet.json   # the page and plot again
 
 bench runs in one process, the fleets in increasing size (so its peak memory at N is the largest fleet's so
 far); every robot is the wheelchair with its lidar, driving v 0.3 m/s, w 0.3 rad/s in empty.world, 1.5 m apart.
@@ -17,6 +18,7 @@ import os
 import shlex
 import subprocess
 import sys
+import textwrap
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -50,11 +52,23 @@ def cpu_model():
 
 
 def run_bench(args):
-    command = ["rosrun", "bullet_sim", "bench", "--robots", args.robots, "--duration", str(args.duration),
+    command = ["rosrun", "bullet_sim", "bench", "--robots", args.robots, "--duration", "%g" % args.duration,
                "--repeat", str(args.repeat)]
     print("==", " ".join(command), file=sys.stderr)
     result = subprocess.run(command, stdout=subprocess.PIPE, check=True, universal_newlines=True)
     return " ".join(shlex.quote(word) for word in command), json.loads(result.stdout)
+
+
+def measure(args):
+    """bench's JSON, with the command, the date, the machine and its load before and after; also in args.out."""
+    load_before = load()
+    command, report = run_bench(args)
+    report.update(command=command, date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"),
+                  cores=os.cpu_count(), cpu=cpu_model(), load_before=load_before, load_after=load())
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "bench_fleet.json"), "w") as file:
+        json.dump(report, file, indent=2)
+    return report
 
 
 def met(ok):
@@ -62,13 +76,14 @@ def met(ok):
 
 
 def fleet_rows(fleets):
-    lines = ["| robots | RTF | robot x RTF | wall ms per sim s per robot | CPU ms per sim s per robot | spawn | "
-             "peak RSS | lidar scans per robot per s | worst pose error |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| robots | RTF | robot x RTF | wall ms per sim s per robot | CPU ms per sim s per robot | "
+             "RTF with a core to itself | spawn | peak RSS | lidar scans per robot per s | worst pose error |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for fleet in fleets:
-        lines.append("| %d | %.3g | %.0f | %.2f | %.2f | %.2f s | %.0f MB | %.2f | %.3f m |" % (
-            fleet["robots"], fleet["rtf"], fleet["robot_rtf"], fleet["wall_ms_per_sim_s_per_robot"],
-            fleet["cpu_ms_per_sim_s_per_robot"], fleet["spawn_s"], fleet["peak_rss_mb"],
+        cpu_ms = fleet["cpu_ms_per_sim_s_per_robot"]
+        lines.append("| %d | %.3g | %.0f | %.2f | %.2f | %.3g | %.2f s | %.0f MB | %.2f | %.3f m |" % (
+            fleet["robots"], fleet["rtf"], fleet["robot_rtf"], fleet["wall_ms_per_sim_s_per_robot"], cpu_ms,
+            1000 / (fleet["robots"] * cpu_ms), fleet["spawn_s"], fleet["peak_rss_mb"],
             fleet["lidar_scans_per_robot_per_s"], fleet["pose_error_max_m"]))
     return lines
 
@@ -97,16 +112,15 @@ def target_rows(by_count):
     return lines + ["| %s |" % " | ".join(row) for row in rows]
 
 
-def section(command, report, load_before, load_after):
-    today = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+def section(report):
     fleets = report["fleets"]
     by_count = {fleet["robots"]: fleet for fleet in fleets}
-    lines = [
+    paragraphs = [
         "Measured by `scripts/bench_fleet.py` on %s, on a %d-core %s (`nproc`, `/proc/cpuinfo`), load average "
         "(1, 5, 15 min) %s before and %s after: the machine is shared, and wall-time figures follow its load; "
-        "the CPU time of the simulation's thread does much less." % (today, os.cpu_count(), cpu_model(),
-                                                                    load_before, load_after),
-        "",
+        "the CPU time of the simulation's thread does much less. \"RTF with a core to itself\" is 1000 / (N x "
+        "CPU ms per sim s per robot): what the wall time would give if the simulation's thread never waited."
+        % (report["date"], report["cores"], report["cpu"], report["load_before"], report["load_after"]),
         "`bench --robots N` spawns N wheelchairs (their xacro, expanded once; each robot's URDF parsed and "
         "spawned as the node's spawn service does) into `empty.world`, robot1 to robotN each in its own "
         "namespace, on a square grid 1.5 m apart. After %.1f s at rest every one drives v = %.1f m/s, "
@@ -115,11 +129,11 @@ def section(command, report, load_before, load_after):
         "of %d runs. The simulation runs in bench's process, without ROS: the issue's \"today\" figures were "
         "through the node." % (report["settle_s"], report["cmd"][0], report["cmd"][1], report["duration_s"],
                                report["repeat"]),
-        "",
     ]
+    lines = textwrap.wrap(paragraphs[0], 110) + [""] + textwrap.wrap(paragraphs[1], 110) + [""]
     lines += fleet_rows(fleets) + [""] + target_rows(by_count) + [""]
     lines += ["![RTF against the number of robots, log-log, ours beside the anchors](images/bench_fleet.png)", "",
-              "```", command.replace(REPO + "/", ""), "```"]
+              "```", report["command"].replace(REPO + "/", ""), "```"]
     return lines
 
 
@@ -150,8 +164,7 @@ def plot(report, path):
     axes.set_xlim(0.8, 1200)
     axes.set_xlabel("robots (wheelchairs with a 360-beam lidar, driving circles)")
     axes.set_ylabel("real-time factor")
-    axes.set_title("Many robots in one world: RTF against N (%s)" %
-                   datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"))
+    axes.set_title("Many robots in one world: RTF against N (%s)" % report["date"])
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=8)
     figure.tight_layout()
@@ -165,16 +178,15 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--out", default="/tmp/bench_fleet", help="where the JSON goes")
     parser.add_argument("--no-page", action="store_true", help="leave docs/performance.md and the plot alone")
+    parser.add_argument("--from-json", help="measure nothing: the page and plot from this earlier run's JSON")
     args = parser.parse_args()
 
-    load_before = load()
-    command, report = run_bench(args)
-    load_after = load()
-    os.makedirs(args.out, exist_ok=True)
-    report["load_before"], report["load_after"] = load_before, load_after
-    with open(os.path.join(args.out, "bench_fleet.json"), "w") as file:
-        json.dump(report, file, indent=2)
-    lines = section(command, report, load_before, load_after)
+    if args.from_json:
+        with open(args.from_json) as file:
+            report = json.load(file)
+    else:
+        report = measure(args)
+    lines = section(report)
     print("\n".join(lines))
     if args.no_page:
         return
