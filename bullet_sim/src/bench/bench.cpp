@@ -32,6 +32,8 @@
 #include "bullet_sim/tools/process_stats.h"
 #include "bullet_sim/tools/urdf_edits.h"
 #include "bullet_sim/web/web_viewer.h"
+#include "bench/bench_drive.h"
+#include "bench/bench_fleet.h"
 #include "bench/bench_strikes.h"
 #include "bench/bench_viewer.h"
 #include "bench/bench_world.h"
@@ -40,14 +42,14 @@
 namespace bullet_sim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 constexpr char kUsage[] =
     "usage: bench --robot FILE.urdf|FILE.xacro [--world FILE] [--pose x,y,yaw]\n"
     "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
     "             [--obstacles N] [--boxes N] [--delete-cycles K] [--repeat K]\n"
     "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
+    "       bench --robots N[,N]... [--robot FILE] [--world FILE] [--pose x,y,yaw] [--wheel-model M]\n"
+    "             [--step S] [--duration S] [--cmd v,w] [--lidar ...] [--lidar-rate HZ] [--repeat K]\n"
     "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
@@ -92,6 +94,20 @@ constexpr char kUsage[] =
     "--camera adds a 60 degree camera of WxH pixels at HZ on the robot's root link, 0.3 m ahead and\n"
     "1 m up, looking ahead (libgazebo_ros_camera.so); with --depth, a depth camera with its depth\n"
     "image and organized cloud (libgazebo_ros_openni_kinect.so).\n"
+    "--robots runs fleets instead (issue 32): for each N, N copies of the robot (the wheelchair's xacro\n"
+    "without --robot) named robot1 to robotN, each in its own namespace, on a square grid 1.5 m apart\n"
+    "centred on --pose's x, y, all facing its yaw; they settle for 0.5 s, then every one drives --cmd\n"
+    "(default 0.3,0.3), re-sent at 10 Hz of sim time, its lidars scanning at their own rate. It prints\n"
+    "the inputs and, per N (median of K runs, in increasing N):\n"
+    "  rtf                          sim seconds per wall second while driving\n"
+    "  wall_ms_per_sim_s_per_robot  wall time per sim second per robot; cpu_ms_per_sim_s_per_robot:\n"
+    "                               the same in the simulation thread's CPU time\n"
+    "  robot_rtf                    N x rtf\n"
+    "  spawn_s                      parsing the URDF and spawning, for every robot (as the node's\n"
+    "                               spawn service does); xacro runs once\n"
+    "  peak_rss_mb, rss_mb          the process's peak so far; resident at the end of the drive\n"
+    "  lidar_scans_per_robot_per_s  the scans each robot published while driving, per sim second\n"
+    "  pose_error_max_m             the farthest any robot's drive axle ends from its unicycle\n"
     "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
     "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
     "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
@@ -107,8 +123,6 @@ constexpr char kUsage[] =
     "          --render 640x480 --repeat 3; the robot's own wheel model and lidars;\n"
     "          --lidar-rate 10 with --lidar\n";
 
-constexpr double kSettleTime = 0.5;       ///< [s] at rest after the spawn, before driving
-constexpr double kCommandPeriod = 0.1;    ///< [s] the command is re-sent as `rostopic pub -r 10` does
 constexpr double kSpinUpTime = 1.0;       ///< [s] of driving that pose_error_steady_m leaves out
 constexpr double kRayTimingSlice = 0.25;  ///< [s] of wall time per ray-casting measurement
 constexpr int kMinRenders = 5;            ///< timed renders and PNG writes, at least
@@ -120,6 +134,8 @@ constexpr double kPostClearance = 1.5;              ///< [m] kept free around th
 constexpr uint64_t kPostSeed = 1;
 constexpr double kBoxClearance = 2.5;  ///< [m] from the start to --boxes' nearest row, on the right
 constexpr double kFirstFrameWait = 5;  ///< [wall s] --web-viewer's page gets for its first frame
+constexpr int kMaxFleet = 1000;        ///< robots in one --robots fleet, at most
+constexpr char kFleetRobot[] = "urdf/smartwheelchair_model.urdf.xacro";  ///< of smartwheelchair_model
 
 struct Options {
   std::string robot;
@@ -146,6 +162,8 @@ struct Options {
   };
   std::optional<Camera> camera;
   bool web_viewer = false;
+  std::vector<int> robots;  ///< --robots: the fleets' sizes
+  bool cmd_given = false;
   bool strikes = false;
   StrikeMatrixOptions strike_options;
   bool help = false;
@@ -199,6 +217,20 @@ Options::Camera parseCamera(const std::string& value) {
   return camera;
 }
 
+/// --robots' list of fleet sizes, each from 1 to kMaxFleet.
+std::vector<int> parseRobotCounts(const std::string& value) {
+  std::vector<int> counts;
+  for (const std::string& count : split(value, ','))
+    counts.push_back(parseCount(count, "--robots", 1, kMaxFleet));
+  return counts;
+}
+
+/// --robots drives fleets in a plain world: the options of the single robot's extras are refused.
+void checkFleetOptions(const Options& options) {
+  if (options.camera || options.web_viewer || options.obstacles > 0 || options.boxes > 0)
+    throw UsageError("--robots: leave out --camera, --web-viewer, --obstacles and --boxes");
+}
+
 Options parseArguments(int argc, char** argv) {
   Options options;
   using Value = const std::string&;
@@ -224,6 +256,7 @@ Options parseArguments(int argc, char** argv) {
           const auto [v, w] = pairOf(value, ',', "--cmd", "v,w in m/s, rad/s, e.g. 0.5,0.3");
           options.v = parseNumber(v, "--cmd");
           options.w = parseNumber(w, "--cmd");
+          options.cmd_given = true;
         }},
        {"--lidar", [&](Value value) { parseLidar(value, options); }},
        {"--lidar-rate",
@@ -247,12 +280,17 @@ Options parseArguments(int argc, char** argv) {
         },
         false, /*flag=*/true},
        {"--web-viewer", [&](Value) { options.web_viewer = true; }, false, /*flag=*/true},
+       {"--robots", [&](Value value) { options.robots = parseRobotCounts(value); }},
        {"--strikes", [&](Value) { options.strikes = true; }, false, /*flag=*/true},
        {"--strike-filter", [&](Value value) { options.strike_options.filter.push_back(value); }, true},
        {"--strike-cells", [&](Value) { options.strike_options.list_cells = true; }, false, /*flag=*/true},
        {"--strike-render", [&](Value value) { options.strike_options.render_dir = value; }}},
       &options.help);
   if (options.help || options.strikes) return options;
+  if (!options.robots.empty()) {
+    checkFleetOptions(options);
+    return options;
+  }
   if (options.robot.empty()) throw UsageError("--robot FILE.urdf or FILE.xacro is missing");
   if (options.boxes > 0 && !options.world.empty())
     throw UsageError("--boxes makes a world: leave --world out");
@@ -449,80 +487,6 @@ ModelSpec withCamera(ModelSpec model, const Options::Camera& camera) {
 SceneRenderer& benchRenderer() {
   static OffscreenRenderer renderer;
   return renderer;
-}
-
-struct Planar {
-  double x = 0, y = 0, yaw = 0;  ///< [m], [m], [rad]
-};
-
-/// Where the drive axle is, as a unicycle sees it: the midpoint of the drive plugin's wheels on the ground,
-/// heading along the base frame's x axis. A diff-drive robot turns about this point, not about its base
-/// frame.
-Planar axlePose(const Robot& robot, const DrivenJoints& drive) {
-  const RobotBody& body = robot.body();
-  const ModelSpec& spec = body.spec();
-  const Eigen::Isometry3d base = body.linkPose(spec.link(drive.base_frame) ? drive.base_frame : spec.root);
-  std::vector<std::string> joints = drive.left_wheels;
-  joints.insert(joints.end(), drive.right_wheels.begin(), drive.right_wheels.end());
-  Eigen::Vector3d midpoint = Eigen::Vector3d::Zero();
-  for (const auto& joint : joints) {
-    midpoint +=
-        (base.inverse() * body.linkPose(body.spec().joint(joint)->child)).translation() / joints.size();
-  }
-  midpoint.z() = 0;
-  const Eigen::Isometry3d axle = base * Eigen::Translation3d(midpoint);
-  return {axle.translation().x(), axle.translation().y(),
-          std::atan2(axle.linear()(1, 0), axle.linear()(0, 0))};
-}
-
-/// The unicycle driven at exactly v [m/s] and w [rad/s] for `seconds` from `start`.
-Planar unicycle(const Planar& start, double v, double w, double seconds) {
-  const double yaw = start.yaw + w * seconds;
-  if (std::abs(w) < 1e-12) {
-    return {start.x + v * seconds * std::cos(start.yaw), start.y + v * seconds * std::sin(start.yaw), yaw};
-  }
-  return {start.x + v / w * (std::sin(yaw) - std::sin(start.yaw)),
-          start.y - v / w * (std::cos(yaw) - std::cos(start.yaw)), yaw};
-}
-
-/// CPU time of the calling thread [s]: what its work cost, whatever other processes took of the machine.
-double threadCpuSeconds() {
-  timespec time{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &time);
-  return static_cast<double>(time.tv_sec) + static_cast<double>(time.tv_nsec) * 1e-9;
-}
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return NAN;
-  std::sort(values.begin(), values.end());
-  const size_t middle = values.size() / 2;
-  return values.size() % 2 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
-}
-
-/// A robot's wheeled drive: the wheels its plugin type says it drives, and its cmd_vel.
-struct Drive {
-  DrivenJoints joints;
-  const InputHandler<Twist>* command = nullptr;
-};
-
-Drive driveOf(const Robot& robot, const std::string& source) {
-  const auto& declarations = robot.body().spec().plugins;
-  for (size_t i = 0; i < declarations.size() && i < robot.plugins().size(); ++i) {
-    const PluginType* type = PluginRegistry::builtin().typeOf(declarations[i]);
-    if (!type || !type->driven) continue;
-    DrivenJoints joints = type->driven(declarations[i]);
-    if (!joints.drive || joints.left_wheels.empty()) continue;
-    for (const RobotInput<Twist>& input : robot.inputs<Twist>()) {
-      if (input.plugin == robot.plugins()[i].get()) return {std::move(joints), input.handler};
-    }
-  }
-  throw Failure(source +
-                " has no libgazebo_ros_diff_drive.so or libgazebo_ros_skid_steer_drive.so plugin: bench "
-                "drives the robot through one");
 }
 
 /// Whether anyone wants the outputs a plugin computes only on demand (a camera's): as if subscribed or not.
@@ -884,9 +848,61 @@ Json report(const Options& options, const Figures& figures) {
   return json;
 }
 
+/// bench --robots: the inputs, each fleet's figures and the warnings (each once).
+Json fleetReport(Options options) {
+  const PackageResolver resolver = PackageResolver::fromEnvironment();
+  if (options.robot.empty()) {
+    const auto package = resolver.packageDirectory("smartwheelchair_model");
+    if (!package)
+      throw Failure("--robots: smartwheelchair_model is not on ROS_PACKAGE_PATH; give --robot FILE");
+    options.robot = *package + "/" + kFleetRobot;
+  }
+  FleetOptions fleet;
+  const std::string urdf =
+      endsWith(options.robot, ".xacro") ? runXacro(options.robot, {}) : readUrdfFile(options.robot);
+  fleet.urdf = applyRobotOptions(urdf, options);
+  fleet.source = options.robot;
+  fleet.step = options.step;
+  fleet.duration = options.duration;
+  if (options.cmd_given) {
+    fleet.v = options.v;
+    fleet.w = options.w;
+  }
+  fleet.origin = options.pose;
+  fleet.limits = options.limits;
+  std::vector<std::string> warnings;
+  const std::string world_file = findWorld(options.world, resolver);
+  const WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});
+
+  Json json;
+  json["robot"] = options.robot;
+  json["world"] = world_file;
+  json["wheel_model_requested"] = options.wheel_model ? Json(*options.wheel_model) : Json(nullptr);
+  json["step_s"] = options.step;
+  json["settle_s"] = kSettleTime;
+  json["duration_s"] = options.duration;
+  json["cmd"] = figureList({fleet.v, fleet.w});
+  json["spacing_m"] = fleet.spacing;
+  json["repeat"] = options.repeat;
+  json["fleets"] = fleetFigures(world, options.robots, options.repeat, fleet, &warnings);
+  std::vector<std::string> unique;
+  for (const auto& warning : warnings) {
+    if (std::find(unique.begin(), unique.end(), warning) == unique.end()) unique.push_back(warning);
+  }
+  json["warnings"] = unique;
+  return json;
+}
+
 int run(const Options& options) {
   if (options.strikes) {
     std::cout << strikeMatrixReport(options.strike_options).dump(2) << "\n";
+    return EXIT_SUCCESS;
+  }
+  if (!options.robots.empty()) {
+    const Json json = fleetReport(options);
+    for (const auto& warning : json["warnings"])
+      std::cerr << "bench: warning: " << warning.get<std::string>() << "\n";
+    std::cout << json.dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   const Figures figures = measure(options);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "bullet_sim/tools/process_stats.h"
+#include "bench/bench_drive.h"
 #include "tools/command_line.h"
 
 namespace bullet_sim {
@@ -17,10 +18,6 @@ namespace {
 
 constexpr double kBoxSide = 0.3, kBoxHeight = 0.5;  // [m]
 constexpr double kSettleSeconds = 0.5;              // [s] a spawned robot runs before it is deleted
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 }  // namespace
 

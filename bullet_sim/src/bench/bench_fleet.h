@@ -1,0 +1,51 @@
+// bench --robots: N copies of one robot in one world, every one driving a circle with its lidars scanning
+// (issue 32, "Many robots in one world"): RTF, what each robot costs per sim second, the time to spawn them,
+// memory.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "bullet_sim/simulation/simulation.h"
+#include "bench/bench_drive.h"
+
+namespace bullet_sim {
+
+struct FleetOptions {
+  std::string urdf;         ///< the robot's URDF, parsed for every spawn as the node's spawn service does
+  std::string source;       ///< where it came from, for messages
+  double step = 0.001;      ///< [s]
+  double duration = 10;     ///< [s] of driving, after kSettleTime at rest
+  double v = 0.3, w = 0.3;  ///< [m/s], [rad/s], sent to every robot every kCommandPeriod of sim time
+  double spacing = 1.5;     ///< [m] between neighbours on the grid
+  SpawnPose origin;         ///< the grid's centre (x, y) and every robot's yaw
+  Limits limits;
+};
+
+/// One fleet's spawn, settle and drive.
+struct FleetRun {
+  double spawn_s = 0;        ///< [wall s] parsing the URDF and spawning, for every robot
+  double drive_s = 0;        ///< [wall s] of the drive, the settling left out
+  double cpu_s = 0;          ///< [s] the drive's CPU time on the simulation's thread
+  double rss_mb = 0;         ///< resident memory at the end of the drive [MB]
+  uint64_t lidar_scans = 0;  ///< scans every robot's ray sensors published while driving
+  std::vector<Planar> settled, end;  ///< every robot's drive axle before and after the drive, in spawn order
+};
+
+/// Where robot `index` of `count` stands: a square grid (its columns along x, rows along y) `spacing` apart,
+/// centred on the origin's x and y, every robot at the origin's yaw.
+SpawnPose gridPose(int index, int count, double spacing, const SpawnPose& origin);
+
+/// Spawns `count` robots robot1 ... robotN, each in the namespace of its name, into a simulation of `world`;
+/// lets them settle, then drives every one at v and w for the duration. Load messages go to `warnings`.
+FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& options,
+                    std::vector<std::string>* warnings);
+
+/// `repeat` runs of each of `counts` (in increasing order, so that the process's peak memory is the largest
+/// fleet's so far), as a JSON array: per count, the medians and every run's figures.
+nlohmann::ordered_json fleetFigures(const WorldSpec& world, std::vector<int> counts, int repeat,
+                                    const FleetOptions& options, std::vector<std::string>* warnings);
+
+}  // namespace bullet_sim

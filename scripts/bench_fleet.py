@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""Measures many robots in one world (issue 32) with `bench --robots` and writes docs/performance.md's section
+"Many robots" (between <!-- bench-fleet:begin --> and <!-- bench-fleet:end -->) and its plot,
+docs/images/bench_fleet.png: RTF against the number of robots, log-log, beside the anchors' robot x RTF per core.
+
+    source devel/setup.bash && /usr/bin/python3 scripts/bench_fleet.py [--robots 1,10,30,100] [--duration S]
+                                                                        [--repeat K] [--out DIR] [--no-page]
+    /usr/bin/python3 scripts/bench_fleet.py --from-json DIR/bench_fleet.json   # the page and plot again
+
+bench runs in one process, the fleets in increasing size (so its peak memory at N is the largest fleet's so
+far); every robot is the wheelchair with its lidar, driving v 0.3 m/s, w 0.3 rad/s in empty.world, 1.5 m apart.
+The defaults take about 2 minutes on a quiet 2-core machine. Prints the table; the JSON goes to DIR.
+"""
+import argparse
+import datetime
+import json
+import os
+import shlex
+import subprocess
+import sys
+import textwrap
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from readme_section import write_section  # noqa: E402
+
+PAGE = os.path.join(REPO, "docs", "performance.md")
+PLOT = os.path.join(REPO, "docs", "images", "bench_fleet.png")
+HEADING = "## Many robots\n"
+# Robot x RTF per core of the anchors: Stage runs about 1,000 simple 2D robots at real time on one core
+# (Vaughan 2008); Gazebo's best reports are near 20 (30 UAVs at RTF 0.6).
+ANCHORS = [("Stage (Vaughan 2008)", 1000), ("Gazebo (30 UAVs at RTF 0.6)", 20)]
+# Issue 32's targets, and its "today" through the node (2026-11-26).
+TARGET_RTF = {10: 100, 100: 5}
+TODAY_RTF = {10: 24, 100: 2.0}
+TARGET_COST_RATIO = 1.25
+TARGET_SPAWN_S = 20
+TARGET_RSS_MB = 1024
+
+
+def load():
+    with open("/proc/loadavg") as file:
+        return " ".join(file.read().split()[:3])
+
+
+def cpu_model():
+    with open("/proc/cpuinfo") as file:
+        for line in file:
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    return "unknown"
+
+
+def run_bench(args):
+    command = ["rosrun", "bullet_sim", "bench", "--robots", args.robots, "--duration", "%g" % args.duration,
+               "--repeat", str(args.repeat)]
+    print("==", " ".join(command), file=sys.stderr)
+    result = subprocess.run(command, stdout=subprocess.PIPE, check=True, universal_newlines=True)
+    return " ".join(shlex.quote(word) for word in command), json.loads(result.stdout)
+
+
+def measure(args):
+    """bench's JSON, with the command, the date, the machine and its load before and after; also in args.out."""
+    load_before = load()
+    command, report = run_bench(args)
+    report.update(command=command, date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"),
+                  cores=os.cpu_count(), cpu=cpu_model(), load_before=load_before, load_after=load())
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "bench_fleet.json"), "w") as file:
+        json.dump(report, file, indent=2)
+    return report
+
+
+def met(ok):
+    return "yes" if ok else "**no**"
+
+
+def fleet_rows(fleets):
+    lines = ["| robots | RTF | robot x RTF | wall ms per sim s per robot | CPU ms per sim s per robot | "
+             "RTF with a core to itself | spawn | peak RSS | lidar scans per robot per s | worst pose error |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for fleet in fleets:
+        cpu_ms = fleet["cpu_ms_per_sim_s_per_robot"]
+        lines.append("| %d | %.3g | %.0f | %.2f | %.2f | %.3g | %.2f s | %.0f MB | %.2f | %.3f m |" % (
+            fleet["robots"], fleet["rtf"], fleet["robot_rtf"], fleet["wall_ms_per_sim_s_per_robot"], cpu_ms,
+            1000 / (fleet["robots"] * cpu_ms), fleet["spawn_s"], fleet["peak_rss_mb"],
+            fleet["lidar_scans_per_robot_per_s"], fleet["pose_error_max_m"]))
+    return lines
+
+
+def target_rows(by_count):
+    """The issue's targets beside ours, each judged where we measured it."""
+    rows = []
+    for count, target in sorted(TARGET_RTF.items()):
+        if count in by_count:
+            rtf = by_count[count]["rtf"]
+            rows.append(("%d wheelchairs, `empty.world`, RTF" % count, "%.3g" % rtf, "%.3g" % TODAY_RTF[count],
+                         ">= %d" % target, met(rtf >= target)))
+    if 10 in by_count and 100 in by_count:
+        wall = by_count[100]["wall_ms_per_sim_s_per_robot"] / by_count[10]["wall_ms_per_sim_s_per_robot"]
+        cpu = by_count[100]["cpu_ms_per_sim_s_per_robot"] / by_count[10]["cpu_ms_per_sim_s_per_robot"]
+        rows.append(("per-robot cost at N = 100 against N = 10", "%.2fx (CPU time: %.2fx)" % (wall, cpu), "",
+                     "<= %.2fx" % TARGET_COST_RATIO, met(wall <= TARGET_COST_RATIO)))
+    if 100 in by_count:
+        fleet = by_count[100]
+        rows.append(("spawning 100 (bench, in-process: parse and spawn each)", "%.1f s" % fleet["spawn_s"], "",
+                     "<= %d s (through the launch file and a scenario)" % TARGET_SPAWN_S,
+                     met(fleet["spawn_s"] <= TARGET_SPAWN_S) + ", in-process only"))
+        rows.append(("peak RSS with 100 (bench's process, not the node)", "%.0f MB" % fleet["peak_rss_mb"], "",
+                     "<= 1 GB", met(fleet["peak_rss_mb"] <= TARGET_RSS_MB) + ", in-process only"))
+    lines = ["| figure | ours | issue's today (through the node) | target | met |", "|---|---|---|---|---|"]
+    return lines + ["| %s |" % " | ".join(row) for row in rows]
+
+
+def section(report):
+    fleets = report["fleets"]
+    by_count = {fleet["robots"]: fleet for fleet in fleets}
+    paragraphs = [
+        "Measured by `scripts/bench_fleet.py` on %s, on a %d-core %s (`nproc`, `/proc/cpuinfo`), load average "
+        "(1, 5, 15 min) %s before and %s after: the machine is shared, and wall-time figures follow its load; "
+        "the CPU time of the simulation's thread does much less. \"RTF with a core to itself\" is 1000 / (N x "
+        "CPU ms per sim s per robot): what the wall time would give if the simulation's thread never waited."
+        % (report["date"], report["cores"], report["cpu"], report["load_before"], report["load_after"]),
+        "`bench --robots N` spawns N wheelchairs (their xacro, expanded once; each robot's URDF parsed and "
+        "spawned as the node's spawn service does) into `empty.world`, robot1 to robotN each in its own "
+        "namespace, on a square grid 1.5 m apart. After %.1f s at rest every one drives v = %.1f m/s, "
+        "w = %.1f rad/s for %.0f s of sim time, the command re-sent at 10 Hz of sim time as a teleop would, "
+        "its 360-beam lidar scanning at its own 5.5 Hz; 1 ms steps, as fast as it goes, on one thread. Medians "
+        "of %d runs. The simulation runs in bench's process, without ROS: the issue's \"today\" figures were "
+        "through the node." % (report["settle_s"], report["cmd"][0], report["cmd"][1], report["duration_s"],
+                               report["repeat"]),
+    ]
+    lines = textwrap.wrap(paragraphs[0], 110) + [""] + textwrap.wrap(paragraphs[1], 110) + [""]
+    lines += fleet_rows(fleets) + [""] + target_rows(by_count) + [""]
+    lines += ["![RTF against the number of robots, log-log, ours beside the anchors](images/bench_fleet.png)", "",
+              "```", report["command"].replace(REPO + "/", ""), "```"]
+    return lines
+
+
+def plot(report, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fleets = report["fleets"]
+    counts = [fleet["robots"] for fleet in fleets]
+    figure, axes = plt.subplots(figsize=(7, 5), dpi=110)
+    span = [1, 1000]
+    styles = ["--", ":"]
+    for (name, robot_rtf), style in zip(ANCHORS, styles):
+        axes.plot(span, [robot_rtf / n for n in span], style, color="grey",
+                  label="%s: %d robot x RTF per core" % (name, robot_rtf))
+    axes.plot(counts, [fleet["rtf"] for fleet in fleets], "o-", color="tab:blue", linewidth=2,
+              label="ours (bench --robots, one thread)")
+    for fleet in fleets:
+        axes.annotate("%.3g" % fleet["rtf"], (fleet["robots"], fleet["rtf"]), textcoords="offset points",
+                      xytext=(7, 5), fontsize=8, color="tab:blue")
+    axes.plot(list(TODAY_RTF), list(TODAY_RTF.values()), "s", color="tab:orange", fillstyle="none",
+              label="issue 32's today, through the node")
+    axes.plot(list(TARGET_RTF), list(TARGET_RTF.values()), "*", color="tab:green", markersize=12,
+              label="issue 32's targets")
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlim(0.8, 1200)
+    axes.set_xlabel("robots (wheelchairs with a 360-beam lidar, driving circles)")
+    axes.set_ylabel("real-time factor")
+    axes.set_title("Many robots in one world: RTF against N (%s)" % report["date"])
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--robots", default="1,10,30,100")
+    parser.add_argument("--duration", type=float, default=20, help="sim seconds of driving per run")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--out", default="/tmp/bench_fleet", help="where the JSON goes")
+    parser.add_argument("--no-page", action="store_true", help="leave docs/performance.md and the plot alone")
+    parser.add_argument("--from-json", help="measure nothing: the page and plot from this earlier run's JSON")
+    args = parser.parse_args()
+
+    if args.from_json:
+        with open(args.from_json) as file:
+            report = json.load(file)
+    else:
+        report = measure(args)
+    lines = section(report)
+    print("\n".join(lines))
+    if args.no_page:
+        return
+    plot(report, PLOT)
+    write_section(PAGE, "bench-fleet", lines, place)
+
+
+def place(text, marked):
+    """A page without the markers gets the section, under its heading, before "## Cameras" (or at the end)."""
+    block = HEADING + marked + "\n\n"
+    if "\n## Cameras\n" in text:
+        return text.replace("\n## Cameras\n", "\n" + block + "## Cameras\n", 1)
+    return text.rstrip("\n") + "\n\n" + block
+
+
+if __name__ == "__main__":
+    main()
