@@ -286,6 +286,7 @@ TEST(ScenarioTool, ABadPathCannotRun) {
 TEST(ScenarioTool, AnswersEveryBadArgumentInOneLine) {
   TemporaryFolder folder;
   std::ofstream(folder / "a_file") << "x\n";
+  std::ofstream(folder / "two_problems.yaml") << "seed: -1\nduration: -2\nrobot: {description: nope.xacro}\n";
   const auto matrixFile = [&](const std::string& name, const std::string& axes) {
     std::ofstream(folder / name) << "scenario: " << scenarioFile("reach_region.yaml") << "\naxes: " << axes << "\n";
     return folder / name;
@@ -295,6 +296,8 @@ TEST(ScenarioTool, AnswersEveryBadArgumentInOneLine) {
       {"", "give a scenario FILE, or --matrix M.yaml --index N"},
       {folder / "nope.yaml", "scenario [" + (folder / "nope.yaml") + "] is not a file"},
       {folder.path().string(), "scenario [" + folder.path().string() + "] is not a file"},
+      {folder / "two_problems.yaml",
+       "seed: [-1] is out of range: give a number from 0 to 9.0072e+15; duration: [-2] is out of range"},
       {scenario + " --bogus", "The following argument was not expected: --bogus"},
       {scenario + " " + scenario, "give one scenario FILE"},
       {scenario + " --seed x", "--seed: [x] is not a number"},
@@ -315,6 +318,8 @@ TEST(ScenarioTool, AnswersEveryBadArgumentInOneLine) {
       {"--matrix " + matrixFile("huge.yaml", "{seed: {from: 1, count: 1e400}}") + " --list", "count 1 to 100000"},
       {"--matrix " + matrixFile("outside.yaml", "{drive.timeline.5.v: [1, 2]}") + " --list",
        "[5] is not an index of the list at [drive.timeline.5.v]"},
+      {"--matrix " + matrixFile("negative.yaml", "{seed: {from: -5, count: 2}}") + " --list",
+       "reach_region.yaml: seed: [-5] is out of range: give a number from 0 to 9.0072e+15"},
       {"--list", "give a scenario FILE, or --matrix M.yaml --index N"},
   };
   for (const auto& [arguments, expected] : rows) {

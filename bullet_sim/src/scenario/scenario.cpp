@@ -36,6 +36,20 @@ constexpr char kUsage[] =
     "Exit status: 0 every check passed, 1 a check failed, 2 the scenario could not run, or a bad\n"
     "argument or matrix (said in one line).\n";
 
+/// A file's problems, listed one per indented line, as one line: "scenario F: a; b".
+std::string oneLine(const std::string& text) {
+  std::string line;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '\n') {
+      line += text[i];
+      continue;
+    }
+    while (i + 1 < text.size() && text[i + 1] == ' ') ++i;
+    line += line.empty() || line.back() == ':' ? " " : "; ";
+  }
+  return line;
+}
+
 /// --list: the matrix's size, axes and every cell's values, as JSON on stdout.
 int listMatrix(const ScenarioCommand& command) {
   const Matrix matrix = loadMatrix(command.matrix);
@@ -45,10 +59,11 @@ int listMatrix(const ScenarioCommand& command) {
   json["axes"] = matrix.axes;
   json["count"] = matrix.count;
   json["cells"] = nlohmann::ordered_json::array();
-  // Every axis goes into the scenario in the first and the last cell (which take every axis's first and last
-  // value); a value that breaks the scenario otherwise is that cell's run's error.
-  matrix.cell(0);
-  matrix.cell(matrix.count - 1);
+  // The first and the last cell, which take every axis's first and last value, are read as scenarios: a key
+  // or a value the scenario refuses there (a seed of -5) is said now; elsewhere, it is that cell's run's error.
+  const PackageResolver resolver = PackageResolver::fromEnvironment();
+  cellScenario(matrix, 0, resolver);
+  cellScenario(matrix, matrix.count - 1, resolver);
   for (int i = 0; i < matrix.count; ++i) {
     nlohmann::ordered_json values = nlohmann::ordered_json::object();
     for (const auto& [axis, value] : matrix.valuesOf(i)) values[axis] = value;
@@ -70,7 +85,7 @@ int run(const ScenarioCommand& command) {
     try {
       return listMatrix(command);
     } catch (const std::exception& error) {  // a bad matrix: as bad as a bad argument
-      std::cerr << "scenario: " << error.what() << "\n";
+      std::cerr << "scenario: " << oneLine(error.what()) << "\n";
       return static_cast<int>(Verdict::kError);
     }
   }
@@ -93,7 +108,7 @@ int run(const ScenarioCommand& command) {
         << "scenario " << spec->name << ": " << message << " (" << out << "/result.json)\n";
     return static_cast<int>(verdict);
   } catch (const std::exception& error) {
-    std::cerr << "scenario: could not run: " << error.what() << "\n";
+    std::cerr << "scenario: could not run: " << oneLine(error.what()) << "\n";
     try {
       writeErrorResult(out, context, error.what());
     } catch (const std::exception&) {
