@@ -11,6 +11,7 @@ extern "C" {
 #include <libavformat/avformat.h>
 }
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -279,6 +280,70 @@ TEST(ScenarioTool, ABadPathCannotRun) {
   EXPECT_EQ(resultOf(out.path())["verdict"], "error");
   EXPECT_EQ(runScenario("").status, 2);
   EXPECT_EQ(runScenario(scenarioFile("reach_region.yaml") + " --seed x").status, 2);
+}
+
+/// One line on stderr naming the value, nothing on stdout, exit code 2: a row per bad argument or file.
+TEST(ScenarioTool, AnswersEveryBadArgumentInOneLine) {
+  TemporaryFolder folder;
+  std::ofstream(folder / "a_file") << "x\n";
+  std::ofstream(folder / "two_problems.yaml") << "seed: -1\nduration: -2\nrobot: {description: nope.xacro}\n";
+  const auto matrixFile = [&](const std::string& name, const std::string& axes) {
+    std::ofstream(folder / name) << "scenario: " << scenarioFile("reach_region.yaml") << "\naxes: " << axes << "\n";
+    return folder / name;
+  };
+  const std::string scenario = scenarioFile("reach_region.yaml"), matrix = scenarioFile("drive_matrix.yaml");
+  const std::vector<std::pair<std::string, std::string>> rows = {
+      {"", "give a scenario FILE, or --matrix M.yaml --index N"},
+      {folder / "nope.yaml", "scenario [" + (folder / "nope.yaml") + "] is not a file"},
+      {folder.path().string(), "scenario [" + folder.path().string() + "] is not a file"},
+      {folder / "two_problems.yaml",
+       "seed: [-1] is out of range: give a number from 0 to 9.0072e+15; duration: [-2] is out of range"},
+      {scenario + " --bogus", "The following argument was not expected: --bogus"},
+      {scenario + " " + scenario, "give one scenario FILE"},
+      {scenario + " --seed x", "--seed: [x] is not a number"},
+      {scenario + " --seed -1", "--seed [-1]: give a whole number from 0"},
+      {scenario + " --seed 1e300", "--seed [1e300]: give a whole number from 0"},
+      {scenario + " --seed nan", "--seed: [nan] is not a number"},
+      {scenario + " --out " + (folder / "a_file"), "--out [" + (folder / "a_file") + "] is a file, not a folder"},
+      {scenario + " --out " + (folder / "a_file/sub"), "cannot make the run's folder [" + (folder / "a_file/sub")},
+      {scenario + " --bag-chunk-size 0.5", "--bag-chunk-size [0.5]: give a whole number from 0"},
+      {scenario + " --index 1", "--index goes with --matrix"},
+      {"--matrix " + matrix, "--matrix needs --index N (the cell to run), or --list"},
+      {"--matrix " + matrix + " --index 1 " + scenario, "give a scenario FILE, or --matrix M.yaml --index N"},
+      {"--matrix " + matrix + " --index 8", "no cell [8]: it has 8, numbered 0 to 7"},
+      {"--matrix " + matrix + " --index -1", "--index [-1]: give a whole number from 0"},
+      {"--matrix " + (folder / "nope.yaml") + " --list", "matrix [" + (folder / "nope.yaml") + "] is not a file"},
+      {"--matrix " + matrixFile("wraps.yaml", "{seed: {from: 9223372036854775807, count: 2}}") + " --list",
+       "{from: 9223372036854775807, count: 2} goes past the largest whole number"},
+      {"--matrix " + matrixFile("huge.yaml", "{seed: {from: 1, count: 1e400}}") + " --list", "count 1 to 100000"},
+      {"--matrix " + matrixFile("outside.yaml", "{drive.timeline.5.v: [1, 2]}") + " --list",
+       "[5] is not an index of the list at [drive.timeline.5.v]"},
+      {"--matrix " + matrixFile("negative.yaml", "{seed: {from: -5, count: 2}}") + " --list",
+       "reach_region.yaml: seed: [-5] is out of range: give a number from 0 to 9.0072e+15"},
+      {"--list", "give a scenario FILE, or --matrix M.yaml --index N"},
+  };
+  for (const auto& [arguments, expected] : rows) {
+    SCOPED_TRACE(arguments);
+    const auto run = test::run("cd " + folder.path().string() + " && " + SCENARIO + " " + arguments);
+    EXPECT_EQ(run.status, 2);
+    EXPECT_EQ(run.output, "");
+    EXPECT_THAT(run.errors, AllOf(::testing::StartsWith("scenario: "), HasSubstr(expected)));
+    EXPECT_EQ(std::count(run.errors.begin(), run.errors.end(), '\n'), 1) << run.errors;
+  }
+}
+
+/// --list gives each cell's values without building each cell's scenario (100000 cells took 10 s, a million
+/// 100 s); the scenario is built for the first and the last.
+TEST(ScenarioTool, ListsCellsWithoutBuildingEach) {
+  TemporaryFolder folder;
+  std::ofstream(folder / "m.yaml") << "scenario: " << scenarioFile("reach_region.yaml")
+                                   << "\naxes: {seed: {from: 1, count: 1000}, drive.timeline.0.v: {from: 1, count: 100}}\n";
+  const auto listing = test::run(std::string(SCENARIO) + " --matrix " + (folder / "m.yaml") + " --list");
+  ASSERT_EQ(listing.status, 0) << listing.errors;
+  const Json json = Json::parse(listing.output);
+  EXPECT_EQ(json["count"], 100000);
+  EXPECT_EQ(json["cells"][101]["values"], Json({{"seed", "2"}, {"drive.timeline.0.v", "2"}}));
+  EXPECT_EQ(json["cells"].back()["values"], Json({{"seed", "1000"}, {"drive.timeline.0.v", "100"}}));
 }
 
 TEST(ScenarioTool, TheSameFileAndSeedGiveTheSameResult) {

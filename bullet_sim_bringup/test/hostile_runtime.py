@@ -10,6 +10,7 @@ import math
 import time
 import unittest
 
+import rospkg
 import rospy
 import rostest
 from controller_manager_msgs.srv import ListControllers, LoadController, SwitchController
@@ -208,6 +209,18 @@ class HostileRuntime(unittest.TestCase):
         self.assertTrue(switch(["joint_state_controller", "arm_controller"], [], 2, False, 0.0).ok)
         self.wait_for_controller("arm_controller", "running")
         self.expect_alive()
+
+    def test_5_a_drive_that_cannot_publish_its_odometry_is_spawned_with_the_reason(self):
+        # As in Gazebo, the robot comes and drives without its odometry; the answer says why, not only /rosout.
+        path = rospkg.RosPack().get_path("bullet_sim") + "/test/fixtures/doctor/clean_two_wheeler.urdf"
+        with open(path) as file:
+            urdf = file.read().replace("</leftJoint>", "</leftJoint><odometryTopic>/clock</odometryTopic>")
+        answer = self.gazebo["spawn_urdf_model"]("odometry_on_clock", urdf, "/stray", pose(y=4, z=0.06), "")
+        self.assertTrue(answer.success, answer.status_message)
+        self.assertIn("cannot publish nav_msgs/Odometry on [/clock]: it carries rosgraph_msgs/Clock",
+                      answer.status_message)
+        self.expect_alive()
+        self.assertTrue(self.gazebo["delete_model"]("odometry_on_clock").success)
 
 
 if __name__ == "__main__":

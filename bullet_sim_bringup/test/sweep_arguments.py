@@ -66,6 +66,10 @@ def cases(folder):
          "axes.seed: {from: 9223372036854775807, count: 2} goes past the largest whole number"),
         ([matrix("huge.yaml", "scenario: %s\naxes: {seed: {from: 1, count: 1000000000}}\n" % SCENARIO)],
          "count 1 to 100000"),
+        ([matrix("negative.yaml", "scenario: %s\naxes: {seed: {from: -5, count: 2}}\n" % SCENARIO)],
+         "seed: [-5] is out of range"),
+        ([matrix("wide.yaml", "scenario: %s\naxes: {seed: {from: 1, count: 1001}, duration: {from: 1, count: 1000}}\n"
+                 % SCENARIO)], "more than 1000000 cells"),
         ([matrix("empty.yaml", "")], "expected scenario: FILE and axes"),
         ([matrix("garbage.yaml", "scenario: [\n")], "garbage.yaml"),
     ]

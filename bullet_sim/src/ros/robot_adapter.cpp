@@ -2,6 +2,8 @@
 
 #include <camera_info_manager/camera_info_manager.h>
 #include <image_transport/image_transport.h>
+#include <ros/publication.h>
+#include <ros/topic_manager.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/Float64MultiArray.h>
@@ -44,12 +46,22 @@ std::optional<BoolCommand> fromMessage(const std_msgs::Bool& message) {
   return BoolCommand{static_cast<bool>(message.data)};
 }
 
+/// Why roscpp gave an empty publisher or subscriber (it only logs): most often another type on the topic in
+/// this process, as rosgraph_msgs/Clock on /clock.
+std::string refusal(const std::string& where, const std::string& what, const std::string& type,
+                    const std::string& topic) {
+  const ros::PublicationPtr there = ros::TopicManager::instance()->lookupPublication(topic);
+  const std::string carrying = there ? ": it carries " + there->getDataType() : "";
+  return where + " cannot " + what + " " + type + " on [" + topic + "]" + carrying + "; it runs without it";
+}
+
 }  // namespace
 
 struct RobotAdapter::Connection {
   mutable ros::NodeHandle handle;  // advertise and subscribe are not const
   FramePrefix frames;
   Connections& into;
+  std::string where;  ///< the plugin, for what it cannot connect
 };
 
 RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
@@ -68,15 +80,20 @@ RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
 }
 
 void RobotAdapter::connect(const Plugin& plugin, const PluginPorts& ports, Connections& into) {
-  const Connection connection{handleFor(plugin.robotNamespace()), framesOf(plugin), into};
+  const Connection connection{handleFor(plugin.robotNamespace()), framesOf(plugin), into, plugin.where()};
   try {
     for (const auto& port : ports.inputs) subscribe(connection, port);
     for (const auto& port : ports.outputs) advertise(connection, port);
     for (const auto& port : ports.services) serve(connection, port);
     for (const auto& port : ports.actions) serveAction(connection, port);
   } catch (const ros::Exception& e) {  // a name ROS refuses, e.g. from a controller's parameters
-    ROS_ERROR("[%s] %s: %s", robot_name_.c_str(), plugin.where().c_str(), e.what());
+    cannotConnect(plugin.where() + ": " + e.what());
   }
+}
+
+void RobotAdapter::cannotConnect(const std::string& why) {
+  ROS_WARN("[%s] %s", robot_name_.c_str(), why.c_str());
+  problems_.push_back(why);
 }
 
 void RobotAdapter::refreshPorts() {
@@ -140,6 +157,10 @@ template <class Message, class Sample, class Convert>
 void RobotAdapter::advertiseStream(const Connection& plugin, const OutputPort& port,
                                    const Stream<Sample>* stream, Convert convert) {
   ros::Publisher publisher = plugin.handle.advertise<Message>(port.topic, 10);
+  if (!publisher) {
+    const std::string type = ros::message_traits::DataType<Message>::value();
+    return cannotConnect(refusal(plugin.where, "publish", type, plugin.handle.resolveName(port.topic)));
+  }
   plugin.into.publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
   plugin.into.outputs.push_back({[stream] { return stream->count(); },
@@ -182,6 +203,10 @@ void RobotAdapter::advertiseCameraInfo(const Connection& plugin, const OutputPor
     manager->setCameraInfo(info);
   }
   ros::Publisher publisher = plugin.handle.advertise<sensor_msgs::CameraInfo>(port.topic, 2);
+  if (!publisher) {
+    const std::string topic = plugin.handle.resolveName(port.topic);
+    return cannotConnect(refusal(plugin.where, "publish", "sensor_msgs/CameraInfo", topic));
+  }
   plugin.into.publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
   plugin.into.outputs.push_back({[stream] { return stream->count(); },
@@ -237,6 +262,10 @@ void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, 
       port.topic, 10, [this, handler, warn](const typename Message::ConstPtr& message) {
         if (const std::optional<Input> input = fromMessage(*message)) warn(handler(*input, sim_time_()));
       });
+  if (!subscriber) {
+    const std::string type = ros::message_traits::DataType<Message>::value();
+    return cannotConnect(refusal(plugin.where, "subscribe", type, topic));
+  }
   plugin.into.subscribers.push_back(subscriber);
   if (port.publishers) plugin.into.counted_inputs.emplace_back(subscriber, port.publishers);
   topics_.push_back(subscriber.getTopic() + " (in)");

@@ -55,6 +55,9 @@ class RobotAdapter {
   }
   /// The topics this robot advertises and subscribes, for the log.
   const std::vector<std::string>& topics() const { return topics_; }
+  /// What its plugins could not connect (a topic of another type, a name ROS refuses): each plugin runs
+  /// without it, as in Gazebo; the spawn's answer says it.
+  const std::vector<std::string>& problems() const { return problems_; }
 
  private:
   struct Output {
@@ -103,6 +106,8 @@ class RobotAdapter {
   FramePrefix framesOf(const Plugin& plugin) const;
   /// Sends a transform, warning once when another robot already publishes its child frame.
   void sendTransform(const geometry_msgs::TransformStamped& transform);
+  /// Warns and keeps `why` for problems().
+  void cannotConnect(const std::string& why);
 
   const std::string robot_name_;
   std::string namespace_;
@@ -115,6 +120,7 @@ class RobotAdapter {
   std::vector<Watched> watched_;
   std::map<std::pair<const Plugin*, uint64_t>, Connections> groups_;  ///< by plugin and port group id
   std::vector<std::string> topics_;
+  std::vector<std::string> problems_;
 };
 
 }  // namespace bullet_sim

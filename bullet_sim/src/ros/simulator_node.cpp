@@ -204,6 +204,8 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
   }
   for (const auto& warning : *warnings) ROS_WARN("%s: %s", source.c_str(), warning.c_str());
   for (const auto& topic : adapter->topics()) ROS_INFO("%s: %s", source.c_str(), topic.c_str());
+  // What the plugins could not connect, warned already, goes into the spawn's answer too.
+  warnings->insert(warnings->end(), adapter->problems().begin(), adapter->problems().end());
   ROS_INFO("%s: %s", source.c_str(), simulation_->substepNote(name).c_str());
   adapters_[name] = std::move(adapter);
   if (bag_) bag_->addRobot(robot, robot_namespace);

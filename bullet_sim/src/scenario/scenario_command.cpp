@@ -41,6 +41,8 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv) {
     throw UsageError("--matrix needs --index N (the cell to run), or --list");
   if (command.index && command.matrix.empty()) throw UsageError("--index goes with --matrix");
   if (command.list && command.matrix.empty()) throw UsageError("--list goes with --matrix");
+  if (!command.out.empty() && std::filesystem::exists(command.out) && !std::filesystem::is_directory(command.out))
+    throw UsageError("--out [" + command.out + "] is a file, not a folder");
   return command;
 }
 

@@ -124,26 +124,28 @@ Matrix loadMatrix(const std::string& path) {
   return matrix;
 }
 
-MatrixCell Matrix::cell(int index) const {
+std::vector<std::pair<std::string, std::string>> Matrix::valuesOf(int index) const {
   if (index < 0 || index >= count) {
     throw ScenarioError("matrix " + source + ": no cell [" + std::to_string(index) + "]: it has " +
                         std::to_string(count) + ", numbered 0 to " + std::to_string(count - 1));
   }
-  MatrixCell cell;
-  cell.index = index;
-  YAML::Node root = YAML::Load(scenario_yaml);
-  if (!root.IsMap()) throw ScenarioError("scenario " + scenario + ": expected a mapping");
+  std::vector<std::pair<std::string, std::string>> picked(axes.size());
   int rest = index;
-  std::vector<size_t> picks(axes.size());
   for (size_t i = axes.size(); i-- > 0;) {  // the last axis varies fastest
-    picks[i] = rest % values[i].size();
+    picked[i] = {axes[i], values[i][rest % values[i].size()]};
     rest /= static_cast<int>(values[i].size());
   }
-  for (size_t i = 0; i < axes.size(); ++i) {
-    const std::string& value = values[i][picks[i]];
-    cell.values.emplace_back(axes[i], value);
-    setKey(root, axes[i], YAML::Load(value), "matrix " + source + ": axes." + axes[i]);
-  }
+  return picked;
+}
+
+MatrixCell Matrix::cell(int index) const {
+  MatrixCell cell;
+  cell.index = index;
+  cell.values = valuesOf(index);
+  YAML::Node root = YAML::Load(scenario_yaml);
+  if (!root.IsMap()) throw ScenarioError("scenario " + scenario + ": expected a mapping");
+  for (const auto& [axis, value] : cell.values)
+    setKey(root, axis, YAML::Load(value), "matrix " + source + ": axes." + axis);
   if (!root["name"]) root["name"] = name;
   root["name"] = root["name"].as<std::string>() + "_" + std::to_string(index);
   YAML::Emitter out;
