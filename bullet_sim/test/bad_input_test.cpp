@@ -319,6 +319,14 @@ TEST(BadInput, SdfModelsToSpawnAreBoundedAsUrdfsAre) {
                                <joint name="bc" type="fixed"><parent>b</parent><child>c</child></joint>)";
   EXPECT_THAT(sdfModelError(three, two_links), HasSubstr("the robot has 3 links, above the limit of 2 (max_links)"));
   EXPECT_EQ(sdfModelError(three), "");
+  // Counted in the text, before libsdformat reads it: with no time left to read it, the count still refuses.
+  Limits two_links_no_time = two_links;
+  two_links_no_time.world_load_seconds = 1e-6;
+  EXPECT_THAT(sdfModelError(three, two_links_no_time),
+              HasSubstr("the robot has 3 links, above the limit of 2 (max_links)"));
+  Limits no_time;
+  no_time.world_load_seconds = 1e-6;
+  EXPECT_THAT(sdfModelError(three, no_time), HasSubstr("(world_load_seconds)"));  // what reading it gives
 }
 
 /// A robot of `boxes` visible boxes in a row on one link, the first ten colliding, with a 1000-beam lidar:

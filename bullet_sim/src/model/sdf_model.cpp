@@ -241,9 +241,10 @@ ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins,
 ModelSpec parseSdfModel(const std::string& sdf_xml, const std::string& source,
                         const PackageResolver& resolver, const PluginParsers& plugins,
                         std::vector<std::string>* warnings, const Limits& limits) {
+  Diagnostics diagnostics(source);
+  if (!checkSdfCounts(sdf_xml, limits, diagnostics)) diagnostics.throwIfErrors();  // before the long read
   std::vector<std::string> read_warnings;
   const WorldModelSpec model = readSdfModel(sdf_xml, source, resolver, &read_warnings, limits);
-  Diagnostics diagnostics(source);
   for (const auto& warning : read_warnings) diagnostics.warning(warning);
   ModelSpec spec = toModelSpec(model, plugins, diagnostics, limits);
   if (warnings)

@@ -200,6 +200,43 @@ void checkModelValues(const ModelSpec& model, const Limits& limits, Diagnostics&
   }
 }
 
+namespace {
+struct ModelCounts {
+  size_t links = 0, moving_joints = 0, shapes = 0;
+};
+
+/// Counts the links, moving joints and shapes of the <model>s at or under `element`, through <sdf>, <world> and
+/// nested <model>s only (a plugin's own XML may have a <link> of its own).
+void countModels(const tinyxml2::XMLElement& element, ModelCounts& counts) {
+  for (auto* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+    const std::string name = child->Name();
+    if (name == "model" || name == "world") countModels(*child, counts);
+    if (std::string(element.Name()) != "model") continue;
+    if (name == "link") {
+      ++counts.links;
+      for (auto* shape = child->FirstChildElement(); shape; shape = shape->NextSiblingElement()) {
+        const std::string kind = shape->Name();
+        counts.shapes += kind == "collision" || kind == "visual";
+      }
+    } else if (name == "joint") {
+      const char* type = child->Attribute("type");
+      counts.moving_joints += !type || std::string(type) != "fixed";
+    }
+  }
+}
+}  // namespace
+
+bool checkSdfCounts(const std::string& sdf_text, const Limits& limits, Diagnostics& diagnostics) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(sdf_text.c_str(), sdf_text.size()) != tinyxml2::XML_SUCCESS) return true;
+  ModelCounts counts;
+  if (const tinyxml2::XMLElement* root = document.RootElement()) countModels(*root, counts);
+  bool fine = withinCount(counts.links, "max_links", "links", limits, diagnostics);
+  fine &= withinCount(counts.moving_joints, "max_moving_joints", "moving joints", limits, diagnostics);
+  fine &= withinCount(counts.shapes, "max_shapes", "collisions and visuals", limits, diagnostics);
+  return fine;
+}
+
 UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limits, Diagnostics& diagnostics,
                            std::set<std::string>* bad_links) {
   size_t links = 0, moving_joints = 0, shapes = 0;
