@@ -394,8 +394,9 @@ TEST(BadInput, FilesThatBreakALibraryAreLoadErrorsNamingTheFile) {
     std::string error;
     EXPECT_FALSE(loadMesh(path, Eigen::Vector3d::Ones(), &error)) << found;
     EXPECT_THAT(error, HasSubstr("cannot load mesh [" + path + "]: ")) << found;
-    if (found.filename().string().rfind("oom-", 0) == 0)
+    if (found.filename().string().rfind("oom-", 0) == 0) {
       EXPECT_THAT(error, HasSubstr("the importer (assimp) ran out of the memory it may use on it")) << found;
+    }
     ++replayed;
   }
   for (const fs::path& found : filesIn(crashes / "fuzz_world" / "library")) {

@@ -58,7 +58,7 @@ SimulationOptions stepOf(double step) {
 
 TEST(ContactEnergy, ADroppedRobotGainsNone) {
   for (const StrikeRobot& robot : switchableRobots()) {
-    for (const std::string model : test::kWheelModels) {
+    for (const std::string& model : test::kWheelModels) {
       for (double step : {0.001, 0.01}) {
         for (double drop : {0.05, 0.2, 0.5}) {
           SCOPED_TRACE(robot.name + " " + model + " " + std::to_string(step) + " s from " + std::to_string(drop) + " m");
@@ -78,7 +78,7 @@ TEST(ContactEnergy, ADroppedRobotGainsNone) {
 
 TEST(ContactEnergy, ARobotCoastingIntoAWallOrAnEdgeGainsNone) {
   for (const StrikeRobot& robot : switchableRobots()) {
-    for (const std::string model : test::kWheelModels) {
+    for (const std::string& model : test::kWheelModels) {
       for (double step : {0.001, 0.01}) {
         for (StrikeTarget target : {StrikeTarget::kWall, StrikeTarget::kDoorEdge}) {
           const StrikeCell cell{model, step, 2.0, 0, target, /*coast=*/true};

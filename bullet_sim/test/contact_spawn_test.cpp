@@ -69,7 +69,7 @@ void expectRisesAndRests(const ModelSpec& model, double step) {
 
 TEST(SpawnedUnderTheGround, ARobotWithADriveRisesWithoutALeap) {
   for (const StrikeRobot& robot : test::lookAlikes()) {
-    for (const std::string model : test::kWheelModels) {
+    for (const std::string& model : test::kWheelModels) {
       for (double step : {0.001, 0.01}) {
         SCOPED_TRACE(robot.name + " " + model + " " + std::to_string(step) + " s");
         expectRisesAndRests(test::modelOf(robot, model), step);
@@ -83,7 +83,7 @@ TEST(SpawnedUnderTheGround, AShippedRobotRisesWithoutALeapWithItsDriveOrWithout)
   for (size_t r = 0; r < 4; ++r) {  // the rover drives through ros_control, which needs its parameters
     const StrikeRobot& robot = shipped[r];
     for (double step : {0.001, 0.01}) {
-      for (const std::string model : test::kWheelModels) {
+      for (const std::string& model : test::kWheelModels) {
         SCOPED_TRACE(robot.name + " " + model + " " + std::to_string(step) + " s");
         expectRisesAndRests(test::modelOf(robot, model), step);
       }
@@ -144,7 +144,7 @@ Eigen::Vector3d centreOfMassVelocity(const RobotBody& body) {
 // Bullet forgets forces after each of its steps: a wrench given for one world step must act through all its
 // substeps. A 1 N push for one 10 ms step on a weightless robot changes its speed by 0.01 / M m/s.
 TEST(Substeps, AWrenchActsThroughEverySubstepOfItsStep) {
-  for (const std::string model : test::kWheelModels) {
+  for (const std::string& model : test::kWheelModels) {
     SCOPED_TRACE(model);
     WorldSpec weightless = test::emptyWorld();
     weightless.gravity.setZero();

@@ -23,7 +23,7 @@ INSTANTIATE_TEST_SUITE_P(Matrix, ShippedStrike, ::testing::ValuesIn(test::repres
 // on that wheel, so the wheel climbs the wall, on either wheel model, as it would in Gazebo.
 TEST(ShippedStrike, TheYahboomCarsDrivenFrontWheelsClimbTheWall) {
   const StrikeRobot yahboom = test::shippedRobots()[2];
-  for (const std::string model : test::kWheelModels) {
+  for (const std::string& model : test::kWheelModels) {
     SCOPED_TRACE(model);
     const StrikeOutcome outcome = runStrike(yahboom, {model, 0.001, 0.5}, test::emptyWorld());
     EXPECT_TRUE(outcome.bounds.wheel_first);

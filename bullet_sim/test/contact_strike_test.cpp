@@ -19,7 +19,7 @@ namespace {
 // face, z_c = 0.08 m, just above h: the impact turns it backwards about the rear axle, d = 0.1 m, with
 // I_p = 0.0298 + 2.8 (0.1^2 + 0.0714^2) = 0.0721 kg m^2.
 TEST(StrikeBounds, FollowTheFormulasForTheLightSkidSteerRobot) {
-  for (const std::string model : test::kWheelModels) {
+  for (const std::string& model : test::kWheelModels) {
     SCOPED_TRACE(model);
     const StrikeOutcome outcome = runStrike(test::lookAlike("light_skid_steer"), {model, 0.001, 0.5}, test::emptyWorld());
     const StrikeBounds& b = outcome.bounds;
@@ -57,7 +57,7 @@ INSTANTIATE_TEST_SUITE_P(Matrix, LookAlikeStrike,
 // way, the impact at 2 m/s would throw it over backwards, and its wheels pushing on would rear it up. But its
 // base reaches the wall 5 cm further on, after it has leant back by 0.05 rad, so it leans there.
 TEST(StrikeBounds, ARobotWhoseBaseReachesTheWallLeansOnItInsteadOfTipping) {
-  for (const std::string model : test::kWheelModels) {
+  for (const std::string& model : test::kWheelModels) {
     SCOPED_TRACE(model);
     const StrikeOutcome outcome = runStrike(test::lookAlike("tall_base"), {model, 0.001, 2.0}, test::emptyWorld());
     const StrikeBounds& b = outcome.bounds;

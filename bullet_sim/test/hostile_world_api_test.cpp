@@ -103,7 +103,9 @@ class Scene {
     Twist ahead;
     ahead.linear.x() = 0.5;
     for (int k = 0; k < 250; ++k) {
-      if (k % 50 == 0) EXPECT_EQ(send("diff", "cmd_vel", ahead), "");
+      if (k % 50 == 0) {
+        EXPECT_EQ(send("diff", "cmd_vel", ahead), "");
+      }
       simulation_.step();
     }
     EXPECT_EQ(send("diff", "cmd_vel", Twist{}), "");
