@@ -10,9 +10,11 @@ import math
 import time
 import unittest
 
+import actionlib
 import rospkg
 import rospy
 import rostest
+from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal, FollowJointTrajectoryResult
 from controller_manager_msgs.srv import ListControllers, LoadController, SwitchController
 from gazebo_msgs.msg import LinkState, LinkStates, ModelState, ModelStates
 from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, DeleteModel, GetModelState, SetJointProperties,
@@ -23,6 +25,7 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from bringup_support import Collector
 
@@ -195,6 +198,37 @@ class HostileRuntime(unittest.TestCase):
         self.assertFalse(service("/arm/controller_manager/load_controller", LoadController)("ghost_controller").ok)
         self.assertTrue(switch(["arm_controller"], ["group_controller"], 2, False, 0.0).ok)
         self.expect_alive()
+
+    def test_3a_hostile_trajectory_goals_are_rejected_with_the_reason(self):
+        # After test_3 the trajectory controller runs. Each goal is rejected at once, naming what is wrong.
+        client = actionlib.SimpleActionClient("/arm/arm_controller/follow_joint_trajectory",
+                                              FollowJointTrajectoryAction)
+        self.assertTrue(client.wait_for_server(rospy.Duration(60)), "no follow_joint_trajectory server")
+        invalid_goal = FollowJointTrajectoryResult.INVALID_GOAL
+        invalid_joints = FollowJointTrajectoryResult.INVALID_JOINTS
+        rows = [
+            (["shoulder", "wrist"], [(1.0, [NAN, 0.0], [])], invalid_goal,
+             "points[0].positions[0] [nan] is not finite"),
+            (["shoulder", "wrist"], [(1.0, [0.0, 0.0], [INF, 0.0])], invalid_goal,
+             "points[0].velocities[0] [inf] is not finite"),
+            (["shoulder", "wrist"], [(1.0, [0.0], [])], invalid_goal, "has 1 positions for 2 joints"),
+            (["shoulder", "elbow"], [(1.0, [0.0, 0.0], [])], invalid_joints, "joint [elbow] is not one of"),
+            (["shoulder", "wrist"], [(1.0, [0.0, 0.0], []), (1.0, [0.1, 0.0], [])], invalid_goal,
+             "time_from_start must increase strictly"),
+        ]
+        problems = []
+        for joints, points, code, expected in rows:
+            trajectory = JointTrajectory(joint_names=joints, points=[
+                JointTrajectoryPoint(positions=p, velocities=v, time_from_start=rospy.Duration.from_sec(t))
+                for t, p, v in points])
+            client.send_goal(FollowJointTrajectoryGoal(trajectory=trajectory))
+            self.assertTrue(client.wait_for_result(rospy.Duration(60)), "no result for %r" % expected)
+            result = client.get_result()
+            if result.error_code != code or expected not in result.error_string:
+                problems.append("%r: error %d %r (expected %d, %r)" % (points, result.error_code,
+                                                                        result.error_string, code, expected))
+            self.expect_alive()
+        self.assertEqual(problems, [])
 
     def test_4_the_arm_respawned_in_its_namespace_gets_its_controllers_again(self):
         description = rospy.get_param("/arm_description")
