@@ -2,7 +2,7 @@
 """Measures what recording a bag costs the simulator node (never asserted by tests): the wheelchair standing in
 home.world with its lidar, the default topics and ground truth at 50 Hz, against the same run without ~record.
 
-    source devel/setup.bash && scripts/bench_record.py [--out DIR] [--repeat N] [--window S] [--readme README.md]
+    source devel/setup.bash && scripts/bench_record.py [--out DIR] [--repeat N] [--window S] [--page docs/performance.md]
 
 Starts a ROS master of its own on a free port, then for each repeat and each pace (~real_time_factor 0, then 1)
 a simulator without and one with ~record (in alternating order), spawns the wheelchair into it, lets it run a
@@ -10,7 +10,7 @@ few seconds, and measures over --window wall seconds: the real-time factor (sim 
 time), and from /proc the CPU time of the simulation's thread, of the bag's writer thread and of the whole
 process. On a shared machine the RTF follows the load; the simulation thread's CPU time per sim second does
 much less, and is what sets the RTF when the simulation has a core to itself. Prints a Markdown table of the
-medians and writes DIR/bench_record.json; --readme rewrites the README's bench-record section with them.
+medians and writes DIR/bench_record.json; --page rewrites the Performance page's bench-record section with them.
 """
 import argparse
 import json
@@ -139,7 +139,7 @@ def main():
     parser.add_argument("--out", default="/tmp/bench_record")
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--window", type=float, default=20.0, help="wall seconds measured per run")
-    parser.add_argument("--readme", help="rewrite this README's bench-record section")
+    parser.add_argument("--page", help="rewrite this page's bench-record section (docs/performance.md)")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % free_port()
@@ -214,10 +214,10 @@ def main():
         "```",
     ]
     print("\n".join(lines))
-    if args.readme:
-        write_section(args.readme, "bench-record", lines,
-                      lambda text, section: text.replace("\n### Scenarios and sweeps\n", "\n### Recording\n" + section
-                                                          + "\n\n### Scenarios and sweeps\n", 1))
+    if args.page:
+        write_section(args.page, "bench-record", lines,
+                      lambda text, section: text.replace("\n## Scenarios and sweeps\n", "\n## Recording\n" + section
+                                                          + "\n\n## Scenarios and sweeps\n", 1))
 
 
 if __name__ == "__main__":
