@@ -22,6 +22,7 @@ import textwrap
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_machine import cpu_model  # noqa: E402
 from readme_section import write_section  # noqa: E402
 
 PAGE = os.path.join(REPO, "docs", "performance.md")
@@ -41,14 +42,6 @@ TARGET_RSS_MB = 1024
 def load():
     with open("/proc/loadavg") as file:
         return " ".join(file.read().split()[:3])
-
-
-def cpu_model():
-    with open("/proc/cpuinfo") as file:
-        for line in file:
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    return "unknown"
 
 
 def run_bench(args):

@@ -88,6 +88,7 @@ import datetime, json, os, sys, textwrap
 
 repo = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[2])))  # the page is docs/performance.md
 sys.path.insert(0, os.path.join(repo, "scripts"))
+from bench_machine import cpu_model
 from readme_section import write_section
 
 out, readme, repeat = sys.argv[1], sys.argv[2], sys.argv[3]
@@ -104,13 +105,6 @@ def median(values):
 starts = [run for name, run in runs.items() if name.startswith("startup")]
 startup_s = median(run["startup_s"] for run in starts)
 startup_cpu_s = median(run["startup_cpu_s"] for run in starts)
-
-
-def cpu_model():
-    for line in open("/proc/cpuinfo"):
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return "unknown CPU"
 
 
 def met(ok):

@@ -25,6 +25,7 @@ import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_machine import cpu_model  # noqa: E402
 from readme_section import write_section  # noqa: E402
 
 TICKS = os.sysconf("SC_CLK_TCK")
@@ -34,14 +35,6 @@ WARM_UP = 3.0  # [wall s] after the spawn, before measuring
 def load():
     with open("/proc/loadavg") as file:
         return [float(x) for x in file.read().split()[:3]]
-
-
-def cpu_model():
-    with open("/proc/cpuinfo") as file:
-        for line in file:
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    return "unknown"
 
 
 def cpu_seconds(stat_path):

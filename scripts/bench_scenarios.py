@@ -15,6 +15,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_machine import cpu_model  # noqa: E402
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENARIOS = os.path.join(REPO, "bullet_sim", "bench", "scenarios")
 
@@ -22,14 +25,6 @@ SCENARIOS = os.path.join(REPO, "bullet_sim", "bench", "scenarios")
 def load():
     with open("/proc/loadavg") as file:
         return float(file.read().split()[0])
-
-
-def cpu_model():
-    with open("/proc/cpuinfo") as file:
-        for line in file:
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    return "unknown"
 
 
 def single_runs(out, count):
