@@ -39,32 +39,31 @@ RAY_VERSION=2.60.0  # sweep runs its scenarios as Ray tasks
 KUBERNETES_VALIDATE_VERSION=1.37.0  # sweep_kubernetes.test checks the Kubernetes recipe against its schemas
 JSCPD_VERSION=4.0.5  # scripts/duplicates.sh finds repeated code with it (npm)
 COACD_VERSION=1.0.14  # splits moving collision meshes into convex parts
+MUJOCO_VERSION=4.0.0  # bullet_sim/bench/peers: the same strike in other engines
+PYBULLET_VERSION=3.2.7
+
+# Installs NAME==VERSION from PyPI into /usr/bin/python3, unless that version is there.
+install_pypi() {
+  local name=$1 version=$2
+  if [ "$(/usr/bin/python3 -c "import importlib.metadata as m; print(m.version('$name'))" 2>/dev/null)" != "$version" ]; then
+    log "installing $name $version from PyPI into /usr/bin/python3"
+    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "$name==$version"
+  fi
+}
 
 install_dependencies() {
   install_debian_packages "${DEBIAN_PACKAGES[@]}"
-  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("xacro"))' 2>/dev/null)" != "$XACRO_VERSION" ]; then
-    log "installing xacro $XACRO_VERSION from PyPI into /usr/bin/python3"
-    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "xacro==$XACRO_VERSION"
-  fi
+  install_pypi xacro "$XACRO_VERSION"
   command -v npm >/dev/null || install_debian_packages nodejs npm
   if [ "$(jscpd --version 2>/dev/null)" != "$JSCPD_VERSION" ]; then
     log "installing jscpd $JSCPD_VERSION from npm"
     as_root npm install --global --no-fund --no-audit "jscpd@$JSCPD_VERSION"
   fi
-  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("ray"))' 2>/dev/null)" != "$RAY_VERSION" ]; then
-    log "installing ray $RAY_VERSION from PyPI into /usr/bin/python3"
-    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "ray==$RAY_VERSION"
-  fi
-  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("kubernetes-validate"))' 2>/dev/null)" \
-      != "$KUBERNETES_VALIDATE_VERSION" ]; then
-    log "installing kubernetes-validate $KUBERNETES_VALIDATE_VERSION from PyPI into /usr/bin/python3"
-    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location \
-      "kubernetes-validate==$KUBERNETES_VALIDATE_VERSION"
-  fi
-  if [ "$(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("coacd"))' 2>/dev/null)" != "$COACD_VERSION" ]; then
-    log "installing coacd $COACD_VERSION from PyPI into /usr/bin/python3"
-    as_root /usr/bin/python3 -m pip install --break-system-packages --no-warn-script-location "coacd==$COACD_VERSION"
-  fi
+  install_pypi ray "$RAY_VERSION"
+  install_pypi kubernetes-validate "$KUBERNETES_VALIDATE_VERSION"
+  install_pypi coacd "$COACD_VERSION"
+  install_pypi mujoco "$MUJOCO_VERSION"
+  install_pypi pybullet "$PYBULLET_VERSION"
 }
 
 build() {
