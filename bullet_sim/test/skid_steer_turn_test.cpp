@@ -55,7 +55,9 @@ void checkCoulombRate(double a, double b) {
   const double w = 1.0;
   const double coulomb = w * b * b / (a * a + b * b);
   SCOPED_TRACE("a " + std::to_string(a) + " m, b " + std::to_string(b) + " m");
-  EXPECT_NEAR(turnRate(skidSteer(a, b), "raycast", w), coulomb, 0.05 * coulomb);
+  for (const std::string model : {"raycast", "contact"}) {
+    EXPECT_NEAR(turnRate(skidSteer(a, b), model, w), coulomb, 0.05 * coulomb) << model;
+  }
 }
 
 TEST(SkidSteerTurn, TrackWiderThanWheelbaseTurnsAtCoulombsRate) { checkCoulombRate(0.1, 0.125); }
