@@ -23,6 +23,8 @@ namespace bullet_sim {
 
 namespace {
 
+constexpr double kIgnoredInputWarningPeriod = 5;  // [s] of ROS time: one warning per topic per period
+
 // One conversion per input type; nullopt when the message holds nothing to take.
 
 std::optional<Twist> fromMessage(const geometry_msgs::Twist& message) {
@@ -255,8 +257,13 @@ void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
 template <class Message, class Input>
 void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, const InputHandler<Input>& handler) {
   const std::string topic = plugin.handle.resolveName(port.topic);
-  const auto warn = [name = robot_name_, topic](const std::string& why) {
-    if (!why.empty()) ROS_WARN_THROTTLE(5, "[%s] %s: ignored %s", name.c_str(), topic.c_str(), why.c_str());
+  // Throttled per topic (not per line of code): a bad stream on one topic must not hide the warning of another.
+  const auto warn = [name = robot_name_, topic, last = std::make_shared<double>(-kIgnoredInputWarningPeriod)](const std::string& why) {
+    if (why.empty()) return;
+    const double now = ros::Time::now().toSec();
+    if (now >= *last && now < *last + kIgnoredInputWarningPeriod) return;
+    *last = now;
+    ROS_WARN("[%s] %s: ignored %s", name.c_str(), topic.c_str(), why.c_str());
   };
   ros::Subscriber subscriber = plugin.handle.subscribe<Message>(
       port.topic, 10, [this, handler, warn](const typename Message::ConstPtr& message) {
