@@ -18,7 +18,7 @@ from nav_msgs.msg import Odometry
 
 from bringup_support import Collector
 
-CALL_SECONDS = 10.0  # [wall s] each thread calls for this long
+CALL_SECONDS = 30.0  # [wall s] each thread calls for this long
 THREADS = ("get_model_state", "apply_body_wrench", "set_model_configuration", "get_link_state")
 FEWEST_CALLS = 20  # per thread: fewer means the services stalled
 CALL_TIMEOUT = 10.0  # [wall s] a call that takes longer is lost
