@@ -160,6 +160,11 @@ def physics_rows():
         physics("gravity.y NaN after a finite x", "gravity.y [nan] is not finite", gravity=Vector3(0, NAN, -9.81)),
         physics("gravity.z -inf", "gravity.z [-inf] is not finite", gravity=Vector3(0, 0, -INF)),
         physics("gravity.z -1e7", "gravity.z [-1e+07 m/s^2] is beyond", gravity=Vector3(0, 0, -1e7)),
+        Row("/gazebo/set_physics_properties", "the values in force, ode_config.erp NaN",
+            lambda h: h.physics_with_ode(erp=NAN), "ode_config.erp [nan] is not finite"),
+        Row("/gazebo/set_physics_properties", "the values in force, ode_config.contact_max_correcting_vel inf",
+            lambda h: h.physics_with_ode(contact_max_correcting_vel=INF),
+            "ode_config.contact_max_correcting_vel [inf] is not finite"),
         Row("/gazebo/get_physics_properties", "(nothing to send): time_step and gravity as before the refusals",
             lambda h: h.physics_now(), "time_step 0.001, gravity (0, 0, -9.81)", refuses=False),
     ]
@@ -181,8 +186,8 @@ def chain(links, sdf):
 def spawn_rows():
     box = "<robot name='box'><link name='box'/></robot>"
 
-    def spawn(service, request, expected, xml=box, at=pose(y=-8, z=1), name="box"):
-        return gazebo(service, request, [name, xml, "", at, ""], expected)
+    def spawn(service, request, expected, xml=box, at=pose(y=-8, z=1), name="box", frame=""):
+        return gazebo(service, request, [name, xml, "", at, frame], expected)
     return [
         spawn("spawn_urdf_model", "initial_pose.position.x NaN", "initial_pose.position.x [nan] is not finite",
               at=pose(x=NAN)),
@@ -196,6 +201,11 @@ def spawn_rows():
         spawn("spawn_urdf_model", "root element <world>", "its root element is <world>", xml="<world/>"),
         spawn("spawn_urdf_model", "a name taken (wheelchair)", "a robot named [wheelchair] already exists",
               name="wheelchair"),
+        spawn("spawn_urdf_model", "reference_frame nowhere", "reference frame [nowhere] names no model or link",
+              frame="nowhere"),
+        Row("/gazebo/spawn_urdf_model", "the arm under robot_namespace 'bad ns!'",
+            lambda h: h.gazebo_call("spawn_urdf_model", "arm_2", rospy.get_param("/arm_description"), "bad ns!",
+                                    pose(y=-8), ""), "robot_namespace [bad ns!] is not a ROS name"),
         spawn("spawn_urdf_model", "3000 links", "the robot has 3000 links, above the limit of 1000 (max_links)",
               xml=chain(3000, sdf=False)),
         spawn("spawn_sdf_model", "initial_pose.orientation 1e200 on z and w", "is no rotation",

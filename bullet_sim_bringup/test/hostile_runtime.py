@@ -261,6 +261,14 @@ class HostileRuntime(unittest.TestCase):
         g = answer.gravity
         return Answer(not answer.success, "time_step %g, gravity (%g, %g, %g)" % (answer.time_step, g.x, g.y, g.z))
 
+    def physics_with_ode(self, **fields):
+        """set_physics_properties of the values in force, with `fields` of ode_config changed."""
+        now = self.proxy("/gazebo/get_physics_properties", gazebo_srv.GetPhysicsProperties)()
+        for name, value in fields.items():
+            setattr(now.ode_config, name, value)
+        return self.gazebo_call("set_physics_properties", now.time_step, now.max_update_rate, now.gravity,
+                                now.ode_config)
+
     def manager_call(self, ns, service, args, prefix):
         """A controller manager's service: ok false, and the reason it logs."""
         kind = {"load_controller": LoadController, "unload_controller": UnloadController,
