@@ -222,14 +222,20 @@ def spawn_rows():
 
 
 def manager(robot, service, request, args, expected, refuses=True):
-    """A controller manager's service: `ok` false, the reason on /rosout as `[robot] ...`."""
+    """A controller manager's service: `ok` false and the reason on /rosout as `[robot] ...`; the list
+    services answer what they list."""
     ns = "/arm" if robot == "arm" else ""
     return Row("%s/controller_manager/%s" % (ns, service), request,
                lambda h: h.manager_call(ns, service, args, "[%s] " % robot), expected, refuses)
 
 
 def controller_manager_rows():
-    arm, rover = "arm", "rover"
+    return arm_manager_rows() + rover_manager_rows()
+
+
+def arm_manager_rows():
+    """The arm's controller manager (/arm), with group_controller running and arm_controller loaded."""
+    arm = "arm"
     return [
         manager(arm, "load_controller", "ghost_controller (no parameters)", ["ghost_controller"],
                 "could not load controller [ghost_controller]: its type is not set"),
@@ -258,6 +264,16 @@ def controller_manager_rows():
                 "joint [elbow] has no transmission ros_control drives"),
         manager(arm, "list_controllers", "(nothing to send): three controllers", [], "group_controller running",
                 refuses=False),
+        manager(arm, "list_controller_types", "(nothing to send): the trajectory controller among them", [],
+                "position_controllers/JointTrajectoryController", refuses=False),
+    ]
+
+
+def rover_manager_rows():
+    """The rover's controller manager (/), with rover_velocity_controller running and rover_joint_publisher
+    loaded."""
+    rover = "rover"
+    return [
         manager(rover, "load_controller", "ghost_controller (no parameters)", ["ghost_controller"],
                 "could not load controller [ghost_controller]: its type is not set"),
         manager(rover, "load_controller", "rover_velocity_controller again", ["rover_velocity_controller"],
@@ -284,6 +300,8 @@ def controller_manager_rows():
                 "cannot reload controller libraries: 2 controllers are still loaded"),
         manager(rover, "list_controller_types", "(nothing to send): the diff drive among them", [],
                 "diff_drive_controller/DiffDriveController", refuses=False),
+        manager(rover, "list_controllers", "(nothing to send): the drive running, the joint publisher not", [],
+                "rover_joint_publisher initialized", refuses=False),
     ]
 
 

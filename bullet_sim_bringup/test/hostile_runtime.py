@@ -80,14 +80,16 @@ def bounded_wait(condition, timeout):
 
 
 class NonFiniteWatch:
-    """Checks every message of a topic as it arrives; keeps the first that is not finite."""
+    """A topic's messages checked as they arrive, the first that is not finite kept, and the last. A short queue:
+    when the test falls behind some are skipped, but a state gone non-finite stays so."""
 
-    def __init__(self, topic, message_type, is_finite):
-        self.topic, self.count, self.bad = topic, 0, None
+    def __init__(self, topic, message_type, is_finite, queue_size=10):
+        self.topic, self.message, self.count, self.bad = topic, None, 0, None
         self._is_finite = is_finite
-        self._subscriber = rospy.Subscriber(topic, message_type, self._check, queue_size=10)
+        self._subscriber = rospy.Subscriber(topic, message_type, self._check, queue_size=queue_size)
 
     def _check(self, message):
+        self.message = message
         self.count += 1
         if self.bad is None and not self._is_finite(message):
             self.bad = message
@@ -126,21 +128,6 @@ class Rosout:
             return max((stamp for stamp, text in self.lines if prefix in text), default=-math.inf)
 
 
-class Latest:
-    """The last message of a topic (a queue of one: never behind), and the first that was not finite."""
-
-    def __init__(self, topic, message_type, is_finite):
-        self.topic, self.message, self.count, self.bad = topic, None, 0, None
-        self._is_finite = is_finite
-        self._subscriber = rospy.Subscriber(topic, message_type, self._keep, queue_size=1)
-
-    def _keep(self, message):
-        self.message = message
-        self.count += 1
-        if self.bad is None and not self._is_finite(message):
-            self.bad = message
-
-
 class Driver(threading.Thread):
     """Tells the wheelchair to drive its circle, 20 times a wall second, until stopped."""
 
@@ -155,6 +142,7 @@ class Driver(threading.Thread):
 
 
 def run_tool(command):
+    """The finished run of `command`, or its TimeoutExpired after 60 s."""
     try:
         return subprocess.run(command, capture_output=True, text=True, timeout=60, cwd=tempfile.gettempdir())
     except subprocess.TimeoutExpired as e:
@@ -178,7 +166,7 @@ class HostileRuntime(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("hostile_runtime")
         cls.start_tools()
-        cls.odometry = Latest("/odom", Odometry, finite_odometry)
+        cls.odometry = NonFiniteWatch("/odom", Odometry, finite_odometry, queue_size=1)  # never behind
         cls.rosout = Rosout()
         cls.watches = [
             NonFiniteWatch("/gazebo/model_states", ModelStates,
