@@ -29,7 +29,7 @@ from geometry_msgs.msg import Twist, Vector3
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray
+from std_msgs.msg import Float64MultiArray, String
 from trajectory_msgs.msg import JointTrajectory
 
 import hostile_rows
@@ -388,6 +388,24 @@ class HostileRuntime(unittest.TestCase):
                       answer.status_message)
         self.assertIsNone(self.alive_problem(self.odometry.message))
         self.assertTrue(self.proxy("/gazebo/delete_model", gazebo_srv.DeleteModel)("odometry_on_clock").success)
+
+    def test_4_a_drive_on_a_topic_another_node_publishes_as_another_type_is_spawned_with_the_reason(self):
+        # ROS joins a publisher and a subscriber only when their types agree: the drive would hear nobody.
+        occupied = rospy.Publisher("/hostile/occupied", String, queue_size=1)
+        topics = lambda: dict(rospy.get_published_topics())
+        self.assertTrue(bounded_wait(lambda: topics().get("/hostile/occupied") == "std_msgs/String", 30),
+                        "the master never listed /hostile/occupied")
+        path = rospkg.RosPack().get_path("bullet_sim") + "/test/fixtures/doctor/clean_two_wheeler.urdf"
+        with open(path) as file:
+            urdf = file.read().replace("</leftJoint>", "</leftJoint><commandTopic>/hostile/occupied</commandTopic>")
+        spawn = self.proxy("/gazebo/spawn_urdf_model", gazebo_srv.SpawnModel)
+        answer = spawn("command_elsewhere", urdf, "/stray", pose(x=-6, y=2, z=0.06), "")
+        self.assertTrue(answer.success, answer.status_message)
+        self.assertIn("cannot subscribe to geometry_msgs/Twist on [/hostile/occupied]: another node publishes "
+                      "std_msgs/String there", answer.status_message)
+        self.assertIsNone(self.alive_problem(self.odometry.message))
+        self.assertTrue(self.proxy("/gazebo/delete_model", gazebo_srv.DeleteModel)("command_elsewhere").success)
+        occupied.unregister()
 
 
 if __name__ == "__main__":
