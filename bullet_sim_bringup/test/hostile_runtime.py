@@ -1,12 +1,18 @@
 #!/usr/bin/env python3
-"""rostest node: hostile requests to the live simulator through what only ROS carries, one row each with the
-refusal it must get: gazebo_msgs' services and the set_model_state topic (orientations as quaternions, which the
-in-process test cannot send), the controller manager's services, the arm's group controller's command topic and
-follow_joint_trajectory goals. After every row the clock goes on, the wheelchair drives, and no model state, link
-state or joint state published since is non-finite. Last, the arm is deleted and respawned through
-spawn_urdf_model with its robot_namespace (an RL reset), and its controllers load from that namespace's
-parameters and run again."""
+"""rostest node: a table of hostile requests (hostile_rows.py) to the live simulator with three robots, one row
+each through one interface: gazebo_msgs' services and topics, both controller managers' services,
+follow_joint_trajectory, the controllers' command topics, and the scenario and sweep tools run with bad
+arguments. Each row names the piece of the answer it must get: a service's status_message, the reason a
+controller manager or a topic's subscriber logs on /rosout, an action's error_string, a tool's one line on
+stderr with exit code 2. After every row the clock goes on, the wheelchair (always told to drive a circle) drives
+on, and no message published since is non-finite. The table is printed as it runs. Then the arm is deleted and
+respawned by spawn_urdf_model with its robot_namespace (an RL reset) and its controllers load again."""
+import concurrent.futures
 import math
+import shutil
+import subprocess
+import tempfile
+import threading
 import time
 import unittest
 
@@ -14,27 +20,36 @@ import actionlib
 import rospkg
 import rospy
 import rostest
-from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal, FollowJointTrajectoryResult
-from controller_manager_msgs.srv import ListControllers, LoadController, SwitchController
+from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal
+from controller_manager_msgs.srv import (ListControllers, ListControllerTypes, LoadController,
+                                         ReloadControllerLibraries, SwitchController, UnloadController)
 from gazebo_msgs.msg import LinkState, LinkStates, ModelState, ModelStates
-from gazebo_msgs.srv import (ApplyBodyWrench, ApplyJointEffort, DeleteModel, GetModelState, SetJointProperties,
-                             SetLinkState, SetModelConfiguration, SetModelState, SetPhysicsProperties, SpawnModel)
-from gazebo_msgs.msg import ODEJointProperties, ODEPhysics
-from geometry_msgs.msg import Point, Pose, Quaternion, Twist, Vector3, Wrench
+from gazebo_msgs import srv as gazebo_srv
+from geometry_msgs.msg import Twist, Vector3
 from nav_msgs.msg import Odometry
-from rosgraph_msgs.msg import Clock
+from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray
-from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+from std_msgs.msg import Float64MultiArray, String
+from trajectory_msgs.msg import JointTrajectory
 
-from bringup_support import Collector
+import hostile_rows
+from hostile_rows import Answer, pose
 
-NAN = float("nan")
-INF = float("inf")
-
-
-def pose(x=0.0, y=0.0, z=0.0, q=(0.0, 0.0, 0.0, 1.0)):
-    return Pose(Point(x, y, z), Quaternion(*q))
+ROW_TIMEOUT = 10.0  # [wall s] for a row's answer, and for the world to go on after it
+LOG_WAIT = 3.0  # [wall s] for a reason to reach /rosout
+ALIVE_SIM_SECONDS = 0.05  # [sim s] the clock must advance after each row, the wheelchair move by ALIVE_METRES
+ALIVE_METRES = 0.01
+DRIVE = Twist(Vector3(0.5, 0, 0), Vector3(0, 0, 0.3))  # a circle of 1.7 m radius about (0, 1.7)
+SIMULATOR = "/gazebo"
+NOTHING_LOGGED = "(nothing on /rosout)"
+# The simulator logs a dropped message once per topic per period of sim time, and a bad
+# /gazebo/set_*_state message once per second (gazebo_services.cpp).
+THROTTLE = {"/gazebo/set_model_state": ("set_model_state: ", 1.0),
+            "/gazebo/set_link_state": ("set_link_state: ", 1.0)}
+INPUT_THROTTLE = 5.0
+TOPIC_TYPES = {"/cmd_vel": Twist, "/rover_velocity_controller/cmd_vel": Twist,
+               "/arm/group_controller/command": Float64MultiArray, "/arm/arm_controller/command": JointTrajectory,
+               "/gazebo/set_model_state": ModelState, "/gazebo/set_link_state": LinkState}
 
 
 def finite(*values):
@@ -50,211 +65,347 @@ def finite_twist(t):
     return finite(t.linear.x, t.linear.y, t.linear.z, t.angular.x, t.angular.y, t.angular.z)
 
 
-def wall_wait(condition, timeout):
-    """Whether `condition()` (which may wait a little in sim time, which runs fast here) held within `timeout`
-    wall seconds."""
+def finite_odometry(m):
+    return finite_pose(m.pose.pose) and finite_twist(m.twist.twist)
+
+
+def bounded_wait(condition, timeout):
+    """Whether `condition()` held within `timeout` wall seconds (polled every 10 ms)."""
     deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if condition():
-            return True
-    return False
-
-
-def service(name, service_type):
-    rospy.wait_for_service(name, timeout=60)
-    return rospy.ServiceProxy(name, service_type)
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.01)
+    return True
 
 
 class NonFiniteWatch:
-    """Checks every message of a topic as it arrives (kept: only the first that is not finite); a short queue,
-    since the states come every step and sim time runs fast here."""
+    """A topic's messages checked as they arrive, the first that is not finite kept, and the last. A short queue:
+    when the test falls behind some are skipped, but a state gone non-finite stays so."""
 
-    def __init__(self, topic, message_type, is_finite):
-        self.count = 0
-        self.bad = None
+    def __init__(self, topic, message_type, is_finite, queue_size=10):
+        self.topic, self.message, self.count, self.bad = topic, None, 0, None
         self._is_finite = is_finite
-        self._subscriber = rospy.Subscriber(topic, message_type, self._check, queue_size=10)
+        self._subscriber = rospy.Subscriber(topic, message_type, self._check, queue_size=queue_size)
 
     def _check(self, message):
+        self.message = message
         self.count += 1
         if self.bad is None and not self._is_finite(message):
             self.bad = message
+
+
+class Rosout:
+    """The simulator's lines on /rosout, as (sim stamp, text)."""
+
+    def __init__(self):
+        self.lines = []
+        self._lock = threading.Lock()
+        self._subscriber = rospy.Subscriber("/rosout", Log, self._add, queue_size=None)
+
+    def _add(self, message):
+        if message.name == SIMULATOR:
+            with self._lock:
+                self.lines.append((message.header.stamp.to_sec(), message.msg))
+
+    def mark(self):
+        with self._lock:
+            return len(self.lines)
+
+    def since(self, mark):
+        with self._lock:
+            return self.lines[mark:]
+
+    def wait_for(self, mark, prefix):
+        """The first line after `mark` that holds `prefix`, waited for LOG_WAIT; None if none came."""
+        def found():
+            return next((text for _, text in self.since(mark) if prefix in text), None)
+        bounded_wait(lambda: found() is not None, LOG_WAIT)
+        return found()
+
+    def last_stamp(self, prefix):
+        with self._lock:
+            return max((stamp for stamp, text in self.lines if prefix in text), default=-math.inf)
+
+
+class Driver(threading.Thread):
+    """Tells the wheelchair to drive its circle, 20 times a wall second, until stopped."""
+
+    def __init__(self):
+        super().__init__(daemon=True)
+        self.publisher = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+        self.stopped = threading.Event()
+
+    def run(self):
+        while not self.stopped.wait(0.05):
+            self.publisher.publish(DRIVE)
+
+
+def run_tool(command):
+    """The finished run of `command`, or its TimeoutExpired after 60 s."""
+    try:
+        return subprocess.run(command, capture_output=True, text=True, timeout=60, cwd=tempfile.gettempdir())
+    except subprocess.TimeoutExpired as e:
+        return e
+
+
+def interleaved(rows, spread):
+    """`rows` with the rows of `spread` evenly among them (the topics' rows: their warnings' throttle passes
+    meanwhile)."""
+    every = max(1, len(rows) // max(1, len(spread)))
+    mixed, pending = [], list(spread)
+    for index, row in enumerate(rows):
+        if index % every == 0 and pending:
+            mixed.append(pending.pop(0))
+        mixed.append(row)
+    return mixed + pending
 
 
 class HostileRuntime(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("hostile_runtime")
-        cls.clock = Collector("/clock", Clock)
-        cls.odometry = Collector("/odom", Odometry)
+        cls.start_tools()
+        cls.odometry = NonFiniteWatch("/odom", Odometry, finite_odometry, queue_size=1)  # never behind
+        cls.rosout = Rosout()
         cls.watches = [
             NonFiniteWatch("/gazebo/model_states", ModelStates,
                            lambda m: all(map(finite_pose, m.pose)) and all(map(finite_twist, m.twist))),
-            NonFiniteWatch("/gazebo/link_states", LinkStates, lambda m: all(map(finite_pose, m.pose))),
-            NonFiniteWatch("/arm/joint_states", JointState, lambda m: finite(*m.position, *m.velocity))]
-        cls.cmd_vel = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
-        cls.group = rospy.Publisher("/arm/group_controller/command", Float64MultiArray, queue_size=10)
-        cls.model_state_topic = rospy.Publisher("/gazebo/set_model_state", ModelState, queue_size=10)
-        cls.gazebo = {name: service("/gazebo/" + name, kind) for name, kind in [
-            ("set_model_state", SetModelState), ("get_model_state", GetModelState), ("set_link_state", SetLinkState),
-            ("spawn_urdf_model", SpawnModel), ("spawn_sdf_model", SpawnModel), ("delete_model", DeleteModel),
-            ("apply_body_wrench", ApplyBodyWrench), ("apply_joint_effort", ApplyJointEffort),
-            ("set_physics_properties", SetPhysicsProperties), ("set_model_configuration", SetModelConfiguration),
-            ("set_joint_properties", SetJointProperties)]}
-        if not wall_wait(lambda: cls.cmd_vel.get_num_connections() > 0, 30):
-            raise AssertionError("nobody subscribes to /cmd_vel")
-        cls.wait_for_controller("group_controller", "running")
-        cls.wait_for_controller("arm_controller", "initialized")
+            NonFiniteWatch("/gazebo/link_states", LinkStates,
+                           lambda m: all(map(finite_pose, m.pose)) and all(map(finite_twist, m.twist))),
+            NonFiniteWatch("/arm/joint_states", JointState, lambda m: finite(*m.position, *m.velocity)),
+            NonFiniteWatch("/joint_states", JointState, lambda m: finite(*m.position, *m.velocity)),
+            NonFiniteWatch("/rover_velocity_controller/odom", Odometry, finite_odometry),
+            cls.odometry]
+        cls.publishers = {topic: rospy.Publisher(topic, kind, queue_size=10) for topic, kind in TOPIC_TYPES.items()}
+        cls.gazebo = {}
+        cls.driver = Driver()
+        for topic, publisher in cls.publishers.items():
+            if not bounded_wait(lambda: publisher.get_num_connections() > 0, 60):
+                raise AssertionError("nobody subscribes to %s" % topic)
+        cls.wait_for_controller("/arm", "group_controller", "running")
+        cls.wait_for_controller("/arm", "arm_controller", "initialized")
+        cls.wait_for_controller("", "rover_velocity_controller", "running")
+        cls.wait_for_controller("", "rover_joint_publisher", "initialized")
+        cls.driver.start()
+        cls.table = []
 
     @classmethod
-    def wait_for_controller(cls, name, state, timeout=60):
-        list_controllers = service("/arm/controller_manager/list_controllers", ListControllers)
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            if any(c.name == name and c.state == state for c in list_controllers().controller):
-                return
-            time.sleep(0.1)
-        raise AssertionError("controller %s never became %s" % (name, state))
+    def tearDownClass(cls):
+        cls.driver.stopped.set()
+        cls.tools.shutdown(wait=True, cancel_futures=True)
+        shutil.rmtree(cls.tool_folder, ignore_errors=True)
+        print("hostile_runtime: %d rows (interface | request | answer), printed as they ran" % len(cls.table),
+              flush=True)
 
-    def expect_alive(self):
-        """The clock goes on, the wheelchair drives 0.5 s of sim time ahead, and all published since is finite."""
-        start = self.odometry.wait_for(lambda m: m, 30, "odometry")[-1]
-        t0 = start.header.stamp.to_sec()
-        deadline = time.monotonic() + 30
-        sent = 0  # sim time runs fast here: at least 20 commands, whatever sim time they take
-        while self.odometry.messages[-1].header.stamp.to_sec() < t0 + 0.5 or sent < 20:
-            sent += 1
-            self.assertLess(time.monotonic(), deadline, "the clock stopped")
-            self.cmd_vel.publish(Twist(Vector3(0.5, 0, 0), Vector3()))
-            time.sleep(0.02)
-        self.cmd_vel.publish(Twist())
-        end = self.odometry.messages[-1]
-        moved = math.hypot(end.pose.pose.position.x - start.pose.pose.position.x,
-                           end.pose.pose.position.y - start.pose.pose.position.y)
-        self.assertGreater(moved, 0.02, "the wheelchair did not drive")
-        for watch in self.watches:
-            self.assertIsNone(watch.bad, "a message not finite on %s" % watch._subscriber.name)
-            self.assertGreater(watch.count, 0, "nothing on %s" % watch._subscriber.name)
+    @classmethod
+    def start_tools(cls):
+        """The tools' rows run as subprocesses from the start, two at a time; their rows collect the answers."""
+        bullet_sim = rospkg.RosPack().get_path("bullet_sim")
+        cls.tool_folder = tempfile.mkdtemp(prefix="hostile_runtime_")
+        cases = hostile_rows.tool_cases(cls.tool_folder, bullet_sim + "/test/fixtures/scenarios/reach_region.yaml",
+                                        bullet_sim + "/test/fixtures/scenarios/drive_matrix.yaml")
+        executables = {tool: subprocess.run(["catkin_find", "--first-only", "bullet_sim", tool], capture_output=True,
+                                            text=True, check=True).stdout.strip() for tool in ("scenario", "sweep")}
+        cls.tools = concurrent.futures.ThreadPoolExecutor(max_workers=2)
+        cls.tool_runs = [cls.tools.submit(run_tool, [executables[tool]] + arguments) for tool, arguments, _ in cases]
+        cls.tool_table = hostile_rows.tool_rows(cases)
 
-    def refusal_problem(self, name, request_args, expected):
-        """None when `name` refuses the request with `expected` in its status_message and all is well after."""
-        answer = self.gazebo[name](*request_args)
-        self.expect_alive()
-        if answer.success or expected not in answer.status_message:
-            return "%s%r: success %s, %r (expected %r)" % (name, request_args, answer.success,
-                                                           answer.status_message, expected)
-        return None
+    @classmethod
+    def wait_for_controller(cls, ns, name, state, timeout=60):
+        rospy.wait_for_service(ns + "/controller_manager/list_controllers", timeout=timeout)
+        listing = rospy.ServiceProxy(ns + "/controller_manager/list_controllers", ListControllers)
+        if not bounded_wait(lambda: any(c.name == name and c.state == state for c in listing().controller),
+                            timeout):
+            raise AssertionError("controller %s never became %s" % (name, state))
 
-    def test_1_gazebo_msgs_requests_are_refused_with_the_field(self):
-        rows = [
-            ("set_model_state", [ModelState("wheelchair", pose(q=(NAN, 0, 0, 1)), Twist(), "")],
-             "pose.orientation (x y z w) [nan 0 0 1] is not finite"),
-            ("set_model_state", [ModelState("wheelchair", pose(q=(1e200, 1e200, 1e200, 1e200)), Twist(), "")],
-             "is no rotation: its norm [2e+200]"),
-            ("set_model_state", [ModelState("wheelchair", pose(q=(1e-200, 1e-200, 1e-200, 1e-200)), Twist(), "")],
-             "is no rotation: its norm [2e-200]"),
-            ("set_model_state", [ModelState("wheelchair", pose(), Twist(Vector3(0, NAN, 0), Vector3()), "")],
-             "twist.linear.y [nan] is not finite"),
-            ("set_link_state", [LinkState("arm::base_link", pose(q=(0, INF, 0, 1)), Twist(), "")],
-             "pose.orientation (x y z w) [0 inf 0 1] is not finite"),
-            ("spawn_urdf_model", ["box", "<robot name='box'/>", "", pose(q=(NAN, 0, 0, 1)), ""],
-             "initial_pose.orientation (x y z w) [nan 0 0 1] is not finite"),
-            ("spawn_urdf_model", ["box", "<robot name='box'/>", "", pose(x=NAN), ""],
-             "initial_pose.position.x [nan] is not finite"),
-            ("spawn_sdf_model", ["box", "<sdf version='1.6'/>", "", pose(q=(0, 0, 1e200, 1e200)), ""],
-             "is no rotation"),
-            ("apply_body_wrench", ["wheelchair", "", Point(), Wrench(Vector3(1, NAN, 0), Vector3()), rospy.Time(),
-                                   rospy.Duration(1)], "wrench.force.y [nan] is not finite"),
-            ("apply_body_wrench", ["wheelchair", "", Point(0, 0, INF), Wrench(), rospy.Time(), rospy.Duration(1)],
-             "reference_point.z [inf] is not a finite number"),
-            ("apply_joint_effort", ["arm::wrist", NAN, rospy.Time(), rospy.Duration(1)], "effort [nan] is not finite"),
-            ("set_model_configuration", ["arm", "", ["shoulder"], [NAN]], "the position of [shoulder] [nan]"),
-            ("set_joint_properties", ["arm::wrist", ODEJointProperties(vel=[NAN], fmax=[1])], "vel [nan] is not finite"),
-            ("set_physics_properties", [0.001, 1e-10, Vector3(0, 0, -9.81), ODEPhysics()],
-             "max_update_rate [1e-10] must be 0 (as fast as possible) or at least"),
-            ("set_physics_properties", [NAN, 0, Vector3(0, 0, -9.81), ODEPhysics()], "time_step [nan] is not finite"),
-            ("set_physics_properties", [0.001, 0, Vector3(0, NAN, -9.81), ODEPhysics()],
-             "gravity.y [nan] is not finite"),
-        ]
-        problems = [self.refusal_problem(name, args, expected) for name, args, expected in rows]
-        self.assertEqual([p for p in problems if p], [])
+    # What the rows call (hostile_rows.py).
 
-    def test_2_a_bad_set_model_state_message_changes_nothing(self):
-        before = self.gazebo["get_model_state"]("wheelchair", "").pose
-        for q in [(NAN, 0, 0, 1), (1e200, 0, 0, 1e200), (1e-200, 0, 0, 0)]:
-            self.model_state_topic.publish(ModelState("wheelchair", pose(x=before.position.x + 5, q=q), Twist(), ""))
-        t = self.odometry.messages[-1].header.stamp.to_sec()
-        self.odometry.wait_for(lambda m: m[-1].header.stamp.to_sec() > t + 0.5, 30, "0.5 s of sim time")
-        after = self.gazebo["get_model_state"]("wheelchair", "").pose
-        self.assertLess(abs(after.position.x - before.position.x), 1.0, "a refused teleport moved the wheelchair")
-        self.expect_alive()
+    def proxy(self, name, service_type):
+        if name not in self.gazebo:
+            rospy.wait_for_service(name, timeout=ROW_TIMEOUT)
+            self.gazebo[name] = rospy.ServiceProxy(name, service_type)
+        return self.gazebo[name]
 
-    def test_3_commands_that_are_not_finite_are_dropped_and_the_arm_switches_back(self):
-        for data in [[NAN, 0.0], [0.0, NAN], [1e308, -1e308], [INF, -INF]]:
-            self.group.publish(Float64MultiArray(data=data))
-            self.expect_alive()
-        switch = service("/arm/controller_manager/switch_controller", SwitchController)
-        self.assertFalse(switch(["ghost_controller"], [], 2, False, 0.0).ok)
-        self.assertFalse(service("/arm/controller_manager/load_controller", LoadController)("ghost_controller").ok)
-        self.assertTrue(switch(["arm_controller"], ["group_controller"], 2, False, 0.0).ok)
-        self.expect_alive()
+    def gazebo_call(self, service, *args):
+        kind = gazebo_srv.SpawnModel if service.startswith("spawn_") else getattr(
+            gazebo_srv, "".join(word.capitalize() for word in service.split("_")))
+        call = self.proxy("/gazebo/" + service, kind)
+        answer = call(**args[0]) if args and isinstance(args[0], dict) else call(*args)
+        if service == "get_world_properties":
+            return Answer(not answer.success, "%s: %s" % (answer.status_message, ", ".join(answer.model_names)))
+        return Answer(not answer.success, answer.status_message)
 
-    def test_3a_hostile_trajectory_goals_are_rejected_with_the_reason(self):
-        # After test_3 the trajectory controller runs. Each goal is rejected at once, naming what is wrong.
-        client = actionlib.SimpleActionClient("/arm/arm_controller/follow_joint_trajectory",
-                                              FollowJointTrajectoryAction)
-        self.assertTrue(client.wait_for_server(rospy.Duration(60)), "no follow_joint_trajectory server")
-        invalid_goal = FollowJointTrajectoryResult.INVALID_GOAL
-        invalid_joints = FollowJointTrajectoryResult.INVALID_JOINTS
-        rows = [
-            (["shoulder", "wrist"], [(1.0, [NAN, 0.0], [])], invalid_goal,
-             "points[0].positions[0] [nan] is not finite"),
-            (["shoulder", "wrist"], [(1.0, [0.0, 0.0], [INF, 0.0])], invalid_goal,
-             "points[0].velocities[0] [inf] is not finite"),
-            (["shoulder", "wrist"], [(1.0, [0.0], [])], invalid_goal, "has 1 positions for 2 joints"),
-            (["shoulder", "elbow"], [(1.0, [0.0, 0.0], [])], invalid_joints, "joint [elbow] is not one of"),
-            (["shoulder", "wrist"], [(1.0, [0.0, 0.0], []), (1.0, [0.1, 0.0], [])], invalid_goal,
-             "time_from_start must increase strictly"),
-        ]
+    def logged_call(self, service, args, prefix):
+        """A service whose answer has no fields: its refusal is the line it logs."""
+        mark = self.rosout.mark()
+        kind = {"clear_body_wrenches": gazebo_srv.BodyRequest, "clear_joint_forces": gazebo_srv.JointRequest}[service]
+        self.proxy("/gazebo/" + service, kind)(*args)
+        text = self.rosout.wait_for(mark, prefix)
+        return Answer(text is not None, text or NOTHING_LOGGED)
+
+    def physics_now(self):
+        answer = self.proxy("/gazebo/get_physics_properties", gazebo_srv.GetPhysicsProperties)()
+        g = answer.gravity
+        return Answer(not answer.success, "time_step %g, gravity (%g, %g, %g)" % (answer.time_step, g.x, g.y, g.z))
+
+    def physics_with_ode(self, **fields):
+        """set_physics_properties of the values in force, with `fields` of ode_config changed."""
+        now = self.proxy("/gazebo/get_physics_properties", gazebo_srv.GetPhysicsProperties)()
+        for name, value in fields.items():
+            setattr(now.ode_config, name, value)
+        return self.gazebo_call("set_physics_properties", now.time_step, now.max_update_rate, now.gravity,
+                                now.ode_config)
+
+    def manager_call(self, ns, service, args, prefix):
+        """A controller manager's service: ok false, and the reason it logs."""
+        kind = {"load_controller": LoadController, "unload_controller": UnloadController,
+                "switch_controller": SwitchController, "reload_controller_libraries": ReloadControllerLibraries,
+                "list_controllers": ListControllers, "list_controller_types": ListControllerTypes}[service]
+        mark = self.rosout.mark()
+        answer = self.proxy("%s/controller_manager/%s" % (ns, service), kind)(*args)
+        if service == "list_controllers":
+            return Answer(False, ", ".join("%s %s" % (c.name, c.state) for c in answer.controller))
+        if service == "list_controller_types":
+            return Answer(False, ", ".join(answer.types))
+        if answer.ok:
+            return Answer(False, "ok")
+        return Answer(True, self.rosout.wait_for(mark, prefix) or NOTHING_LOGGED)
+
+    def publish(self, topic, message):
+        """Publishes once the topic's warning throttle has passed; the answer is the warning it logs."""
+        prefix, period = THROTTLE.get(topic, (topic + ": ignored ", INPUT_THROTTLE))
+        due = self.rosout.last_stamp(prefix) + period + 0.3  # the simulator's ROS clock trails its own
+        if not self.odometry_after(due):
+            return Answer(False, "the clock never reached %.1f s" % due)
+        mark = self.rosout.mark()
+        self.publishers[topic].publish(message)
+        text = self.rosout.wait_for(mark, prefix)
+        return Answer(text is not None, text or NOTHING_LOGGED)
+
+    def send_goal(self, trajectory, path_tolerance=(), goal_tolerance=()):
+        if not hasattr(self, "action"):
+            self.action = actionlib.SimpleActionClient("/arm/arm_controller/follow_joint_trajectory",
+                                                       FollowJointTrajectoryAction)
+            self.assertTrue(self.action.wait_for_server(rospy.Duration(ROW_TIMEOUT)), "no action server")
+        self.action.send_goal(FollowJointTrajectoryGoal(trajectory=trajectory, path_tolerance=list(path_tolerance),
+                                                        goal_tolerance=list(goal_tolerance)))
+        if not self.action.wait_for_result(rospy.Duration(ROW_TIMEOUT)):
+            return Answer(False, "no result")
+        result = self.action.get_result()
+        return Answer(result.error_code != 0, "error_code %d: %s" % (result.error_code, result.error_string))
+
+    def tool_answer(self, index):
+        run = self.tool_runs[index].result(timeout=60)
+        if isinstance(run, subprocess.TimeoutExpired):
+            return Answer(False, "no exit within 60 s")
+        lines = run.stderr.splitlines()
+        one_line = len(lines) == 1 and run.stdout == ""
+        return Answer(run.returncode == 2 and one_line, "exit %d: %s" % (run.returncode, run.stderr.strip()))
+
+    # The checks after each row.
+
+    def odometry_after(self, stamp):
+        """Whether the wheelchair's odometry reached sim time `stamp` within ROW_TIMEOUT."""
+        return bounded_wait(lambda: self.odometry.message and
+                            self.odometry.message.header.stamp.to_sec() >= stamp, ROW_TIMEOUT)
+
+    def alive_problem(self, start):
+        """None when the clock went on from `start` (an odometry message), the wheelchair moved and all
+        published is finite."""
+        def moved():
+            end = self.odometry.message
+            return (end.header.stamp.to_sec() >= start.header.stamp.to_sec() + ALIVE_SIM_SECONDS and
+                    math.hypot(end.pose.pose.position.x - start.pose.pose.position.x,
+                               end.pose.pose.position.y - start.pose.pose.position.y) >= ALIVE_METRES)
+        if not bounded_wait(moved, ROW_TIMEOUT):
+            return "the clock stopped or the wheelchair no longer drives (odometry at %.3f s)" % (
+                self.odometry.message.header.stamp.to_sec())
+        bad = [watch.topic for watch in self.watches if watch.bad is not None]
+        return "a message not finite on %s" % ", ".join(bad) if bad else None
+
+    def run_rows(self, rows):
+        """Sends each row, checks its answer and that all is well after; the problems, one line each."""
         problems = []
-        for joints, points, code, expected in rows:
-            trajectory = JointTrajectory(joint_names=joints, points=[
-                JointTrajectoryPoint(positions=p, velocities=v, time_from_start=rospy.Duration.from_sec(t))
-                for t, p, v in points])
-            client.send_goal(FollowJointTrajectoryGoal(trajectory=trajectory))
-            self.assertTrue(client.wait_for_result(rospy.Duration(60)), "no result for %r" % expected)
-            result = client.get_result()
-            if result.error_code != code or expected not in result.error_string:
-                problems.append("%r: error %d %r (expected %d, %r)" % (points, result.error_code,
-                                                                        result.error_string, code, expected))
-            self.expect_alive()
-        self.assertEqual(problems, [])
+        for row in rows:
+            if not bounded_wait(lambda: self.odometry.message, ROW_TIMEOUT):
+                raise AssertionError("no odometry")
+            start = self.odometry.message
+            try:
+                answer = row.send(self)
+            except Exception as e:  # a transport error, a dead service: the row fails, the table goes on
+                answer = Answer(None, "%s: %s" % (type(e).__name__, e))
+            self.table.append((row.interface, row.request, answer.text))
+            print("| %s | %s | %s |" % (row.interface, row.request, answer.text.replace("\n", " ")), flush=True)
+            if answer.refused is not row.refuses or row.expected not in answer.text:
+                problems.append("%s %s: %r (expected %s%r)" % (row.interface, row.request, answer,
+                                                               "a refusal with " if row.refuses else "", row.expected))
+            alive = self.alive_problem(start)
+            if alive:
+                problems.append("after %s %s: %s" % (row.interface, row.request, alive))
+                break  # the rows after it would only repeat this
+        return problems
 
-    def test_4_the_arm_respawned_in_its_namespace_gets_its_controllers_again(self):
+    def test_1_every_hostile_request_is_refused_and_the_world_runs_on(self):
+        services = (hostile_rows.model_state_rows() + hostile_rows.link_rows() + hostile_rows.wrench_rows() +
+                    hostile_rows.joint_rows() + hostile_rows.physics_rows() + hostile_rows.spawn_rows() +
+                    hostile_rows.controller_manager_rows())
+        problems = self.run_rows(interleaved(services, hostile_rows.command_topic_rows()))
+        # After the group controller's bad commands the arm switches back to its trajectory controller.
+        switch = self.proxy("/arm/controller_manager/switch_controller", SwitchController)
+        self.assertTrue(switch(["arm_controller"], ["group_controller"], 2, False, 0.0).ok, "switch back")
+        problems += self.run_rows(hostile_rows.trajectory_rows() + self.tool_table)
+        self.assertGreaterEqual(len(self.table), 100)
+        self.assertEqual(problems, [])
+        self.assertTrue(all(watch.count > 0 for watch in self.watches),
+                        ", ".join("%s %d" % (w.topic, w.count) for w in self.watches))
+
+    def test_2_the_arm_respawned_in_its_namespace_gets_its_controllers_again(self):
         description = rospy.get_param("/arm_description")
-        self.assertTrue(self.gazebo["delete_model"]("arm").success)
+        delete = self.proxy("/gazebo/delete_model", gazebo_srv.DeleteModel)
+        spawn = self.proxy("/gazebo/spawn_urdf_model", gazebo_srv.SpawnModel)
+        self.assertTrue(delete("arm").success)
         # Under another model name, so that only the namespace given can lead it to /arm's parameters.
-        answer = self.gazebo["spawn_urdf_model"]("arm_again", description, "/arm", pose(y=-4), "")
+        answer = spawn("arm_again", description, "/arm", pose(y=-4), "")
         self.assertTrue(answer.success, answer.status_message)
-        load = service("/arm/controller_manager/load_controller", LoadController)
+        load = self.proxy("/arm/controller_manager/load_controller", LoadController)
         for name in ["joint_state_controller", "arm_controller"]:
             self.assertTrue(load(name).ok, "load_controller %s after the respawn" % name)
-        switch = service("/arm/controller_manager/switch_controller", SwitchController)
+        switch = self.proxy("/arm/controller_manager/switch_controller", SwitchController)
         self.assertTrue(switch(["joint_state_controller", "arm_controller"], [], 2, False, 0.0).ok)
-        self.wait_for_controller("arm_controller", "running")
-        self.expect_alive()
+        self.wait_for_controller("/arm", "arm_controller", "running")
+        self.assertIsNone(self.alive_problem(self.odometry.message))
 
-    def test_5_a_drive_that_cannot_publish_its_odometry_is_spawned_with_the_reason(self):
+    def test_3_a_drive_that_cannot_publish_its_odometry_is_spawned_with_the_reason(self):
         # As in Gazebo, the robot comes and drives without its odometry; the answer says why, not only /rosout.
         path = rospkg.RosPack().get_path("bullet_sim") + "/test/fixtures/doctor/clean_two_wheeler.urdf"
         with open(path) as file:
             urdf = file.read().replace("</leftJoint>", "</leftJoint><odometryTopic>/clock</odometryTopic>")
-        answer = self.gazebo["spawn_urdf_model"]("odometry_on_clock", urdf, "/stray", pose(y=4, z=0.06), "")
+        spawn = self.proxy("/gazebo/spawn_urdf_model", gazebo_srv.SpawnModel)
+        answer = spawn("odometry_on_clock", urdf, "/stray", pose(x=-6, z=0.06), "")
         self.assertTrue(answer.success, answer.status_message)
         self.assertIn("cannot publish nav_msgs/Odometry on [/clock]: it carries rosgraph_msgs/Clock",
                       answer.status_message)
-        self.expect_alive()
-        self.assertTrue(self.gazebo["delete_model"]("odometry_on_clock").success)
+        self.assertIsNone(self.alive_problem(self.odometry.message))
+        self.assertTrue(self.proxy("/gazebo/delete_model", gazebo_srv.DeleteModel)("odometry_on_clock").success)
+
+    def test_4_a_drive_on_a_topic_another_node_publishes_as_another_type_is_spawned_with_the_reason(self):
+        # ROS joins a publisher and a subscriber only when their types agree: the drive would hear nobody.
+        occupied = rospy.Publisher("/hostile/occupied", String, queue_size=1)
+        topics = lambda: dict(rospy.get_published_topics())
+        self.assertTrue(bounded_wait(lambda: topics().get("/hostile/occupied") == "std_msgs/String", 30),
+                        "the master never listed /hostile/occupied")
+        path = rospkg.RosPack().get_path("bullet_sim") + "/test/fixtures/doctor/clean_two_wheeler.urdf"
+        with open(path) as file:
+            urdf = file.read().replace("</leftJoint>", "</leftJoint><commandTopic>/hostile/occupied</commandTopic>")
+        spawn = self.proxy("/gazebo/spawn_urdf_model", gazebo_srv.SpawnModel)
+        answer = spawn("command_elsewhere", urdf, "/stray", pose(x=-6, y=2, z=0.06), "")
+        self.assertTrue(answer.success, answer.status_message)
+        self.assertIn("cannot subscribe to geometry_msgs/Twist on [/hostile/occupied]: another node publishes "
+                      "std_msgs/String there", answer.status_message)
+        self.assertIsNone(self.alive_problem(self.odometry.message))
+        self.assertTrue(self.proxy("/gazebo/delete_model", gazebo_srv.DeleteModel)("command_elsewhere").success)
+        occupied.unregister()
 
 
 if __name__ == "__main__":

@@ -49,15 +49,22 @@ DiffDriveController::DiffDriveController(const ControllerSetup& setup)
   readWheels(setup);
   readGeometry(setup);
   const double publish_rate = parameters.number("publish_rate", 50);
-  if (!(publish_rate > 0)) throw std::invalid_argument("publish_rate must be > 0 [Hz]");
+  if (!(publish_rate > 0 && std::isfinite(publish_rate))) {
+    throw std::invalid_argument("publish_rate must be finite and > 0 [Hz], not " +
+                                parameters.describe("publish_rate"));
+  }
   publish_period_ = 1 / publish_rate;
   open_loop_ = parameters.flag("open_loop", false);
   cmd_vel_timeout_ = parameters.number("cmd_vel_timeout", cmd_vel_timeout_);
+  if (!(cmd_vel_timeout_ >= 0)) {  // NaN would never time out, a negative timeout never drive
+    throw std::invalid_argument("cmd_vel_timeout must be >= 0 [s], not " +
+                                parameters.describe("cmd_vel_timeout"));
+  }
   allow_multiple_publishers_ = parameters.flag("allow_multiple_cmd_vel_publishers", true);
   enable_odom_tf_ = parameters.flag("enable_odom_tf", true);
   publish_cmd_ = parameters.flag("publish_cmd", false);
-  linear_limiter_ = SpeedLimiter::fromParameters(parameters.at("linear/x"));
-  angular_limiter_ = SpeedLimiter::fromParameters(parameters.at("angular/z"));
+  linear_limiter_ = SpeedLimiter::fromParameters(parameters.at("linear/x"), "linear/x");
+  angular_limiter_ = SpeedLimiter::fromParameters(parameters.at("angular/z"), "angular/z");
   if (parameters.flag("publish_wheel_joint_controller_state", false)) {
     setup.warnings.push_back("controller [" + name() +
                              "]: publish_wheel_joint_controller_state is not simulated: no such topic");
@@ -104,10 +111,11 @@ void DiffDriveController::readGeometry(const ControllerSetup& setup) {
   const double separation = separation_multiplier_ * wheel_separation_;
   const double left_radius = left_radius_multiplier_ * wheel_radius_;
   const double right_radius = right_radius_multiplier_ * wheel_radius_;
-  if (!(separation > 0) || !(left_radius > 0) || !(right_radius > 0)) {
+  const auto usable = [](double length) { return length > 0 && std::isfinite(length); };
+  if (!usable(separation) || !usable(left_radius) || !usable(right_radius)) {
     std::ostringstream why;
     why << "the wheel separation (" << separation << " m) and radii (" << left_radius << ", " << right_radius
-        << " m), multipliers included, must be > 0";
+        << " m), multipliers included, must be finite and > 0";
     throw std::invalid_argument(why.str());
   }
   odometry_.setWheelParams(separation, left_radius, right_radius);

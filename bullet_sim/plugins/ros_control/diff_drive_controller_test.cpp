@@ -295,5 +295,36 @@ TEST_F(RoverController, RefusesWhatRosControllersRefuse) {
   EXPECT_THAT(command(0.5, 0), HasSubstr("which is not running"));
 }
 
+/// Parameters a controller cannot drive with (NaN would reach the wheels or never time out) are refused as it
+/// loads, naming the value, as the other controllers' are.
+TEST_F(RoverController, RefusesParametersThatCannotDrive) {
+  const std::string drive =
+      "  type: diff_drive_controller/DiffDriveController\n"
+      "  left_wheel: [front_left_wheel, rear_left_wheel]\n"
+      "  right_wheel: [front_right_wheel, rear_right_wheel]\n";
+  const std::vector<std::pair<std::string, std::string>> rows = {
+      {"wheel_radius: .inf", "radii (inf, inf m), multipliers included, must be finite and > 0"},
+      {"wheel_separation_multiplier: .nan", "the wheel separation (nan m)"},
+      {"linear: {x: {has_velocity_limits: true, max_velocity: .nan}}",
+       "linear/x/max_velocity must be a number, not [.nan]"},
+      {"angular: {z: {has_acceleration_limits: true, min_acceleration: .nan}}",
+       "angular/z/min_acceleration must be a number, not [.nan]"},
+      {"cmd_vel_timeout: .nan", "cmd_vel_timeout must be >= 0 [s], not [.nan]"},
+      {"cmd_vel_timeout: -1", "cmd_vel_timeout must be >= 0 [s], not [-1]"},
+      {"publish_rate: .inf", "publish_rate must be finite and > 0 [Hz], not [.inf]"},
+  };
+  std::string yaml =
+      "nan_publisher:\n  type: joint_state_controller/JointStateController\n  publish_rate: .nan\n";
+  for (size_t i = 0; i < rows.size(); ++i)
+    yaml += "bad_" + std::to_string(i) + ":\n" + drive + "  " + rows[i].first + "\n";
+  build(yaml);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const std::string name = "bad_" + std::to_string(i);
+    EXPECT_THAT(manager_->load(name, nullptr), HasSubstr(rows[i].second)) << rows[i].first;
+  }
+  EXPECT_THAT(manager_->load("nan_publisher", nullptr),
+              HasSubstr("publish_rate must be finite and >= 0 [Hz], not [.nan]"));
+}
+
 }  // namespace
 }  // namespace bullet_sim

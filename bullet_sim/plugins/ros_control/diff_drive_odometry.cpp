@@ -3,20 +3,29 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 namespace bullet_sim {
 
-SpeedLimiter SpeedLimiter::fromParameters(const ParameterTree& parameters) {
+SpeedLimiter SpeedLimiter::fromParameters(const ParameterTree& parameters, const std::string& group) {
+  const auto limit = [&](const std::string& name, double fallback) {
+    const double value = parameters.number(name, fallback);
+    if (std::isnan(value)) {
+      throw std::invalid_argument(group + (group.empty() ? "" : "/") + name + " must be a number, not " +
+                                  parameters.describe(name));
+    }
+    return value;
+  };
   SpeedLimiter limiter;
   limiter.has_velocity_limits = parameters.flag("has_velocity_limits", false);
   limiter.has_acceleration_limits = parameters.flag("has_acceleration_limits", false);
   limiter.has_jerk_limits = parameters.flag("has_jerk_limits", false);
-  limiter.max_velocity = parameters.number("max_velocity", 0);
-  limiter.min_velocity = parameters.number("min_velocity", -limiter.max_velocity);
-  limiter.max_acceleration = parameters.number("max_acceleration", 0);
-  limiter.min_acceleration = parameters.number("min_acceleration", -limiter.max_acceleration);
-  limiter.max_jerk = parameters.number("max_jerk", 0);
-  limiter.min_jerk = parameters.number("min_jerk", -limiter.max_jerk);
+  limiter.max_velocity = limit("max_velocity", 0);
+  limiter.min_velocity = limit("min_velocity", -limiter.max_velocity);
+  limiter.max_acceleration = limit("max_acceleration", 0);
+  limiter.min_acceleration = limit("min_acceleration", -limiter.max_acceleration);
+  limiter.max_jerk = limit("max_jerk", 0);
+  limiter.min_jerk = limit("min_jerk", -limiter.max_jerk);
   return limiter;
 }
 

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <deque>
+#include <string>
 
 #include "bullet_sim/plugins/parameter_tree.h"
 
@@ -18,8 +19,9 @@ struct SpeedLimiter {
   double min_acceleration = 0, max_acceleration = 0;  ///< [m/s^2] or [rad/s^2]
   double min_jerk = 0, max_jerk = 0;                  ///< [m/s^3] or [rad/s^3]
 
-  /// Read from `parameters` (the controller's linear/x or angular/z).
-  static SpeedLimiter fromParameters(const ParameterTree& parameters);
+  /// Read from `parameters` (the controller's `group`, linear/x or angular/z). Throws std::invalid_argument
+  /// naming a limit that is not a number (NaN would make every command NaN); an infinite one is no limit.
+  static SpeedLimiter fromParameters(const ParameterTree& parameters, const std::string& group = "");
 
   /// `v` limited by jerk, then acceleration, then velocity, after the last two commands `v0` (one period ago)
   /// and `v1` (two), `dt` [s] apart.

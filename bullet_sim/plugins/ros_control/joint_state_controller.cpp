@@ -1,6 +1,7 @@
 #include "plugins/ros_control/joint_state_controller.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "bullet_sim/common/diagnostics.h"
@@ -15,6 +16,10 @@ JointStateController::JointStateController(const ControllerSetup& setup)
     throw std::invalid_argument("publish_rate is not set: give the rate [Hz] to publish joint_states at");
   }
   publish_rate_ = parameters.number("publish_rate", 0);
+  if (!(publish_rate_ >= 0 && std::isfinite(publish_rate_))) {  // NaN would never publish, and say nothing
+    throw std::invalid_argument("publish_rate must be finite and >= 0 [Hz], not " +
+                                parameters.describe("publish_rate"));
+  }
   std::vector<std::string> names = parameters.texts("joints");
   if (names.empty()) {
     for (const auto& joint : hardware().joints()) names.push_back(joint.name);

@@ -1,5 +1,6 @@
 #include "gazebo_services.h"
 
+#include <ros/names.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tinyxml2.h>
 
@@ -216,6 +217,11 @@ std::string GazeboServices::spawn(const gazebo_msgs::SpawnModel::Request& reques
   tf2::fromMsg(request.initial_pose.position, position);
   requireFinite(position, "SpawnModel: initial_pose.position");
   const Eigen::Isometry3d initial_pose = toIsometry(request.initial_pose, "SpawnModel: initial_pose");
+  std::string why;
+  if (!request.robot_namespace.empty() && !ros::names::validate(request.robot_namespace, why)) {
+    throw std::invalid_argument("SpawnModel: robot_namespace [" + request.robot_namespace +
+                                "] is not a ROS name: " + why);
+  }
   std::vector<std::string> warnings;
   const std::string root = rootElement(request.model_xml);
   const PackageResolver resolver = PackageResolver::fromEnvironment();
@@ -528,6 +534,16 @@ bool GazeboServices::getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Req
 bool GazeboServices::setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& request,
                                     gazebo_msgs::SetPhysicsProperties::Response& response) {
   return answer(response, [&] {
+    // The ODE fields are only reported back, but a NaN in them would be too.
+    const gazebo_msgs::ODEPhysics& ode = request.ode_config;
+    for (const auto& [name, value] : {std::pair{"sor_pgs_w", ode.sor_pgs_w},
+                                      {"sor_pgs_rms_error_tol", ode.sor_pgs_rms_error_tol},
+                                      {"contact_surface_layer", ode.contact_surface_layer},
+                                      {"contact_max_correcting_vel", ode.contact_max_correcting_vel},
+                                      {"cfm", ode.cfm},
+                                      {"erp", ode.erp}}) {
+      requireFinite(value, std::string("SetPhysicsProperties: ode_config.") + name);
+    }
     PhysicsProperties physics{request.time_step, request.max_update_rate, {}};
     tf2::fromMsg(request.gravity, physics.gravity);
     world_.setPhysicsProperties(physics);

@@ -23,6 +23,8 @@ namespace bullet_sim {
 
 namespace {
 
+constexpr double kIgnoredInputWarningPeriod = 5;  // [s] of ROS time: one warning per topic per period
+
 // One conversion per input type; nullopt when the message holds nothing to take.
 
 std::optional<Twist> fromMessage(const geometry_msgs::Twist& message) {
@@ -96,6 +98,21 @@ void RobotAdapter::cannotConnect(const std::string& why) {
   problems_.push_back(why);
 }
 
+void RobotAdapter::checkTypeElsewhere(const Connection& plugin, const std::string& what,
+                                      const std::string& type, const std::string& topic) {
+  if (!published_types_) {
+    published_types_.emplace();
+    ros::master::V_TopicInfo topics;
+    if (ros::master::getTopics(topics)) {
+      for (const auto& info : topics) (*published_types_)[info.name] = info.datatype;
+    }
+  }
+  const auto found = published_types_->find(topic);
+  if (found == published_types_->end() || found->second == type || found->second == "*") return;
+  cannotConnect(plugin.where + " cannot " + what + " " + type + " on [" + topic + "]: another node publishes " +
+                found->second + " there, and ROS joins only the same types: nothing passes between them");
+}
+
 void RobotAdapter::refreshPorts() {
   for (auto& watched : watched_) {
     const uint64_t revision = watched.plugin->portGroupsRevision();
@@ -161,6 +178,7 @@ void RobotAdapter::advertiseStream(const Connection& plugin, const OutputPort& p
     const std::string type = ros::message_traits::DataType<Message>::value();
     return cannotConnect(refusal(plugin.where, "publish", type, plugin.handle.resolveName(port.topic)));
   }
+  checkTypeElsewhere(plugin, "publish", ros::message_traits::DataType<Message>::value(), publisher.getTopic());
   plugin.into.publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
   plugin.into.outputs.push_back({[stream] { return stream->count(); },
@@ -174,6 +192,7 @@ void RobotAdapter::advertiseImages(const Connection& plugin, const OutputPort& p
                                    const Stream<CameraImage>* stream) {
   image_transport::ImageTransport transport(plugin.handle);
   image_transport::Publisher publisher = transport.advertise(port.topic, 2);
+  checkTypeElsewhere(plugin, "publish", "sensor_msgs/Image", publisher.getTopic());
   plugin.into.image_publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
   plugin.into.outputs.push_back({[stream] { return stream->count(); },
@@ -207,6 +226,7 @@ void RobotAdapter::advertiseCameraInfo(const Connection& plugin, const OutputPor
     const std::string topic = plugin.handle.resolveName(port.topic);
     return cannotConnect(refusal(plugin.where, "publish", "sensor_msgs/CameraInfo", topic));
   }
+  checkTypeElsewhere(plugin, "publish", "sensor_msgs/CameraInfo", publisher.getTopic());
   plugin.into.publishers.push_back(publisher);
   topics_.push_back(publisher.getTopic());
   plugin.into.outputs.push_back({[stream] { return stream->count(); },
@@ -255,8 +275,13 @@ void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
 template <class Message, class Input>
 void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, const InputHandler<Input>& handler) {
   const std::string topic = plugin.handle.resolveName(port.topic);
-  const auto warn = [name = robot_name_, topic](const std::string& why) {
-    if (!why.empty()) ROS_WARN_THROTTLE(5, "[%s] %s: ignored %s", name.c_str(), topic.c_str(), why.c_str());
+  // Throttled per topic (not per line of code): a bad stream on one topic must not hide the warning of another.
+  const auto warn = [name = robot_name_, topic, last = std::make_shared<double>(-kIgnoredInputWarningPeriod)](const std::string& why) {
+    if (why.empty()) return;
+    const double now = ros::Time::now().toSec();
+    if (now >= *last && now < *last + kIgnoredInputWarningPeriod) return;
+    *last = now;
+    ROS_WARN("[%s] %s: ignored %s", name.c_str(), topic.c_str(), why.c_str());
   };
   ros::Subscriber subscriber = plugin.handle.subscribe<Message>(
       port.topic, 10, [this, handler, warn](const typename Message::ConstPtr& message) {
@@ -266,6 +291,7 @@ void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, 
     const std::string type = ros::message_traits::DataType<Message>::value();
     return cannotConnect(refusal(plugin.where, "subscribe", type, topic));
   }
+  checkTypeElsewhere(plugin, "subscribe to", ros::message_traits::DataType<Message>::value(), subscriber.getTopic());
   plugin.into.subscribers.push_back(subscriber);
   if (port.publishers) plugin.into.counted_inputs.emplace_back(subscriber, port.publishers);
   topics_.push_back(subscriber.getTopic() + " (in)");

@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -108,6 +109,10 @@ class RobotAdapter {
   void sendTransform(const geometry_msgs::TransformStamped& transform);
   /// Warns and keeps `why` for problems().
   void cannotConnect(const std::string& why);
+  /// Warns, as cannotConnect, when another node publishes `topic` as a type other than `type`: roscpp
+  /// connects the two only when their types agree, so the plugin would hear or reach nobody there.
+  void checkTypeElsewhere(const Connection& plugin, const std::string& what, const std::string& type,
+                          const std::string& topic);
 
   const std::string robot_name_;
   std::string namespace_;
@@ -121,6 +126,7 @@ class RobotAdapter {
   std::map<std::pair<const Plugin*, uint64_t>, Connections> groups_;  ///< by plugin and port group id
   std::vector<std::string> topics_;
   std::vector<std::string> problems_;
+  std::optional<std::map<std::string, std::string>> published_types_;  ///< the master's, asked once
 };
 
 }  // namespace bullet_sim
