@@ -700,7 +700,11 @@ class WorldConverter {
   /// A world's shape whose mesh cannot be found is skipped, as gzserver skips it (it logs an error and loads
   /// the rest), with one warning per mesh URI; an error when the load is strict (~strict_models).
   void skipMissingMesh(const std::string& uri, const std::string& at, const std::string& why) {
-    if (!missing_meshes_.insert(uri).second) return;
+    // model:///x and model://x are one mesh (see PackageResolver::resolve).
+    const size_t slashes = hasScheme(uri, "model") ? uri.find_first_not_of('/', std::string("model://").size())
+                                                : std::string::npos;
+    const std::string key = slashes == std::string::npos ? uri : "model://" + uri.substr(slashes);
+    if (!missing_meshes_.insert(key).second) return;
     if (diagnostics_.strict()) {
       diagnostics_.error(at + ": mesh [" + uri + "] cannot be found (~strict_models is set): " + why);
       return;
