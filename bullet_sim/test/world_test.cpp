@@ -414,9 +414,6 @@ TEST_P(WorldSpecErrors, AreNamedWithTheFileAndTheElement) {
 
 const BrokenWorld kBrokenWorlds[] = {
     {"MissingFile", "no_such.world", {"no such file"}},
-    {"MissingMeshNamesTheElementAndTheMesh",
-     "fail_missing_mesh.world",
-     {"model [statue] link [body] collision [shell]", "meshes/does_not_exist.stl"}},
     {"IncludedFolderWithoutModelConfig",
      "fail_include_without_model_config.world",
      {"fail_include_without_model_config.world:6]", "meshes] has no model.config", "<sdf version="}},
@@ -470,6 +467,58 @@ TEST(WorldSpec, UnknownModelIsSkippedWithOneWarningAndTheRestLoads) {
     ASSERT_EQ(error.problems().size(), 1u) << error.what();
     EXPECT_TRUE(contains(error.what(), "unknown model [ground_plan]")) << error.what();
     EXPECT_TRUE(contains(error.what(), "~strict_models")) << error.what();
+  }
+}
+
+TEST(WorldSpec, ShapesWhoseMeshIsMissingAreSkippedWithOneWarningPerMeshAndTheRestLoads) {
+  std::vector<std::string> warnings;
+  const WorldSpec world = load(fixture("missing_meshes.world"), &warnings);
+  ASSERT_EQ(world.models.size(), 4u);
+  const WorldModelSpec* mailbox = findModel(world, "mailbox");
+  ASSERT_NE(mailbox, nullptr);
+  ASSERT_EQ(mailbox->collisions.size(), 1u) << "only the post, whose box needs no mesh";
+  EXPECT_EQ(mailbox->collisions[0].shape.type, Shape::Type::kBox);
+  EXPECT_TRUE(mailbox->visuals.empty());
+  ASSERT_NE(findModel(world, "table"), nullptr);
+  EXPECT_TRUE(findModel(world, "table")->collisions.empty());
+  ASSERT_NE(findModel(world, "ground_plane"), nullptr);
+  const WorldModelSpec* cone = findModel(world, "cone");
+  ASSERT_NE(cone, nullptr);
+  ASSERT_EQ(cone->collisions.size(), 1u) << "model:///construction_cone is model://construction_cone";
+  EXPECT_EQ(cone->collisions[0].shape.mesh_path,
+            packageDirectory("bullet_sim") + "/models/construction_cone/meshes/construction_cone.stl");
+
+  ASSERT_EQ(warnings.size(), 2u) << "one warning per mesh, not per visual or collision";
+  const std::string& mailbox_warning = warnings[0];
+  EXPECT_TRUE(contains(mailbox_warning, "model [mailbox] link [link] collision [collision]: mesh "
+                                        "[model://mailbox/meshes/mailbox.dae] cannot be found"))
+      << mailbox_warning;
+  EXPECT_TRUE(contains(mailbox_warning, "unknown model [mailbox]")) << mailbox_warning;
+  EXPECT_TRUE(contains(mailbox_warning, packageDirectory("bullet_sim") + "/models")) << "the folders searched";
+  EXPECT_TRUE(contains(mailbox_warning, "GAZEBO_MODEL_PATH")) << mailbox_warning;
+  EXPECT_TRUE(contains(mailbox_warning, "gazebo_model_path=")) << mailbox_warning;
+  EXPECT_TRUE(contains(warnings[1], "model [cafe_table] has no file [meshes/cafe_table.dae]")) << warnings[1];
+
+  try {
+    loadWorld(fixture("missing_meshes.world"), PackageResolver::fromEnvironment(), nullptr,
+              {.strict_models = true});
+    FAIL() << "a world with missing meshes loaded with strict_models";
+  } catch (const SpecError& error) {
+    ASSERT_EQ(error.problems().size(), 2u) << error.what();
+    EXPECT_TRUE(contains(error.what(), "[model://mailbox/meshes/mailbox.dae] cannot be found (~strict_models"))
+        << error.what();
+  }
+}
+
+TEST(WorldSpec, AMissingMeshInAModelToSpawnIsAnError) {
+  try {
+    readSdfModel(R"(<sdf version="1.6"><model name="statue"><link name="body"><collision name="shell">
+      <geometry><mesh><uri>meshes/does_not_exist.stl</uri></mesh></geometry></collision></link></model></sdf>)",
+                 "statue.sdf", PackageResolver::fromEnvironment(), nullptr);
+    FAIL() << "a model to spawn loaded without its collision mesh";
+  } catch (const SpecError& error) {
+    EXPECT_TRUE(contains(error.what(), "model [statue] link [body] collision [shell]")) << error.what();
+    EXPECT_TRUE(contains(error.what(), "meshes/does_not_exist.stl")) << error.what();
   }
 }
 

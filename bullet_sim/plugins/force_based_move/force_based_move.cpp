@@ -26,7 +26,8 @@ Eigen::Vector3d lumpedCentreOfMass(const ModelSpec& model, const std::string& li
   return mass > 0 ? Eigen::Vector3d(moment / mass) : Eigen::Vector3d::Zero();
 }
 
-/// Planar move's tags, hector's gains and its tf switch.
+}  // namespace
+
 TagTable forceBasedMoveTags() {
   TagTable table = holonomicTags();
   const auto gain = [](const std::string& tag, const std::string& fallback, const std::string& unit,
@@ -47,8 +48,6 @@ TagTable forceBasedMoveTags() {
   }
   return table;
 }
-
-}  // namespace
 
 void parseForceBasedMove(const DeclarationSource& source, ForceBasedMoveConfig& config) {
   PluginTags& tags = source.tags;
@@ -86,7 +85,7 @@ ForceBasedMove::ForceBasedMove(const PluginDeclaration& declaration, const Force
     : PlanarMove(declaration, config, setup), config_(config) {}
 
 void ForceBasedMove::applyCommands(const StepTime& time, RobotBody& body) {
-  const Eigen::Vector3d wanted = command(time.sim_time);
+  const Eigen::Vector3d wanted = command(time.sim_time).cwiseMin(config_.command_cap);
   const std::string& root = body.spec().root;
   const Eigen::Matrix3d root_axes = body.linkPose(root).linear();
   const Eigen::Vector3d velocity = root_axes.transpose() * body.linkLinearVelocity(root);

@@ -10,6 +10,8 @@
 //   integrated over each odometry period along an arc; hector's covariances.
 #pragma once
 
+#include <limits>
+
 #include "plugins/planar_move/planar_move.h"
 
 namespace bullet_sim {
@@ -19,7 +21,13 @@ struct ForceBasedMoveConfig : HolonomicConfig {
   double y_gain = 0;    ///< [N s/m]
   double yaw_gain = 0;  ///< [N m s]
   Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();  ///< [m] of robotBaseFrame as Gazebo lumps it
+  /// The most of the command's x [m/s], y [m/s] and yaw rate [rad/s] followed (nexus' copy caps them; a
+  /// negative command is not capped, as there).
+  Eigen::Vector3d command_cap = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
 };
+
+/// Planar move's tags, hector's gains and its tf switch.
+TagTable forceBasedMoveTags();
 
 void parseForceBasedMove(const DeclarationSource& source, ForceBasedMoveConfig& config);
 

@@ -83,7 +83,7 @@ RangeSensor::RangeSensor(const PluginDeclaration& declaration, const RangeConfig
   addOutput(config_.topic, samples_);
 }
 
-double RangeSensor::measured(double nearest) {
+double RangeSensor::measured(double nearest, double /*sim_time*/) {
   if (nearest < config_.rays.range_min) return -std::numeric_limits<double>::infinity();
   if (!(nearest < config_.rays.range_max)) return config_.rays.range_max;
   if (config_.noise_stddev <= 0) return nearest;
@@ -99,7 +99,7 @@ void RangeSensor::sense(const StepTime& time, const RobotBody& body, const RayCa
   rays.cast(sensor.translation(), world_directions_, config_.rays.range_max, own_body_, ranges_);
   RangeSample& sample = samples_.next();
   sample.stamp = time.sim_time;
-  sample.range = measured(*std::min_element(ranges_.begin(), ranges_.end()));
+  sample.range = measured(*std::min_element(ranges_.begin(), ranges_.end()), time.sim_time);
   samples_.publish();
 }
 

@@ -33,10 +33,11 @@ class RangeSensor : public Plugin, public RaySensor {
 
   const RangeConfig& config() const { return config_; }
 
- private:
-  /// What the sensor reads for the nearest true hit [m].
-  double measured(double nearest);
+ protected:
+  /// What the sensor reads at `sim_time` [s] for the nearest true hit [m].
+  virtual double measured(double nearest, double sim_time);
 
+ private:
   RangeConfig config_;
   BodyId own_body_;
   std::vector<Eigen::Vector3f> directions_;  ///< in the sensor frame

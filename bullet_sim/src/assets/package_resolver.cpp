@@ -94,7 +94,10 @@ std::optional<std::string> PackageResolver::resolve(const std::string& uri, std:
   const std::string file_scheme = "file://";
   if (uri.rfind(file_scheme, 0) == 0) return uri.substr(file_scheme.size());
   if (uri.rfind(model_scheme, 0) == 0) {
-    const std::string relative = fs::path(uri.substr(model_scheme.size())).lexically_normal().string();
+    // model:///x/y is model://x/y, as Gazebo's boost paths join it.
+    const size_t start = uri.find_first_not_of('/', model_scheme.size());
+    const std::string relative =
+        fs::path(uri.substr(std::min(start, uri.size()))).lexically_normal().string();
     std::string why;
     if (auto found = gazeboPaths().findModelFile(relative, &why)) return found;
     if (error) *error = why;  // it names the model, which says more than the whole URI

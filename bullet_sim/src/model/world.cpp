@@ -46,10 +46,15 @@ bool hasScheme(const std::string& uri, const std::string& scheme) {
 
 /// A path from a package://, model://, file:// or relative URI, relative ones taken from `base_directory`.
 /// On failure returns nullopt and sets `error` to the reason and the fix.
+/// Whether `uri` is a package://, model:// or file:// URI, or a path.
+bool supportedScheme(const std::string& uri) {
+  return uri.find("://") == std::string::npos || hasScheme(uri, "package") || hasScheme(uri, "file") ||
+         hasScheme(uri, "model");
+}
+
 std::optional<fs::path> resolveFile(const std::string& uri, const PackageResolver& resolver,
                                     const fs::path& base_directory, std::string* error) {
-  if (uri.find("://") != std::string::npos && !hasScheme(uri, "package") && !hasScheme(uri, "file") &&
-      !hasScheme(uri, "model")) {
+  if (!supportedScheme(uri)) {
     *error = "unsupported URI scheme in [" + uri +
              "]; use package://, model://, file:// or a path relative to the SDF file";
     return std::nullopt;
@@ -661,7 +666,11 @@ class WorldConverter {
     std::string error;
     const std::optional<fs::path> path = resolveFile(mesh.Uri(), resolver_, base_directory, &error);
     if (!path) {
-      diagnostics_.error(at + ": mesh [" + mesh.Uri() + "]: " + error);
+      if (spawning_ || !supportedScheme(mesh.Uri())) {
+        diagnostics_.error(at + ": mesh [" + mesh.Uri() + "]: " + error);
+      } else {
+        skipMissingMesh(mesh.Uri(), at, error);
+      }
       return std::nullopt;
     }
     if (!mesh.Submesh().empty()) {
@@ -688,6 +697,23 @@ class WorldConverter {
     return shape;
   }
 
+  /// A world's shape whose mesh cannot be found is skipped, as gzserver skips it (it logs an error and loads
+  /// the rest), with one warning per mesh URI; an error when the load is strict (~strict_models).
+  void skipMissingMesh(const std::string& uri, const std::string& at, const std::string& why) {
+    // model:///x and model://x are one mesh (see PackageResolver::resolve).
+    const size_t slashes = hasScheme(uri, "model") ? uri.find_first_not_of('/', std::string("model://").size())
+                                                : std::string::npos;
+    const std::string key = slashes == std::string::npos ? uri : "model://" + uri.substr(slashes);
+    if (!missing_meshes_.insert(key).second) return;
+    if (diagnostics_.strict()) {
+      diagnostics_.error(at + ": mesh [" + uri + "] cannot be found (~strict_models is set): " + why);
+      return;
+    }
+    diagnostics_.warning(at + ": mesh [" + uri + "] cannot be found, so this shape and every other one " +
+                         "with that mesh are skipped, as Gazebo skips them (a collision skipped is one " +
+                         "nothing touches); the rest of the world loads: " + why);
+  }
+
   std::nullopt_t invalidSize(const std::string& what) {
     diagnostics_.error(what + " must be positive; fix the size in the SDF");
     return std::nullopt;
@@ -699,6 +725,7 @@ class WorldConverter {
   const Limits& limits_;
   MeshCache meshes_{limits_};                // copies of a model share their meshes and textures
   std::set<std::string> unknown_materials_;  // Gazebo material names warned about, once each
+  std::set<std::string> missing_meshes_;     // mesh URIs that cannot be found, warned about once each
   std::optional<std::vector<std::string>> resource_scripts_;              // see resourceScripts
   std::map<std::string, std::optional<Eigen::Vector4d>> script_colours_;  // see scriptColour
   bool spawning_ = false;  ///< converting a model to spawn, not a world's
@@ -810,7 +837,7 @@ using Load = std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>;
 Reading readWorld(const WorldCopies* copies, const Load& load, const std::string& source,
                   const fs::path& base_directory, const PackageResolver& resolver, const WorldOptions& options,
                   bool model_to_spawn) {
-  Reading reading{WorldSpec(), Diagnostics(source)};
+  Reading reading{WorldSpec(), Diagnostics(source, options.strict_models)};
   Diagnostics& diagnostics = reading.diagnostics;
   IncludeFinder finder(resolver, base_directory);
   sdf::ParserConfig config;

@@ -88,15 +88,17 @@ struct WorldSpec {
 };
 
 struct WorldOptions {
-  /// An <include> of a model that is on no folder of the model path is an error. By default it is skipped,
-  /// as Gazebo skips it, with one warning naming the model, the folders searched and how to add a model.
+  /// An <include> of a model that is on no folder of the model path, or a world's mesh that cannot be found,
+  /// is an error. By default it is skipped (a mesh: the shapes using it), as Gazebo skips it, with one warning
+  /// naming the model or mesh, the folders searched and how to add a model.
   bool strict_models = false;
   Limits limits;  ///< sizes, poses and counts beyond them are errors
 };
 
 /// Parses a .world file. Throws SpecError naming the file and listing all problems at once (sdformat errors,
-/// missing meshes, unsupported geometry). Warnings (a non-static model made static, ignored elements such as
-/// plugins, joints and sensors, unknown models) are appended to `warnings` when it is not null.
+/// unreadable meshes, unsupported geometry). Warnings (a non-static model made static, ignored elements such
+/// as plugins, joints and sensors, unknown models, meshes that cannot be found) are appended to `warnings`
+/// when it is not null.
 ///
 /// libsdformat reads the file in a child process: it takes megabytes for each <model> it reads (home.world's
 /// 16 furniture models: 90 MB), which this process never holds, and should it crash or hang on a file (within
