@@ -655,7 +655,9 @@ class StrikeWatch {
     if (close) {
       double lowest = std::numeric_limits<double>::infinity();
       const std::vector<Eigen::Vector3d> points = worldPoints(body, points_);
+      Eigen::Vector3d middle = Eigen::Vector3d::Zero();
       for (size_t i = 0; i < points.size(); ++i) {
+        middle += points[i] / static_cast<double>(points.size());
         lowest = std::min(lowest, points[i].z());
         outcome.penetration = std::max(outcome.penetration, target_.depth(points[i]));
         // A point that was before the near face crosses to beyond the far face without going round an edge.
@@ -664,7 +666,9 @@ class StrikeWatch {
         if (side != 0 || target_.depth(points[i]) <= 0) sides_[i] = side;
       }
       outcome.rise = std::max(outcome.rise, lowest - settled_.ground);
-      outcome.through |= target_.depth(root.translation()) > 0;
+      // The middle of its surface points lies within the robot; its root frame may not (a base_footprint under
+      // the chassis, which a robot on its back leaning on the target holds inside it).
+      outcome.through |= !points.empty() && target_.depth(middle) > 0;
     }
     if (time + 1e-9 >= next_sample_) {
       outcome.path += (root.translation() - last_sample_).norm();
