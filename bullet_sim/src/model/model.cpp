@@ -308,7 +308,8 @@ class ModelParser {
         spec.upper = joint.limits->upper;
       }
       spec.effort = joint.limits->effort;
-      spec.velocity = joint.limits->velocity;
+      // Negative: no limit, as in Gazebo (checkUrdfValues warns); NaN stays, for checkModelValues to refuse.
+      spec.velocity = joint.limits->velocity < 0 ? 0.0 : joint.limits->velocity;
       if (spec.effort > limits_.max_effort) {
         std::ostringstream message;
         message << "joint [" << joint.name << "] <limit effort=\"" << spec.effort << "\">: " << spec.effort
