@@ -248,8 +248,9 @@ std::vector<std::string> ControllerManager::startUnupdatedAgain(double time) {
     controller.stop(time);
     controller.start(time);
     if (!dropped.empty()) {
-      warnings.push_back("controller [" + controller.name() + "] had not updated since it started, so it starts "
-                         "again from the joints set now, and its " + dropped + " is canceled");
+      warnings.push_back("controller [" + controller.name() +
+                         "] had not updated since it started, so it starts again from the joints set now, "
+                         "and its " + dropped + " is canceled");
     }
   }
   return warnings;

@@ -37,7 +37,8 @@ const std::string kYaml = R"(arm:
     joints: [shoulder, wrist]
 )";
 
-/// trajectory_arm.urdf spawned as "arm" with its transmissions on `interface`, in a world that has not stepped.
+/// trajectory_arm.urdf spawned as "arm" with its transmissions on `interface`, in a world that has not
+/// stepped.
 class PausedArm {
  public:
   explicit PausedArm(const std::string& interface)
@@ -79,7 +80,8 @@ class PausedArm {
     double worst = 0;
     for (long k = std::lround(seconds / simulation_.stepSize()); k > 0; --k) {
       simulation_.step();
-      for (const auto& [joint, initial] : kInitial) worst = std::max(worst, std::abs(position(joint) - initial));
+      for (const auto& [joint, initial] : kInitial)
+        worst = std::max(worst, std::abs(position(joint) - initial));
     }
     return worst;
   }

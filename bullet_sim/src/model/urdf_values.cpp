@@ -182,9 +182,10 @@ void warnNegativeVelocityLimits(const tinyxml2::XMLElement& robot, Diagnostics& 
   std::string names;
   for (const auto& joint : joints) names += (names.empty() ? "" : ", ") + joint;
   const bool one = joints.size() == 1;
-  diagnostics.warning(std::string(one ? "joint " : "joints ") + names + " <limit velocity> " + (one ? "is" : "are") +
-                      " negative: read as no velocity limit, as Gazebo reads it (SDF enforces no negative velocity "
-                      "limit)");
+  diagnostics.warning(std::string(one ? "joint " : "joints ") + names + " <limit velocity> " +
+                      (one ? "is" : "are") +
+                      " negative: read as no velocity limit, as Gazebo reads it (SDF enforces no negative "
+                      "velocity limit)");
 }
 
 }  // namespace

@@ -394,7 +394,8 @@ std::string WorldApi::setModelConfiguration(const std::string& model,
   simulation_.refreshRays();
   std::string note = skipped.empty() ? "" : "skipped, as Gazebo skips them: " + skipped.substr(2);
   for (const auto& plugin : entity.robot->plugins()) {
-    for (const std::string& warning : plugin->jointsPlaced(body)) note += (note.empty() ? "" : "; ") + warning;
+    for (const std::string& warning : plugin->jointsPlaced(body))
+      note += (note.empty() ? "" : "; ") + warning;
   }
   return note;
 }
