@@ -2,6 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "test_support.h"
@@ -22,6 +24,12 @@ std::string loadError(const std::string& file) {
     return e.what();
   }
   return "";
+}
+
+/// How many of `messages` hold `text`.
+long countContaining(const std::vector<std::string>& messages, const std::string& text) {
+  return std::count_if(messages.begin(), messages.end(),
+                       [&](const std::string& message) { return message.find(text) != std::string::npos; });
 }
 
 TEST(ModelSpec, LoadsTheMinimalRobot) {
@@ -61,10 +69,41 @@ TEST(ModelSpec, MissingMeshNamesLinkAndUri) {
                             HasSubstr("no_such_mesh.stl"), HasSubstr("that visual is not drawn"))));
 }
 
-TEST(ModelSpec, UnexpandedMacroCallSuggestsTheXacroPrefix) {
-  const std::string error = loadError("fail_unexpanded_macro.urdf");
-  EXPECT_THAT(error, HasSubstr("<mbot_base/> is not a URDF element"));
-  EXPECT_THAT(error, HasSubstr("write <xacro:mbot_base/>"));
+// An element URDF does not have (OpenManipulator-X's <RefLink/>, a macro called without the xacro: prefix) is
+// skipped by urdfdom and Gazebo: one warning per name, with its lines and the fix; an error under
+// ~strict_models.
+TEST(ModelSpec, AnUnexpandedMacroCallIsSkippedWithTheXacroPrefixSuggested) {
+  const std::string urdf = readFile(fixture("robots/unexpanded_gazebo_macro.urdf"));
+  const std::string message =
+      "lines 19, 20: <RefLink/> is not a URDF element: ignored, as urdfdom and Gazebo ignore it (an error in "
+      "urdf_doctor and under ~strict_models); if it is a xacro macro call, write <xacro:RefLink/>";
+  std::vector<std::string> warnings;
+  const ModelSpec model =
+      parseModel(urdf, "unexpanded_gazebo_macro.urdf", PackageResolver::fromEnvironment(), &warnings);
+  EXPECT_EQ(countContaining(warnings, "RefLink"), 1);
+  EXPECT_THAT(warnings, testing::Contains(HasSubstr(message)));
+  EXPECT_DOUBLE_EQ(model.link("link1")->surface.mu1, 1.0);  // the call set nothing
+  EXPECT_DOUBLE_EQ(model.link("link2")->surface.mu1, 30.0);  // the expanded block did
+  try {
+    parseModel(urdf, "unexpanded_gazebo_macro.urdf", PackageResolver::fromEnvironment(), nullptr, Limits(),
+               /*strict=*/true);
+    FAIL() << "an element URDF does not have was accepted under strict_models";
+  } catch (const SpecError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(message));
+  }
+}
+
+// A negative velocity limit (the Robotiq 3F gripper's velocity="-1") is no limit, as in Gazebo, with one
+// warning naming the joints.
+TEST(ModelSpec, ANegativeVelocityLimitIsNoLimit) {
+  std::vector<std::string> warnings;
+  const ModelSpec model = parseModel(readFile(fixture("bad_input/velocity_limits.urdf")),
+                                     "velocity_limits.urdf", PackageResolver::fromEnvironment(), &warnings);
+  for (const char* joint : {"finger_1_joint_1", "finger_2_joint_1"}) {
+    EXPECT_EQ(model.joint(joint)->velocity, 0) << joint;  // 0: no limit given
+    EXPECT_EQ(model.joint(joint)->effort, 100) << joint;
+  }
+  EXPECT_EQ(countContaining(warnings, "velocity"), 1);
 }
 
 // Gazebo skips a <gazebo reference> block that names nothing without a word: we skip it with a warning that

@@ -31,6 +31,14 @@ class Collector:
                 self._changed.wait(remaining)
             return list(self.messages)
 
+    def wait_for_publisher(self, timeout):
+        """Blocks until the topic's publisher is connected, polling every 10 ms up to `timeout` s of wall time."""
+        deadline = time.monotonic() + timeout
+        while self._subscriber.get_num_connections() == 0:
+            if time.monotonic() > deadline:
+                raise AssertionError("no publisher of %s within %.0f s" % (self._subscriber.name, timeout))
+            time.sleep(0.01)
+
 
 def yaw(orientation):
     q = orientation

@@ -33,6 +33,7 @@ Controller::Controller(const ControllerSetup& setup, std::string hardware_interf
 void Controller::start(double time) {
   starting(time);
   state_ = ControllerState::kRunning;
+  updated_ = false;
 }
 
 void Controller::stop(double time) {
@@ -41,12 +42,16 @@ void Controller::stop(double time) {
 }
 
 void Controller::update(double time, double period) {
-  if (running()) onUpdate(time, period);
+  if (!running()) return;
+  onUpdate(time, period);
+  updated_ = true;
 }
 
 void Controller::restart(double time) {
   onReset();
-  if (running()) starting(time);
+  if (!running()) return;
+  starting(time);
+  updated_ = false;
 }
 
 HardwareJoint& Controller::claim(const std::string& joint, JointInterface interface) {

@@ -46,6 +46,10 @@ class Controller {
   const std::string& type() const { return type_; }
   ControllerState state() const { return state_; }
   bool running() const { return state_ == ControllerState::kRunning; }
+  /// Whether it runs and has not updated since it started.
+  bool awaitsFirstUpdate() const { return running() && !updated_; }
+  /// What a stop would drop that it is following, for a warning ("" for nothing): a trajectory goal.
+  virtual std::string following() const { return ""; }
   const PluginPorts& ports() const { return ports_; }
   const ClaimedResources& claims() const { return claims_; }
 
@@ -79,6 +83,7 @@ class Controller {
   std::string type_;
   RobotHardware& hardware_;
   ControllerState state_ = ControllerState::kInitialized;
+  bool updated_ = false;  ///< since it last started
   PluginPorts ports_;
   ClaimedResources claims_;
 };

@@ -239,6 +239,23 @@ void ControllerManager::restart(double time) {
   for (auto& loaded : controllers_) loaded.controller->restart(time);
 }
 
+std::vector<std::string> ControllerManager::startUnupdatedAgain(double time) {
+  std::vector<std::string> warnings;
+  for (auto& loaded : controllers_) {
+    Controller& controller = *loaded.controller;
+    if (!controller.awaitsFirstUpdate()) continue;
+    const std::string dropped = controller.following();
+    controller.stop(time);
+    controller.start(time);
+    if (!dropped.empty()) {
+      warnings.push_back("controller [" + controller.name() +
+                         "] had not updated since it started, so it starts again from the joints set now, "
+                         "and its " + dropped + " is canceled");
+    }
+  }
+  return warnings;
+}
+
 Controller* ControllerManager::find(const std::string& name) const {
   for (const auto& loaded : controllers_) {
     if (loaded.controller->name() == name) return loaded.controller.get();

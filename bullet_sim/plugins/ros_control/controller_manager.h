@@ -41,6 +41,11 @@ class ControllerManager {
   void update(double time, double period, bool restart_running);
   /// After a world reset: every controller forgets what it integrated; the running ones start again.
   void restart(double time);
+  /// The joints were put somewhere from outside the physics (set_model_configuration) after the running
+  /// controllers that have not updated yet started: those stop and start again at `time`, as controllers
+  /// started now would, to hold the joints where they are now (Gazebo starts them at its next update, after
+  /// reading the joints). Returns a warning for each that drops what it was following.
+  std::vector<std::string> startUnupdatedAgain(double time);
 
   /// The controller named `name`, or nullptr.
   Controller* find(const std::string& name) const;

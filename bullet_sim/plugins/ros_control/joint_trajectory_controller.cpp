@@ -136,6 +136,10 @@ void JointTrajectoryController::starting(double time) {
   }
 }
 
+std::string JointTrajectoryController::following() const {
+  return active_goal_ == 0 ? "" : "follow_joint_trajectory goal " + std::to_string(active_goal_);
+}
+
 void JointTrajectoryController::stopping(double) {
   preemptActiveGoal();
   for (GoalId goal : std::exchange(succeeded_, {})) reports_->finish(goal, GoalEnd::kSucceeded, {});

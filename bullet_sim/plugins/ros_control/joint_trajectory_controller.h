@@ -47,6 +47,7 @@ class JointTrajectoryController : public Controller {
   GoalId activeGoal() const { return active_goal_; }
   /// Where the joints should be, are, and the difference, as of the last update.
   const JointTrajectoryControllerState& state() const { return state_; }
+  std::string following() const override;
 
  protected:
   void starting(double time) override;

@@ -203,7 +203,7 @@ std::string rosControlWheelModel(const RosControlConfig& config, const ModelSpec
 
 RosControl::RosControl(const PluginDeclaration& declaration, const RosControlConfig& config,
                        const PluginSetup& setup)
-    : Plugin(declaration, setup) {
+    : Plugin(declaration, setup), body_(setup.body) {
   const std::string ns = rosControlNamespace(config, setup.robot_name, setup.robot_namespace);
   setRobotNamespace(ns);
   const ParameterTree parameters = setup.parameters ? setup.parameters->fetch("/" + ns) : ParameterTree();
@@ -236,7 +236,7 @@ void RosControl::serveControllerManager() {
   addService<SwitchControllerRequest>(
       "controller_manager/switch_controller",
       [this](const SwitchControllerRequest& request, SwitchControllerRequest::Reply& reply) {
-        return manager_->switchControllers(request, now_, &reply.warnings);
+        return switchControllers(request, &reply.warnings);
       });
   addService<ListControllersRequest>("controller_manager/list_controllers",
                                      [this](const ListControllersRequest&, ListControllersRequest::Reply& reply) {
@@ -253,6 +253,19 @@ void RosControl::serveControllerManager() {
                                                [this](const ReloadControllerLibrariesRequest& request) {
                                                  return manager_->reloadLibraries(request.force_kill, now_);
                                                });
+}
+
+std::string RosControl::switchControllers(const SwitchControllerRequest& request,
+                                          std::vector<std::string>* warnings) {
+  hardware_->read(body_);
+  return manager_->switchControllers(request, now_, warnings);
+}
+
+std::vector<std::string> RosControl::jointsPlaced(const RobotBody& body) {
+  hardware_->read(body);
+  std::vector<std::string> warnings = manager_->startUnupdatedAgain(now_);
+  for (auto& warning : warnings) warning = where() + ": " + warning;
+  return warnings;
 }
 
 void RosControl::applyCommands(const StepTime& time, RobotBody& body) {

@@ -50,6 +50,11 @@ class RosControl : public Plugin {
   RosControl(const PluginDeclaration& declaration, const RosControlConfig& config, const PluginSetup& setup);
 
   void applyCommands(const StepTime& time, RobotBody& body) override;
+  /// Controllers started since the last update take the joints' new positions as their hold point.
+  std::vector<std::string> jointsPlaced(const RobotBody& body) override;
+  /// switch_controller: the controllers it starts see the joints where they are now, as in Gazebo, whose
+  /// controller manager starts them in its update, after reading the joints.
+  std::string switchControllers(const SwitchControllerRequest& request, std::vector<std::string>* warnings);
   std::vector<PortGroup> portGroups() const override { return manager_->portGroups(); }
   uint64_t portGroupsRevision() const override { return manager_->revision(); }
 
@@ -61,6 +66,7 @@ class RosControl : public Plugin {
   void onReset() override;
   void serveControllerManager();
 
+  const RobotBody& body_;
   std::unique_ptr<RobotHardware> hardware_;
   std::unique_ptr<ControllerManager> manager_;
   double now_ = 0;          ///< [s] the end of the last step

@@ -163,19 +163,31 @@ class ModelParser {
   }
 
  private:
+  /// Elements left by xacro. An element URDF does not have is skipped by urdfdom and Gazebo alike, so it is
+  /// forgiven (Diagnostics::forgiven), once per name; it is usually a macro called without the xacro: prefix,
+  /// which Melodic's xacro expanded and Noetic's leaves as it is.
   void reportXacroLeftovers(const tinyxml2::XMLElement* robot) {
     static const std::set<std::string> kUrdfElements = {"link", "joint", "material", "gazebo",
                                                         "transmission"};
+    std::map<std::string, std::vector<int>> unknown;  // name -> its lines
+    std::vector<std::string> order;
     for (auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string name = e->Name();
       if (name.rfind("xacro:", 0) == 0) {
         diagnostics_.error("line " + std::to_string(e->GetLineNum()) + ": <" + name +
                            "> is a xacro element: expand the file with xacro first");
       } else if (!kUrdfElements.count(name)) {
-        diagnostics_.error("line " + std::to_string(e->GetLineNum()) + ": <" + name +
-                           "/> is not a URDF element; if it is a xacro macro call, write <xacro:" + name +
-                           "/>");
+        if (unknown[name].empty()) order.push_back(name);
+        unknown[name].push_back(e->GetLineNum());
       }
+    }
+    for (const std::string& name : order) {
+      std::string lines;
+      for (int line : unknown[name]) lines += (lines.empty() ? "" : ", ") + std::to_string(line);
+      diagnostics_.forgiven((unknown[name].size() == 1 ? "line " : "lines ") + lines + ": <" + name +
+                            "/> is not a URDF element: ignored, as urdfdom and Gazebo ignore it (an error "
+                            "in urdf_doctor and under ~strict_models); if it is a xacro macro call, write "
+                            "<xacro:" + name + "/>, which Noetic's xacro expands");
     }
   }
 
@@ -308,7 +320,8 @@ class ModelParser {
         spec.upper = joint.limits->upper;
       }
       spec.effort = joint.limits->effort;
-      spec.velocity = joint.limits->velocity;
+      // Negative: no limit, as in Gazebo (checkUrdfValues warns); NaN stays, for checkModelValues to refuse.
+      spec.velocity = joint.limits->velocity < 0 ? 0.0 : joint.limits->velocity;
       if (spec.effort > limits_.max_effort) {
         std::ostringstream message;
         message << "joint [" << joint.name << "] <limit effort=\"" << spec.effort << "\">: " << spec.effort

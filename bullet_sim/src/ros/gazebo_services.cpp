@@ -468,10 +468,10 @@ bool GazeboServices::setModelConfiguration(gazebo_msgs::SetModelConfiguration::R
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       positions[request.joint_names[i]] = request.joint_positions[i];
     }
-    const std::string skipped = world_.setModelConfiguration(request.model_name, positions);
-    if (skipped.empty()) return std::string("SetModelConfiguration: success");
-    ROS_WARN("set_model_configuration of [%s]: %s", request.model_name.c_str(), skipped.c_str());
-    return "SetModelConfiguration: success; " + skipped;
+    const std::string note = world_.setModelConfiguration(request.model_name, positions);
+    if (note.empty()) return std::string("SetModelConfiguration: success");
+    ROS_WARN("set_model_configuration of [%s]: %s", request.model_name.c_str(), note.c_str());
+    return "SetModelConfiguration: success; " + note;
   });
 }
 

@@ -392,7 +392,12 @@ std::string WorldApi::setModelConfiguration(const std::string& model,
   if (!problems.empty()) throw std::invalid_argument(problems.substr(2));
   body.setJointPositions(joints);
   simulation_.refreshRays();
-  return skipped.empty() ? "" : "skipped, as Gazebo skips them: " + skipped.substr(2);
+  std::string note = skipped.empty() ? "" : "skipped, as Gazebo skips them: " + skipped.substr(2);
+  for (const auto& plugin : entity.robot->plugins()) {
+    for (const std::string& warning : plugin->jointsPlaced(body))
+      note += (note.empty() ? "" : "; ") + warning;
+  }
+  return note;
 }
 
 void WorldApi::driveJoint(const std::string& joint, double velocity, double max_effort) {

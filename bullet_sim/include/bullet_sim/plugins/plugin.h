@@ -118,6 +118,9 @@ class Plugin {
   virtual void sense(const StepTime&, const RobotBody&, const RayCaster&) {}
   /// Back to the state at spawn: the timer and the noise restart, then onReset().
   void reset();
+  /// Its robot's joints were put where they are now from outside the physics (set_model_configuration),
+  /// between two steps. Returns warnings for whoever put them there to log.
+  virtual std::vector<std::string> jointsPlaced(const RobotBody&) { return {}; }
 
  protected:
   /// What a plugin resets beyond the timer and the noise (commands, integrated odometry).
