@@ -33,19 +33,8 @@ TagTable hectorSonarTags() {
 }  // namespace
 
 void parseHectorSonar(const DeclarationSource& source, HectorSonarConfig& config) {
-  const std::string where = source.declaration.where();
   PluginTags& tags = source.tags;
-  config.rays.link = config.link;
-  config.rays.pose = config.pose;
-  readRayTags(source.sensor, where, config.rays, source);
-  if (config.rays.range_max <= config.rays.range_min)
-    source.diagnostics.error(where + " <range> <max> must exceed <min>");
-  if (config.rays.noise_stddev > 0 || config.rays.noise_mean != 0) {
-    source.diagnostics.warning(where +
-                               " <ray><noise> does not reach libhector_gazebo_ros_sonar.so's range (hector's "
-                               "plugin reads the rays before the sensor's noise): ignored; use the plugin's "
-                               "<gaussianNoise>");
-  }
+  readRangeRays(source, config, "libhector_gazebo_ros_sonar.so", "hector's");
   config.topic = tags.text("topicName");
   config.frame = tags.frame("frameId", "sonar_link", /*gazebo_drops_slash=*/false);
   frameLink(source, "frameId", config.frame);

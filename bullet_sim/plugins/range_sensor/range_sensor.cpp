@@ -31,20 +31,24 @@ const TagTable kRangeTags = {
 
 }  // namespace
 
-void parseRange(const DeclarationSource& source, RangeConfig& config) {
+void readRangeRays(const DeclarationSource& source, RangeConfig& config, const std::string& plugin,
+                   const std::string& author) {
   const std::string where = source.declaration.where();
-  PluginTags& tags = source.tags;
   config.rays.link = config.link;
   config.rays.pose = config.pose;
   readRayTags(source.sensor, where, config.rays, source);
   if (config.rays.range_max <= config.rays.range_min)
     source.diagnostics.error(where + " <range> <max> must exceed <min>");
   if (config.rays.noise_stddev > 0 || config.rays.noise_mean != 0) {
-    source.diagnostics.warning(where +
-                               " <ray><noise> does not reach libgazebo_ros_range.so's range (Gazebo's plugin "
-                               "reads the rays before the sensor's noise): ignored; use the plugin's "
+    source.diagnostics.warning(where + " <ray><noise> does not reach " + plugin + "'s range (" + author +
+                               " plugin reads the rays before the sensor's noise): ignored; use the plugin's "
                                "<gaussianNoise>");
   }
+}
+
+void parseRange(const DeclarationSource& source, RangeConfig& config) {
+  PluginTags& tags = source.tags;
+  readRangeRays(source, config, "libgazebo_ros_range.so", "Gazebo's");
   config.topic = tags.text("topicName");
   config.frame = tags.frame("frameName", config.link);
   const std::string radiation = tags.text("radiation");

@@ -22,6 +22,10 @@ struct RangeConfig : PluginConfig {
 };
 
 void parseRange(const DeclarationSource& source, RangeConfig& config);
+/// The rays of a range plugin `plugin` (by `author`, e.g. "Gazebo's") on its ray sensor: they must reach past
+/// their minimum, and the sensor's <noise>, which the plugin never reads, is ignored with a warning.
+void readRangeRays(const DeclarationSource& source, RangeConfig& config, const std::string& plugin,
+                   const std::string& author);
 
 class RangeSensor : public Plugin, public RaySensor {
  public:
