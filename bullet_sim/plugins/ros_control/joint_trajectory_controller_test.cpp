@@ -60,15 +60,7 @@ class Arm {
                const WorldSpec& world = test::shippedWorld("empty.world"))
       : parameters_(ParameterTree::fromYaml(inArmNamespace(yaml), "control.yaml")),
         simulation_(world, options()) {
-    const std::string urdf = test::editUrdf(test::readFile(test::fixture("robots/trajectory_arm.urdf")),
-                                            [&](tinyxml2::XMLElement& robot) {
-                                              for (auto* t = robot.FirstChildElement("transmission"); t;
-                                                   t = t->NextSiblingElement("transmission"))
-                                                t->FirstChildElement("joint")
-                                                    ->FirstChildElement("hardwareInterface")
-                                                    ->SetText(("hardware_interface/" + interface).c_str());
-                                            });
-    robot_ = &simulation_.spawn("arm", test::parseQuietly(urdf, "trajectory_arm.urdf"), SpawnPose{});
+    robot_ = &simulation_.spawn("arm", test::trajectoryArm(interface), SpawnPose{});
     manager_ = &test::pluginsOf<RosControl>(*robot_).at(0)->controllerManager();
   }
 

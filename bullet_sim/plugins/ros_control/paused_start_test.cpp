@@ -45,15 +45,7 @@ class PausedArm {
       : parameters_(ParameterTree::fromYaml(kYaml, "control.yaml")),
         simulation_(test::shippedWorld("empty.world"), options()),
         world_(simulation_) {
-    const std::string urdf = test::editUrdf(test::readFile(test::fixture("robots/trajectory_arm.urdf")),
-                                            [&](tinyxml2::XMLElement& robot) {
-                                              for (auto* t = robot.FirstChildElement("transmission"); t;
-                                                   t = t->NextSiblingElement("transmission"))
-                                                t->FirstChildElement("joint")
-                                                    ->FirstChildElement("hardwareInterface")
-                                                    ->SetText(("hardware_interface/" + interface).c_str());
-                                            });
-    robot_ = &simulation_.spawn("arm", test::parseQuietly(urdf, "trajectory_arm.urdf"), SpawnPose{});
+    robot_ = &simulation_.spawn("arm", test::trajectoryArm(interface), SpawnPose{});
     plugin_ = test::pluginsOf<RosControl>(*robot_).at(0);
   }
 
