@@ -169,18 +169,6 @@ inline ModelSpec parseQuietly(const std::string& urdf, const std::string& source
   return model;
 }
 
-/// The two-joint trajectory arm (fixtures/robots/trajectory_arm.urdf) with its transmissions on `interface`
-/// ("PositionJointInterface", "EffortJointInterface", ...), parsed.
-inline ModelSpec trajectoryArm(const std::string& interface) {
-  const std::string arm = readFile(fixture("robots/trajectory_arm.urdf"));
-  const std::string urdf = editUrdf(arm, [&](tinyxml2::XMLElement& robot) {
-    for (auto* t = robot.FirstChildElement("transmission"); t; t = t->NextSiblingElement("transmission"))
-      t->FirstChildElement("joint")->FirstChildElement("hardwareInterface")->SetText(
-          ("hardware_interface/" + interface).c_str());
-  });
-  return parseQuietly(urdf, "trajectory_arm.urdf");
-}
-
 inline ModelSpec loadShippedRobot(const std::string& package, const std::string& xacro,
                                   const std::string& wheel_model = "") {
   return parseQuietly(withWheelModel(expandXacro(package, xacro), wheel_model), package + "/" + xacro);
@@ -205,6 +193,18 @@ inline WorldSpec shippedWorld(const std::string& name) {
 
 inline std::string fixture(const std::string& relative) {
   return packageFile("bullet_sim", "test/fixtures/" + relative);
+}
+
+/// The two-joint trajectory arm (fixtures/robots/trajectory_arm.urdf) with its transmissions on `interface`
+/// ("PositionJointInterface", "EffortJointInterface", ...), parsed.
+inline ModelSpec trajectoryArm(const std::string& interface) {
+  const std::string arm = readFile(fixture("robots/trajectory_arm.urdf"));
+  const std::string urdf = editUrdf(arm, [&](tinyxml2::XMLElement& robot) {
+    for (auto* t = robot.FirstChildElement("transmission"); t; t = t->NextSiblingElement("transmission"))
+      t->FirstChildElement("joint")->FirstChildElement("hardwareInterface")->SetText(
+          ("hardware_interface/" + interface).c_str());
+  });
+  return parseQuietly(urdf, "trajectory_arm.urdf");
 }
 
 /// two_wheeler.urdf with a diff drive named "drive" on its wheels, and `more` tags for it.

@@ -16,15 +16,21 @@ namespace {
 constexpr btScalar kUprightSine = 1e-4;  ///< the axis this close to the normal: the cylinder stands on an end
 constexpr btScalar kLevelDrop = 5e-4;    ///< [m] from one end of the tread to the other: it lies level
 
+/// At most four points, without allocating: collision runs every substep for every wheel.
+struct Points {
+  btVector3 at[4];
+  int count = 0;
+  void push_back(const btVector3& point) { at[count++] = point; }
+};
+
 /// The points of `cylinder` (world pose `pose`) that may touch a plane of normal `normal`: one or two on its
 /// lowest line, or four points of the lower end's rim when it stands on it.
-btAlignedObjectArray<btVector3> lowestPoints(const btCylinderShape& cylinder, const btTransform& pose,
-                                             const btVector3& normal) {
+Points lowestPoints(const btCylinderShape& cylinder, const btTransform& pose, const btVector3& normal) {
   const int up = cylinder.getUpAxis();
   const btVector3 extents = cylinder.getHalfExtentsWithMargin();
   const btScalar radius = extents[(up + 1) % 3], half_length = extents[up];
   const btVector3 axis = pose.getBasis().getColumn(up);
-  btAlignedObjectArray<btVector3> points;
+  Points points;
   btVector3 down = axis * normal.dot(axis) - normal;  // the way down the plane, across the axis
   if (down.length() > kUprightSine) {
     down.normalize();
@@ -43,7 +49,9 @@ btAlignedObjectArray<btVector3> lowestPoints(const btCylinderShape& cylinder, co
   const btVector3 lower_end = pose.getOrigin() - axis * (normal.dot(axis) > 0 ? half_length : -half_length);
   btVector3 across, other;
   btPlaneSpace1(axis, across, other);
-  for (const btVector3& spoke : {across, other, -across, -other}) points.push_back(lower_end + spoke * radius);
+  for (const btVector3& spoke : {across, other, -across, -other}) {
+    points.push_back(lower_end + spoke * radius);
+  }
   return points;
 }
 
@@ -78,11 +86,11 @@ void CylinderPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
   const btVector3 on_plane = plane_pose * (plane_shape.getPlaneNormal() * plane_shape.getPlaneConstant());
   result->setPersistentManifold(manifold_);
   const btScalar reach = manifold_->getContactBreakingThreshold() + result->m_closestPointDistanceThreshold;
-  const auto& points = lowestPoints(*static_cast<const btCylinderShape*>(cylinder->getCollisionShape()),
-                                    cylinder->getWorldTransform(), normal);
-  for (int i = 0; i < points.size(); ++i) {
-    const btScalar distance = normal.dot(points[i] - on_plane);
-    if (distance < reach) result->addContactPoint(normal, points[i] - normal * distance, distance);
+  const Points points = lowestPoints(*static_cast<const btCylinderShape*>(cylinder->getCollisionShape()),
+                                     cylinder->getWorldTransform(), normal);
+  for (int i = 0; i < points.count; ++i) {
+    const btScalar distance = normal.dot(points.at[i] - on_plane);
+    if (distance < reach) result->addContactPoint(normal, points.at[i] - normal * distance, distance);
   }
   if (own_manifold_ && manifold_->getNumContacts()) result->refreshContactPoints();
 }

@@ -15,7 +15,8 @@ namespace bullet_sim {
 class CylinderPlaneAlgorithm : public btCollisionAlgorithm {
  public:
   CylinderPlaneAlgorithm(btPersistentManifold* manifold, const btCollisionAlgorithmConstructionInfo& info,
-                         const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1, bool swapped);
+                         const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
+                         bool swapped);
   ~CylinderPlaneAlgorithm() override;
 
   void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
@@ -32,8 +33,9 @@ class CylinderPlaneAlgorithm : public btCollisionAlgorithm {
                                                    const btCollisionObjectWrapper* body1) override;
   };
 
-  /// Makes `dispatcher` meet cylinders with planes through `cylinder_first` and `plane_first` (its m_swapped).
-  static void registerWith(btCollisionDispatcher& dispatcher, CreateFunc& cylinder_first, CreateFunc& plane_first);
+  /// Makes `dispatcher` meet cylinders with planes through `cylinder_first` and `plane_first` (swapped).
+  static void registerWith(btCollisionDispatcher& dispatcher, CreateFunc& cylinder_first,
+                           CreateFunc& plane_first);
 
  private:
   btPersistentManifold* manifold_;
