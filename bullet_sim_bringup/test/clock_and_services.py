@@ -56,14 +56,18 @@ class ClockAndServices(unittest.TestCase):
             command.wait(timeout=30)
         before_reset = self.clock.messages[-1].clock.to_sec()
         seen = len(self.clock.messages)
+        # An odom published just before the reset may still be in flight: the first one after it is stamped
+        # earlier than the last one before it, since time restarted.
+        seen_odometry = len(self.odometry.messages)
+        last_stamp = self.odometry.messages[-1].header.stamp
         service("/gazebo/reset_simulation")()
         clocks = self.clock.wait_for(lambda m: any(c.clock.to_sec() < before_reset for c in m[seen:]), 30,
                                      "the clock to restart")
         restarted = next(c.clock.to_sec() for c in clocks[seen:] if c.clock.to_sec() < before_reset)
         self.assertGreater(restarted, 0)
         self.assertLess(restarted, 0.5)
-        seen = len(self.odometry.messages)
-        odometry = self.odometry.wait_for(lambda m: len(m) > seen, 30, "odom after the reset")[seen]
+        after_reset = lambda m: [o for o in m[seen_odometry:] if o.header.stamp < last_stamp]
+        odometry = after_reset(self.odometry.wait_for(after_reset, 30, "odom after the reset"))[0]
         # The robot is back where it spawned; the command stopped, and its timeout stops the drive.
         self.assertAlmostEqual(odometry.pose.pose.position.x, spawn.x, delta=0.01)
         self.assertAlmostEqual(odometry.pose.pose.position.y, spawn.y, delta=0.01)
