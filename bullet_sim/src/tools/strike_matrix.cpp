@@ -732,7 +732,10 @@ void judge(const StrikeCell& cell, double start_energy, StrikeOutcome& outcome) 
   };
   if (!outcome.reached) outcome.failures.push_back("never met the target");
   if (outcome.through) outcome.failures.push_back("passed through the target");
-  if (outcome.path > outcome.command_path + kFlingSlack) fail("flung: path [m]", outcome.path, outcome.command_path + kFlingSlack);
+  // A robot whose bounds let its wheel climb the wall may fall back down: that fall is gravity's, not a fling.
+  const double fall = b.climbs() || b.mayClimb() ? outcome.root_rise : 0.0;
+  const double path_limit = outcome.command_path + kFlingSlack + fall;
+  if (outcome.path > path_limit) fail("flung: path [m]", outcome.path, path_limit);
   if (cell.coast) {
     outcome.energy_allowance = 0.5 * b.mass * kCorrectingSpeed * kCorrectingSpeed + kEnergyFraction * std::abs(start_energy);
     if (outcome.energy_gain > outcome.energy_allowance) fail("energy gained [J]", outcome.energy_gain, outcome.energy_allowance);
