@@ -1,9 +1,12 @@
-// Meshes as ROS tools read them: COLLADA in its file's axes (no up-axis turn), scaled by its <unit meter>.
+// Meshes as ROS tools read them: COLLADA in its file's axes (no up-axis turn), scaled by its <unit meter>;
+// and read once for every model in the process that holds them.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -69,6 +72,44 @@ TEST(Collada, TheUnitScalesTheVertices) {
                "Z_UP in centimetres");
   expectBounds(boundsOf(colladaBox("Y_UP", 0.0254, {10, 20, 30}), "inches.dae"), {0.254, 0.508, 0.762},
                "Y_UP in inches");
+}
+
+std::filesystem::path writeBox(const std::string& name, double size) {
+  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / name;
+  std::ofstream(path) << colladaBox("Z_UP", 1, Eigen::Vector3d::Constant(size));
+  return path;
+}
+
+// A fleet's next robot takes the meshes the first one holds, without importing the file again.
+TEST(MeshCache, AnotherModelSharesAMeshThatIsStillHeld) {
+  const std::filesystem::path path = writeBox("shared_box.dae", 0.5);
+  std::string error;
+  std::vector<std::string> first_warnings, second_warnings;
+  MeshCache first, second;
+  const auto held = first.load(path.string(), Eigen::Vector3d::Ones(), &error, &first_warnings);
+  ASSERT_TRUE(held) << error;
+  const auto shared = second.load(path.string(), Eigen::Vector3d::Ones(), &error, &second_warnings);
+  EXPECT_EQ(shared.get(), held.get());
+  EXPECT_EQ(second_warnings, first_warnings);
+  const auto scaled = second.load(path.string(), Eigen::Vector3d::Constant(2), &error, nullptr);
+  ASSERT_TRUE(scaled) << error;
+  EXPECT_NE(scaled.get(), held.get()) << "another scale is another mesh";
+}
+
+// A mesh file edited between two spawns is read again: the second model gets the new shape.
+TEST(MeshCache, AnEditedFileIsReadAgain) {
+  const std::filesystem::path path = writeBox("edited_box.dae", 0.5);
+  std::string error;
+  MeshCache first, second;
+  const auto before = first.load(path.string(), Eigen::Vector3d::Ones(), &error, nullptr);
+  ASSERT_TRUE(before) << error;
+  writeBox("edited_box.dae", 0.75);
+  std::filesystem::last_write_time(path, std::filesystem::last_write_time(path) + std::chrono::seconds(1));
+  const auto after = second.load(path.string(), Eigen::Vector3d::Ones(), &error, nullptr);
+  ASSERT_TRUE(after) << error;
+  Eigen::AlignedBox3d bounds;
+  for (const auto& vertex : after->vertices) bounds.extend(vertex);
+  EXPECT_TRUE(bounds.max().isApprox(Eigen::Vector3d::Constant(0.75), 1e-6)) << bounds.max().transpose();
 }
 
 }  // namespace

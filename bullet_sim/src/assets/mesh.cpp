@@ -16,6 +16,9 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -409,16 +412,82 @@ std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vecto
   return fail("unexpected");
 }
 
+namespace {
+
+/// Meshes alive anywhere in this process, by file (its size and time too, so that an edited file is read
+/// again), scale and the limits they were checked against: the next copy of a model (a fleet's next robot)
+/// shares them instead of importing the file again. A mesh no model holds any more is gone, and so is its
+/// entry.
+class LiveMeshes {
+ public:
+  struct Found {
+    std::shared_ptr<const TriangleMesh> mesh;
+    std::vector<std::string> warnings;  ///< what its import said, for every model that takes it
+  };
+
+  static LiveMeshes& instance() {
+    static LiveMeshes live;
+    return live;
+  }
+
+  static std::optional<std::string> key(const std::string& path, const Eigen::Vector3d& scale,
+                                        const Limits& limits) {
+    struct stat status {};
+    if (stat(path.c_str(), &status) != 0) return std::nullopt;
+    std::ostringstream key;
+    key << path << '|' << scale.transpose() << '|' << status.st_size << '|' << status.st_mtim.tv_sec << '.'
+        << status.st_mtim.tv_nsec << '|' << limits.max_mesh_bytes << '|' << limits.max_triangles << '|'
+        << limits.max_length;
+    return key.str();
+  }
+
+  std::optional<Found> find(const std::string& key) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = meshes_.find(key);
+    if (it == meshes_.end()) return std::nullopt;
+    if (auto mesh = it->second.mesh.lock()) return Found{std::move(mesh), it->second.warnings};
+    meshes_.erase(it);
+    return std::nullopt;
+  }
+
+  void add(const std::string& key, const std::shared_ptr<const TriangleMesh>& mesh,
+           std::vector<std::string> warnings) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = meshes_.begin(); it != meshes_.end();)
+      it = it->second.mesh.expired() ? meshes_.erase(it) : std::next(it);
+    meshes_[key] = {mesh, std::move(warnings)};
+  }
+
+ private:
+  struct Entry {
+    std::weak_ptr<const TriangleMesh> mesh;
+    std::vector<std::string> warnings;
+  };
+  std::mutex mutex_;
+  std::map<std::string, Entry> meshes_;
+};
+
+}  // namespace
+
 std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, const Eigen::Vector3d& scale,
                                                     std::string* error, std::vector<std::string>* warnings) {
   std::ostringstream key;
   key << path << '|' << scale.transpose();
   std::shared_ptr<const TriangleMesh>& cached = meshes_[key.str()];
-  if (!cached) {
-    if (std::optional<TriangleMesh> mesh = loadMesh(path, scale, error, &textures_, warnings, limits_)) {
-      cached = std::make_shared<const TriangleMesh>(std::move(*mesh));
+  if (cached) return cached;
+  const std::optional<std::string> live_key = LiveMeshes::key(path, scale, limits_);
+  if (live_key) {
+    if (std::optional<LiveMeshes::Found> found = LiveMeshes::instance().find(*live_key)) {
+      if (warnings) warnings->insert(warnings->end(), found->warnings.begin(), found->warnings.end());
+      return cached = std::move(found->mesh);
     }
   }
+  std::vector<std::string> said;
+  if (std::optional<TriangleMesh> mesh = loadMesh(path, scale, error, &textures_, &said, limits_)) {
+    cached = std::make_shared<const TriangleMesh>(std::move(*mesh));
+    if (live_key) LiveMeshes::instance().add(*live_key, cached, said);
+  }
+  if (warnings) warnings->insert(warnings->end(), said.begin(), said.end());
   return cached;
 }
 
