@@ -68,16 +68,22 @@ def met(ok):
     return "yes" if ok else "**no**"
 
 
+def process_cpu_ms(fleet):
+    """CPU ms per sim s per robot on every thread (older JSON has the stepping thread's only)."""
+    return fleet.get("process_cpu_ms_per_sim_s_per_robot", fleet["cpu_ms_per_sim_s_per_robot"])
+
+
 def fleet_rows(fleets):
-    lines = ["| robots | RTF | robot x RTF | wall ms per sim s per robot | CPU ms per sim s per robot | "
-             "RTF with a core to itself | spawn | peak RSS | lidar scans per robot per s | worst pose error |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| robots | RTF | robot x RTF | wall ms per sim s per robot | CPU ms per sim s per robot, "
+             "stepping thread | CPU ms per sim s per robot, all threads | RTF with a core to itself | spawn | "
+             "peak RSS | lidar scans per robot per s | worst pose error |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for fleet in fleets:
-        cpu_ms = fleet["cpu_ms_per_sim_s_per_robot"]
-        lines.append("| %d | %.3g | %.0f | %.2f | %.2f | %.3g | %.2f s | %.0f MB | %.2f | %.3f m |" % (
-            fleet["robots"], fleet["rtf"], fleet["robot_rtf"], fleet["wall_ms_per_sim_s_per_robot"], cpu_ms,
-            1000 / (fleet["robots"] * cpu_ms), fleet["spawn_s"], fleet["peak_rss_mb"],
-            fleet["lidar_scans_per_robot_per_s"], fleet["pose_error_max_m"]))
+        cpu_ms = process_cpu_ms(fleet)
+        lines.append("| %d | %.3g | %.0f | %.2f | %.2f | %.2f | %.3g | %.2f s | %.0f MB | %.2f | %.3f m |" % (
+            fleet["robots"], fleet["rtf"], fleet["robot_rtf"], fleet["wall_ms_per_sim_s_per_robot"],
+            fleet["cpu_ms_per_sim_s_per_robot"], cpu_ms, 1000 / (fleet["robots"] * cpu_ms), fleet["spawn_s"],
+            fleet["peak_rss_mb"], fleet["lidar_scans_per_robot_per_s"], fleet["pose_error_max_m"]))
     return lines
 
 
@@ -91,9 +97,11 @@ def target_rows(by_count):
                          ">= %d" % target, met(rtf >= target)))
     if 10 in by_count and 100 in by_count:
         wall = by_count[100]["wall_ms_per_sim_s_per_robot"] / by_count[10]["wall_ms_per_sim_s_per_robot"]
-        cpu = by_count[100]["cpu_ms_per_sim_s_per_robot"] / by_count[10]["cpu_ms_per_sim_s_per_robot"]
-        rows.append(("per-robot cost at N = 100 against N = 10", "%.2fx (CPU time: %.2fx)" % (wall, cpu), "",
-                     "<= %.2fx" % TARGET_COST_RATIO, met(wall <= TARGET_COST_RATIO)))
+        cpu = process_cpu_ms(by_count[100]) / process_cpu_ms(by_count[10])
+        # Judged on CPU time: on a shared machine the wall time follows the others' load.
+        rows.append(("per-robot cost at N = 100 against N = 10, CPU time of all threads",
+                     "%.2fx (wall time: %.2fx)" % (cpu, wall), "", "<= %.2fx" % TARGET_COST_RATIO,
+                     met(cpu <= TARGET_COST_RATIO)))
     if 100 in by_count:
         fleet = by_count[100]
         rows.append(("spawning 100 (bench, in-process: parse and spawn each)", "%.1f s" % fleet["spawn_s"], "",
@@ -111,17 +119,19 @@ def section(report):
     paragraphs = [
         "Measured by `scripts/bench_fleet.py` on %s, on a %d-core %s (`nproc`, `/proc/cpuinfo`), load average "
         "(1, 5, 15 min) %s before and %s after: the machine is shared, and wall-time figures follow its load; "
-        "the CPU time of the simulation's thread does much less. \"RTF with a core to itself\" is 1000 / (N x "
-        "CPU ms per sim s per robot): what the wall time would give if the simulation's thread never waited."
+        "CPU time does much less. \"RTF with a core to itself\" is 1000 / (N x CPU ms per sim s per robot, all "
+        "threads): what the wall time would give if the work never waited and shared no core."
         % (report["date"], report["cores"], report["cpu"], report["load_before"], report["load_after"]),
         "`bench --robots N` spawns N wheelchairs (their xacro, expanded once; each robot's URDF parsed and "
         "spawned as the node's spawn service does) into `empty.world`, robot1 to robotN each in its own "
         "namespace, on a square grid 1.5 m apart. After %.1f s at rest every one drives v = %.1f m/s, "
         "w = %.1f rad/s for %.0f s of sim time, the command re-sent at 10 Hz of sim time as a teleop would, "
-        "its 360-beam lidar scanning at its own 5.5 Hz; 1 ms steps, as fast as it goes, on one thread. Medians "
-        "of %d runs. The simulation runs in bench's process, without ROS: the issue's \"today\" figures were "
-        "through the node." % (report["settle_s"], report["cmd"][0], report["cmd"][1], report["duration_s"],
-                               report["repeat"]),
+        "its 360-beam lidar scanning at its own 5.5 Hz; 1 ms steps, as fast as it goes. Bullet steps on one "
+        "thread; a pool of %d threads (the stepping one included) shares each step's due lidar scans, and from "
+        "32 robots on each substep's raycast-wheel forces. Medians of %d runs. The simulation runs in bench's "
+        "process, without ROS: the issue's \"today\" figures were through the node."
+        % (report["settle_s"], report["cmd"][0], report["cmd"][1], report["duration_s"],
+           report.get("threads", 1), report["repeat"]),
     ]
     lines = textwrap.wrap(paragraphs[0], 110) + [""] + textwrap.wrap(paragraphs[1], 110) + [""]
     lines += fleet_rows(fleets) + [""] + target_rows(by_count) + [""]
@@ -144,10 +154,17 @@ def plot(report, path):
         axes.plot(span, [robot_rtf / n for n in span], style, color="grey",
                   label="%s: %d robot x RTF per core" % (name, robot_rtf))
     axes.plot(counts, [fleet["rtf"] for fleet in fleets], "o-", color="tab:blue", linewidth=2,
-              label="ours (bench --robots, one thread)")
+              label="ours (bench --robots, %d threads), wall time" % report.get("threads", 1))
     for fleet in fleets:
         axes.annotate("%.3g" % fleet["rtf"], (fleet["robots"], fleet["rtf"]), textcoords="offset points",
                       xytext=(7, 5), fontsize=8, color="tab:blue")
+    # The wall time follows the shared machine's load; the CPU time gives what a core to itself would.
+    own_core = [1000 / (fleet["robots"] * process_cpu_ms(fleet)) for fleet in fleets]
+    axes.plot(counts, own_core, "o--", color="tab:purple", linewidth=1.5,
+              label="ours with a core to itself (from the CPU time of all threads)")
+    for count, rtf in zip(counts, own_core):
+        axes.annotate("%.3g" % rtf, (count, rtf), textcoords="offset points", xytext=(7, 5), fontsize=8,
+                      color="tab:purple")
     axes.plot(list(TODAY_RTF), list(TODAY_RTF.values()), "s", color="tab:orange", fillstyle="none",
               label="issue 32's today, through the node")
     axes.plot(list(TARGET_RTF), list(TARGET_RTF.values()), "*", color="tab:green", markersize=12,

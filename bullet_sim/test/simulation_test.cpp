@@ -86,6 +86,63 @@ TEST(Simulation, TheSameInputsAndSeedGiveABitIdenticalRun) {
   }
 }
 
+/// `count` wheelchairs 1.5 m apart in the empty world, each driving its own circle for 1 s with its lidar
+/// scanning the others; the step's per-robot work shared by `threads`. Every robot's link poses, then its
+/// latest scan.
+RunResult runFleet(uint64_t seed, const std::string& wheel_model, int threads, int count = 10) {
+  Simulation simulation(test::shippedWorld("empty.world"), {.seed = seed, .threads = threads});
+  std::vector<Robot*> robots;
+  for (int k = 0; k < count; ++k) {
+    const std::string name = "chair" + std::to_string(k);
+    robots.push_back(&simulation.spawn(name, test::wheelchair(wheel_model),
+                                       {.x = 1.5 * (k % 5), .y = 1.5 * (k / 5), .yaw = 0.3 * k,
+                                        .robot_namespace = name}));
+  }
+  test::stepSending(simulation, 1.0, [&] {
+    for (size_t k = 0; k < robots.size(); ++k) {
+      if (!test::pluginsOf<WheeledDrive>(*robots[k]).at(0)->setCommand(0.2 + 0.02 * k, 0.3, simulation.time()))
+        return false;
+    }
+    return true;
+  });
+  RunResult result;
+  for (const Robot* robot : robots) {
+    for (const auto& link : robot->body().spec().links) result.poses.push_back(robot->body().linkPose(link.name));
+  }
+  for (const Robot* robot : robots) {
+    const auto& ranges = robot->outputs<LaserScan>().at(0).stream->latest().ranges;
+    result.ranges.insert(result.ranges.end(), ranges.begin(), ranges.end());
+  }
+  return result;
+}
+
+TEST(Simulation, TenRobotsRerunBitIdenticallyWhateverThreadsCastTheirRays) {
+  for (const auto& wheel_model : test::kWheelModels) {
+    SCOPED_TRACE(wheel_model);
+    const RunResult first = runFleet(7, wheel_model, 2);
+    for (const int threads : {2, 1, 3}) {
+      SCOPED_TRACE(std::to_string(threads) + " threads");
+      const RunResult again = runFleet(7, wheel_model, threads);
+      ASSERT_EQ(first.poses.size(), again.poses.size());
+      for (size_t i = 0; i < first.poses.size(); ++i) EXPECT_EQ(first.poses[i].matrix(), again.poses[i].matrix());
+      EXPECT_EQ(first.ranges, again.ranges);
+    }
+    // The robots saw each other: in the empty world, only they return a finite range.
+    EXPECT_GT(std::count_if(first.ranges.begin(), first.ranges.end(), [](float r) { return std::isfinite(r); }),
+              100);
+    EXPECT_NE(runFleet(8, wheel_model, 2).ranges, first.ranges) << "the seed drives the lidar noise";
+  }
+}
+
+TEST(Simulation, FortyRobotsWhoseWheelWorkIsSharedRerunBitIdentically) {
+  // From 32 moving models on, each substep's wheel forces are shared by the pool too.
+  const RunResult alone = runFleet(7, "raycast", 1, 40);
+  const RunResult shared = runFleet(7, "raycast", 2, 40);
+  ASSERT_EQ(alone.poses.size(), shared.poses.size());
+  for (size_t i = 0; i < alone.poses.size(); ++i) EXPECT_EQ(alone.poses[i].matrix(), shared.poses[i].matrix());
+  EXPECT_EQ(alone.ranges, shared.ranges);
+}
+
 TEST(Simulation, InitialJointPositionsApplyAtSpawnAndAfterAReset) {
   for (const auto& wheel_model : test::kWheelModels) {
     SCOPED_TRACE(wheel_model);

@@ -238,16 +238,21 @@ double RayLidar::measured(double range, std::normal_distribution<double>& gaussi
   return range;
 }
 
+void RayLidar::castRays(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
+  sensor_ = body.linkPose(config_.link) * config_.pose;
+  const Eigen::Matrix3f rotation = sensor_.linear().cast<float>();
+  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
+  rays.cast(sensor_.translation(), world_directions_, config_.range_max, own_body_, ranges_);
+  cast_at_ = time.sim_time;
+}
+
 void RayLidar::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
   if (!timer().due(time)) return;
-  const Eigen::Isometry3d sensor = body.linkPose(config_.link) * config_.pose;
-  const Eigen::Matrix3f rotation = sensor.linear().cast<float>();
-  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
-  rays.cast(sensor.translation(), world_directions_, config_.range_max, own_body_, ranges_);
+  if (cast_at_ != time.sim_time) castRays(time, body, rays);  // a caller that skipped phase 3a
   if (config_.output == RayLidarConfig::Output::kLaserScan) {
-    publishScan(time, sensor);
+    publishScan(time, sensor_);
   } else {
-    publishCloud(time, sensor);
+    publishCloud(time, sensor_);
   }
 }
 

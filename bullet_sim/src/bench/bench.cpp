@@ -34,6 +34,7 @@
 #include "bullet_sim/web/web_viewer.h"
 #include "bench/bench_drive.h"
 #include "bench/bench_fleet.h"
+#include "simulation/work_pool.h"
 #include "bench/bench_strikes.h"
 #include "bench/bench_viewer.h"
 #include "bench/bench_world.h"
@@ -50,6 +51,7 @@ constexpr char kUsage[] =
     "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
     "       bench --robots N[,N]... [--robot FILE] [--world FILE] [--pose x,y,yaw] [--wheel-model M]\n"
     "             [--step S] [--duration S] [--cmd v,w] [--lidar ...] [--lidar-rate HZ] [--repeat K]\n"
+    "             [--threads T]\n"
     "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
@@ -101,7 +103,10 @@ constexpr char kUsage[] =
     "the inputs and, per N (median of K runs, in increasing N):\n"
     "  rtf                          sim seconds per wall second while driving\n"
     "  wall_ms_per_sim_s_per_robot  wall time per sim second per robot; cpu_ms_per_sim_s_per_robot:\n"
-    "                               the same in the simulation thread's CPU time\n"
+    "                               the same in the simulation thread's CPU time;\n"
+    "                               process_cpu_ms_per_sim_s_per_robot: in every thread's CPU time\n"
+    "                               (--threads T share each step's per-robot work; default: the\n"
+    "                               machine's cores, at most 4)\n"
     "  robot_rtf                    N x rtf\n"
     "  spawn_s                      parsing the URDF and spawning, for every robot (as the node's\n"
     "                               spawn service does); xacro runs once\n"
@@ -163,6 +168,7 @@ struct Options {
   std::optional<Camera> camera;
   bool web_viewer = false;
   std::vector<int> robots;  ///< --robots: the fleets' sizes
+  int threads = 0;          ///< --robots: the simulation's pool; 0 = its default
   bool cmd_given = false;
   bool strikes = false;
   StrikeMatrixOptions strike_options;
@@ -271,6 +277,7 @@ Options parseArguments(int argc, char** argv) {
         [&](Value value) { options.delete_cycles = parseCount(value, "--delete-cycles", 0, 1000); }},
        limitOption(options.limits),
        {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }},
+       {"--threads", [&](Value value) { options.threads = parseCount(value, "--threads", 1, 64); }},
        {"--camera", [&](Value value) { options.camera = parseCamera(value); }},
        // Taken after --camera, whatever their order on the command line.
        {"--depth",
@@ -870,6 +877,7 @@ Json fleetReport(Options options) {
   }
   fleet.origin = options.pose;
   fleet.limits = options.limits;
+  fleet.threads = options.threads;
   std::vector<std::string> warnings;
   const std::string world_file = findWorld(options.world, resolver);
   const WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});
@@ -884,6 +892,7 @@ Json fleetReport(Options options) {
   json["cmd"] = figureList({fleet.v, fleet.w});
   json["spacing_m"] = fleet.spacing;
   json["repeat"] = options.repeat;
+  json["threads"] = options.threads > 0 ? options.threads : defaultPoolThreads();
   json["fleets"] = fleetFigures(world, options.robots, options.repeat, fleet, &warnings);
   std::vector<std::string> unique;
   for (const auto& warning : warnings) {

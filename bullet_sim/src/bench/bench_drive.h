@@ -20,6 +20,9 @@ double secondsSince(Clock::time_point start);
 /// CPU time of the calling thread [s]: what its work cost, whatever other processes took of the machine.
 double threadCpuSeconds();
 
+/// CPU time of the whole process, every thread's [s].
+double processCpuSeconds();
+
 /// The median; NAN for none.
 double median(std::vector<double> values);
 

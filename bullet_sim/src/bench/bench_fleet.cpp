@@ -51,12 +51,13 @@ double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x,
 
 /// The figures of one fleet's runs: medians first, then every run's.
 Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptions& options) {
-  std::vector<double> rtf, wall_ms, cpu_ms, spawn_s, rss_mb;
+  std::vector<double> rtf, wall_ms, cpu_ms, process_cpu_ms, spawn_s, rss_mb;
   double pose_error = 0, scan_rate = NAN;
   for (const FleetRun& run : runs) {
     rtf.push_back(options.duration / run.drive_s);
     wall_ms.push_back(1e3 * run.drive_s / (options.duration * count));
     cpu_ms.push_back(1e3 * run.cpu_s / (options.duration * count));
+    process_cpu_ms.push_back(1e3 * run.process_cpu_s / (options.duration * count));
     spawn_s.push_back(run.spawn_s);
     rss_mb.push_back(run.rss_mb);
     for (size_t k = 0; k < run.end.size(); ++k) {
@@ -70,6 +71,7 @@ Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptio
   json["rtf"] = figure(median(rtf));
   json["wall_ms_per_sim_s_per_robot"] = figure(median(wall_ms));
   json["cpu_ms_per_sim_s_per_robot"] = figure(median(cpu_ms));
+  json["process_cpu_ms_per_sim_s_per_robot"] = figure(median(process_cpu_ms));
   json["robot_rtf"] = figure(count * median(rtf));
   json["spawn_s"] = figure(median(spawn_s));
   json["peak_rss_mb"] = peakRssMb();
@@ -79,6 +81,7 @@ Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptio
   json["rtf_runs"] = rtf;
   json["spawn_s_runs"] = spawn_s;
   json["cpu_ms_per_sim_s_per_robot_runs"] = cpu_ms;
+  json["process_cpu_ms_per_sim_s_per_robot_runs"] = process_cpu_ms;
   return json;
 }
 
@@ -99,6 +102,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   SimulationOptions simulation_options;
   simulation_options.physics.step_size = options.step;
   simulation_options.limits = options.limits;
+  simulation_options.threads = options.threads;
   Simulation simulation(world, simulation_options);
   const std::vector<Robot*> robots = spawnFleet(simulation, count, options, warnings, run);
   std::vector<Drive> drives;
@@ -114,6 +118,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   const Twist command{{options.v, 0, 0}, {0, 0, options.w}};
   const Clock::time_point start = Clock::now();
   const double cpu_start = threadCpuSeconds();
+  const double process_cpu_start = processCpuSeconds();
   for (long i = 0; i < steps; ++i) {
     if (i % resend == 0) {
       for (const Drive& drive : drives) (*drive.command)(command, simulation.time());
@@ -122,6 +127,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   }
   run.drive_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
+  run.process_cpu_s = processCpuSeconds() - process_cpu_start;
   run.rss_mb = currentRssMb();
   run.end = axlePoses(robots, drives);
   for (const Robot* robot : robots) run.lidar_scans += lidarScans(*robot);

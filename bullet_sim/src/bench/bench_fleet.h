@@ -22,6 +22,7 @@ struct FleetOptions {
   double spacing = 1.5;     ///< [m] between neighbours on the grid
   SpawnPose origin;         ///< the grid's centre (x, y) and every robot's yaw
   Limits limits;
+  int threads = 0;  ///< the simulation's pool (SimulationOptions::threads)
 };
 
 /// One fleet's spawn, settle and drive.
@@ -29,6 +30,7 @@ struct FleetRun {
   double spawn_s = 0;        ///< [wall s] parsing the URDF and spawning, for every robot
   double drive_s = 0;        ///< [wall s] of the drive, the settling left out
   double cpu_s = 0;          ///< [s] the drive's CPU time on the simulation's thread
+  double process_cpu_s = 0;  ///< [s] the drive's CPU time on every thread (the pool's too)
   double rss_mb = 0;         ///< resident memory at the end of the drive [MB]
   uint64_t lidar_scans = 0;  ///< scans every robot's ray sensors published while driving
   std::vector<Planar> settled, end;  ///< every robot's drive axle before and after the drive, in spawn order

@@ -1,5 +1,6 @@
 // Plugins: Gazebo plugin and sensor behaviour, ROS-free. Each step runs in three phases: every plugin applies
-// its commands, physics steps, then every plugin senses the stepped world, which it may only read.
+// its commands, physics steps, then every plugin senses the stepped world, which it may only read (ray sensors
+// cast their rays first, every robot's side by side: castRays).
 #pragma once
 
 #include <Eigen/Core>
@@ -114,6 +115,10 @@ class Plugin {
   virtual void applyCommands(const StepTime&, RobotBody&) {}
   /// Whether sense() casts rays this step, so that moving bodies are refreshed for it first.
   virtual bool castsRays(const StepTime&) const { return false; }
+  /// Phase 3a, when castsRays() said so: casts this step's rays into the plugin's own buffers, for sense() to
+  /// publish. Runs on a pool thread beside other robots' plugins (one robot's plugins on one thread, in their
+  /// order): it may read the body and the rays and write only the plugin's own members, never its noise.
+  virtual void castRays(const StepTime&, const RobotBody&, const RayCaster&) {}
   /// Phase 3: read the stepped world.
   virtual void sense(const StepTime&, const RobotBody&, const RayCaster&) {}
   /// Back to the state at spawn: the timer and the noise restart, then onReset().

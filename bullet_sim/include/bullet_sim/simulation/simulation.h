@@ -39,6 +39,7 @@ SpawnPose spawnPoseFrom(const Eigen::Vector3d& position, const Eigen::Quaternion
                         bool place_on_ground, Diagnostics& diagnostics);
 
 class Simulation;
+class WorkPool;
 
 /// Makes the image source that a simulation's cameras render through; it may keep the simulation to draw.
 using ImageSourceFactory = std::function<std::unique_ptr<ImageSource>(const Simulation& simulation)>;
@@ -58,6 +59,10 @@ struct SimulationOptions {
   Limits limits;
   /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
   std::string convex_cache_dir = convexCacheDir();
+  /// Threads that share each step's per-robot work (every robot's due scans; with many robots, each
+  /// substep's wheel forces), the stepping one included; 0: the machine's cores, at most 4. Any count gives
+  /// the same, bit-identical run.
+  int threads = 0;
 };
 
 /// One of a robot's outputs whose samples are `Sample`s: the plugin publishing it, its topic and its stream.
@@ -266,6 +271,8 @@ class Simulation {
   void addRayBodies(Robot& robot);
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
+  /// Phase 3a: the ray plugins due this step cast their rays, each robot's on one of the pool's threads.
+  void castRays(const StepTime& time);
 
   WorldSpec world_;
   SimulationOptions options_;
@@ -276,6 +283,8 @@ class Simulation {
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
   std::vector<StepHooks*> hooks_;  ///< in the order they hooked in
+  std::unique_ptr<WorkPool> pool_;   ///< shares each step's per-robot work
+  std::vector<Robot*> ray_casting_;  ///< this step's robots with a ray plugin due, in robot order
   uint64_t steps_ = 0;
   double time_base_ = 0;        ///< [s] at steps_at_base_: the step size may change
   uint64_t steps_at_base_ = 0;

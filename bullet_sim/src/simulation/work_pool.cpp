@@ -1,0 +1,77 @@
+#include "simulation/work_pool.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace bullet_sim {
+
+WorkPool::WorkPool(int threads) {
+  for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { work(); });
+}
+
+WorkPool::~WorkPool() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  for (std::thread& worker : workers_) worker.join();
+}
+
+void WorkPool::run(size_t count, const std::function<void(size_t)>& task) {
+  if (count == 0) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    task_ = &task;
+    count_ = unfinished_ = count;
+    next_ = 0;
+    failure_ = nullptr;
+    ++batch_;
+  }
+  if (count > 1) wake_.notify_all();
+  drain();
+  std::unique_lock<std::mutex> lock(mutex_);
+  done_.wait(lock, [this] { return unfinished_ == 0; });
+  task_ = nullptr;
+  if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+}
+
+void WorkPool::work() {
+  uint64_t seen = 0;
+  while (true) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [&] { return stopping_ || batch_ != seen; });
+      if (stopping_) return;
+      seen = batch_;
+    }
+    drain();
+  }
+}
+
+void WorkPool::drain() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (task_ && next_ < count_) {
+    const size_t index = next_++;
+    const std::function<void(size_t)>& task = *task_;
+    lock.unlock();
+    std::exception_ptr failure;
+    try {
+      task(index);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    lock.lock();
+    if (failure && (!failure_ || index < failed_task_)) {
+      failure_ = failure;
+      failed_task_ = index;
+    }
+    if (--unfinished_ == 0) done_.notify_all();
+  }
+}
+
+int defaultPoolThreads(int most) {
+  return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, most));
+}
+
+}  // namespace bullet_sim

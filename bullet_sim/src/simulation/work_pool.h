@@ -1,0 +1,53 @@
+// A fixed pool of threads that runs a step's independent tasks (each robot's lidar scans, each robot's
+// wheels) side by side. Each task writes only its own results, so the order the threads take them in never
+// shows: whoever merges them does so in task order, and reruns stay bit-identical.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace bullet_sim {
+
+class WorkPool {
+ public:
+  /// `threads` in all, the calling thread included: threads - 1 are started here and sleep between batches.
+  /// 1 (or less) runs every task on the caller.
+  explicit WorkPool(int threads);
+  ~WorkPool();
+  WorkPool(const WorkPool&) = delete;
+  WorkPool& operator=(const WorkPool&) = delete;
+
+  int threads() const { return static_cast<int>(workers_.size()) + 1; }
+
+  /// Runs task(0) ... task(count - 1), each once, on the pool's threads and the caller's; returns when all
+  /// are done. If tasks throw, the exception of the lowest-numbered one is rethrown here.
+  void run(size_t count, const std::function<void(size_t)>& task);
+
+ private:
+  void work();
+  /// Takes tasks of the current batch until none is left.
+  void drain();
+
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  const std::function<void(size_t)>* task_ = nullptr;
+  size_t count_ = 0;
+  size_t next_ = 0;        ///< the next task to hand out
+  size_t unfinished_ = 0;  ///< tasks handed out or not, not yet done
+  uint64_t batch_ = 0;     ///< counts batches, so a worker wakes once per batch
+  bool stopping_ = false;
+  size_t failed_task_ = 0;
+  std::exception_ptr failure_;
+  std::vector<std::thread> workers_;
+};
+
+/// The threads a simulation's pool takes when not told: the machine's cores, at most `most`.
+int defaultPoolThreads(int most = 4);
+
+}  // namespace bullet_sim

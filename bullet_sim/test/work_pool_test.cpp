@@ -1,0 +1,60 @@
+// The step's pool of threads: every task runs once, whatever the threads; a task's failure reaches the caller.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "src/simulation/work_pool.h"
+
+namespace bullet_sim {
+namespace {
+
+TEST(WorkPool, RunsEveryTaskOnceOnAsManyThreadsAsItWasGiven) {
+  for (const int threads : {1, 2, 3}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    WorkPool pool(threads);
+    EXPECT_EQ(pool.threads(), threads);
+    for (const size_t count : {0, 1, 7, 100}) {  // several batches through the same threads
+      std::vector<std::atomic<int>> runs(count);
+      pool.run(count, [&](size_t k) { ++runs[k]; });
+      for (size_t k = 0; k < count; ++k) EXPECT_EQ(runs[k], 1) << "task " << k;
+    }
+  }
+}
+
+TEST(WorkPool, TasksRunSideBySideOnItsThreads) {
+  WorkPool pool(2);
+  // Each of two tasks waits (bounded) for the other to start: only two threads at once let both see it.
+  std::atomic<int> started{0};
+  std::atomic<int> met{0};
+  pool.run(2, [&](size_t) {
+    ++started;
+    for (int i = 0; i < 2000000 && started < 2; ++i) std::this_thread::yield();
+    if (started == 2) ++met;
+  });
+  EXPECT_EQ(met, 2);
+}
+
+TEST(WorkPool, TheLowestFailingTaskIsRethrownOnceAllAreDone) {
+  WorkPool pool(2);
+  std::atomic<int> done{0};
+  try {
+    pool.run(10, [&](size_t k) {
+      ++done;
+      if (k == 3 || k == 8) throw std::runtime_error("task " + std::to_string(k));
+    });
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "task 3");
+  }
+  EXPECT_EQ(done, 10);
+  std::atomic<int> after{0};
+  pool.run(3, [&](size_t) { ++after; });  // the pool still works; the caller's thread may take all three
+  EXPECT_EQ(after, 3);
+}
+
+}  // namespace
+}  // namespace bullet_sim
