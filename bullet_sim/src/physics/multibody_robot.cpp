@@ -405,12 +405,7 @@ void MultiBodyRobot::setJointPosition(int joint, double position, double max_eff
 }
 
 void MultiBodyRobot::setJointEffort(int joint, double effort) {
-  Joint& target = joints_.at(joint);
-  if (target.motor) {  // back to what the motor does unasked: hold zero velocity with the joint's friction
-    target.motor->setPositionTarget(0, 0);
-    target.motor->setVelocityTarget(0, kVelocityGain);
-    target.motor->setMaxAppliedImpulse(target.spec->friction * dt_);
-  }
+  Joint& target = joints_.at(joint);  // its motor does what it was last told, as Gazebo's SetForce leaves it
   target.step_effort += effort;
   target.pending_effort += effort;
 }

@@ -277,7 +277,7 @@ void RaycastRobot::beforeSubstep(double substep) {
   // What plugins push with acts through the whole step, one substep at a time.
   chassis_->applyCentralImpulse(toBullet(step_force_ * dt_));
   chassis_->applyTorqueImpulse(toBullet(step_torque_ * dt_));
-  for (const auto& wheel : wheels_) {  // efforts from outside the drive (the world API's) spin the wheels
+  for (const auto& wheel : wheels_) {  // efforts (ros_control's, the world API's) spin the wheels too
     Joint& joint = joints_[wheel.joint];
     joint.velocity += joint.external_effort * dt_ / wheel.inertia;
   }
@@ -297,7 +297,7 @@ void RaycastRobot::beforeSubstep(double substep) {
   chassis_->setAngularVelocity(toBullet(angular_velocity_));
   for (size_t w = 0; w < wheels_.size(); ++w) {
     Joint& joint = joints_[wheels_[w].joint];
-    joint.effort = contacts_[w].motor_impulse / dt_;
+    joint.effort = contacts_[w].motor_impulse / dt_ + joint.external_effort;
     joint.position += joint.velocity * dt_;
   }
 }
@@ -392,8 +392,7 @@ void RaycastRobot::driveWheel(size_t w) {
   Joint& joint = joints_[wheel.joint];
   const double budget = wheel.max_torque * dt_;
   if (wheel.max_torque > 0) {
-    const double wanted = wheel.pushed ? std::copysign(budget, wheel.spin_target)
-                                       : contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia;
+    const double wanted = contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia;
     const double total = std::clamp(wanted, -budget, budget);
     joint.velocity += (total - contact.motor_impulse) / wheel.inertia;
     contact.motor_impulse = total;
@@ -457,7 +456,6 @@ void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPosition
   for (const auto& [joint, position] : joints) joints_.at(joint).position = position;
   for (auto& wheel : wheels_) {
     wheel.spin_target = wheel.max_torque = 0;
-    wheel.pushed = false;
   }
   hubs_stale_ = frames_stale_ = true;
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
@@ -495,7 +493,6 @@ void RaycastRobot::setJointVelocity(int joint, double velocity, double max_effor
   if (target.wheel >= 0) {
     wheels_[target.wheel].spin_target = velocity;
     wheels_[target.wheel].max_torque = max_effort;
-    wheels_[target.wheel].pushed = false;
   } else {
     target.velocity = velocity;
   }
@@ -519,10 +516,7 @@ void RaycastRobot::setJointEffort(int joint, double effort) {
     target.velocity = 0;
     return;
   }
-  Wheel& wheel = wheels_[target.wheel];
-  wheel.spin_target = effort;  // only its sign counts
-  wheel.max_torque = std::abs(effort);
-  wheel.pushed = true;
+  target.external_effort += effort;  // on top of a motor another plugin set, as Gazebo's SetForce
 }
 
 // As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.

@@ -56,7 +56,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   double jointEffort(int joint) const override { return joints_.at(joint).effort; }
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
-  /// Pushes a wheel's spin; a kinematic joint has no dynamics to push, so it stays where it is.
+  /// Pushes a wheel's spin, on top of its motor; a kinematic joint has no dynamics to push, so it stays where it
+  /// is.
   void setJointEffort(int joint, double effort) override;
   void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
   void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
@@ -80,8 +81,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     int leader = -1;      ///< index into joints_ of the joint it mimics, or -1
     double position = 0;  ///< [rad] or [m]
     double velocity = 0;  ///< [rad/s] or [m/s]; a kinematic joint moves at it
-    double effort = 0;    ///< applied by the motor in the last step
-    double external_effort = 0;  ///< applyJointEffort's, through the coming step (wheels only)
+    double effort = 0;    ///< applied by the motor and pushed with in the last step
+    double external_effort = 0;  ///< setJointEffort's and applyJointEffort's, through the coming step (wheels only)
   };
   struct Wheel {
     int joint;
@@ -91,7 +92,6 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     bool caster;             ///< on a swivel: load only
     double spin_target = 0;  ///< [rad/s]
     double max_torque = 0;   ///< [N m]; 0 = free
-    bool pushed = false;     ///< max_torque pushes the spin towards the sign of spin_target, whatever its speed
   };
 
   /// A wheel's contact with the ground in one substep, and the impulses solved for it.

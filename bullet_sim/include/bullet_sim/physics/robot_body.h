@@ -67,8 +67,9 @@ class RobotBody {
   virtual void setJointVelocity(int joint, double velocity, double max_effort) = 0;
   /// Holds a joint at `position` with at most `max_effort`.
   virtual void setJointPosition(int joint, double position, double max_effort) = 0;
-  /// Pushes a joint with `effort` [N m] or [N] for the next step, instead of any velocity or position it was
-  /// held at; its URDF friction still acts (Gazebo's SetForce).
+  /// Pushes a joint with `effort` [N m] or [N] for the next step, on top of the motor a velocity or position
+  /// command set, which stays; its URDF friction still acts (Gazebo's SetForce: gazebo_ros_control's effort
+  /// joints push with it, and a drive plugin's velocity motor on the same joint keeps driving).
   virtual void setJointEffort(int joint, double effort) = 0;
 
   /// Sets the root link's world-frame velocity [m/s] and angular velocity [rad/s] (Gazebo's Model::SetLinearVel / SetAngularVel).
