@@ -181,6 +181,26 @@ TEST(ConvexDecomposer, PastItsTimeAMeshKeepsItsHullWithOneWarning) {
   EXPECT_EQ(warning, "");
 }
 
+TEST(ConvexDecomposer, RemembersASplitThatRanOutOfTimeUntilItHasLonger) {
+  const TriangleMesh forearm = armMesh("forearm_link");
+  TemporaryFolder cache;
+  Limits limits;
+  limits.decomposition_seconds = 0.001;
+  std::string warning;
+  EXPECT_FALSE(ConvexDecomposer(cache.path()).decompose(forearm, limits, &warning));
+  // The next spawn (another decomposer, as in another process) takes the hull at once, and says why.
+  EXPECT_FALSE(ConvexDecomposer(cache.path()).decompose(forearm, limits, &warning));
+  EXPECT_THAT(warning, HasSubstr("took longer than 0.001 s (decomposition_seconds) before"));
+  EXPECT_THAT(warning, HasSubstr("a longer decomposition_seconds tries again"));
+  // With more time it splits, and remembers the parts instead.
+  warning.clear();
+  const auto parts = ConvexDecomposer(cache.path()).decompose(forearm, Limits{}, &warning);
+  ASSERT_TRUE(parts) << warning;
+  const auto cached = ConvexDecomposer(cache.path()).decompose(forearm, limits, &warning);
+  ASSERT_TRUE(cached) << warning;
+  EXPECT_EQ(cached->hulls, parts->hulls);
+}
+
 TEST(ConvexDecomposer, GivesAtMostMaxConvexPartsAndNoneForOne) {
   const TriangleMesh forearm = armMesh("forearm_link");  // a beam, a cross plate and two prongs
   TemporaryFolder cache;

@@ -26,6 +26,7 @@ constexpr size_t kMemory = size_t{4} << 30;           // [bytes] for Python, num
 constexpr size_t kMaxAnswer = size_t{256} << 20;      // [bytes] of parts from CoACD
 constexpr size_t kMaxPoints = 100000;                 // of one part's hull
 constexpr const char* kMagic = "bullet_sim convex parts 1\n";
+constexpr const char* kHullMagic = "bullet_sim convex hull 1\n";  // splitting it ran out of time
 constexpr uint64_t kKeyBasis = 0xcbf29ce484222325ULL;  // FNV-1a's offset basis
 constexpr uint64_t kCheckBasis = 0x84222325cbf29ce4ULL;
 
@@ -105,19 +106,47 @@ std::optional<ConvexParts> readEntry(const fs::path& path, uint64_t check, size_
   return parseParts(bytes, header, max_parts);
 }
 
-/// Writes the entry through a file of its own beside it, renamed into place, so that no reader sees half of
-/// it; a cache that cannot be written is no error.
-void writeEntry(const fs::path& path, uint64_t check, const ConvexParts& parts) {
+/// Writes `bytes` to `path` through a file of its own beside it, renamed into place, so that no reader sees
+/// half of it; a cache that cannot be written is no error.
+void writeAtomically(const fs::path& path, const std::string& bytes) {
   std::error_code ec;
   fs::create_directories(path.parent_path(), ec);
   const fs::path temporary = path.string() + ".tmp" + std::to_string(getpid());
-  std::string bytes = kMagic;
-  append(bytes, check);
   std::ofstream out(temporary, std::ios::binary);
-  out << bytes << encodeParts(parts);
+  out << bytes;
   out.close();
   if (out) fs::rename(temporary, path, ec);
   if (!out || ec) fs::remove(temporary, ec);
+}
+
+/// A cache entry: kMagic, the check hash, then the parts.
+void writeEntry(const fs::path& path, uint64_t check, const ConvexParts& parts) {
+  std::string bytes = kMagic;
+  append(bytes, check);
+  writeAtomically(path, bytes + encodeParts(parts));
+}
+
+/// Remembers that splitting took longer than `seconds`, so that the next spawn does not wait for it again.
+void writeTimeout(const fs::path& path, uint64_t check, double seconds) {
+  std::string bytes = kHullMagic;
+  append(bytes, check);
+  append(bytes, seconds);
+  writeAtomically(path, bytes);
+}
+
+/// A timed-out entry: kHullMagic, the check hash, then the seconds [s] splitting had; nullopt when `path`
+/// holds no such entry for `check`.
+std::optional<double> readTimeout(const fs::path& path, uint64_t check) {
+  const std::string bytes = readAll(path);
+  const size_t header = std::strlen(kHullMagic) + sizeof(check);
+  if (bytes.size() != header + sizeof(double) || bytes.compare(0, std::strlen(kHullMagic), kHullMagic) != 0)
+    return std::nullopt;
+  uint64_t stored = 0;
+  double seconds = 0;
+  std::memcpy(&stored, bytes.data() + std::strlen(kHullMagic), sizeof(stored));
+  std::memcpy(&seconds, bytes.data() + header, sizeof(seconds));
+  if (stored != check || !(seconds > 0)) return std::nullopt;
+  return seconds;
 }
 
 /// The last line of what a program wrote on stderr.
@@ -152,14 +181,26 @@ std::shared_ptr<const ConvexParts> ConvexDecomposer::decompose(const TriangleMes
   std::shared_ptr<const ConvexParts>& parts = known_[key];
   if (auto cached = readEntry(entry, check, limits.max_convex_parts)) {
     parts = std::make_shared<const ConvexParts>(std::move(*cached));
-  } else if ((parts = split(bytes, limits, warning))) {
-    writeEntry(entry, check, *parts);
+  } else if (const auto had = readTimeout(entry, check); had && *had >= limits.decomposition_seconds) {
+    if (warning) {
+      std::ostringstream why;
+      why << "splitting it into convex parts took longer than " << *had
+          << " s (decomposition_seconds) before, as " << entry.string()
+          << " remembers: it collides by its hull (a longer decomposition_seconds tries again)";
+      *warning = why.str();
+    }
+  } else {
+    bool timed_out = false;
+    parts = split(bytes, limits, warning, &timed_out);
+    if (parts) writeEntry(entry, check, *parts);
+    if (timed_out) writeTimeout(entry, check, limits.decomposition_seconds);
   }
   return parts;
 }
 
 std::shared_ptr<const ConvexParts> ConvexDecomposer::split(const std::string& mesh_bytes,
-                                                           const Limits& limits, std::string* warning) {
+                                                           const Limits& limits, std::string* warning,
+                                                           bool* timed_out) {
   if (coacd_missing_) return nullptr;
   const ProgramOutcome outcome =
       runProgram({kPython, "-c", kCoacdProgram, std::to_string(limits.max_convex_parts)}, mesh_bytes, kMemory,
@@ -175,6 +216,7 @@ std::shared_ptr<const ConvexParts> ConvexDecomposer::split(const std::string& me
         << "): moving meshes collide by their hulls; install it with `" << kPython
         << " -m pip install --break-system-packages coacd` (scripts/workspace.sh install does)";
   } else if (outcome.ending == ProgramOutcome::Ending::kTimedOut) {
+    *timed_out = true;
     why << "splitting it into convex parts took longer than " << limits.decomposition_seconds
         << " s (decomposition_seconds)";
   } else if (outcome.ending == ProgramOutcome::Ending::kExited) {

@@ -22,7 +22,8 @@ std::string convexCacheDir();
 /// Splits meshes into convex parts. A mesh not in the cache is split by CoACD, run by /usr/bin/python3 in a
 /// child process with bounded memory and limits.decomposition_seconds of wall time, into at most
 /// limits.max_convex_parts parts. Where that fails (CoACD is not installed, the time ran out), the mesh keeps
-/// colliding by its hull, with one warning.
+/// colliding by its hull, with one warning. A split that ran out of time is remembered in the cache too, so
+/// that the next spawn takes the hull at once; a longer decomposition_seconds than it had tries again.
 class ConvexDecomposer {
  public:
   explicit ConvexDecomposer(std::string cache_dir = convexCacheDir()) : cache_dir_(std::move(cache_dir)) {}
@@ -37,8 +38,9 @@ class ConvexDecomposer {
   void attach(ModelSpec& model, const Limits& limits, Diagnostics& diagnostics);
 
  private:
+  /// `timed_out` is set when CoACD ran out of limits.decomposition_seconds.
   std::shared_ptr<const ConvexParts> split(const std::string& mesh_bytes, const Limits& limits,
-                                           std::string* warning);
+                                           std::string* warning, bool* timed_out);
 
   std::string cache_dir_;
   std::map<uint64_t, std::shared_ptr<const ConvexParts>> known_;  ///< by key; nullptr: it keeps its hull
