@@ -95,15 +95,21 @@ std::string readAll(const fs::path& path) {
   return in ? std::string(std::istreambuf_iterator<char>(in), {}) : std::string();
 }
 
-/// A cache entry: kMagic, the check hash, then the parts.
-std::optional<ConvexParts> readEntry(const fs::path& path, uint64_t check, size_t max_parts) {
-  const std::string bytes = readAll(path);
-  const size_t header = std::strlen(kMagic) + sizeof(check);
-  if (bytes.size() < header || bytes.compare(0, std::strlen(kMagic), kMagic) != 0) return std::nullopt;
+/// Where an entry's body starts, when `bytes` begin with `magic` and then the check hash `check`.
+std::optional<size_t> bodyOf(const std::string& bytes, const char* magic, uint64_t check) {
+  const size_t header = std::strlen(magic) + sizeof(check);
+  if (bytes.size() < header || bytes.compare(0, std::strlen(magic), magic) != 0) return std::nullopt;
   uint64_t stored = 0;
-  std::memcpy(&stored, bytes.data() + std::strlen(kMagic), sizeof(stored));
+  std::memcpy(&stored, bytes.data() + std::strlen(magic), sizeof(stored));
   if (stored != check) return std::nullopt;
-  return parseParts(bytes, header, max_parts);
+  return header;
+}
+
+/// A cache entry: kMagic, the check hash, then the parts.
+std::optional<ConvexParts> readEntry(const std::string& bytes, uint64_t check, size_t max_parts) {
+  const std::optional<size_t> body = bodyOf(bytes, kMagic, check);
+  if (!body) return std::nullopt;
+  return parseParts(bytes, *body, max_parts);
 }
 
 /// Writes `bytes` to `path` through a file of its own beside it, renamed into place, so that no reader sees
@@ -134,18 +140,14 @@ void writeTimeout(const fs::path& path, uint64_t check, double seconds) {
   writeAtomically(path, bytes);
 }
 
-/// A timed-out entry: kHullMagic, the check hash, then the seconds [s] splitting had; nullopt when `path`
-/// holds no such entry for `check`.
-std::optional<double> readTimeout(const fs::path& path, uint64_t check) {
-  const std::string bytes = readAll(path);
-  const size_t header = std::strlen(kHullMagic) + sizeof(check);
-  if (bytes.size() != header + sizeof(double) || bytes.compare(0, std::strlen(kHullMagic), kHullMagic) != 0)
-    return std::nullopt;
-  uint64_t stored = 0;
+/// A timed-out entry: kHullMagic, the check hash, then the seconds [s] splitting had; nullopt when `bytes`
+/// are no such entry for `check`.
+std::optional<double> readTimeout(const std::string& bytes, uint64_t check) {
+  const std::optional<size_t> body = bodyOf(bytes, kHullMagic, check);
+  if (!body || bytes.size() != *body + sizeof(double)) return std::nullopt;
   double seconds = 0;
-  std::memcpy(&stored, bytes.data() + std::strlen(kHullMagic), sizeof(stored));
-  std::memcpy(&seconds, bytes.data() + header, sizeof(seconds));
-  if (stored != check || !(seconds > 0)) return std::nullopt;
+  std::memcpy(&seconds, bytes.data() + *body, sizeof(seconds));
+  if (!(seconds > 0)) return std::nullopt;
   return seconds;
 }
 
@@ -179,9 +181,10 @@ std::shared_ptr<const ConvexParts> ConvexDecomposer::decompose(const TriangleMes
   const fs::path entry = fs::path(cache_dir_) / name.str();
   const uint64_t check = fnv1a(bytes, fnv1a(settings, kCheckBasis));
   std::shared_ptr<const ConvexParts>& parts = known_[key];
-  if (auto cached = readEntry(entry, check, limits.max_convex_parts)) {
+  const std::string stored = readAll(entry);
+  if (auto cached = readEntry(stored, check, limits.max_convex_parts)) {
     parts = std::make_shared<const ConvexParts>(std::move(*cached));
-  } else if (const auto had = readTimeout(entry, check); had && *had >= limits.decomposition_seconds) {
+  } else if (const auto had = readTimeout(stored, check); had && *had >= limits.decomposition_seconds) {
     if (warning) {
       std::ostringstream why;
       why << "splitting it into convex parts took longer than " << *had

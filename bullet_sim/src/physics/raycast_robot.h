@@ -56,8 +56,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   double jointEffort(int joint) const override { return joints_.at(joint).effort; }
   void setJointVelocity(int joint, double velocity, double max_effort) override;
   void setJointPosition(int joint, double position, double max_effort) override;
-  /// Pushes a wheel's spin, on top of its motor; a kinematic joint has no dynamics to push, so it stays where it
-  /// is.
+  /// Pushes a wheel's spin, on top of its motor; a kinematic joint has no dynamics to push, so it stays put.
   void setJointEffort(int joint, double effort) override;
   void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) override;
   void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
