@@ -35,6 +35,7 @@ was lost, or a bad argument or matrix (said in one line)."""
 MAX_RETRIES = 100
 REACH_TIMEOUT = 5.0  # [s] to open a connection to --address before Ray is asked to join it
 WAIT_STEP = 1.0  # [s] between looks at the runs that ended
+NODE_DEATH_WAIT_S = 30.0  # [s] the longest wait for Ray to say whether a node a run left is lost
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -177,6 +178,22 @@ def run_all(ray, args, scenario, cells, out):
     return runs, tasks.began
 
 
+def settled_nodes(ray, starts):
+    """The cluster's nodes once Ray has settled whether each node a run was begun again from is lost: a run
+    leaves its node when its worker or its node is lost, and Ray tells the two apart only when the node's health
+    checks fail, which may come after the sweep's last run (bounded by NODE_DEATH_WAIT_S)."""
+    nodes_per_cell = {}
+    for index, node, *_ in starts:
+        nodes_per_cell.setdefault(index, []).append(node)
+    left = {node for began_on in nodes_per_cell.values() for node in began_on[:-1]}
+    deadline = time.monotonic() + NODE_DEATH_WAIT_S
+    while True:
+        nodes = nodes_of(ray)
+        if not any(nodes.get(node, {}).get("alive") for node in left) or time.monotonic() > deadline:
+            return nodes
+        time.sleep(WAIT_STEP)
+
+
 def main(argv=None):
     args = parse_arguments(sys.argv[1:] if argv is None else argv)
     try:
@@ -199,7 +216,7 @@ def sweep(args):
         ray_ready = time.monotonic()
         runs, starts = run_all(ray, args, scenario, listing["cells"], out)
         finished = time.monotonic()
-        nodes_at_end = nodes_of(ray)
+        nodes_at_end = settled_nodes(ray, starts)
     finally:
         ray.shutdown()
     from bullet_sim_sweep import report  # matplotlib: not needed to refuse a bad argument
