@@ -51,7 +51,7 @@ constexpr char kUsage[] =
     "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
     "       bench --robots N[,N]... [--robot FILE] [--world FILE] [--pose x,y,yaw] [--wheel-model M]\n"
     "             [--step S] [--duration S] [--cmd v,w] [--lidar ...] [--lidar-rate HZ] [--repeat K]\n"
-    "             [--threads T]\n"
+    "             [--threads T] [--spacing M]\n"
     "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
@@ -113,6 +113,17 @@ constexpr char kUsage[] =
     "  peak_rss_mb, rss_mb          the process's peak so far; resident at the end of the drive\n"
     "  lidar_scans_per_robot_per_s  the scans each robot published while driving, per sim second\n"
     "  pose_error_max_m             the farthest any robot's drive axle ends from its unicycle\n"
+    "  robot_rise_max_m, robot_tilt_max_deg  the most any robot's root link rose and leaned, from\n"
+    "                               the spawn to the end of the drive (every step sampled)\n"
+    "  loose_bodies                 the world's non-static models (walled_boxes.world's boxes), and of\n"
+    "                               them: loose_pushed, moved more than 1 cm; loose_rise_max_m and\n"
+    "                               loose_sink_max_m, the most a centre rose above or sank below its\n"
+    "                               start; loose_escaped, those whose centre was once outside the walls\n"
+    "                               (the x-y bounds of the static bodies), inside a static body or below\n"
+    "                               the ground: a bug; spawn_clearance_m, the nearest a robot started to\n"
+    "                               a loose body's centre\n"
+    "--spacing sets the grid's spacing [m] (default 1.5). The walled 20 x 20 m world of 200 boxes,\n"
+    "issue 32's: --robots 20 --world walled_boxes.world --spacing 4 (its boxes leave those places free).\n"
     "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
     "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
     "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
@@ -169,6 +180,7 @@ struct Options {
   bool web_viewer = false;
   std::vector<int> robots;  ///< --robots: the fleets' sizes
   int threads = 0;          ///< --robots: the simulation's pool; 0 = its default
+  double spacing = 1.5;     ///< [m] --robots: between neighbours on the grid
   bool cmd_given = false;
   bool strikes = false;
   StrikeMatrixOptions strike_options;
@@ -278,6 +290,7 @@ Options parseArguments(int argc, char** argv) {
        limitOption(options.limits),
        {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }},
        {"--threads", [&](Value value) { options.threads = parseCount(value, "--threads", 1, 64); }},
+       {"--spacing", [&](Value value) { options.spacing = parseBounded(value, "--spacing", 0, 100, "m"); }},
        {"--camera", [&](Value value) { options.camera = parseCamera(value); }},
        // Taken after --camera, whatever their order on the command line.
        {"--depth",
@@ -878,6 +891,7 @@ Json fleetReport(Options options) {
   fleet.origin = options.pose;
   fleet.limits = options.limits;
   fleet.threads = options.threads;
+  fleet.spacing = options.spacing;
   std::vector<std::string> warnings;
   const std::string world_file = findWorld(options.world, resolver);
   const WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});

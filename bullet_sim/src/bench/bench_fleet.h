@@ -10,6 +10,7 @@
 
 #include "bullet_sim/simulation/simulation.h"
 #include "bench/bench_drive.h"
+#include "bench/fleet_watch.h"
 
 namespace bullet_sim {
 
@@ -34,6 +35,10 @@ struct FleetRun {
   double rss_mb = 0;         ///< resident memory at the end of the drive [MB]
   uint64_t lidar_scans = 0;  ///< scans every robot's ray sensors published while driving
   std::vector<Planar> settled, end;  ///< every robot's drive axle before and after the drive, in spawn order
+  /// The world's loose bodies and every robot (in spawn order), from the spawn to the end of the drive.
+  std::vector<LooseBodyTrack> loose;
+  std::vector<RobotTrack> robots;
+  double start_clearance = 0;  ///< [m] FleetWatch::startClearance
 };
 
 /// Where robot `index` of `count` stands: a square grid (its columns along x, rows along y) `spacing` apart,
