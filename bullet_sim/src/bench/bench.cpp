@@ -51,7 +51,7 @@ constexpr char kUsage[] =
     "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
     "       bench --robots N[,N]... [--robot FILE] [--world FILE] [--pose x,y,yaw] [--wheel-model M]\n"
     "             [--step S] [--duration S] [--cmd v,w] [--lidar ...] [--lidar-rate HZ] [--repeat K]\n"
-    "             [--threads T] [--spacing M]\n"
+    "             [--threads T] [--spacing M] [--snapshot DIR]\n"
     "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
@@ -124,6 +124,8 @@ constexpr char kUsage[] =
     "                               a loose body's centre\n"
     "--spacing sets the grid's spacing [m] (default 1.5). The walled 20 x 20 m world of 200 boxes,\n"
     "issue 32's: --robots 20 --world walled_boxes.world --spacing 4 (its boxes leave those places free).\n"
+    "--snapshot writes DIR/fleet_<N>_<settled|end>_<top|corner>.png: the first run of each fleet after\n"
+    "settling and at the end of the drive, from above and from a corner, at --render's size.\n"
     "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
     "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
     "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
@@ -181,6 +183,7 @@ struct Options {
   std::vector<int> robots;  ///< --robots: the fleets' sizes
   int threads = 0;          ///< --robots: the simulation's pool; 0 = its default
   double spacing = 1.5;     ///< [m] --robots: between neighbours on the grid
+  std::string snapshot_dir;  ///< --robots: where the fleets' pictures go; "" = none
   bool cmd_given = false;
   bool strikes = false;
   StrikeMatrixOptions strike_options;
@@ -291,6 +294,7 @@ Options parseArguments(int argc, char** argv) {
        {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }},
        {"--threads", [&](Value value) { options.threads = parseCount(value, "--threads", 1, 64); }},
        {"--spacing", [&](Value value) { options.spacing = parseBounded(value, "--spacing", 0, 100, "m"); }},
+       {"--snapshot", [&](Value value) { options.snapshot_dir = value; }},
        {"--camera", [&](Value value) { options.camera = parseCamera(value); }},
        // Taken after --camera, whatever their order on the command line.
        {"--depth",
@@ -868,6 +872,27 @@ Json report(const Options& options, const Figures& figures) {
   return json;
 }
 
+/// --snapshot's pictures of a fleet: from straight above (the top view frames the world's obstacles) and from
+/// above the world's south-west corner, looking at its centre.
+std::function<void(const Simulation&, int, const std::string&)> fleetPictures(const Options& options) {
+  return [dir = options.snapshot_dir, width = options.render_width, height = options.render_height](
+             const Simulation& simulation, int count, const std::string& moment) {
+    static OffscreenRenderer renderer;
+    Scene scene = simulationScene(simulation, View::kTop);
+    const std::string stem = dir + "/fleet_" + std::to_string(count) + "_" + moment;
+    std::string error;
+    if (!writePng(stem + "_top.png", renderer.render(scene, width, height), &error))
+      throw Failure("--snapshot: " + error);
+    const Eigen::Vector2d centre = scene.camera.centre, half = scene.camera.half_extents;
+    const Eigen::Vector3d target(centre.x(), centre.y(), 0);
+    scene.outline_step = 0;  // the plan view's outlines would darken the far floor, seen at a glancing angle
+    scene.camera = Camera::perspective(target + Eigen::Vector3d(-half.x(), -1.6 * half.y(), 1.1 * half.norm()),
+                                       target);
+    if (!writePng(stem + "_corner.png", renderer.render(scene, width, height), &error))
+      throw Failure("--snapshot: " + error);
+  };
+}
+
 /// bench --robots: the inputs, each fleet's figures and the warnings (each once).
 Json fleetReport(Options options) {
   const PackageResolver resolver = PackageResolver::fromEnvironment();
@@ -892,6 +917,7 @@ Json fleetReport(Options options) {
   fleet.limits = options.limits;
   fleet.threads = options.threads;
   fleet.spacing = options.spacing;
+  if (!options.snapshot_dir.empty()) fleet.snapshot = fleetPictures(options);
   std::vector<std::string> warnings;
   const std::string world_file = findWorld(options.world, resolver);
   const WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});

@@ -149,6 +149,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
     watch.sample();
   }
   run.settled = axlePoses(robots, drives);
+  if (options.snapshot) options.snapshot(simulation, count, "settled");
   uint64_t scans_before = 0;
   for (const Robot* robot : robots) scans_before += lidarScans(*robot);
 
@@ -175,6 +176,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   run.loose = watch.loose();
   run.robots = watch.robots();
   run.start_clearance = watch.startClearance();
+  if (options.snapshot) options.snapshot(simulation, count, "end");
   return run;
 }
 
@@ -185,7 +187,9 @@ Json fleetFigures(const WorldSpec& world, std::vector<int> counts, int repeat, c
   Json fleets = Json::array();
   for (int count : counts) {
     std::vector<FleetRun> runs;
-    for (int i = 0; i < repeat; ++i) runs.push_back(driveFleet(world, count, options, warnings));
+    FleetOptions later = options;  // the first run's pictures are enough
+    later.snapshot = nullptr;
+    for (int i = 0; i < repeat; ++i) runs.push_back(driveFleet(world, count, i == 0 ? options : later, warnings));
     fleets.push_back(countFigures(count, runs, options));
   }
   return fleets;

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct FleetOptions {
   SpawnPose origin;         ///< the grid's centre (x, y) and every robot's yaw
   Limits limits;
   int threads = 0;  ///< the simulation's pool (SimulationOptions::threads)
+  /// When set, called with the simulation, the fleet's size and the moment ("settled" or "end"), outside the
+  /// timed drive, in the first run of each fleet.
+  std::function<void(const Simulation&, int count, const std::string& moment)> snapshot;
 };
 
 /// One fleet's spawn, settle and drive.
