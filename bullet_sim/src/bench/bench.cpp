@@ -14,8 +14,10 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -875,20 +877,21 @@ Json report(const Options& options, const Figures& figures) {
 /// --snapshot's pictures of a fleet: from straight above (the top view frames the world's obstacles) and from
 /// above the world's south-west corner, looking at its centre.
 std::function<void(const Simulation&, int, const std::string&)> fleetPictures(const Options& options) {
-  return [dir = options.snapshot_dir, width = options.render_width, height = options.render_height](
+  auto renderer = std::make_shared<std::unique_ptr<OffscreenRenderer>>();  // made for the first picture
+  return [renderer, dir = options.snapshot_dir, width = options.render_width, height = options.render_height](
              const Simulation& simulation, int count, const std::string& moment) {
-    static OffscreenRenderer renderer;
+    if (!*renderer) *renderer = std::make_unique<OffscreenRenderer>();
     Scene scene = simulationScene(simulation, View::kTop);
     const std::string stem = dir + "/fleet_" + std::to_string(count) + "_" + moment;
     std::string error;
-    if (!writePng(stem + "_top.png", renderer.render(scene, width, height), &error))
+    if (!writePng(stem + "_top.png", (*renderer)->render(scene, width, height), &error))
       throw Failure("--snapshot: " + error);
     const Eigen::Vector2d centre = scene.camera.centre, half = scene.camera.half_extents;
     const Eigen::Vector3d target(centre.x(), centre.y(), 0);
     scene.outline_step = 0;  // the plan view's outlines would darken the far floor, seen at a glancing angle
-    scene.camera = Camera::perspective(target + Eigen::Vector3d(-half.x(), -1.6 * half.y(), 1.1 * half.norm()),
-                                       target);
-    if (!writePng(stem + "_corner.png", renderer.render(scene, width, height), &error))
+    const Eigen::Vector3d corner(-half.x(), -1.6 * half.y(), 1.1 * half.norm());
+    scene.camera = Camera::perspective(target + corner, target);
+    if (!writePng(stem + "_corner.png", (*renderer)->render(scene, width, height), &error))
       throw Failure("--snapshot: " + error);
   };
 }
