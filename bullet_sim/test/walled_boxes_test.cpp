@@ -18,7 +18,9 @@ constexpr double kBoxSide = 0.4;     ///< [m] the world's boxes are cubes of thi
 constexpr double kWalls = 10;        ///< [m] the walls' inner faces at x, y = +-kWalls
 constexpr double kReach = 0.46;      ///< [m] the wheelchair's farthest point from its base frame (its lidar)
 constexpr double kPushed = 0.01;     ///< [m] a box that moved this far was struck (or pushed by one)
-constexpr double kSettling = 0.002;  ///< [m] a box resting on the ground, spawned touching it, moves less
+/// [m] A box resting on the ground, spawned touching it, moves less; a contact lets a box into what it
+/// touches by less.
+constexpr double kSettling = 0.002;
 /// [m] The highest a cube's centre can rise while it still touches the ground: balanced on a corner,
 /// s sqrt(3) / 2 over the s / 2 it rests at. Above it, a box has left the ground: it flew. (A box pushed at
 /// the seat block, 0.28 m up, above its half height, tips over an edge, rising s (sqrt(2) - 1) / 2 = 8.3 cm.)
@@ -51,8 +53,9 @@ TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
     EXPECT_NEAR(box.start.z(), kBoxSide / 2, 1e-9);
     // Never through or into a wall, never under the ground.
     EXPECT_FALSE(box.escaped);
-    EXPECT_LT(std::abs(box.end.x()), kWalls - kBoxSide / 2);
-    EXPECT_LT(std::abs(box.end.y()), kWalls - kBoxSide / 2);
+    // A box against a wall has its centre half a side from it, less what the contact lets it in.
+    EXPECT_LT(std::abs(box.end.x()), kWalls - kBoxSide / 2 + kSettling);
+    EXPECT_LT(std::abs(box.end.y()), kWalls - kBoxSide / 2 + kSettling);
     EXPECT_GT(box.z_min, kBoxSide / 2 - kSettling);  // no box sinks into the ground
     if (box.moved_max > kPushed) {
       ++struck;
@@ -67,6 +70,33 @@ TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
     EXPECT_LT(robot.tilt_max, kUprightTilt);
     EXPECT_LT(robot.rise_max, kSettling);
   }
+}
+
+/// A loose 0.4 m box named `name` with its centre at `pose`.
+std::string looseBox(const std::string& name, const std::string& pose) {
+  return "<model name='" + name + "'><pose>" + pose +
+         "</pose><link name='link'><inertial><mass>4</mass></inertial><collision name='c'><geometry><box>"
+         "<size>0.4 0.4 0.4</size></box></geometry></collision></link></model>";
+}
+
+TEST(WalledBoxes, TheWatchSeesABoxOutsideTheWallsInsideOneOrUnderTheGround) {
+  // Two walls 0.1 m thick, their inner faces at x = +-2; a box between them, one beyond the east wall, one
+  // with its centre in the west wall, one under the ground.
+  const std::string sdf =
+      "<sdf version='1.6'><world name='w'><model name='ground'><static>true</static><link name='link'>"
+      "<collision name='c'><geometry><plane><normal>0 0 1</normal></plane></geometry></collision>"
+      "</link></model><model name='walls'><static>true</static>"
+      "<link name='east'><pose>2.05 0 0.5 0 0 0</pose><collision name='c'><geometry><box>"
+      "<size>0.1 4 1</size></box></geometry></collision></link>"
+      "<link name='west'><pose>-2.05 0 0.5 0 0 0</pose><collision name='c'><geometry><box>"
+      "<size>0.1 4 1</size></box></geometry></collision></link></model>" +
+      looseBox("inside", "0 0 0.2 0 0 0") + looseBox("beyond", "3 0 0.2 0 0 0") +
+      looseBox("in_wall", "-2.05 1 0.2 0 0 0") + looseBox("under", "1 1 -0.3 0 0 0") + "</world></sdf>";
+  Simulation simulation(parseWorld(sdf, "watch_test.world", PackageResolver::fromEnvironment(), nullptr));
+  const FleetWatch watch(simulation, {});
+  ASSERT_EQ(watch.loose().size(), 4u);
+  EXPECT_FALSE(watch.loose()[0].escaped);
+  for (size_t k = 1; k < 4; ++k) EXPECT_TRUE(watch.loose()[k].escaped) << watch.loose()[k].name;
 }
 
 }  // namespace

@@ -189,7 +189,8 @@ Json fleetFigures(const WorldSpec& world, std::vector<int> counts, int repeat, c
     std::vector<FleetRun> runs;
     FleetOptions later = options;  // the first run's pictures are enough
     later.snapshot = nullptr;
-    for (int i = 0; i < repeat; ++i) runs.push_back(driveFleet(world, count, i == 0 ? options : later, warnings));
+    for (int i = 0; i < repeat; ++i)
+      runs.push_back(driveFleet(world, count, i == 0 ? options : later, warnings));
     fleets.push_back(countFigures(count, runs, options));
   }
   return fleets;

@@ -25,8 +25,8 @@ struct FleetOptions {
   SpawnPose origin;         ///< the grid's centre (x, y) and every robot's yaw
   Limits limits;
   int threads = 0;  ///< the simulation's pool (SimulationOptions::threads)
-  /// When set, called with the simulation, the fleet's size and the moment ("settled" or "end"), outside the
-  /// timed drive, in the first run of each fleet.
+  /// When set, driveFleet calls it with the simulation, the fleet's size and the moment ("settled" or "end"),
+  /// outside the timed drive; fleetFigures sets it for the first run of each fleet only.
   std::function<void(const Simulation&, int count, const std::string& moment)> snapshot;
 };
 
