@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "bullet_sim/simulation/world_api.h"
@@ -126,6 +128,19 @@ TEST(Settling, FreeWheelsDoNotCreep) {
   const std::string chair =
       test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
   EXPECT_LT(creep(parse(withoutPlugins(chair))), 1e-3) << "the wheelchair on free wheels and swivel casters";
+}
+
+// A robot whose wheels and casters all touch the ground in its description rests level on level ground,
+// however unequal their loads (the caster two-wheeler's centre of mass is 3 cm behind its axle).
+TEST(Settling, ARobotRestsLevelOnWheelsOfUnequalLoad) {
+  const std::string urdf = test::readFile(test::fixture("contact/caster_two_wheeler.urdf"));
+  for (const std::string& wheel_model : test::kWheelModels) {
+    Simulation simulation(test::shippedWorld("empty.world"));
+    Robot& robot = simulation.spawn("robot", parse(test::withWheelModel(urdf, wheel_model)), at(0, 0));
+    for (int i = 0; i < 1000; ++i) simulation.step();
+    const Eigen::Vector3d up = robot.body().linkPose("base_link").linear().col(2);
+    EXPECT_LT(std::acos(std::min(1.0, up.z())), 3e-4) << wheel_model << ": tilt [rad] at rest";
+  }
 }
 
 /// A two-link arm whose root link is `world`, as MoveIt's setups write it: world -> base (fixed) -> arm.

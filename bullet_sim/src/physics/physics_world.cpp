@@ -22,7 +22,15 @@ constexpr int kMaxSubsteps = 1000;  // per step: a limit so short it would stall
 }  // namespace
 
 struct PhysicsWorld::Engine {
-  Engine() { CylinderPlaneAlgorithm::registerWith(dispatcher, cylinder_plane, plane_cylinder); }
+  Engine() {
+    CylinderPlaneAlgorithm::registerWith(dispatcher, cylinder_plane, plane_cylinder);
+    // Two boxes meet by clipping one's face against the other's, keeping the points within reach as well as
+    // the touching ones: Bullet's box-box detector keeps only the touching ones, so a robot body a hair off
+    // square took a whole strike on its lower edge (and tipped back) before its upper edge touched.
+    dispatcher.registerCollisionCreateFunc(
+        BOX_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE,
+        configuration.getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE));
+  }
   btDefaultCollisionConfiguration configuration;
   CylinderPlaneAlgorithm::CreateFunc cylinder_plane, plane_cylinder;  ///< outlive the dispatcher
   btCollisionDispatcher dispatcher{&configuration};

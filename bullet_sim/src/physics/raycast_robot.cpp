@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <Eigen/Dense>
 
 #include "bullet_shapes.h"
 #include "bullet_sim/common/diagnostics.h"
@@ -56,6 +57,23 @@ std::optional<double> wheelRadius(const LinkSpec& link, const JointSpec& joint) 
   const Eigen::Vector3d cylinder_axis = collision.origin.linear().col(2);
   if (std::abs(cylinder_axis.dot(joint.axis)) < 0.99) return std::nullopt;
   return collision.shape.radius;
+}
+
+/// The load [N] each wheel carries at rest for the chassis to rest level, every spring at the same sag: the
+/// shares nearest to equal that balance the weight and its moments about the centre of mass (`wheels`, the
+/// wheels' ground points from it, level). A wheel the balance would lift keeps a tenth of an equal share.
+std::vector<double> levelLoads(const std::vector<Eigen::Vector2d>& wheels, double weight) {
+  const Eigen::Index n = static_cast<Eigen::Index>(wheels.size());
+  Eigen::MatrixXd balance(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) balance.col(i) << 1.0, wheels[i].x(), wheels[i].y();
+  const Eigen::VectorXd equal = Eigen::VectorXd::Constant(n, weight / n);
+  const Eigen::Vector3d wanted(weight, 0, 0);
+  const Eigen::Vector3d correction =
+      (balance * balance.transpose()).completeOrthogonalDecomposition().solve(wanted - balance * equal);
+  const Eigen::VectorXd loads = equal + balance.transpose() * correction;
+  std::vector<double> clamped(n);
+  for (Eigen::Index i = 0; i < n; ++i) clamped[i] = std::max(loads[i], 0.1 * weight / n);
+  return clamped;
 }
 
 }  // namespace
@@ -163,11 +181,20 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
   world_.addRigidBody(chassis_.get(), kRobotGroup, kStaticGroup | kRobotGroup);
 
-  // Each wheel carries an equal share at rest with kSag of compression; critically damped.
-  const double share = mass_ / static_cast<double>(wheels_.size());
+  // Each wheel's spring sags kSag under its load at rest, so that the chassis rests level (springs alike
+  // under unequal loads tilted it: a caster two-wheeler rested 4 mrad nose-up and met a wall with its lower
+  // edge first); critically damped.
+  const Eigen::Vector3d com = root_to_body_.translation();
+  std::vector<Eigen::Vector2d> wheels;
+  for (const Wheel& wheel : wheels_) {
+    const Eigen::Vector3d hub = link_in_root_[joints_[wheel.joint].child_link].translation() - com;
+    wheels.emplace_back(hub.x(), hub.y());
+  }
   const double gravity = std::abs(world_.getGravity().z());
-  spring_ = share * gravity / kSag;
-  damper_ = 2 * kDampingRatio * std::sqrt(spring_ * share);
+  for (const double load : levelLoads(wheels, mass_ * gravity)) {
+    springs_.push_back(load / kSag);
+    dampers_.push_back(2 * kDampingRatio * std::sqrt(springs_.back() * load / gravity));
+  }
 }
 
 const std::vector<Eigen::Isometry3d>& RaycastRobot::linkFrames() const {
@@ -311,7 +338,8 @@ SubstepLimit RaycastRobot::substepLimit() const {
 
 double RaycastRobot::elasticEnergy() const {
   double energy = 0;
-  for (const auto& contact : contacts_) energy += 0.5 * spring_ * contact.compression * contact.compression;
+  for (size_t w = 0; w < contacts_.size(); ++w)
+    energy += 0.5 * springs_[w] * contacts_[w].compression * contacts_[w].compression;
   return energy;
 }
 
@@ -347,8 +375,8 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
   // The implicit spring-damper (Catto's soft constraint): over the substep, the wheel's impulse lambda leaves
   // it separating at bias - softness * lambda, where the spring's compression x gives bias = k x / (h k + c)
   // and softness = 1 / (h (h k + c)).
-  const double stiffness = dt_ * spring_ + damper_;
   for (size_t w = 0; w < wheels_.size(); ++w) {
+    const double stiffness = dt_ * springs_[w] + dampers_[w];
     Wheel& wheel = wheels_[w];
     Contact& contact = contacts_[w];
     contact = Contact{};
@@ -358,7 +386,7 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     const Eigen::Vector3d point = ray_origins_[w] - up * ray_hits_[w];
     contact.offset = point - com;
     contact.compression = compression;
-    contact.bias = spring_ * compression / stiffness;
+    contact.bias = springs_[w] * compression / stiffness;
     contact.softness = 1 / (dt_ * stiffness);
     contact.rigid_mass = 1 / inverseMass(contact.offset, up);
     contact.on_ground = true;

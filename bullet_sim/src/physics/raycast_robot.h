@@ -156,8 +156,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   std::vector<int> tree_child_, tree_parent_, tree_moving_;
   std::vector<Wheel> wheels_;
   double mass_ = 0;
-  double spring_ = 0;               ///< [N/m] per wheel
-  double damper_ = 0;               ///< [N s/m] per wheel
+  std::vector<double> springs_;     ///< [N/m] per wheel
+  std::vector<double> dampers_;     ///< [N s/m] per wheel
   Eigen::Isometry3d root_to_body_;  ///< the chassis body's frame (com, principal axes) in the root link frame
   mutable std::vector<Eigen::Isometry3d> link_in_root_;
   mutable bool frames_stale_ = true;
