@@ -1,11 +1,16 @@
 #!/usr/bin/env python3
 """Measures many robots in one world (issue 32) with `bench --robots` and writes docs/performance.md's section
 "Many robots" (between <!-- bench-fleet:begin --> and <!-- bench-fleet:end -->) and its plot,
-docs/images/bench_fleet.png: RTF against the number of robots, log-log, beside the anchors' robot x RTF per core.
+docs/images/bench_fleet.png: RTF against the number of robots, log-log, beside the anchors' robot x RTF per core;
+and the issue's 20 wheelchairs among 200 loose boxes in walled_boxes.world, 4 m apart (bench_fleet_boxes.json).
 
     source devel/setup.bash && /usr/bin/python3 scripts/bench_fleet.py [--robots 1,10,30,100] [--duration S]
                                                                         [--repeat K] [--out DIR] [--no-page]
     /usr/bin/python3 scripts/bench_fleet.py --from-json DIR/bench_fleet.json   # the page and plot again
+    /usr/bin/python3 scripts/bench_fleet.py --from-json DIR/bench_fleet.json --only-boxes --out DIR
+                                             # measure the walled world only; the fleets from the JSON
+
+--from-json takes the walled world's figures from bench_fleet_boxes.json beside the JSON, when it is there.
 
 bench runs in one process, the fleets in increasing size (so its peak memory at N is the largest fleet's so
 far); every robot is the wheelchair with its lidar, driving v 0.3 m/s, w 0.3 rad/s in empty.world, 1.5 m apart.
@@ -37,6 +42,9 @@ TODAY_RTF = {10: 24, 100: 2.0}
 TARGET_COST_RATIO = 1.25
 TARGET_SPAWN_S = 20
 TARGET_RSS_MB = 1024
+# The walled world: its robots stand on the places its boxes leave free (scripts/walled_boxes_world.py).
+BOXES_WORLD, BOXES_ROBOTS, BOXES_SPACING, BOXES_TARGET_RTF = "walled_boxes.world", 20, 4, 10
+BOXES_JSON = "bench_fleet_boxes.json"
 
 
 def load():
@@ -44,24 +52,34 @@ def load():
         return " ".join(file.read().split()[:3])
 
 
-def run_bench(args):
-    command = ["rosrun", "bullet_sim", "bench", "--robots", args.robots, "--duration", "%g" % args.duration,
-               "--repeat", str(args.repeat)]
+def run_bench(arguments):
+    command = ["rosrun", "bullet_sim", "bench"] + arguments
     print("==", " ".join(command), file=sys.stderr)
     result = subprocess.run(command, stdout=subprocess.PIPE, check=True, universal_newlines=True)
     return " ".join(shlex.quote(word) for word in command), json.loads(result.stdout)
 
 
-def measure(args):
-    """bench's JSON, with the command, the date, the machine and its load before and after; also in args.out."""
+def measure(args, arguments, name):
+    """bench's JSON, with the command, the date, the machine and its load before and after; also in
+    args.out/name."""
     load_before = load()
-    command, report = run_bench(args)
+    command, report = run_bench(arguments)
     report.update(command=command, date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"),
                   cores=os.cpu_count(), cpu=cpu_model(), load_before=load_before, load_after=load())
     os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "bench_fleet.json"), "w") as file:
+    with open(os.path.join(args.out, name), "w") as file:
         json.dump(report, file, indent=2)
     return report
+
+
+def measure_fleets(args):
+    return measure(args, ["--robots", args.robots, "--duration", "%g" % args.duration, "--repeat", str(args.repeat)],
+                   "bench_fleet.json")
+
+
+def measure_boxes(args):
+    return measure(args, ["--robots", str(BOXES_ROBOTS), "--world", BOXES_WORLD, "--spacing", "%g" % BOXES_SPACING,
+                          "--duration", "%g" % args.duration, "--repeat", str(args.repeat)], BOXES_JSON)
 
 
 def met(ok):
@@ -113,7 +131,41 @@ def target_rows(by_count):
     return lines + ["| %s |" % " | ".join(row) for row in rows]
 
 
-def section(report):
+def boxes_lines(boxes):
+    """The walled world's paragraph, its figures and its command."""
+    fleet = boxes["fleets"][0]
+    cpu_ms = process_cpu_ms(fleet)
+    escaped = fleet["loose_escaped"]
+    paragraph = (
+        "**Among boxes.** `walled_boxes.world` (written by `scripts/walled_boxes_world.py`) is the issue's walled "
+        "20 x 20 m world: walls 0.1 m thick and 1 m high, and %d loose boxes, 0.4 m cubes of 4 kg, at seeded places "
+        "at least 1 m from the places of %d wheelchairs %g m apart, whose circles run into them. Measured on %s, "
+        "load average %s before and %s after, %.0f s of driving as above, medians of %d runs. Every step of every "
+        "run is watched: how high any box's centre rose (a cube balanced on a corner: 0.146 m; more, and it "
+        "flew), how far any sank, whether any centre was once outside the walls, inside one or under the ground, "
+        "and how far any robot rose and leaned."
+        % (fleet["loose_bodies"], fleet["robots"], boxes["spacing_m"], boxes["date"], boxes["load_before"],
+           boxes["load_after"], boxes["duration_s"], boxes["repeat"]))
+    lines = textwrap.wrap(paragraph, 110) + [""]
+    lines += ["| robots | boxes | RTF | robot x RTF | CPU ms per sim s per robot, all threads | RTF with a core to "
+              "itself | boxes pushed (> 1 cm) | highest box rise | deepest box sink | boxes out of the walls, in "
+              "one or under the ground | robots' rise, lean |",
+              "|---|---|---|---|---|---|---|---|---|---|---|",
+              "| %d | %d | %.3g | %.3g | %.1f | %.3g | %d | %.3f m | %.1f mm | %s | %.1f mm, %.2f deg |" % (
+                  fleet["robots"], fleet["loose_bodies"], fleet["rtf"], fleet["robot_rtf"], cpu_ms,
+                  1000 / (fleet["robots"] * cpu_ms), fleet["loose_pushed"], fleet["loose_rise_max_m"],
+                  1000 * fleet["loose_sink_max_m"], ", ".join(escaped) if escaped else "none",
+                  1000 * fleet["robot_rise_max_m"], fleet["robot_tilt_max_deg"])]
+    return lines + ["", "```", boxes["command"].replace(REPO + "/", ""), "```"]
+
+
+def boxes_target_row(boxes):
+    rtf = boxes["fleets"][0]["rtf"]
+    return ("| 20 wheelchairs among 200 dynamic boxes in a walled 20 x 20 m world (`walled_boxes.world`), RTF "
+            "| %.3g |  | >= %d | %s |" % (rtf, BOXES_TARGET_RTF, met(rtf >= BOXES_TARGET_RTF)))
+
+
+def section(report, boxes=None):
     fleets = report["fleets"]
     by_count = {fleet["robots"]: fleet for fleet in fleets}
     paragraphs = [
@@ -134,13 +186,14 @@ def section(report):
            report.get("threads", 1), report["repeat"]),
     ]
     lines = textwrap.wrap(paragraphs[0], 110) + [""] + textwrap.wrap(paragraphs[1], 110) + [""]
-    lines += fleet_rows(fleets) + [""] + target_rows(by_count) + [""]
+    targets = target_rows(by_count) + ([boxes_target_row(boxes)] if boxes else [])
+    lines += fleet_rows(fleets) + [""] + targets + [""]
     lines += ["![RTF against the number of robots, log-log, ours beside the anchors](images/bench_fleet.png)", "",
               "```", report["command"].replace(REPO + "/", ""), "```"]
-    return lines
+    return lines + ([""] + boxes_lines(boxes) if boxes else [])
 
 
-def plot(report, path):
+def plot(report, path, boxes=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -169,6 +222,14 @@ def plot(report, path):
               label="issue 32's today, through the node")
     axes.plot(list(TARGET_RTF), list(TARGET_RTF.values()), "*", color="tab:green", markersize=12,
               label="issue 32's targets")
+    if boxes:
+        fleet = boxes["fleets"][0]
+        axes.plot([fleet["robots"]], [fleet["rtf"]], "D", color="tab:red",
+                  label="ours, %d among %d loose boxes (walled_boxes.world)" % (fleet["robots"], fleet["loose_bodies"]))
+        axes.annotate("%.3g" % fleet["rtf"], (fleet["robots"], fleet["rtf"]), textcoords="offset points",
+                      xytext=(7, -10), fontsize=8, color="tab:red")
+        axes.plot([fleet["robots"]], [BOXES_TARGET_RTF], "*", color="tab:red", markersize=12, fillstyle="none",
+                  label="issue 32's target among boxes")
     axes.set_xscale("log")
     axes.set_yscale("log")
     axes.set_xlim(0.8, 1200)
@@ -189,18 +250,30 @@ def main():
     parser.add_argument("--out", default="/tmp/bench_fleet", help="where the JSON goes")
     parser.add_argument("--no-page", action="store_true", help="leave docs/performance.md and the plot alone")
     parser.add_argument("--from-json", help="measure nothing: the page and plot from this earlier run's JSON")
+    parser.add_argument("--only-boxes", action="store_true",
+                        help="measure the walled world only, the fleets from --from-json")
     args = parser.parse_args()
+    if args.only_boxes and not args.from_json:
+        parser.error("--only-boxes takes the fleets from --from-json DIR/bench_fleet.json")
 
     if args.from_json:
         with open(args.from_json) as file:
             report = json.load(file)
     else:
-        report = measure(args)
-    lines = section(report)
+        report = measure_fleets(args)
+    boxes_json = os.path.join(os.path.dirname(os.path.abspath(args.from_json)), BOXES_JSON) if args.from_json else None
+    if args.only_boxes or not args.from_json:
+        boxes = measure_boxes(args)
+    elif os.path.exists(boxes_json):
+        with open(boxes_json) as file:
+            boxes = json.load(file)
+    else:
+        boxes = None
+    lines = section(report, boxes)
     print("\n".join(lines))
     if args.no_page:
         return
-    plot(report, PLOT)
+    plot(report, PLOT, boxes)
     write_section(PAGE, "bench-fleet", lines, place)
 
 

@@ -14,8 +14,10 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -51,7 +53,7 @@ constexpr char kUsage[] =
     "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
     "       bench --robots N[,N]... [--robot FILE] [--world FILE] [--pose x,y,yaw] [--wheel-model M]\n"
     "             [--step S] [--duration S] [--cmd v,w] [--lidar ...] [--lidar-rate HZ] [--repeat K]\n"
-    "             [--threads T]\n"
+    "             [--threads T] [--spacing M] [--snapshot DIR]\n"
     "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
@@ -113,6 +115,19 @@ constexpr char kUsage[] =
     "  peak_rss_mb, rss_mb          the process's peak so far; resident at the end of the drive\n"
     "  lidar_scans_per_robot_per_s  the scans each robot published while driving, per sim second\n"
     "  pose_error_max_m             the farthest any robot's drive axle ends from its unicycle\n"
+    "  robot_rise_max_m, robot_tilt_max_deg  the most any robot's root link rose and leaned, from\n"
+    "                               the spawn to the end of the drive (every step sampled)\n"
+    "  loose_bodies                 the world's non-static models (walled_boxes.world's boxes), and of\n"
+    "                               them: loose_pushed, moved more than 1 cm; loose_rise_max_m and\n"
+    "                               loose_sink_max_m, the most a centre rose above or sank below its\n"
+    "                               start; loose_escaped, those whose centre was once outside the walls\n"
+    "                               (the x-y bounds of the static bodies), inside a static body or below\n"
+    "                               the ground: a bug; spawn_clearance_m, the nearest a robot started to\n"
+    "                               a loose body's centre\n"
+    "--spacing sets the grid's spacing [m] (default 1.5). The walled 20 x 20 m world of 200 boxes,\n"
+    "issue 32's: --robots 20 --world walled_boxes.world --spacing 4 (its boxes leave those places free).\n"
+    "--snapshot writes DIR/fleet_<N>_<settled|end>_<top|corner>.png: the first run of each fleet after\n"
+    "settling and at the end of the drive, from above and from a corner, at --render's size.\n"
     "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
     "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
     "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
@@ -169,6 +184,8 @@ struct Options {
   bool web_viewer = false;
   std::vector<int> robots;  ///< --robots: the fleets' sizes
   int threads = 0;          ///< --robots: the simulation's pool; 0 = its default
+  double spacing = 1.5;     ///< [m] --robots: between neighbours on the grid
+  std::string snapshot_dir;  ///< --robots: where the fleets' pictures go; "" = none
   bool cmd_given = false;
   bool strikes = false;
   StrikeMatrixOptions strike_options;
@@ -278,6 +295,8 @@ Options parseArguments(int argc, char** argv) {
        limitOption(options.limits),
        {"--repeat", [&](Value value) { options.repeat = parseCount(value, "--repeat", 1, 1000); }},
        {"--threads", [&](Value value) { options.threads = parseCount(value, "--threads", 1, 64); }},
+       {"--spacing", [&](Value value) { options.spacing = parseBounded(value, "--spacing", 0, 100, "m"); }},
+       {"--snapshot", [&](Value value) { options.snapshot_dir = value; }},
        {"--camera", [&](Value value) { options.camera = parseCamera(value); }},
        // Taken after --camera, whatever their order on the command line.
        {"--depth",
@@ -855,6 +874,28 @@ Json report(const Options& options, const Figures& figures) {
   return json;
 }
 
+/// --snapshot's pictures of a fleet: from straight above (the top view frames the world's obstacles) and from
+/// above the world's south-west corner, looking at its centre.
+std::function<void(const Simulation&, int, const std::string&)> fleetPictures(const Options& options) {
+  auto renderer = std::make_shared<std::unique_ptr<OffscreenRenderer>>();  // made for the first picture
+  return [renderer, dir = options.snapshot_dir, width = options.render_width, height = options.render_height](
+             const Simulation& simulation, int count, const std::string& moment) {
+    if (!*renderer) *renderer = std::make_unique<OffscreenRenderer>();
+    Scene scene = simulationScene(simulation, View::kTop);
+    const std::string stem = dir + "/fleet_" + std::to_string(count) + "_" + moment;
+    std::string error;
+    if (!writePng(stem + "_top.png", (*renderer)->render(scene, width, height), &error))
+      throw Failure("--snapshot: " + error);
+    const Eigen::Vector2d centre = scene.camera.centre, half = scene.camera.half_extents;
+    const Eigen::Vector3d target(centre.x(), centre.y(), 0);
+    scene.outline_step = 0;  // the plan view's outlines would darken the far floor, seen at a glancing angle
+    const Eigen::Vector3d corner(-half.x(), -1.6 * half.y(), 1.1 * half.norm());
+    scene.camera = Camera::perspective(target + corner, target);
+    if (!writePng(stem + "_corner.png", (*renderer)->render(scene, width, height), &error))
+      throw Failure("--snapshot: " + error);
+  };
+}
+
 /// bench --robots: the inputs, each fleet's figures and the warnings (each once).
 Json fleetReport(Options options) {
   const PackageResolver resolver = PackageResolver::fromEnvironment();
@@ -878,6 +919,8 @@ Json fleetReport(Options options) {
   fleet.origin = options.pose;
   fleet.limits = options.limits;
   fleet.threads = options.threads;
+  fleet.spacing = options.spacing;
+  if (!options.snapshot_dir.empty()) fleet.snapshot = fleetPictures(options);
   std::vector<std::string> warnings;
   const std::string world_file = findWorld(options.world, resolver);
   const WorldSpec world = loadWorld(world_file, resolver, &warnings, WorldOptions{false, options.limits});

@@ -11,6 +11,8 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
+constexpr double kPushedDistance = 0.01;  ///< [m] a loose body moved this far was pushed
+
 /// A figure: null when it is not finite.
 Json figure(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
 
@@ -49,6 +51,38 @@ std::vector<Robot*> spawnFleet(Simulation& simulation, int count, const FleetOpt
 /// The distance between two poses' positions [m].
 double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
+/// What the runs did to the world's loose bodies and to the robots, the worst of every run: whether anything
+/// flew, sank or went through a wall.
+void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
+  double rise = 0, sink = 0, robot_rise = 0, tilt = 0, clearance = INFINITY;
+  size_t pushed = 0;
+  std::vector<std::string> escaped;
+  for (const FleetRun& run : runs) {
+    size_t pushed_in_run = 0;
+    for (const LooseBodyTrack& body : run.loose) {
+      rise = std::max(rise, body.z_max - body.start.z());
+      sink = std::max(sink, body.start.z() - body.z_min);
+      if (body.moved_max > kPushedDistance) ++pushed_in_run;
+      const bool listed = std::find(escaped.begin(), escaped.end(), body.name) != escaped.end();
+      if (body.escaped && !listed) escaped.push_back(body.name);
+    }
+    pushed = std::max(pushed, pushed_in_run);
+    for (const RobotTrack& robot : run.robots) {
+      robot_rise = std::max(robot_rise, robot.rise_max);
+      tilt = std::max(tilt, robot.tilt_max);
+    }
+    clearance = std::min(clearance, run.start_clearance);
+  }
+  json["loose_bodies"] = runs.empty() ? 0 : runs.front().loose.size();
+  json["spawn_clearance_m"] = figure(clearance);
+  json["loose_pushed"] = pushed;
+  json["loose_rise_max_m"] = rise;
+  json["loose_sink_max_m"] = sink;
+  json["loose_escaped"] = escaped;
+  json["robot_rise_max_m"] = robot_rise;
+  json["robot_tilt_max_deg"] = tilt * 180 / M_PI;
+}
+
 /// The figures of one fleet's runs: medians first, then every run's.
 Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptions& options) {
   std::vector<double> rtf, wall_ms, cpu_ms, process_cpu_ms, spawn_s, rss_mb;
@@ -78,6 +112,7 @@ Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptio
   json["rss_mb"] = figure(median(rss_mb));
   json["lidar_scans_per_robot_per_s"] = figure(scan_rate);
   json["pose_error_max_m"] = pose_error;
+  addWatchFigures(runs, json);
   json["rtf_runs"] = rtf;
   json["spawn_s_runs"] = spawn_s;
   json["cpu_ms_per_sim_s_per_robot_runs"] = cpu_ms;
@@ -107,9 +142,14 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   const std::vector<Robot*> robots = spawnFleet(simulation, count, options, warnings, run);
   std::vector<Drive> drives;
   for (const Robot* robot : robots) drives.push_back(driveOf(*robot, options.source));
+  FleetWatch watch(simulation, {robots.begin(), robots.end()});
 
-  for (long i = 0; i < std::lround(kSettleTime / options.step); ++i) simulation.step();
+  for (long i = 0; i < std::lround(kSettleTime / options.step); ++i) {
+    simulation.step();
+    watch.sample();
+  }
   run.settled = axlePoses(robots, drives);
+  if (options.snapshot) options.snapshot(simulation, count, "settled");
   uint64_t scans_before = 0;
   for (const Robot* robot : robots) scans_before += lidarScans(*robot);
 
@@ -124,6 +164,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
       for (const Drive& drive : drives) (*drive.command)(command, simulation.time());
     }
     simulation.step();
+    watch.sample();
   }
   run.drive_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
@@ -132,6 +173,10 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   run.end = axlePoses(robots, drives);
   for (const Robot* robot : robots) run.lidar_scans += lidarScans(*robot);
   run.lidar_scans -= scans_before;
+  run.loose = watch.loose();
+  run.robots = watch.robots();
+  run.start_clearance = watch.startClearance();
+  if (options.snapshot) options.snapshot(simulation, count, "end");
   return run;
 }
 
@@ -142,7 +187,10 @@ Json fleetFigures(const WorldSpec& world, std::vector<int> counts, int repeat, c
   Json fleets = Json::array();
   for (int count : counts) {
     std::vector<FleetRun> runs;
-    for (int i = 0; i < repeat; ++i) runs.push_back(driveFleet(world, count, options, warnings));
+    FleetOptions later = options;  // the first run's pictures are enough
+    later.snapshot = nullptr;
+    for (int i = 0; i < repeat; ++i)
+      runs.push_back(driveFleet(world, count, i == 0 ? options : later, warnings));
     fleets.push_back(countFigures(count, runs, options));
   }
   return fleets;

@@ -5,11 +5,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "bullet_sim/simulation/simulation.h"
 #include "bench/bench_drive.h"
+#include "bench/fleet_watch.h"
 
 namespace bullet_sim {
 
@@ -23,6 +25,9 @@ struct FleetOptions {
   SpawnPose origin;         ///< the grid's centre (x, y) and every robot's yaw
   Limits limits;
   int threads = 0;  ///< the simulation's pool (SimulationOptions::threads)
+  /// When set, driveFleet calls it with the simulation, the fleet's size and the moment ("settled" or "end"),
+  /// outside the timed drive; fleetFigures sets it for the first run of each fleet only.
+  std::function<void(const Simulation&, int count, const std::string& moment)> snapshot;
 };
 
 /// One fleet's spawn, settle and drive.
@@ -34,6 +39,10 @@ struct FleetRun {
   double rss_mb = 0;         ///< resident memory at the end of the drive [MB]
   uint64_t lidar_scans = 0;  ///< scans every robot's ray sensors published while driving
   std::vector<Planar> settled, end;  ///< every robot's drive axle before and after the drive, in spawn order
+  /// The world's loose bodies and every robot (in spawn order), from the spawn to the end of the drive.
+  std::vector<LooseBodyTrack> loose;
+  std::vector<RobotTrack> robots;
+  double start_clearance = 0;  ///< [m] FleetWatch::startClearance
 };
 
 /// Where robot `index` of `count` stands: a square grid (its columns along x, rows along y) `spacing` apart,

@@ -1,0 +1,100 @@
+#include "bench/fleet_watch.h"
+
+#include <algorithm>
+
+namespace bullet_sim {
+namespace {
+
+/// The world bounds of a static collision posed at `pose` (its model's pose times its origin).
+Eigen::AlignedBox3d collisionBounds(const Shape& shape, const Eigen::Isometry3d& pose) {
+  Eigen::AlignedBox3d local;
+  switch (shape.type) {
+    case Shape::Type::kBox:
+      local = Eigen::AlignedBox3d(-shape.box_size / 2, shape.box_size / 2);
+      break;
+    case Shape::Type::kCylinder: {
+      const Eigen::Vector3d half(shape.radius, shape.radius, shape.length / 2);
+      local = Eigen::AlignedBox3d(-half, half);
+      break;
+    }
+    case Shape::Type::kSphere:
+      local = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-shape.radius),
+                                  Eigen::Vector3d::Constant(shape.radius));
+      break;
+    case Shape::Type::kMesh:
+      if (shape.mesh)
+        for (const Eigen::Vector3d& vertex : shape.mesh->vertices) local.extend(vertex);
+      break;
+    case Shape::Type::kPlane:
+      break;
+  }
+  Eigen::AlignedBox3d bounds;
+  if (local.isEmpty()) return bounds;
+  for (int corner = 0; corner < 8; ++corner)
+    bounds.extend(pose * local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
+  return bounds;
+}
+
+Eigen::Isometry3d rootPose(const Robot& robot) { return robot.body().linkPose(robot.body().spec().root); }
+
+}  // namespace
+
+FleetWatch::FleetWatch(Simulation& simulation, std::vector<const Robot*> robots)
+    : simulation_(simulation), robots_(std::move(robots)) {
+  const WorldSpec& world = simulation.world();
+  for (size_t model = 0; model < world.models.size(); ++model) {
+    const WorldModelSpec& spec = world.models[model];
+    if (!spec.is_static) {
+      loose_models_.push_back(model);
+      LooseBodyTrack track;
+      track.name = spec.name;
+      track.start = simulation.worldModelPose(model).translation();
+      loose_.push_back(track);
+      continue;
+    }
+    for (const Collision& collision : spec.collisions) {
+      const Eigen::Isometry3d pose = spec.pose * collision.origin;
+      const bool horizontal_plane = collision.shape.type == Shape::Type::kPlane &&
+                                    (pose.linear() * collision.shape.plane_normal).z() > 1 - 1e-9;
+      if (horizontal_plane) ground_ = std::max(ground_, pose.translation().z());
+      const Eigen::AlignedBox3d bounds = collisionBounds(collision.shape, pose);
+      if (bounds.isEmpty()) continue;
+      static_boxes_.push_back(bounds);
+      static_bounds_.extend(bounds);
+    }
+  }
+  for (const Robot* robot : robots_) {
+    RobotTrack track;
+    const Eigen::Vector3d root = rootPose(*robot).translation();
+    track.z_start = root.z();
+    robot_tracks_.push_back(track);
+    for (const LooseBodyTrack& body : loose_)
+      start_clearance_ = std::min(start_clearance_, (body.start - root).head<2>().norm());
+  }
+  sample();
+}
+
+void FleetWatch::sample() {
+  for (size_t k = 0; k < loose_models_.size(); ++k) {
+    LooseBodyTrack& track = loose_[k];
+    const Eigen::Vector3d centre = simulation_.worldModelPose(loose_models_[k]).translation();
+    track.end = centre;
+    track.z_min = std::min(track.z_min, centre.z());
+    track.z_max = std::max(track.z_max, centre.z());
+    track.moved_max = std::max(track.moved_max, (centre - track.start).head<2>().norm());
+    const Eigen::Vector2d low = static_bounds_.min().head<2>(), high = static_bounds_.max().head<2>();
+    const bool outside = !static_bounds_.isEmpty() && ((centre.head<2>().array() < low.array()).any() ||
+                                                       (centre.head<2>().array() > high.array()).any());
+    const auto holds = [&](const Eigen::AlignedBox3d& box) { return box.contains(centre); };
+    const bool inside_static = std::any_of(static_boxes_.begin(), static_boxes_.end(), holds);
+    if (outside || inside_static || centre.z() < ground_) track.escaped = true;
+  }
+  for (size_t k = 0; k < robots_.size(); ++k) {
+    RobotTrack& track = robot_tracks_[k];
+    const Eigen::Isometry3d root = rootPose(*robots_[k]);
+    track.rise_max = std::max(track.rise_max, root.translation().z() - track.z_start);
+    track.tilt_max = std::max(track.tilt_max, std::acos(std::clamp(root.linear()(2, 2), -1.0, 1.0)));
+  }
+}
+
+}  // namespace bullet_sim
