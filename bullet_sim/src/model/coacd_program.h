@@ -9,6 +9,9 @@ namespace bullet_sim {
 /// installed; any other failure: a traceback on stderr.
 constexpr const char* kCoacdProgram = R"PY(
 import os, struct, sys
+# One thread: the simulator runs one process per core side by side, and CoACD's OpenMP threads, more than the
+# cores, wait on each other (a 10,000-triangle mesh took 24 s instead of 10 s on a busy machine).
+os.environ["OMP_NUM_THREADS"] = "1"
 try:
     import numpy as np
     import coacd
@@ -26,7 +29,7 @@ coacd.set_log_level("error")
 # (0.1 of the mesh's size, not 0.05), a coarser manifold remesh (30 voxels, not 50) and concavity sampling
 # (1000 points, not 2000), and a shallower tree search (10 iterations of 10 nodes, 2 deep; not 150 of 20, 3
 # deep). On a UR5's and a Kinova Gen3's meshes no part's corner lies farther from the mesh than with the
-# settings before (docs/convex_parts.md has the table).
+# settings before (docs/performance.md, "First spawn of a mesh arm", has the table).
 parts = coacd.run_coacd(coacd.Mesh(vertices, triangles), threshold=0.1, max_convex_hull=int(sys.argv[1]),
                         preprocess_resolution=30, resolution=1000, mcts_nodes=10, mcts_iterations=10,
                         mcts_max_depth=2, seed=0)
