@@ -48,8 +48,9 @@ void writeBoxes(const fs::path& path, const std::vector<std::array<double, 6>>& 
     const auto corner = [&](int k) {
       return Eigen::Vector3d(b[(k & 1) ? 3 : 0], b[(k & 2) ? 4 : 1], b[(k & 4) ? 5 : 2]);
     };
-    // Each face as corner indices, counter-clockwise seen from outside.
-    const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    // Each face as its corners in order around it (corner k: max x, y, z where its bits 0, 1, 2 are set).
+    const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
     for (const auto& face : faces) {
       for (const std::array<int, 3> triangle : {std::array<int, 3>{face[0], face[1], face[2]},
                                                 std::array<int, 3>{face[0], face[2], face[3]}}) {
@@ -99,8 +100,8 @@ TEST(WorldFixedMesh, IsNotSplitAndABoxDroppedIntoItRestsOnItsFloor) {
   Simulation simulation(test::shippedWorld("empty.world"), options);
   SpawnPose at_origin;
   at_origin.z = 0;
-  Robot& trough = simulation.spawn("trough", test::parseQuietly(troughUrdf(folder.path() / "trough.stl"), "trough"),
-                                   at_origin);
+  const fs::path mesh = folder.path() / "trough.stl";
+  Robot& trough = simulation.spawn("trough", test::parseQuietly(troughUrdf(mesh), "trough"), at_origin);
   const Shape& shape = trough.body().spec().link("trough")->collisions.at(0).shape;
   ASSERT_EQ(shape.type, Shape::Type::kMesh);
   EXPECT_FALSE(shape.convex_parts);                      // no parts,

@@ -199,7 +199,8 @@ std::string convexCacheDir() {
 
 ConvexDecomposer::ConvexDecomposer(std::string cache_dir, int threads)
     : cache_dir_(std::move(cache_dir)),
-      threads_(threads > 0 ? threads : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u))) {}
+      threads_(threads > 0 ? threads
+                           : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u))) {}
 
 struct ConvexDecomposer::Split {
   uint64_t key = 0;
@@ -218,7 +219,8 @@ std::shared_ptr<const ConvexParts> ConvexDecomposer::decompose(const TriangleMes
 }
 
 std::vector<std::shared_ptr<const ConvexParts>> ConvexDecomposer::decomposeAll(
-    const std::vector<const TriangleMesh*>& meshes, const Limits& limits, std::vector<std::string>& warnings) {
+    const std::vector<const TriangleMesh*>& meshes, const Limits& limits,
+    std::vector<std::string>& warnings) {
   std::vector<std::shared_ptr<const ConvexParts>> parts(meshes.size());
   warnings.assign(meshes.size(), "");
   if (limits.max_convex_parts <= 1) return parts;
@@ -229,7 +231,8 @@ std::vector<std::shared_ptr<const ConvexParts>> ConvexDecomposer::decomposeAll(
   for (size_t m = 0; m < meshes.size(); ++m) {
     std::string bytes = meshBytes(*meshes[m]);
     const uint64_t key = fnv1a(bytes, fnv1a(settings, kKeyBasis));
-    const auto pending = std::find_if(splits.begin(), splits.end(), [&](const Split& s) { return s.key == key; });
+    const auto pending =
+        std::find_if(splits.begin(), splits.end(), [&](const Split& split) { return split.key == key; });
     if (pending != splits.end()) {
       split_of[m] = static_cast<size_t>(pending - splits.begin());
       continue;
@@ -262,7 +265,8 @@ std::vector<std::shared_ptr<const ConvexParts>> ConvexDecomposer::decomposeAll(
                                    splits[s].mesh_bytes, kMemory, limits.decomposition_seconds, kMaxAnswer);
   });
   std::vector<std::string> split_warnings(splits.size());
-  for (size_t s = 0; s < splits.size(); ++s) known_[splits[s].key] = partsOf(splits[s], limits, &split_warnings[s]);
+  for (size_t s = 0; s < splits.size(); ++s)
+    known_[splits[s].key] = partsOf(splits[s], limits, &split_warnings[s]);
   for (size_t m = 0; m < meshes.size(); ++m) {
     if (!split_of[m]) continue;
     parts[m] = known_[splits[*split_of[m]].key];
