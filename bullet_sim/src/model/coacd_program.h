@@ -9,6 +9,9 @@ namespace bullet_sim {
 /// installed; any other failure: a traceback on stderr.
 constexpr const char* kCoacdProgram = R"PY(
 import os, struct, sys
+# One thread: the simulator runs one process per core side by side, and CoACD's OpenMP threads, more than the
+# cores, wait on each other (a 10,000-triangle mesh took 24 s instead of 10 s on a busy machine).
+os.environ["OMP_NUM_THREADS"] = "1"
 try:
     import numpy as np
     import coacd
@@ -22,9 +25,14 @@ vertex_count, triangle_count = struct.unpack_from("<QQ", data)
 vertices = np.frombuffer(data, "<f8", vertex_count * 3, 16).reshape(-1, 3)
 triangles = np.frombuffer(data, "<i4", triangle_count * 3, 16 + 24 * vertex_count).reshape(-1, 3)
 coacd.set_log_level("error")
-# CoACD's defaults but a shallower tree search (150 iterations of 20 nodes, 3 deep), about 5 times faster.
-parts = coacd.run_coacd(coacd.Mesh(vertices, triangles), threshold=0.05, max_convex_hull=int(sys.argv[1]),
-                        mcts_nodes=10, mcts_iterations=50, mcts_max_depth=2, seed=0)
+# Cheaper than CoACD's defaults, so that an arm's first spawn takes seconds, not minutes: a coarser concavity
+# (0.1 of the mesh's size, not 0.05), a coarser manifold remesh (30 voxels, not 50) and concavity sampling
+# (1000 points, not 2000), and a shallower tree search (10 iterations of 10 nodes, 2 deep; not 150 of 20, 3
+# deep): 4 to 10 times less CPU on a UR5's and a Kinova Gen3's meshes, whose farthest part corner lies as far
+# from the mesh as before (docs/performance.md, "First spawn of a mesh arm", has the table).
+parts = coacd.run_coacd(coacd.Mesh(vertices, triangles), threshold=0.1, max_convex_hull=int(sys.argv[1]),
+                        preprocess_resolution=30, resolution=1000, mcts_nodes=10, mcts_iterations=10,
+                        mcts_max_depth=2, seed=0)
 answer.write(struct.pack("<Q", len(parts)))
 for points, _ in parts:
     points = np.ascontiguousarray(points, "<f8")

@@ -2,15 +2,22 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <optional>
+#include <set>
 #include <sstream>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "assets/child_program.h"
 #include "model/coacd_program.h"
@@ -158,6 +165,28 @@ std::string lastLine(std::string text) {
   return newline == std::string::npos ? text : text.substr(newline + 1);
 }
 
+/// Runs task(0) ... task(count - 1), each once, on up to `threads` threads (the caller's one of them).
+void sideBySide(size_t count, int threads, const std::function<void(size_t)>& task) {
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t k = next++; k < count; k = next++) task(k);
+  };
+  std::vector<std::thread> helpers;
+  for (size_t t = 1; t < std::min(count, static_cast<size_t>(threads)); ++t) helpers.emplace_back(work);
+  work();
+  for (std::thread& helper : helpers) helper.join();
+}
+
+/// The links that never move: a root named "world" and the links on fixed joints down from it.
+std::set<std::string> linksFixedToTheWorld(const ModelSpec& model) {
+  std::set<std::string> still;
+  if (model.root != "world") return still;
+  still.insert(model.root);
+  for (const JointSpec& joint : model.joints)  // parents come before their children
+    if (joint.type == JointSpec::Type::kFixed && still.count(joint.parent)) still.insert(joint.child);
+  return still;
+}
+
 }  // namespace
 
 std::string convexCacheDir() {
@@ -168,58 +197,102 @@ std::string convexCacheDir() {
   return std::string(home && *home ? home : "/tmp") + "/.cache/bullet_sim/convex";
 }
 
+ConvexDecomposer::ConvexDecomposer(std::string cache_dir, int threads)
+    : cache_dir_(std::move(cache_dir)),
+      threads_(threads > 0 ? threads
+                           : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u))) {}
+
+struct ConvexDecomposer::Split {
+  uint64_t key = 0;
+  uint64_t check = 0;
+  fs::path entry;
+  std::string mesh_bytes;
+  ProgramOutcome outcome;
+};
+
 std::shared_ptr<const ConvexParts> ConvexDecomposer::decompose(const TriangleMesh& mesh, const Limits& limits,
                                                                std::string* warning) {
-  if (limits.max_convex_parts <= 1) return nullptr;
-  const std::string bytes = meshBytes(mesh);
+  std::vector<std::string> warnings;
+  auto parts = decomposeAll({&mesh}, limits, warnings);
+  if (warning && !warnings[0].empty()) *warning = warnings[0];
+  return parts[0];
+}
+
+std::vector<std::shared_ptr<const ConvexParts>> ConvexDecomposer::decomposeAll(
+    const std::vector<const TriangleMesh*>& meshes, const Limits& limits,
+    std::vector<std::string>& warnings) {
+  std::vector<std::shared_ptr<const ConvexParts>> parts(meshes.size());
+  warnings.assign(meshes.size(), "");
+  if (limits.max_convex_parts <= 1) return parts;
   // The settings are part of the key: the program and the most parts.
   const std::string settings = std::string(kCoacdProgram) + std::to_string(limits.max_convex_parts);
-  const uint64_t key = fnv1a(bytes, fnv1a(settings, kKeyBasis));
-  if (const auto known = known_.find(key); known != known_.end()) return known->second;
-  std::ostringstream name;
-  name << std::hex << key << ".convex";
-  const fs::path entry = fs::path(cache_dir_) / name.str();
-  const uint64_t check = fnv1a(bytes, fnv1a(settings, kCheckBasis));
-  std::shared_ptr<const ConvexParts>& parts = known_[key];
-  const std::string stored = readAll(entry);
-  if (auto cached = readEntry(stored, check, limits.max_convex_parts)) {
-    parts = std::make_shared<const ConvexParts>(std::move(*cached));
-  } else if (const auto had = readTimeout(stored, check); had && *had >= limits.decomposition_seconds) {
-    if (warning) {
+  std::vector<Split> splits;
+  std::vector<std::optional<size_t>> split_of(meshes.size());  // which of `splits` makes a mesh's parts
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    std::string bytes = meshBytes(*meshes[m]);
+    const uint64_t key = fnv1a(bytes, fnv1a(settings, kKeyBasis));
+    const auto pending =
+        std::find_if(splits.begin(), splits.end(), [&](const Split& split) { return split.key == key; });
+    if (pending != splits.end()) {
+      split_of[m] = static_cast<size_t>(pending - splits.begin());
+      continue;
+    }
+    if (const auto known = known_.find(key); known != known_.end()) {
+      parts[m] = known->second;
+      continue;
+    }
+    std::ostringstream name;
+    name << std::hex << key << ".convex";
+    const fs::path entry = fs::path(cache_dir_) / name.str();
+    const uint64_t check = fnv1a(bytes, fnv1a(settings, kCheckBasis));
+    const std::string stored = readAll(entry);
+    if (auto cached = readEntry(stored, check, limits.max_convex_parts)) {
+      parts[m] = known_[key] = std::make_shared<const ConvexParts>(std::move(*cached));
+    } else if (const auto had = readTimeout(stored, check); had && *had >= limits.decomposition_seconds) {
+      known_[key] = nullptr;
       std::ostringstream why;
       why << "splitting it into convex parts took longer than " << *had
           << " s (decomposition_seconds) before, as " << entry.string()
           << " remembers: it collides by its hull (a longer decomposition_seconds tries again)";
-      *warning = why.str();
+      warnings[m] = why.str();
+    } else if (!coacd_missing_) {
+      split_of[m] = splits.size();
+      splits.push_back({key, check, entry, std::move(bytes), {}});
     }
-  } else {
-    bool timed_out = false;
-    parts = split(bytes, limits, warning, &timed_out);
-    if (parts) writeEntry(entry, check, *parts);
-    if (timed_out) writeTimeout(entry, check, limits.decomposition_seconds);
+  }
+  sideBySide(splits.size(), threads_, [&](size_t s) {
+    splits[s].outcome = runProgram({kPython, "-c", kCoacdProgram, std::to_string(limits.max_convex_parts)},
+                                   splits[s].mesh_bytes, kMemory, limits.decomposition_seconds, kMaxAnswer);
+  });
+  std::vector<std::string> split_warnings(splits.size());
+  for (size_t s = 0; s < splits.size(); ++s)
+    known_[splits[s].key] = partsOf(splits[s], limits, &split_warnings[s]);
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    if (!split_of[m]) continue;
+    parts[m] = known_[splits[*split_of[m]].key];
+    warnings[m] = std::exchange(split_warnings[*split_of[m]], "");  // said for its first mesh only
   }
   return parts;
 }
 
-std::shared_ptr<const ConvexParts> ConvexDecomposer::split(const std::string& mesh_bytes,
-                                                           const Limits& limits, std::string* warning,
-                                                           bool* timed_out) {
-  if (coacd_missing_) return nullptr;
-  const ProgramOutcome outcome =
-      runProgram({kPython, "-c", kCoacdProgram, std::to_string(limits.max_convex_parts)}, mesh_bytes, kMemory,
-                 limits.decomposition_seconds, kMaxAnswer);
+std::shared_ptr<const ConvexParts> ConvexDecomposer::partsOf(const Split& split, const Limits& limits,
+                                                             std::string* warning) {
+  const ProgramOutcome& outcome = split.outcome;
   std::ostringstream why;
   if (outcome.ending == ProgramOutcome::Ending::kExited && outcome.status == 0) {
-    if (auto parts = parseParts(outcome.output, 0, limits.max_convex_parts))
+    if (auto parts = parseParts(outcome.output, 0, limits.max_convex_parts)) {
+      writeEntry(split.entry, split.check, *parts);
       return std::make_shared<const ConvexParts>(std::move(*parts));
+    }
     why << "CoACD's answer was garbled";
   } else if (outcome.ending == ProgramOutcome::Ending::kExited && outcome.status == 3) {
+    if (coacd_missing_) return nullptr;  // said once
     coacd_missing_ = true;
     why << "CoACD is not installed (" << lastLine(outcome.errors)
         << "): moving meshes collide by their hulls; install it with `" << kPython
         << " -m pip install --break-system-packages coacd` (scripts/workspace.sh install does)";
   } else if (outcome.ending == ProgramOutcome::Ending::kTimedOut) {
-    *timed_out = true;
+    writeTimeout(split.entry, split.check, limits.decomposition_seconds);
     why << "splitting it into convex parts took longer than " << limits.decomposition_seconds
         << " s (decomposition_seconds)";
   } else if (outcome.ending == ProgramOutcome::Ending::kExited) {
@@ -227,21 +300,31 @@ std::shared_ptr<const ConvexParts> ConvexDecomposer::split(const std::string& me
   } else {
     why << "CoACD could not split it: " << (outcome.why.empty() ? lastLine(outcome.errors) : outcome.why);
   }
-  if (warning) *warning = why.str() + (coacd_missing_ ? "" : ": it collides by its hull");
+  *warning = why.str() + (coacd_missing_ ? "" : ": it collides by its hull");
   return nullptr;
 }
 
 void ConvexDecomposer::attach(ModelSpec& model, const Limits& limits, Diagnostics& diagnostics) {
   if (model.is_static) return;
+  const std::set<std::string> still = linksFixedToTheWorld(model);
+  std::vector<Shape*> shapes;
+  std::vector<std::string> sources;  // "link [...] <collision> mesh [...]" of each
   for (LinkSpec& link : model.links) {
+    if (still.count(link.name)) continue;
     for (Collision& collision : link.collisions) {
       Shape& shape = collision.shape;
       if (shape.type != Shape::Type::kMesh || !shape.mesh) continue;
-      std::string warning;
-      shape.convex_parts = decompose(*shape.mesh, limits, &warning);
-      if (warning.empty()) continue;
-      diagnostics.warning("link [" + link.name + "] <collision> mesh [" + shape.mesh_path + "]: " + warning);
+      shapes.push_back(&shape);
+      sources.push_back("link [" + link.name + "] <collision> mesh [" + shape.mesh_path + "]: ");
     }
+  }
+  std::vector<const TriangleMesh*> meshes;
+  for (const Shape* shape : shapes) meshes.push_back(shape->mesh.get());
+  std::vector<std::string> warnings;
+  const auto parts = decomposeAll(meshes, limits, warnings);
+  for (size_t k = 0; k < shapes.size(); ++k) {
+    shapes[k]->convex_parts = parts[k];
+    if (!warnings[k].empty()) diagnostics.warning(sources[k] + warnings[k]);
   }
 }
 

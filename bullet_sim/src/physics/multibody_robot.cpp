@@ -196,11 +196,13 @@ void MultiBodyRobot::addCollider(int k) {
     btCompoundShape* compound = shapes_->makeCompound();
     const Eigen::Isometry3d bullet_to_part = frames_[k].part_to_bullet.inverse();
     CollisionNames by_child;  // a mesh's convex parts are children of their own
+    // A fixed base never moves: its meshes collide by their triangles, as the world's meshes do.
+    const bool still = spec_.is_static || (k == 0 && hasFixedBase(spec_));
     for (size_t c = 0; c < parts_[k].collisions.size(); ++c) {
       const Collision& collision = parts_[k].collisions[c];
       const int first = compound->getNumChildShapes();
       const int count =
-          shapes_->addTo(*compound, toBullet(bullet_to_part * collision.origin), collision.shape, true);
+          shapes_->addTo(*compound, toBullet(bullet_to_part * collision.origin), collision.shape, !still);
       child_ranges_[k].emplace_back(first, count);
       by_child.names.insert(by_child.names.end(), count, collision_names_[k].names.at(c));
     }
@@ -214,7 +216,7 @@ void MultiBodyRobot::addCollider(int k) {
       collider->setContactStiffnessAndDamping(surface.kp.value_or(1e12), surface.kd.value_or(1.0));
     }
     // A fixed base is static geometry: it meets the robots, not the world's other static geometry.
-    if (spec_.is_static || (k == 0 && hasFixedBase(spec_))) {
+    if (still) {
       world_.addCollisionObject(collider.get(), kStaticGroup, kRobotGroup);
     } else {
       world_.addCollisionObject(collider.get(), kRobotGroup, kStaticGroup | kRobotGroup);

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/geometry.h"
@@ -24,25 +25,37 @@ std::string convexCacheDir();
 /// limits.max_convex_parts parts. Where that fails (CoACD is not installed, the time ran out), the mesh keeps
 /// colliding by its hull, with one warning. A split that ran out of time is remembered in the cache too, so
 /// that the next spawn takes the hull at once; a longer decomposition_seconds than it had tries again.
+/// The meshes of one model split side by side, one CoACD process per thread; each mesh's parts depend on that
+/// mesh alone, so they are the same whatever the number of threads and whichever process ends first.
 class ConvexDecomposer {
  public:
-  explicit ConvexDecomposer(std::string cache_dir = convexCacheDir()) : cache_dir_(std::move(cache_dir)) {}
+  /// `threads`: CoACD processes at once; 0 (or less): the machine's cores, at most 4.
+  explicit ConvexDecomposer(std::string cache_dir = convexCacheDir(), int threads = 0);
 
   /// The convex parts of `mesh`; nullptr when it collides by its hull: limits.max_convex_parts is 1, or
   /// splitting it failed, and then `warning` says why (the first time only).
   std::shared_ptr<const ConvexParts> decompose(const TriangleMesh& mesh, const Limits& limits,
                                                std::string* warning);
 
-  /// Gives each mesh collision of `model` its convex parts, unless the model is static; a warning in
-  /// `diagnostics` names each mesh that keeps its hull.
+  /// decompose() for each of `meshes` (side by side); `warnings` gets one entry per mesh, empty but where
+  /// it keeps its hull the first time.
+  std::vector<std::shared_ptr<const ConvexParts>> decomposeAll(const std::vector<const TriangleMesh*>& meshes,
+                                                               const Limits& limits,
+                                                               std::vector<std::string>& warnings);
+
+  /// Gives each mesh collision of `model` its convex parts, unless the model is static or the link is fixed
+  /// to the world (such a link never moves: it collides by its triangles, as the world's meshes do); a
+  /// warning in `diagnostics` names each mesh that keeps its hull.
   void attach(ModelSpec& model, const Limits& limits, Diagnostics& diagnostics);
 
  private:
-  /// `timed_out` is set when CoACD ran out of limits.decomposition_seconds.
-  std::shared_ptr<const ConvexParts> split(const std::string& mesh_bytes, const Limits& limits,
-                                           std::string* warning, bool* timed_out);
+  struct Split;  ///< a mesh neither known nor in the cache, to split
+
+  /// The parts of `split` from what CoACD answered; nullptr and `warning` where it keeps its hull.
+  std::shared_ptr<const ConvexParts> partsOf(const Split& split, const Limits& limits, std::string* warning);
 
   std::string cache_dir_;
+  int threads_;
   std::map<uint64_t, std::shared_ptr<const ConvexParts>> known_;  ///< by key; nullptr: it keeps its hull
   bool coacd_missing_ = false;  ///< said once; then every mesh keeps its hull without a word
 };

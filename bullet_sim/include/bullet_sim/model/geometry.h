@@ -27,7 +27,8 @@ struct Shape {
   std::string mesh_path;                                    ///< kMesh: resolved absolute path
   Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();
   std::shared_ptr<const TriangleMesh> mesh;  ///< kMesh: loaded, scale applied
-  /// kMesh of a moving model's collision: its convex parts (ConvexDecomposer); null: it collides by its hull.
+  /// kMesh of a moving link's collision: its convex parts (ConvexDecomposer); null: it collides by its hull
+  /// (by its triangles on a link fixed to the world or a static model).
   std::shared_ptr<const ConvexParts> convex_parts;
 };
 

@@ -60,8 +60,8 @@ struct SimulationOptions {
   /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
   std::string convex_cache_dir = convexCacheDir();
   /// Threads that share each step's per-robot work (every robot's due scans; with many robots, each
-  /// substep's wheel forces), the stepping one included; 0: the machine's cores, at most 4. Any count gives
-  /// the same, bit-identical run.
+  /// substep's wheel forces), the stepping one included, and the CoACD processes that split a spawn's meshes
+  /// side by side; 0: the machine's cores, at most 4. Any count gives the same, bit-identical run.
   int threads = 0;
 };
 
@@ -278,7 +278,7 @@ class Simulation {
   SimulationOptions options_;
   std::unique_ptr<PhysicsWorld> physics_;
   RayCaster rays_;
-  ConvexDecomposer decomposer_{options_.convex_cache_dir};
+  ConvexDecomposer decomposer_{options_.convex_cache_dir, options_.threads};
   std::unique_ptr<ImageSource> images_;         ///< outlives the robots' cameras
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
