@@ -1,6 +1,6 @@
 # Fails the configure step when a file includes a header of a layer above its own, at any include depth. The
 # layers, from the bottom, each a folder under include/bullet_sim/ and src/:
-#   common      diagnostics, limits, reading files
+#   common      diagnostics, limits, reading files, a pool of threads
 #   assets      meshes, textures, materials, resource lookup (model://, package://), isolated import
 #   model       URDF, <gazebo> tags, SDF worlds and models -> typed descriptions
 #   sensing     exact batched ray casting

@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "src/simulation/work_pool.h"
+#include "src/common/work_pool.h"
 
 namespace bullet_sim {
 namespace {

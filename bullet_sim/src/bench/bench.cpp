@@ -36,7 +36,7 @@
 #include "bullet_sim/web/web_viewer.h"
 #include "bench/bench_drive.h"
 #include "bench/bench_fleet.h"
-#include "simulation/work_pool.h"
+#include "common/work_pool.h"
 #include "bench/bench_strikes.h"
 #include "bench/bench_viewer.h"
 #include "bench/bench_world.h"

@@ -4,22 +4,20 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iterator>
 #include <optional>
 #include <set>
 #include <sstream>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include "assets/child_program.h"
+#include "common/work_pool.h"
 #include "model/coacd_program.h"
 
 namespace bullet_sim {
@@ -165,18 +163,6 @@ std::string lastLine(std::string text) {
   return newline == std::string::npos ? text : text.substr(newline + 1);
 }
 
-/// Runs task(0) ... task(count - 1), each once, on up to `threads` threads (the caller's one of them).
-void sideBySide(size_t count, int threads, const std::function<void(size_t)>& task) {
-  std::atomic<size_t> next{0};
-  const auto work = [&] {
-    for (size_t k = next++; k < count; k = next++) task(k);
-  };
-  std::vector<std::thread> helpers;
-  for (size_t t = 1; t < std::min(count, static_cast<size_t>(threads)); ++t) helpers.emplace_back(work);
-  work();
-  for (std::thread& helper : helpers) helper.join();
-}
-
 /// The links that never move: a root named "world" and the links on fixed joints down from it.
 std::set<std::string> linksFixedToTheWorld(const ModelSpec& model) {
   std::set<std::string> still;
@@ -199,8 +185,7 @@ std::string convexCacheDir() {
 
 ConvexDecomposer::ConvexDecomposer(std::string cache_dir, int threads)
     : cache_dir_(std::move(cache_dir)),
-      threads_(threads > 0 ? threads
-                           : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u))) {}
+      threads_(threads > 0 ? threads : defaultPoolThreads()) {}
 
 struct ConvexDecomposer::Split {
   uint64_t key = 0;
@@ -260,7 +245,8 @@ std::vector<std::shared_ptr<const ConvexParts>> ConvexDecomposer::decomposeAll(
       splits.push_back({key, check, entry, std::move(bytes), {}});
     }
   }
-  sideBySide(splits.size(), threads_, [&](size_t s) {
+  WorkPool pool(static_cast<int>(std::min(splits.size(), static_cast<size_t>(threads_))));
+  pool.run(splits.size(), [&](size_t s) {
     splits[s].outcome = runProgram({kPython, "-c", kCoacdProgram, std::to_string(limits.max_convex_parts)},
                                    splits[s].mesh_bytes, kMemory, limits.decomposition_seconds, kMaxAnswer);
   });

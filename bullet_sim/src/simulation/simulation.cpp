@@ -12,7 +12,7 @@
 #include "bullet_sim/model/sdf_model.h"
 #include "physics/multibody_robot.h"
 #include "physics/raycast_robot.h"
-#include "simulation/work_pool.h"
+#include "common/work_pool.h"
 
 namespace bullet_sim {
 
@@ -20,8 +20,8 @@ namespace {
 
 /// Moving models from which each substep's wheel and force work (beforeSubstep) is shared by the pool: waking
 /// its threads twice a substep costs about what ten raycast robots' work does (bench --robots 10 --threads 2
-/// spent 1.5x the CPU time of --threads 1 when it was shared from 8 on). Each body's beforeSubstep changes only that body
-/// and reads only its own state, gravity and the static ray scene, so they may run side by side.
+/// spent 1.5x the CPU time of --threads 1 when it was shared from 8 on). Each body's beforeSubstep changes only
+/// that body and reads only its own state, gravity and the static ray scene, so they may run side by side.
 constexpr size_t kModelsPerSharedSubstep = 32;
 
 Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {

@@ -1,4 +1,4 @@
-#include "simulation/work_pool.h"
+#include "common/work_pool.h"
 
 #include <algorithm>
 #include <utility>

@@ -1,6 +1,7 @@
-// A fixed pool of threads that runs a step's independent tasks (each robot's lidar scans, each robot's
-// wheels) side by side. Each task writes only its own results, so the order the threads take them in never
-// shows: whoever merges them does so in task order, and reruns stay bit-identical.
+// A fixed pool of threads that runs independent tasks side by side: a step's (each robot's lidar scans, each
+// robot's wheels) and a spawn's (each mesh's CoACD process). Each task writes only its own results, so the
+// order the threads take them in never shows: whoever merges them does so in task order, and reruns stay
+// bit-identical.
 #pragma once
 
 #include <condition_variable>
