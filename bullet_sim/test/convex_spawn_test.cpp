@@ -3,7 +3,6 @@
 // side, with the same parts whatever the number of threads.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <array>
 #include <filesystem>
@@ -19,22 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A folder of its own for a test's convex parts and meshes, removed with it.
-class TemporaryFolder {
- public:
-  TemporaryFolder() {
-    path_ = fs::temp_directory_path() / ("bullet_sim_convex_spawn_" + std::to_string(getpid()) + "_" +
-                                         std::to_string(count_++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TemporaryFolder() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  static inline int count_ = 0;
-  fs::path path_;
-};
+using test::TemporaryFolder;
 
 constexpr double kFloorTop = 0.05;  // [m] the trough's floor, inside
 constexpr double kWallTop = 0.3;    // [m] its walls' tops

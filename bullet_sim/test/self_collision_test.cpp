@@ -5,7 +5,6 @@
 // still at its zero pose, then follows a trajectory; colliding by its links' hulls instead throws its wrist.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,22 +26,7 @@ using ::testing::HasSubstr;
 using Action = FollowJointTrajectoryAction;
 using Report = GoalReports<Action>::Report;
 
-/// A folder of its own for a test's convex parts, removed with it.
-class TemporaryFolder {
- public:
-  TemporaryFolder() {
-    path_ = (fs::temp_directory_path() /
-             ("bullet_sim_self_collision_" + std::to_string(getpid()) + "_" + std::to_string(count_++)))
-                .string();
-    fs::remove_all(path_);
-  }
-  ~TemporaryFolder() { fs::remove_all(path_); }
-  const std::string& path() const { return path_; }
-
- private:
-  static inline int count_ = 0;
-  std::string path_;
-};
+using test::TemporaryFolder;
 
 // SDF's rule ------------------------------------------------------------------------------------------------
 
@@ -219,7 +203,7 @@ TEST(ConvexDecomposer, GivesAtMostMaxConvexPartsAndNoneForOne) {
 // The six-axis arm ------------------------------------------------------------------------------------------
 
 /// One cache for the arm's tests, so that CoACD splits its meshes once per run of this file.
-const std::string& armCache() {
+const fs::path& armCache() {
   static const TemporaryFolder folder;
   return folder.path();
 }
