@@ -2,38 +2,10 @@
 
 #include <algorithm>
 
+#include "bullet_sim/model/model_geometry.h"
+
 namespace bullet_sim {
 namespace {
-
-/// The world bounds of a static collision posed at `pose` (its model's pose times its origin).
-Eigen::AlignedBox3d collisionBounds(const Shape& shape, const Eigen::Isometry3d& pose) {
-  Eigen::AlignedBox3d local;
-  switch (shape.type) {
-    case Shape::Type::kBox:
-      local = Eigen::AlignedBox3d(-shape.box_size / 2, shape.box_size / 2);
-      break;
-    case Shape::Type::kCylinder: {
-      const Eigen::Vector3d half(shape.radius, shape.radius, shape.length / 2);
-      local = Eigen::AlignedBox3d(-half, half);
-      break;
-    }
-    case Shape::Type::kSphere:
-      local = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-shape.radius),
-                                  Eigen::Vector3d::Constant(shape.radius));
-      break;
-    case Shape::Type::kMesh:
-      if (shape.mesh)
-        for (const Eigen::Vector3d& vertex : shape.mesh->vertices) local.extend(vertex);
-      break;
-    case Shape::Type::kPlane:
-      break;
-  }
-  Eigen::AlignedBox3d bounds;
-  if (local.isEmpty()) return bounds;
-  for (int corner = 0; corner < 8; ++corner)
-    bounds.extend(pose * local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
-  return bounds;
-}
 
 Eigen::Isometry3d rootPose(const Robot& robot) { return robot.body().linkPose(robot.body().spec().root); }
 
@@ -57,7 +29,7 @@ FleetWatch::FleetWatch(Simulation& simulation, std::vector<const Robot*> robots)
       const bool horizontal_plane = collision.shape.type == Shape::Type::kPlane &&
                                     (pose.linear() * collision.shape.plane_normal).z() > 1 - 1e-9;
       if (horizontal_plane) ground_ = std::max(ground_, pose.translation().z());
-      const Eigen::AlignedBox3d bounds = collisionBounds(collision.shape, pose);
+      const Eigen::AlignedBox3d bounds = boundingBox(collision.shape, pose);
       if (bounds.isEmpty()) continue;
       static_boxes_.push_back(bounds);
       static_bounds_.extend(bounds);
