@@ -11,12 +11,9 @@ constexpr double kHullMargin = 0.001;  // [m] Bullet inflates hulls by their mar
 btCollisionShape* BulletShapes::make(const Shape& shape, bool moving) {
   std::unique_ptr<btCollisionShape> made;
   switch (shape.type) {
-    case Shape::Type::kBox: {
-      auto box = std::make_unique<btBoxShape>(toBullet(shape.box_size / 2));
-      box->initializePolyhedralFeatures();  // its faces, for the box-box clipping (PhysicsWorld::Engine)
-      made = std::move(box);
+    case Shape::Type::kBox:
+      made = std::make_unique<btBoxShape>(toBullet(shape.box_size / 2));
       break;
-    }
     case Shape::Type::kCylinder:
       made = std::make_unique<btCylinderShapeZ>(btVector3(shape.radius, shape.radius, shape.length / 2));
       break;
