@@ -51,7 +51,7 @@ void fields(A& a, PluginElement& p) {
 }
 template <class A>
 void fields(A& a, WorldModelSpec& m) {
-  a(m.name, m.pose, m.is_static, m.collisions, m.visuals, m.links, m.joints, m.plugins);
+  a(m.name, m.pose, m.is_static, m.allow_auto_disable, m.collisions, m.visuals, m.links, m.joints, m.plugins);
 }
 template <class A>
 void fields(A& a, SphericalCoordinates& c) {

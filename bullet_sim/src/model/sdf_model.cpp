@@ -202,6 +202,7 @@ ModelSpec toModelSpec(const WorldModelSpec& model, const PluginParsers& plugins,
   spec.name = model.name;
   spec.source = diagnostics.source();
   spec.is_static = model.is_static;
+  spec.allow_auto_disable = model.allow_auto_disable;
   spec.placement = model.pose;
   spec.names_from_sdf = true;
   const Tree tree = buildTree(model, spec.is_static, weld_unjoined, diagnostics);

@@ -226,6 +226,7 @@ class WorldConverter {
     spec.name = model.Name();
     spec.pose = resolvePose(model.SemanticPose(), "", "model [" + model.Name() + "]", model.Element());
     spec.is_static = model.Static();
+    if (model.Element()) spec.allow_auto_disable = model.Element()->Get<bool>("allow_auto_disable");
     addContents(model, Eigen::Isometry3d::Identity(), model.Name(), spec);
     if (!spec.is_static && !spawning_) checkBody(model, spec);
     return spec;

@@ -28,6 +28,18 @@ constexpr double kHoldVelocityGain = 1.0;
 constexpr double kLightLinkTime = 0.02;  // [s] see substepLimit
 // The share of a mimic follower's position error its coupling corrects per substep (with Bullet's erp2).
 constexpr double kCouplingGain = 1.0;
+// Gazebo's ODE auto-disable (ODEPhysics::Load): a body sleeps after 1 s with its speeds under 0.1 m/s and
+// 0.1 rad/s. Bullet sums the squares of both; 0.01 keeps every sleeper under both of Gazebo's thresholds.
+constexpr double kSleepMotion = 0.01;  // [m^2/s^2]
+constexpr double kSleepTime = 1.0;     // [s]
+
+/// Gazebo lets a body sleep (ODELink::Init) when its model allows it (<allow_auto_disable>), has no joints
+/// (a URDF's fixed joints are lumped away) and no sensors; here also no plugins, which may move it.
+bool maySleep(const ModelSpec& spec) {
+  const auto joined = [&](const JointSpec& joint) { return spec.names_from_sdf || joint.moves(); };
+  return spec.allow_auto_disable && !spec.is_static && spec.plugins.empty() &&
+         std::none_of(spec.joints.begin(), spec.joints.end(), joined);
+}
 
 }  // namespace
 
@@ -56,6 +68,22 @@ MultiBodyRobot::~MultiBodyRobot() {
   for (auto& constraint : constraints_) world_.removeMultiBodyConstraint(constraint.get());
   for (auto& collider : colliders_) world_.removeCollisionObject(collider.get());
   world_.removeMultiBody(body_.get());
+  wakeSleepers(world_);  // what rested on it falls
+}
+
+void wakeSleepers(btMultiBodyDynamicsWorld& world) {
+  for (int k = 0; k < world.getNumMultibodies(); ++k) wake(*world.getMultiBody(k));
+}
+
+void wake(btMultiBody& body) {
+  if (!body.getCanSleep()) return;
+  body.wakeUp();
+  // Bullet reactivates a woken body's colliders only after the next step: this one would skip it.
+  const auto activate = [](btMultiBodyLinkCollider* collider) {
+    if (collider && collider->getActivationState() != DISABLE_DEACTIVATION) collider->activate(true);
+  };
+  activate(body.getBaseCollider());
+  for (int link = 0; link < body.getNumLinks(); ++link) activate(body.getLink(link).m_collider);
 }
 
 void MultiBodyRobot::buildParts() {
@@ -102,7 +130,9 @@ void MultiBodyRobot::buildParts() {
 void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   const int links = static_cast<int>(parts_.size()) - 1;
   body_ = std::make_unique<btMultiBody>(links, frames_[0].mass, toBullet(frames_[0].principal_inertia),
-                                        /*fixedBase=*/hasFixedBase(spec_), /*canSleep=*/false);
+                                        /*fixedBase=*/hasFixedBase(spec_), /*canSleep=*/maySleep(spec_));
+  body_->setSleepThreshold(kSleepMotion);
+  body_->setSleepTimeout(kSleepTime);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   std::vector<bool> self_collide;
   for (const RobotPart& part : parts_) {
@@ -327,6 +357,7 @@ void MultiBodyRobot::afterStep() {
 }
 
 void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
+  wake(*body_);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   body_->setBaseVel(btVector3(0, 0, 0));
   body_->setBaseOmega(btVector3(0, 0, 0));
@@ -349,12 +380,14 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositi
 }
 
 void MultiBodyRobot::teleport(const Eigen::Isometry3d& root_pose) {
+  wake(*body_);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);
   afterStep();
 }
 
 void MultiBodyRobot::setJointPositions(const JointPositions& joints) {
+  wake(*body_);
   for (const auto& [joint, position] : joints) {
     body_->setJointPos(joints_.at(joint).bullet_link, position);
     body_->setJointVel(joints_.at(joint).bullet_link, 0);
@@ -369,6 +402,10 @@ void MultiBodyRobot::setStepSize(double step_size) {
     if (joint.coupling) joint.coupling->setMaxAppliedImpulse(joint.spec->mimic->max_effort * step_size);
   }
   dt_ = step_size;
+}
+
+bool MultiBodyRobot::sleeping() const {
+  return !colliders_.empty() && colliders_.front()->getActivationState() == ISLAND_SLEEPING;
 }
 
 int MultiBodyRobot::jointIndex(const std::string& joint) const {
@@ -415,6 +452,7 @@ void MultiBodyRobot::setJointEffort(int joint, double effort) {
 // As Gazebo's Model::SetLinearVel and SetAngularVel give every link the same velocities, the joints stop.
 void MultiBodyRobot::setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
   if (spec_.is_static) return;  // a static model never moves by itself
+  wake(*body_);
   if (hasFixedBase(spec_)) {      // its base stays; its joints stop, as every link takes the base's twist
     for (const auto& joint : joints_) body_->setJointVel(joint.bullet_link, 0);
     return;
@@ -435,6 +473,7 @@ void MultiBodyRobot::applyLinkWrench(const std::string& link, const Eigen::Vecto
   const Eigen::Vector3d moment = torque + (linkPose(link).translation() - com).cross(force);
   part_wrenches_[part].first += force;
   part_wrenches_[part].second += moment;
+  wake(*body_);
 }
 
 bool MultiBodyRobot::takesJointEffort(int joint) const {

@@ -23,6 +23,12 @@ namespace bullet_sim {
 class BulletShapes;
 class SelfCollisionRule;
 
+/// Wakes `body` (Bullet's deactivation) so that the next step moves it.
+void wake(btMultiBody& body);
+/// Wakes every multibody of `world`: after a change that sleepers would not notice (a body or the ground
+/// under them gone, gravity changed).
+void wakeSleepers(btMultiBodyDynamicsWorld& world);
+
 /// Bullet collision filter groups: the robots' parts test only static geometry and other robots.
 enum CollisionGroup : int { kStaticGroup = 1, kRobotGroup = 2 };
 
@@ -44,6 +50,7 @@ class MultiBodyRobot : public PhysicsRobot {
   void teleport(const Eigen::Isometry3d& root_pose) override;
   void setJointPositions(const JointPositions& joints) override;
   void setStepSize(double step_size) override;
+  bool sleeping() const override;
 
   const ModelSpec& spec() const override { return spec_; }
   int jointIndex(const std::string& joint) const override;

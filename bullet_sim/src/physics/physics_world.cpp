@@ -259,7 +259,10 @@ void PhysicsWorld::setStepSize(double step_size) {
 
 Eigen::Vector3d PhysicsWorld::gravity() const { return fromBullet(world_->getGravity()); }
 
-void PhysicsWorld::setGravity(const Eigen::Vector3d& gravity) { world_->setGravity(toBullet(gravity)); }
+void PhysicsWorld::setGravity(const Eigen::Vector3d& gravity) {
+  world_->setGravity(toBullet(gravity));
+  wakeSleepers(*world_);
+}
 
 void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {
   std::vector<btCollisionObject*> moved;
@@ -278,6 +281,7 @@ void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {
     if (auto* compound = dynamic_cast<btCompoundShape*>(object->getCollisionShape())) compound->recalculateLocalAabb();
     world_->updateSingleAabb(object);  // the broadphase refreshes only moving objects by itself
   }
+  wakeSleepers(*world_);  // what rested on the model's old place falls
 }
 
 }  // namespace bullet_sim

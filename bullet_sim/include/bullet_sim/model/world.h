@@ -54,6 +54,7 @@ struct WorldModelSpec {
   /// What the file says. A world file's non-static model of one link is a rigid body; one of several links
   /// or with nested models is made static, with a warning.
   bool is_static = true;
+  bool allow_auto_disable = true;  ///< <allow_auto_disable>
   std::vector<Collision> collisions;  ///< origins in the model frame (link pose and collision pose folded in)
   /// Origins in the model frame. A plane visual becomes a thin box of its <size>, top face on the plane,
   /// because a renderer needs a finite extent.

@@ -131,6 +131,8 @@ class PhysicsRobot : public RobotBody {
   virtual void setStepSize(double step_size) = 0;
   /// [J] what the wheel model's springs hold now (the `raycast` suspension's 1/2 k x^2); 0 for none.
   virtual double elasticEnergy() const { return 0; }
+  /// Whether Bullet has put it to sleep (Gazebo's auto-disable): it costs nothing until something wakes it.
+  virtual bool sleeping() const { return false; }
 };
 
 }  // namespace bullet_sim
