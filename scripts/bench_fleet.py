@@ -148,12 +148,13 @@ def boxes_lines(boxes):
            boxes["load_after"], boxes["duration_s"], boxes["repeat"]))
     lines = textwrap.wrap(paragraph, 110) + [""]
     lines += ["| robots | boxes | RTF | robot x RTF | CPU ms per sim s per robot, all threads | RTF with a core to "
-              "itself | boxes pushed (> 1 cm) | highest box rise | deepest box sink | boxes out of the walls, in "
+              "itself | boxes pushed (> 1 cm) | boxes asleep at the end | highest box rise | deepest box sink | boxes out of the walls, in "
               "one or under the ground | robots' rise, lean |",
-              "|---|---|---|---|---|---|---|---|---|---|---|",
-              "| %d | %d | %.3g | %.3g | %.1f | %.3g | %d | %.3f m | %.1f mm | %s | %.1f mm, %.2f deg |" % (
+              "|---|---|---|---|---|---|---|---|---|---|---|---|",
+              "| %d | %d | %.3g | %.3g | %.1f | %.3g | %d | %s | %.3f m | %.1f mm | %s | %.1f mm, %.2f deg |" % (
                   fleet["robots"], fleet["loose_bodies"], fleet["rtf"], fleet["robot_rtf"], cpu_ms,
-                  1000 / (fleet["robots"] * cpu_ms), fleet["loose_pushed"], fleet["loose_rise_max_m"],
+                  1000 / (fleet["robots"] * cpu_ms), fleet["loose_pushed"], fleet.get("loose_asleep_at_end", "-"),
+                  fleet["loose_rise_max_m"],
                   1000 * fleet["loose_sink_max_m"], ", ".join(escaped) if escaped else "none",
                   1000 * fleet["robot_rise_max_m"], fleet["robot_tilt_max_deg"])]
     return lines + ["", "```", boxes["command"].replace(REPO + "/", ""), "```"]

@@ -55,7 +55,7 @@ double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x,
 /// flew, sank or went through a wall.
 void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
   double rise = 0, sink = 0, robot_rise = 0, tilt = 0, clearance = INFINITY;
-  size_t pushed = 0;
+  size_t pushed = 0, asleep = runs.empty() ? 0 : SIZE_MAX;
   std::vector<std::string> escaped;
   for (const FleetRun& run : runs) {
     size_t pushed_in_run = 0;
@@ -67,6 +67,8 @@ void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
       if (body.escaped && !listed) escaped.push_back(body.name);
     }
     pushed = std::max(pushed, pushed_in_run);
+    const auto sleeper = [](const LooseBodyTrack& body) { return body.asleep; };
+    asleep = std::min(asleep, static_cast<size_t>(std::count_if(run.loose.begin(), run.loose.end(), sleeper)));
     for (const RobotTrack& robot : run.robots) {
       robot_rise = std::max(robot_rise, robot.rise_max);
       tilt = std::max(tilt, robot.tilt_max);
@@ -79,6 +81,7 @@ void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
   json["loose_rise_max_m"] = rise;
   json["loose_sink_max_m"] = sink;
   json["loose_escaped"] = escaped;
+  json["loose_asleep_at_end"] = asleep;
   json["robot_rise_max_m"] = robot_rise;
   json["robot_tilt_max_deg"] = tilt * 180 / M_PI;
 }

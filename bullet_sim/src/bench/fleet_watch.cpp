@@ -60,6 +60,8 @@ void FleetWatch::sample() {
     const auto holds = [&](const Eigen::AlignedBox3d& box) { return box.contains(centre); };
     const bool inside_static = std::any_of(static_boxes_.begin(), static_boxes_.end(), holds);
     if (outside || inside_static || centre.z() < ground_) track.escaped = true;
+    const Robot* body = simulation_.worldBody(loose_models_[k]);
+    track.asleep = body && body->body().sleeping();
   }
   for (size_t k = 0; k < robots_.size(); ++k) {
     RobotTrack& track = robot_tracks_[k];

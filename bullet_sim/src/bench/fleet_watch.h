@@ -23,6 +23,7 @@ struct LooseBodyTrack {
   /// It was once outside the walls (the x-y bounds of the world's static bodies, the ground plane left out),
   /// inside a static body's box bounds, or below the ground plane.
   bool escaped = false;
+  bool asleep = false;  ///< Bullet had put it to sleep at the last sample
 };
 
 /// One robot, by its root link.
