@@ -348,6 +348,7 @@ void MultiBodyRobot::afterStep() {
     joint.pending_effort = joint.step_effort = 0;
   }
   for (auto& wrench : part_wrenches_) wrench = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  if (sleeping()) return;  // Bullet moved none of it
   body_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
   for (size_t k = 0; k < parts_.size(); ++k) {
     const btTransform pose =
