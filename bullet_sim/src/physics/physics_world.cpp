@@ -82,6 +82,24 @@ bool outOfReach(const btManifoldPoint& point, const btCollisionObject& a, const 
   const double approach = std::max(0.0, -static_cast<double>(relative.dot(point.m_normalWorldOnB)));
   return point.m_distance1 > (approach + gravity * dt + kSpeculativeSlack) * dt;
 }
+
+/// Bullet joins into one simulation island the bodies whose bounds overlap; ODE (Gazebo) those in contact.
+/// Joined by contacts, a body at rest beside a robot sleeps instead of waking whenever the robot passes.
+class TouchingIslands : public btSimulationIslandManager {
+ public:
+  void updateActivationState(btCollisionWorld* world, btDispatcher* dispatcher) override {
+    btSimulationIslandManager::updateActivationState(world, dispatcher);  // tags every body
+    getUnionFind().reset(getUnionFind().getNumElements());               // forgets the overlaps
+    for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
+      const btPersistentManifold& manifold = *dispatcher->getManifoldByIndexInternal(m);
+      const btCollisionObject& a = *manifold.getBody0();
+      const btCollisionObject& b = *manifold.getBody1();
+      if (manifold.getNumContacts() > 0 && a.mergesSimulationIslands() && b.mergesSimulationIslands()) {
+        getUnionFind().unite(a.getIslandTag(), b.getIslandTag());
+      }
+    }
+  }
+};
 }  // namespace
 
 /// Bullet's solver pushes a contact's bodies apart at erp * depth / dt. For the solver only, a contact
@@ -92,7 +110,11 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
   CappedWorld(Engine& engine, double max_correcting_velocity)
       : btMultiBodyDynamicsWorld(&engine.dispatcher, &engine.broadphase, engine.solver.get(),
                                  &engine.configuration),
-        max_correcting_velocity_(max_correcting_velocity) {}
+        max_correcting_velocity_(max_correcting_velocity) {
+    m_islandManager->~btSimulationIslandManager();
+    btAlignedFree(m_islandManager);
+    m_islandManager = new (btAlignedAlloc(sizeof(TouchingIslands), 16)) TouchingIslands();
+  }
 
   void solveConstraints(btContactSolverInfo& info) override {
     // Multibody contacts correct with erp2, rigid bodies with erp or erp2: the larger one bounds both.
