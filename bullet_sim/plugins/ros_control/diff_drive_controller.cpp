@@ -34,11 +34,23 @@ std::array<double, 36> covariance(const ParameterTree& parameters, const std::st
   return matrix;
 }
 
+/// velocity_rolling_window_size: samples, at least 1 (less is 1, as before). ros_controllers allocates the
+/// window when the controller loads, so one no machine holds fails there; here the bound is a million.
+size_t rollingWindow(const ParameterTree& parameters) {
+  constexpr double kMostSamples = 1e6;
+  const double window = parameters.number("velocity_rolling_window_size", 10);
+  if (!(window <= kMostSamples)) {
+    throw std::invalid_argument("velocity_rolling_window_size must be at most 1000000 samples, not " +
+                                parameters.describe("velocity_rolling_window_size"));
+  }
+  return static_cast<size_t>(std::max(1.0, window));
+}
+
 }  // namespace
 
 DiffDriveController::DiffDriveController(const ControllerSetup& setup)
     : Controller(setup, interfaceName(JointInterface::kVelocity)),
-      odometry_(static_cast<size_t>(std::max(1.0, setup.parameters.number("velocity_rolling_window_size", 10)))) {
+      odometry_(rollingWindow(setup.parameters)) {
   const ParameterTree& parameters = setup.parameters;
   warnUnread(setup, {"left_wheel", "right_wheel", "wheel_separation", "wheel_radius", "wheel_separation_multiplier",
                      "wheel_radius_multiplier", "left_wheel_radius_multiplier", "right_wheel_radius_multiplier",

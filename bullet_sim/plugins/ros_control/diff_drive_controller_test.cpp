@@ -64,6 +64,19 @@ TEST(DiffDriveOdometry, VelocitiesAreRollingMeansOverTheWindow) {
   EXPECT_NEAR(odometry.linear(), 0.1 * (2 + 3 + 6) / 3, 1e-9);
 }
 
+TEST(DiffDriveOdometry, AMillionSampleWindowAveragesEverySampleInIt) {
+  DiffDriveOdometry odometry(1000000);
+  odometry.setWheelParams(0.5, 0.1, 0.1);
+  odometry.update(0, 0, 0);
+  // 60,000 updates at 1 rad/s, then 40,000 at 3 rad/s: all within the window.
+  double position = 0;
+  for (int k = 1; k <= 100000; ++k) {
+    position += (k <= 60000 ? 1.0 : 3.0) * kDt;
+    odometry.update(position, position, k * kDt);
+  }
+  EXPECT_NEAR(odometry.linear(), 0.1 * (0.6 * 1.0 + 0.4 * 3.0), 1e-9);
+}
+
 TEST(SpeedLimiter, ClipsVelocityThenAcceleration) {
   SpeedLimiter limiter;
   limiter.has_velocity_limits = limiter.has_acceleration_limits = true;
@@ -312,6 +325,8 @@ TEST_F(RoverController, RefusesParametersThatCannotDrive) {
       {"cmd_vel_timeout: .nan", "cmd_vel_timeout must be >= 0 [s], not [.nan]"},
       {"cmd_vel_timeout: -1", "cmd_vel_timeout must be >= 0 [s], not [-1]"},
       {"publish_rate: .inf", "publish_rate must be finite and > 0 [Hz], not [.inf]"},
+      {"velocity_rolling_window_size: 1e18", "velocity_rolling_window_size must be at most 1000000 samples, not [1e18]"},
+      {"velocity_rolling_window_size: .nan", "velocity_rolling_window_size must be at most 1000000 samples, not [.nan]"},
   };
   std::string yaml =
       "nan_publisher:\n  type: joint_state_controller/JointStateController\n  publish_rate: .nan\n";

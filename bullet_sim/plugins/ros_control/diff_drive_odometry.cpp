@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 
 namespace bullet_sim {
@@ -51,6 +50,7 @@ void DiffDriveOdometry::setWheelParams(double separation, double left_radius, do
 void DiffDriveOdometry::init(double time) {
   linear_samples_.clear();
   angular_samples_.clear();
+  linear_sum_ = angular_sum_ = 0;
   time_ = time;
 }
 
@@ -68,8 +68,8 @@ void DiffDriveOdometry::update(double left_position, double right_position, doub
   const double dt = time - time_;
   if (dt < 0.0001) return;  // too short to take a velocity from
   time_ = time;
-  linear_ = rollingMean(linear_samples_, distance / dt);
-  angular_ = rollingMean(angular_samples_, turn / dt);
+  linear_ = rollingMean(linear_samples_, linear_sum_, distance / dt);
+  angular_ = rollingMean(angular_samples_, angular_sum_, turn / dt);
 }
 
 void DiffDriveOdometry::updateOpenLoop(double linear, double angular, double time) {
@@ -100,10 +100,14 @@ void DiffDriveOdometry::integrate(double distance, double turn) {
   y_ += -radius * (std::cos(heading_) - std::cos(heading));
 }
 
-double DiffDriveOdometry::rollingMean(std::deque<double>& samples, double sample) const {
+double DiffDriveOdometry::rollingMean(std::deque<double>& samples, double& sum, double sample) const {
   samples.push_back(sample);
-  while (samples.size() > std::max<size_t>(window_, 1)) samples.pop_front();
-  return std::accumulate(samples.begin(), samples.end(), 0.0) / static_cast<double>(samples.size());
+  sum += sample;
+  while (samples.size() > std::max<size_t>(window_, 1)) {
+    sum -= samples.front();
+    samples.pop_front();
+  }
+  return sum / static_cast<double>(samples.size());
 }
 
 }  // namespace bullet_sim

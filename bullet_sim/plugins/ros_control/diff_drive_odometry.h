@@ -55,7 +55,8 @@ class DiffDriveOdometry {
  private:
   /// Moves the pose by `distance` [m] while turning by `turn` [rad], along the arc they make.
   void integrate(double distance, double turn);
-  double rollingMean(std::deque<double>& samples, double sample) const;
+  /// The mean of the last window_ samples, `sample` the newest; `sum` is theirs, kept as they come and go.
+  double rollingMean(std::deque<double>& samples, double& sum, double sample) const;
 
   size_t window_;
   double separation_ = 0, left_radius_ = 0, right_radius_ = 0;
@@ -65,6 +66,7 @@ class DiffDriveOdometry {
   bool primed_ = false;  ///< the wheel positions below are known
   double left_travel_ = 0, right_travel_ = 0;  ///< [m] at the last update
   std::deque<double> linear_samples_, angular_samples_;
+  double linear_sum_ = 0, angular_sum_ = 0;
 };
 
 }  // namespace bullet_sim
