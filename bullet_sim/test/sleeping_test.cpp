@@ -1,6 +1,7 @@
 // Bodies at rest sleep as Gazebo's do (ODE's auto-disable: 1 s under 0.1 m/s and 0.1 rad/s; only models
 // without joints, sensors or plugins, and not when <allow_auto_disable> is false), and whatever reaches a
-// sleeper wakes it: a wrench, a teleport, a contact, the body under it removed, gravity changed.
+// sleeper wakes it: a wrench, a teleport, a contact, the body under it removed or moved, gravity changed;
+// what does not reach it (a body removed far away) leaves it asleep.
 #include <gtest/gtest.h>
 
 #include "bullet_sim/simulation/world_api.h"
@@ -119,6 +120,34 @@ TEST(Sleeping, ASleeperFallsWhenTheCrateUnderItIsRemoved) {
   EXPECT_NEAR(heightOf(world, "top"), top - kGravity * 0.2 * 0.2 / 2, 0.01);
   stepFor(simulation, 0.8);
   EXPECT_NEAR(heightOf(world, "top"), kSide / 2, 0.005) << "on the ground";
+}
+
+TEST(Sleeping, RemovingACrateFarAwayLeavesASleeperAsleep) {
+  Simulation simulation(test::emptyWorld());
+  spawnCrate(simulation, "sleeper", 0, kSide / 2);
+  spawnCrate(simulation, "far", 3, kSide / 2);
+  settle(simulation, {"sleeper", "far"});
+  ASSERT_TRUE(simulation.remove("far"));
+  simulation.step();
+  EXPECT_TRUE(sleeping(simulation, "sleeper"));
+}
+
+TEST(Sleeping, ASleeperFallsWhenTheStaticModelUnderItMovesAway) {
+  const std::string shelf = "<model name=\"shelf\"><static>true</static><pose>0 0 0.5 0 0 0</pose>"
+                            "<link name=\"body\"><collision name=\"box\"><geometry><box><size>1 1 0.2</size>"
+                            "</box></geometry></collision></link></model>";
+  const std::string sdf = "<?xml version=\"1.0\"?><sdf version=\"1.6\"><world name=\"shelf\">"
+                          "<include><uri>model://ground_plane</uri></include>" + shelf + "</world></sdf>";
+  Simulation simulation(parseWorld(sdf, "shelf.world", PackageResolver::fromEnvironment(), nullptr));
+  WorldApi world(simulation);
+  spawnCrate(simulation, "crate", 0, 0.6 + kSide / 2);
+  settle(simulation, {"crate"});
+  const double rest = heightOf(world, "crate");
+  EntityState away = world.modelState("shelf");
+  away.pose.translation().x() = 5;
+  ASSERT_EQ(world.setModelState("shelf", away), "");
+  stepFor(simulation, 0.2);  // free fall: 0.196 m of its 0.6 m drop
+  EXPECT_NEAR(rest - heightOf(world, "crate"), kGravity * 0.2 * 0.2 / 2, 0.01);
 }
 
 TEST(Sleeping, NewGravityWakesEverySleeper) {

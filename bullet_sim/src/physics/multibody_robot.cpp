@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "bullet_shapes.h"
 #include "bullet_sim/common/diagnostics.h"
@@ -65,14 +66,32 @@ MultiBodyRobot::MultiBodyRobot(ModelSpec spec, std::string name, btMultiBodyDyna
 }
 
 MultiBodyRobot::~MultiBodyRobot() {
+  std::vector<const btCollisionObject*> colliders;
+  for (const auto& collider : colliders_) colliders.push_back(collider.get());
+  wakeTouching(world_, colliders);  // what rests on it falls; its contacts go with it
   for (auto& constraint : constraints_) world_.removeMultiBodyConstraint(constraint.get());
   for (auto& collider : colliders_) world_.removeCollisionObject(collider.get());
   world_.removeMultiBody(body_.get());
-  wakeSleepers(world_);  // what rested on it falls
 }
 
 void wakeSleepers(btMultiBodyDynamicsWorld& world) {
   for (int k = 0; k < world.getNumMultibodies(); ++k) wake(*world.getMultiBody(k));
+}
+
+void wakeTouching(btMultiBodyDynamicsWorld& world, const std::vector<const btCollisionObject*>& objects) {
+  const auto listed = [&](const btCollisionObject* object) {
+    return std::find(objects.begin(), objects.end(), object) != objects.end();
+  };
+  btDispatcher& dispatcher = *world.getDispatcher();
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
+    if (manifold.getNumContacts() == 0) continue;
+    for (const auto& [one, other] : {std::pair(manifold.getBody0(), manifold.getBody1()),
+                                     std::pair(manifold.getBody1(), manifold.getBody0())}) {
+      const auto* link = btMultiBodyLinkCollider::upcast(other);
+      if (link && listed(one)) wake(*link->m_multiBody);
+    }
+  }
 }
 
 void wake(btMultiBody& body) {

@@ -10,6 +10,7 @@
 #include "bullet_sim/physics/robot_body.h"
 #include "physics/contacts.h"
 
+class btCollisionObject;
 class btMultiBody;
 class btMultiBodyDynamicsWorld;
 class btMultiBodyJointMotor;
@@ -25,9 +26,10 @@ class SelfCollisionRule;
 
 /// Wakes `body` (Bullet's deactivation) so that the next step moves it.
 void wake(btMultiBody& body);
-/// Wakes every multibody of `world`: after a change that sleepers would not notice (a body or the ground
-/// under them gone, gravity changed).
+/// Wakes every multibody of `world`: after a change every sleeper feels (gravity).
 void wakeSleepers(btMultiBodyDynamicsWorld& world);
+/// Wakes the multibodies in contact with any of `objects`, before those go or move: what rests on them falls.
+void wakeTouching(btMultiBodyDynamicsWorld& world, const std::vector<const btCollisionObject*>& objects);
 
 /// Bullet collision filter groups: the robots' parts test only static geometry and other robots.
 enum CollisionGroup : int { kStaticGroup = 1, kRobotGroup = 2 };

@@ -303,7 +303,7 @@ void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {
     if (auto* compound = dynamic_cast<btCompoundShape*>(object->getCollisionShape())) compound->recalculateLocalAabb();
     world_->updateSingleAabb(object);  // the broadphase refreshes only moving objects by itself
   }
-  wakeSleepers(*world_);  // what rested on the model's old place falls
+  wakeTouching(*world_, {moved.begin(), moved.end()});  // what rested on the model's old place falls
 }
 
 }  // namespace bullet_sim
