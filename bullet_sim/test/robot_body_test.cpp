@@ -1,5 +1,6 @@
-// Actuating a robot body from outside its joints, on both wheel models: a wrench on a link and the root's
-// velocity, against Newton's laws on a free-floating robot (no gravity, nothing touching it).
+// Actuating a robot body from outside its joints, on both wheel models and as one rigid body: a wrench on a
+// link and the root's velocity, against Newton's laws on a free-floating robot (no gravity, nothing touching
+// it).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -10,10 +11,18 @@
 namespace bullet_sim {
 namespace {
 
-/// two_wheeler.urdf with a diff drive on `wheel_model` wheels (that drive holds the wheels still).
+/// two_wheeler.urdf with a diff drive on `wheel_model` wheels (that drive holds the wheels still); or, for
+/// kRigid, with every joint fixed and no plugin: one rigid body, whose root is off its centre of mass.
+const std::string kRigid = "rigid";
 ModelSpec twoWheeler(const std::string& wheel_model) {
-  const std::string urdf = test::twoWheelerWithDiffDrive({{"wheelModel", wheel_model}});
-  return test::parseQuietly(urdf, "two_wheeler.urdf");
+  const bool rigid = wheel_model == kRigid;
+  const std::string urdf = test::twoWheelerWithDiffDrive({{"wheelModel", rigid ? "contact" : wheel_model}});
+  ModelSpec model = test::parseQuietly(urdf, "two_wheeler.urdf");
+  if (rigid) {
+    for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
+    model.plugins.clear();
+  }
+  return model;
 }
 
 WorldSpec weightless() {
@@ -102,7 +111,7 @@ TEST_P(RobotBodyActuation, TheRootVelocityIsSetAndTheRobotMovesRigidlyAtIt) {
   for (const std::string link : {"base_link", "left_wheel", "right_wheel"}) {
     EXPECT_LT((body.linkAngularVelocity(link) - angular).norm(), 1e-9) << link << " turns with the root";
   }
-  EXPECT_EQ(body.jointVelocity(body.jointIndex("left_wheel_joint")), 0);
+  if (GetParam() != kRigid) EXPECT_EQ(body.jointVelocity(body.jointIndex("left_wheel_joint")), 0);
 
   const Eigen::Isometry3d start = body.linkPose("base_footprint");
   body.setRootVelocity(linear, Eigen::Vector3d::Zero());
@@ -122,6 +131,7 @@ TEST_P(RobotBodyActuation, AWrenchOnALinkThatDoesNotExistIsRefused) {
 }
 
 INSTANTIATE_TEST_SUITE_P(WheelModels, RobotBodyActuation, ::testing::ValuesIn(test::kWheelModels));
+INSTANTIATE_TEST_SUITE_P(OneRigidBody, RobotBodyActuation, ::testing::Values(kRigid));
 
 }  // namespace
 }  // namespace bullet_sim

@@ -13,17 +13,22 @@ namespace {
 using ::testing::Contains;
 using ::testing::HasSubstr;
 
-constexpr double kCrate = 0.6;  // [m] the crate's side: the lidar mast's beams, 0.5 m up, reach it
+// [m] the crate's side: the lidar mast's beams, 0.5 m up, reach it, and the wheelchair cannot straddle it (its
+// drive wheels are 0.604 m apart inside: a 0.6 m crate jammed between them like a drawer)
+constexpr double kCrate = 0.8;
 
-/// A ground plane and a 1 kg crate of 0.6 m at (2, 0) resting on it; `extra` is more SDF inside the world.
+/// A ground plane and a 1 kg crate of kCrate at (2, 0) resting on it; `extra` is more SDF inside the world.
 WorldSpec crateWorld(std::vector<std::string>* warnings = nullptr, const std::string& extra = "") {
-  const std::string box = "<box><size>0.6 0.6 0.6</size></box>";
+  const std::string side = std::to_string(kCrate);
+  const std::string box = "<box><size>" + side + " " + side + " " + side + "</size></box>";
+  const std::string moment = std::to_string(kCrate * kCrate / 6);  // a solid cube's of 1 kg
   const std::string sdf =
       "<sdf version='1.6'><world name='crates'>"
       "<model name='ground_plane'><static>true</static><link name='link'><collision name='collision'>"
       "<geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry></collision></link>"
-      "</model><model name='crate'><pose>2 0 0.3 0 0 0</pose><link name='link'><inertial><mass>1</mass>"
-      "<inertia><ixx>0.06</ixx><iyy>0.06</iyy><izz>0.06</izz></inertia></inertial>"
+      "</model><model name='crate'><pose>2 0 " + std::to_string(kCrate / 2) + " 0 0 0</pose><link name='link'>"
+      "<inertial><mass>1</mass><inertia><ixx>" + moment + "</ixx><iyy>" + moment + "</iyy><izz>" + moment +
+      "</izz></inertia></inertial>"
       "<collision name='collision'><geometry>" +
       box +
       "</geometry></collision>"
@@ -56,7 +61,7 @@ TEST(WorldBodies, ItFallsUnderGravityAndResetWorldPutsItBack) {
   for (int i = 0; i < 1000; ++i) simulation.step();
   EXPECT_NEAR(crateAt(world).z(), kCrate / 2, 0.005) << "it fell 1 m and rests on the ground";
   simulation.resetWorld();
-  EXPECT_TRUE(crateAt(world).isApprox(Eigen::Vector3d(2, 0, 0.3), 1e-9));
+  EXPECT_TRUE(crateAt(world).isApprox(Eigen::Vector3d(2, 0, kCrate / 2), 1e-9));
   EXPECT_NEAR(world.modelState("crate").linear.norm(), 0, 1e-12);
 }
 

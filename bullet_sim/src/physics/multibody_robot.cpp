@@ -16,6 +16,7 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "physics/robot_parts.h"
 #include "physics/self_collision.h"
+#include "physics/sleep.h"
 
 namespace bullet_sim {
 
@@ -29,19 +30,6 @@ constexpr double kHoldVelocityGain = 1.0;
 constexpr double kLightLinkTime = 0.02;  // [s] see substepLimit
 // The share of a mimic follower's position error its coupling corrects per substep (with Bullet's erp2).
 constexpr double kCouplingGain = 1.0;
-// Gazebo's ODE auto-disable (ODEPhysics::Load): a body sleeps after 1 s with its speeds under 0.1 m/s and
-// 0.1 rad/s. Bullet sums the squares of both; 0.01 keeps every sleeper under both of Gazebo's thresholds.
-constexpr double kSleepMotion = 0.01;  // [m^2/s^2]
-constexpr double kSleepTime = 1.0;     // [s]
-
-/// Gazebo lets a body sleep (ODELink::Init) when its model allows it (<allow_auto_disable>), has no joints
-/// (a URDF's fixed joints are lumped away) and no sensors; here also no plugins, which may move it.
-bool maySleep(const ModelSpec& spec) {
-  const auto joined = [&](const JointSpec& joint) { return spec.names_from_sdf || joint.moves(); };
-  return spec.allow_auto_disable && !spec.is_static && spec.plugins.empty() &&
-         std::none_of(spec.joints.begin(), spec.joints.end(), joined);
-}
-
 }  // namespace
 
 struct MultiBodyRobot::Scratch {
@@ -72,37 +60,6 @@ MultiBodyRobot::~MultiBodyRobot() {
   for (auto& constraint : constraints_) world_.removeMultiBodyConstraint(constraint.get());
   for (auto& collider : colliders_) world_.removeCollisionObject(collider.get());
   world_.removeMultiBody(body_.get());
-}
-
-void wakeSleepers(btMultiBodyDynamicsWorld& world) {
-  for (int k = 0; k < world.getNumMultibodies(); ++k) wake(*world.getMultiBody(k));
-}
-
-void wakeTouching(btMultiBodyDynamicsWorld& world, const std::vector<const btCollisionObject*>& objects) {
-  const auto listed = [&](const btCollisionObject* object) {
-    return std::find(objects.begin(), objects.end(), object) != objects.end();
-  };
-  btDispatcher& dispatcher = *world.getDispatcher();
-  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
-    if (manifold.getNumContacts() == 0) continue;
-    for (const auto& [one, other] : {std::pair(manifold.getBody0(), manifold.getBody1()),
-                                     std::pair(manifold.getBody1(), manifold.getBody0())}) {
-      const auto* link = btMultiBodyLinkCollider::upcast(other);
-      if (link && listed(one)) wake(*link->m_multiBody);
-    }
-  }
-}
-
-void wake(btMultiBody& body) {
-  if (!body.getCanSleep()) return;
-  body.wakeUp();
-  // Bullet reactivates a woken body's colliders only after the next step: this one would skip it.
-  const auto activate = [](btMultiBodyLinkCollider* collider) {
-    if (collider && collider->getActivationState() != DISABLE_DEACTIVATION) collider->activate(true);
-  };
-  activate(body.getBaseCollider());
-  for (int link = 0; link < body.getNumLinks(); ++link) activate(body.getLink(link).m_collider);
 }
 
 void MultiBodyRobot::buildParts() {
@@ -150,7 +107,7 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   const int links = static_cast<int>(parts_.size()) - 1;
   body_ = std::make_unique<btMultiBody>(links, frames_[0].mass, toBullet(frames_[0].principal_inertia),
                                         /*fixedBase=*/hasFixedBase(spec_), /*canSleep=*/maySleep(spec_));
-  body_->setSleepThreshold(kSleepMotion);
+  body_->setSleepThreshold(kMultiBodySleepMotion);
   body_->setSleepTimeout(kSleepTime);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   std::vector<bool> self_collide;

@@ -24,13 +24,6 @@ namespace bullet_sim {
 class BulletShapes;
 class SelfCollisionRule;
 
-/// Wakes `body` (Bullet's deactivation) so that the next step moves it.
-void wake(btMultiBody& body);
-/// Wakes every multibody of `world`: after a change every sleeper feels (gravity).
-void wakeSleepers(btMultiBodyDynamicsWorld& world);
-/// Wakes the multibodies in contact with any of `objects`, before those go or move: what rests on them falls.
-void wakeTouching(btMultiBodyDynamicsWorld& world, const std::vector<const btCollisionObject*>& objects);
-
 /// Bullet collision filter groups: the robots' parts test only static geometry and other robots.
 enum CollisionGroup : int { kStaticGroup = 1, kRobotGroup = 2 };
 

@@ -12,6 +12,7 @@
 #include "physics/coulomb_solver.h"
 #include "physics/cylinder_plane.h"
 #include "physics/multibody_robot.h"
+#include "physics/sleep.h"
 
 namespace bullet_sim {
 
@@ -173,6 +174,8 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
   // Contacts a ContactTuner gave friction directions (a raycast wheel's rim) keep them.
   solver.m_solverMode |= SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
   solver.m_timeStep = options_.step_size;  // robots size their motor impulses from it before the first step
+  // Bullet's rigid bodies sleep after this long at rest: one global (2 s unless set), Gazebo's 1 s.
+  gDeactivationTime = kSleepTime;
 
   // Bullet walks every collision object each step (10,000 boxes as as many objects took most of a step), so
   // primitives share one compound per cell of the floor, whose own tree finds the few a robot touches; a cell
@@ -282,8 +285,8 @@ void PhysicsWorld::setStepSize(double step_size) {
 Eigen::Vector3d PhysicsWorld::gravity() const { return fromBullet(world_->getGravity()); }
 
 void PhysicsWorld::setGravity(const Eigen::Vector3d& gravity) {
+  wakeSleepers(*world_);  // first: Bullet gives the new gravity only to bodies awake
   world_->setGravity(toBullet(gravity));
-  wakeSleepers(*world_);
 }
 
 void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {

@@ -13,6 +13,7 @@
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model_geometry.h"
 #include "physics/multibody_robot.h"
+#include "physics/sleep.h"
 
 namespace bullet_sim {
 
@@ -106,7 +107,10 @@ RaycastRobot::RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamics
   reset(root_pose, {});
 }
 
-RaycastRobot::~RaycastRobot() { world_.removeRigidBody(chassis_.get()); }
+RaycastRobot::~RaycastRobot() {
+  wakeTouching(world_, {chassis_.get()});  // what rests on it falls; its contacts go with it
+  world_.removeRigidBody(chassis_.get());
+}
 
 int RaycastRobot::linkIndex(const std::string& link) const { return link_index_.at(link); }
 

@@ -12,6 +12,7 @@
 #include "bullet_sim/model/sdf_model.h"
 #include "physics/multibody_robot.h"
 #include "physics/raycast_robot.h"
+#include "physics/rigid_body_model.h"
 #include "common/work_pool.h"
 
 namespace bullet_sim {
@@ -23,6 +24,14 @@ namespace {
 /// spent 1.5x the CPU time of --threads 1 when it was shared from 8 on). Each body's beforeSubstep changes only
 /// that body and reads only its own state, gravity and the static ray scene, so they may run side by side.
 constexpr size_t kModelsPerSharedSubstep = 32;
+
+/// A model of the `contact` wheel model, or one without wheels: one rigid body when nothing in it moves
+/// (its contacts cost less to solve), a multibody otherwise.
+std::unique_ptr<PhysicsRobot> makeContactBody(ModelSpec model, const std::string& name,
+                                              btMultiBodyDynamicsWorld& world, const Eigen::Isometry3d& root) {
+  if (isOneRigidBody(model)) return std::make_unique<RigidBodyModel>(std::move(model), name, world, root);
+  return std::make_unique<MultiBodyRobot>(std::move(model), name, world, root);
+}
 
 Eigen::Isometry3d rootPose(const ModelSpec& model, const SpawnPose& pose) {
   Eigen::Isometry3d root = Eigen::Isometry3d::Identity();
@@ -179,7 +188,7 @@ void Simulation::makeWorldBody(const WorldModelSpec& model, PlacedWorldModel& pl
   decomposer_.attach(spec, options_.limits, diagnostics);
   diagnostics.throwIfErrors();
   const Eigen::Isometry3d root = model.pose * spec.root_in_model;
-  auto body = std::make_unique<MultiBodyRobot>(std::move(spec), model.name, physics_->bullet(), root);
+  auto body = makeContactBody(std::move(spec), model.name, physics_->bullet(), root);
   placed.body = std::make_unique<Robot>(model.name, std::move(body), root);
   Robot& robot = *placed.body;
   addRayBodies(robot);
@@ -256,7 +265,7 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   if (wheel_model == "raycast") {
     body = std::make_unique<RaycastRobot>(std::move(model), name, physics_->bullet(), rays_, root);
   } else {
-    body = std::make_unique<MultiBodyRobot>(std::move(model), name, physics_->bullet(), root);
+    body = makeContactBody(std::move(model), name, physics_->bullet(), root);
   }
   auto robot = std::make_unique<Robot>(name, std::move(body), root);
   robot->wheel_model_ = wheel_model;
