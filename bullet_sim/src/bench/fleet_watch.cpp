@@ -49,6 +49,10 @@ FleetWatch::FleetWatch(Simulation& simulation, std::vector<const Robot*> robots)
 void FleetWatch::sample() {
   for (size_t k = 0; k < loose_models_.size(); ++k) {
     LooseBodyTrack& track = loose_[k];
+    const Robot* body = simulation_.worldBody(loose_models_[k]);
+    const bool asleep = body && body->body().sleeping();
+    if (asleep && track.asleep) continue;  // it has not moved since the last sample
+    track.asleep = asleep;
     const Eigen::Vector3d centre = simulation_.worldModelPose(loose_models_[k]).translation();
     track.end = centre;
     track.z_min = std::min(track.z_min, centre.z());
@@ -60,8 +64,6 @@ void FleetWatch::sample() {
     const auto holds = [&](const Eigen::AlignedBox3d& box) { return box.contains(centre); };
     const bool inside_static = std::any_of(static_boxes_.begin(), static_boxes_.end(), holds);
     if (outside || inside_static || centre.z() < ground_) track.escaped = true;
-    const Robot* body = simulation_.worldBody(loose_models_[k]);
-    track.asleep = body && body->body().sleeping();
   }
   for (size_t k = 0; k < robots_.size(); ++k) {
     RobotTrack& track = robot_tracks_[k];

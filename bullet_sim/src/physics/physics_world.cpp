@@ -117,6 +117,19 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
     m_islandManager = new (btAlignedAlloc(sizeof(TouchingIslands), 16)) TouchingIslands();
   }
 
+  /// Bullet predicts every rigid body's motion each step, asleep or not, and damps it by pow(1 - damping, dt)
+  /// even when damping is 0: two hundred sleeping boxes cost 100 k instructions a step. Asleep, a body stays
+  /// where it is; undamped, its velocity stays as it is.
+  void predictUnconstraintMotion(btScalar dt) override {
+    for (int k = 0; k < m_nonStaticRigidBodies.size(); ++k) {
+      btRigidBody& body = *m_nonStaticRigidBodies[k];
+      if (body.isStaticOrKinematicObject() || !body.isActive()) continue;
+      if (body.getLinearDamping() != 0 || body.getAngularDamping() != 0) body.applyDamping(dt);
+      body.predictIntegratedTransform(dt, body.getInterpolationWorldTransform());
+    }
+    predictMultiBodyTransforms(dt);
+  }
+
   void solveConstraints(btContactSolverInfo& info) override {
     // Multibody contacts correct with erp2, rigid bodies with erp or erp2: the larger one bounds both.
     const btScalar erp = std::max(info.m_erp, info.m_erp2);
