@@ -122,6 +122,20 @@ TEST(Sleeping, ASleeperFallsWhenTheCrateUnderItIsRemoved) {
   EXPECT_NEAR(heightOf(world, "top"), kSide / 2, 0.005) << "on the ground";
 }
 
+TEST(Sleeping, ASleeperFallsWhenTheCrateUnderItIsTeleportedAway) {
+  Simulation simulation(test::emptyWorld());
+  WorldApi world(simulation);
+  spawnCrate(simulation, "bottom", 0, kSide / 2);
+  spawnCrate(simulation, "top", 0, 1.5 * kSide);
+  settle(simulation, {"bottom", "top"});
+  const double top = heightOf(world, "top");
+  EntityState moved = world.modelState("bottom");
+  moved.pose.translation().x() += 3;
+  ASSERT_EQ(world.setModelState("bottom", moved), "");
+  stepFor(simulation, 0.2);
+  EXPECT_NEAR(heightOf(world, "top"), top - kGravity * 0.2 * 0.2 / 2, 0.01) << "free fall";
+}
+
 TEST(Sleeping, RemovingACrateFarAwayLeavesASleeperAsleep) {
   Simulation simulation(test::emptyWorld());
   spawnCrate(simulation, "sleeper", 0, kSide / 2);

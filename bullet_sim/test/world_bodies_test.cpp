@@ -55,9 +55,10 @@ TEST(WorldBodies, ItFallsUnderGravityAndResetWorldPutsItBack) {
   Simulation simulation(crateWorld());
   WorldApi world(simulation);
   EntityState lifted;
-  lifted.pose.translation() = Eigen::Vector3d(2, 0, 1.2);
+  const double height = kCrate / 2 + 1.0;  // [m] 1 m above its rest
+  lifted.pose.translation() = Eigen::Vector3d(2, 0, height);
   EXPECT_EQ(world.setModelState("crate", lifted), "");
-  EXPECT_NEAR(crateAt(world).z(), 1.2, 1e-9) << "set_model_state moves it";
+  EXPECT_NEAR(crateAt(world).z(), height, 1e-9) << "set_model_state moves it";
   for (int i = 0; i < 1000; ++i) simulation.step();
   EXPECT_NEAR(crateAt(world).z(), kCrate / 2, 0.005) << "it fell 1 m and rests on the ground";
   simulation.resetWorld();

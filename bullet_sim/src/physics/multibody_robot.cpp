@@ -54,9 +54,7 @@ MultiBodyRobot::MultiBodyRobot(ModelSpec spec, std::string name, btMultiBodyDyna
 }
 
 MultiBodyRobot::~MultiBodyRobot() {
-  std::vector<const btCollisionObject*> colliders;
-  for (const auto& collider : colliders_) colliders.push_back(collider.get());
-  wakeTouching(world_, colliders);  // what rests on it falls; its contacts go with it
+  wakeWhatRestsOnIt();  // its contacts go with it
   for (auto& constraint : constraints_) world_.removeMultiBodyConstraint(constraint.get());
   for (auto& collider : colliders_) world_.removeCollisionObject(collider.get());
   world_.removeMultiBody(body_.get());
@@ -333,7 +331,14 @@ void MultiBodyRobot::afterStep() {
   }
 }
 
+void MultiBodyRobot::wakeWhatRestsOnIt() {
+  std::vector<const btCollisionObject*> colliders;
+  for (const auto& collider : colliders_) colliders.push_back(collider.get());
+  wakeTouching(world_, colliders);
+}
+
 void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
+  wakeWhatRestsOnIt();
   wake(*body_);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   body_->setBaseVel(btVector3(0, 0, 0));
@@ -357,6 +362,7 @@ void MultiBodyRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositi
 }
 
 void MultiBodyRobot::teleport(const Eigen::Isometry3d& root_pose) {
+  wakeWhatRestsOnIt();
   wake(*body_);
   body_->setBaseWorldTransform(toBullet(root_pose * frames_[0].part_to_bullet));
   body_->updateCollisionObjectWorldTransforms(scratch_->world_to_local, scratch_->local_origin);

@@ -94,6 +94,8 @@ class MultiBodyRobot : public PhysicsRobot {
   /// Gives part `k` its collision shape, friction and contact stiffness.
   void addCollider(int k);
   btMultiBodyJointMotor* motorFor(Joint& joint);
+  /// Wakes what rests on the robot, before the robot goes or moves: it falls.
+  void wakeWhatRestsOnIt();
   /// Couples a mimic joint to the joint it follows, as strongly as its max_effort.
   void couple(Joint& follower);
 

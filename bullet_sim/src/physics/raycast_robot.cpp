@@ -182,7 +182,9 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   chassis_ = std::make_unique<btRigidBody>(info);
   chassis_->setActivationState(DISABLE_DEACTIVATION);
   nameCollisions(*chassis_, chassis_names_);
-  chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
+  // Bullet turns the inverse inertia into world axes only here, or after a step: a world transform alone
+  // left the first substep with the inertia of the chassis unrotated.
+  chassis_->setCenterOfMassTransform(toBullet(root_pose * root_to_body_));
   world_.addRigidBody(chassis_.get(), kRobotGroup, kStaticGroup | kRobotGroup);
 
   // Each wheel's spring sags kSag under its load at rest, so that the chassis rests level (springs alike
@@ -490,7 +492,8 @@ void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPosition
     wheel.spin_target = wheel.max_torque = 0;
   }
   hubs_stale_ = frames_stale_ = true;
-  chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
+  wakeTouching(world_, {chassis_.get()});  // what rests on it falls
+  chassis_->setCenterOfMassTransform(toBullet(root_pose * root_to_body_));
   chassis_->setLinearVelocity(btVector3(0, 0, 0));
   chassis_->setAngularVelocity(btVector3(0, 0, 0));
   chassis_->clearForces();
@@ -501,7 +504,8 @@ void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPosition
 }
 
 void RaycastRobot::teleport(const Eigen::Isometry3d& root_pose) {
-  chassis_->setWorldTransform(toBullet(root_pose * root_to_body_));
+  wakeTouching(world_, {chassis_.get()});  // what rests on it falls
+  chassis_->setCenterOfMassTransform(toBullet(root_pose * root_to_body_));
   refreshPose();
 }
 

@@ -19,7 +19,7 @@ namespace bullet_sim {
 
 bool isOneRigidBody(const ModelSpec& model) {
   const auto moves = [](const JointSpec& joint) { return joint.moves(); };
-  const auto weightless = [](const LinkSpec& link) { return !link.gravity; };
+  const auto weightless = [](const LinkSpec& link) { return !link.gravity && link.inertial; };
   return !hasFixedBase(model) && std::none_of(model.joints.begin(), model.joints.end(), moves) &&
          std::none_of(model.links.begin(), model.links.end(), weightless);
 }
@@ -89,7 +89,7 @@ void RigidBodyModel::buildBody(const Eigen::Isometry3d& root_pose) {
     body_->setActivationState(DISABLE_DEACTIVATION);
   }
   nameCollisions(*body_, collision_names_);
-  body_->setWorldTransform(toBullet(root_pose * part_to_body_));
+  body_->setCenterOfMassTransform(toBullet(root_pose * part_to_body_));
   world_.addRigidBody(body_.get(), kRobotGroup, kStaticGroup | kRobotGroup);
 }
 
@@ -115,10 +115,10 @@ void RigidBodyModel::reset(const Eigen::Isometry3d& root_pose, const JointPositi
 }
 
 void RigidBodyModel::teleport(const Eigen::Isometry3d& root_pose) {
+  wakeTouching(world_, {body_.get()});  // what rests on it falls
   body_->activate();
-  const btTransform pose = toBullet(root_pose * part_to_body_);
-  body_->setWorldTransform(pose);
-  body_->setInterpolationWorldTransform(pose);
+  // With the pose, Bullet turns the inverse inertia into world axes (a world transform alone does not).
+  body_->setCenterOfMassTransform(toBullet(root_pose * part_to_body_));
   afterStep();
 }
 

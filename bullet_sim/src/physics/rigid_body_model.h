@@ -19,7 +19,7 @@ namespace bullet_sim {
 class BulletShapes;
 
 /// Whether `model` is one rigid part that moves: no moving joints, neither static nor fixed to the world, and
-/// every link under gravity.
+/// every link with a mass under gravity (<turnGravityOff> is the multibody's).
 bool isOneRigidBody(const ModelSpec& model);
 
 class RigidBodyModel : public PhysicsRobot {

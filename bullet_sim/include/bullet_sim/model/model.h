@@ -80,7 +80,7 @@ struct ModelSpec {
   /// Gazebo's <static>: the model is rigid and never moves by itself (only when teleported); its links need
   /// no mass.
   bool is_static = false;
-  /// Gazebo's <allow_auto_disable>: a body of one link may sleep at rest (MultiBodyRobot says when).
+  /// Gazebo's <allow_auto_disable>: a body of one link may sleep at rest (physics/sleep.h says when).
   bool allow_auto_disable = true;
   /// The root link's frame in the model frame, whose pose is the model's (Gazebo's Model::WorldPose): an SDF
   /// model's root link <pose>; identity for a URDF.

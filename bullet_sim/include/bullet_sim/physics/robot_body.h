@@ -1,5 +1,6 @@
 // What plugins see of a spawned robot: joints to read and drive, link frames to read.
-// One implementation per wheel model (`contact`: a Bullet multibody; `raycast`: one body with ray wheels).
+// One implementation per wheel model (`contact`: a Bullet multibody; `raycast`: one body with ray wheels),
+// and one for a model with no moving joints (one Bullet rigid body).
 #pragma once
 
 #include <Eigen/Geometry>
