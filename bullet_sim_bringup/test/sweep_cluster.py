@@ -25,6 +25,7 @@ from sweep_support import POLL, RAY_ENV, SWEEP, processes_with, raylet_of, start
 MATRIX = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test/fixtures/scenarios/drive_matrix.yaml")
 SWEEP_TIMEOUT = 120  # [s]
 HOLD_TIMEOUT = 60  # [s] a held run waits for its node to be killed
+LOST_RUN_TIMEOUT = 30  # [s] for a run on a killed node to end with its Ray worker
 # A lost node is noticed after about period x threshold (Ray's defaults take 15 s and more).
 FAST_HEALTH_CHECKS = {"RAY_health_check_period_ms": "500", "RAY_health_check_timeout_ms": "1000",
                       "RAY_health_check_failure_threshold": "4"}
@@ -69,6 +70,15 @@ def pid_alive(pid):
     except ProcessLookupError:
         return False
     return True
+
+
+def ends_within(pid, seconds):
+    """Whether process `pid` is gone within `seconds`: a lost node's Ray worker notices its raylet's death on its
+    own time, and its run (killed with it) may outlive the sweep's retry of it by a moment on a busy machine."""
+    deadline = time.monotonic() + seconds
+    while pid_alive(pid) and time.monotonic() < deadline:
+        time.sleep(POLL)
+    return not pid_alive(pid)
 
 
 def without_workspace_python(environment):
@@ -143,7 +153,7 @@ class SweepOnTwoNodes(unittest.TestCase):
             if sweep.poll() is None:
                 sweep.kill()
         index, pid = held
-        self.assertFalse(pid_alive(pid), "the lost node's run is still running")
+        self.assertTrue(ends_within(pid, LOST_RUN_TIMEOUT), "the lost node's run is still running")
         self.assertEqual(sweep.returncode, 0, stdout + stderr)  # as without the loss: every run passed
         self.assertIn("8 runs, 8 passed, 0 failed, 0 could not run or crashed", stdout)
         self.assertIn("1 lost, 1 runs begun again", stdout)
