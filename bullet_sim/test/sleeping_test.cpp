@@ -51,6 +51,13 @@ void settle(Simulation& simulation, const std::vector<std::string>& crates) {
   ASSERT_TRUE(test::stepUntil(simulation, asleep, 3.0, "every crate asleep"));
 }
 
+/// Crate "top" asleep on crate "bottom", asleep on the ground.
+void stackTwoCrates(Simulation& simulation) {
+  spawnCrate(simulation, "bottom", 0, kSide / 2);
+  spawnCrate(simulation, "top", 0, 1.5 * kSide);
+  settle(simulation, {"bottom", "top"});
+}
+
 TEST(Sleeping, ACrateAtRestSleepsAfterOneSecondAndStaysWhereItWas) {
   Simulation simulation(test::emptyWorld());
   WorldApi world(simulation);
@@ -111,9 +118,7 @@ TEST(Sleeping, ACrateSlidingIntoASleeperWakesAndPushesIt) {
 TEST(Sleeping, ASleeperFallsWhenTheCrateUnderItIsRemoved) {
   Simulation simulation(test::emptyWorld());
   WorldApi world(simulation);
-  spawnCrate(simulation, "bottom", 0, kSide / 2);
-  spawnCrate(simulation, "top", 0, 1.5 * kSide);
-  settle(simulation, {"bottom", "top"});
+  stackTwoCrates(simulation);
   const double top = heightOf(world, "top");
   ASSERT_TRUE(simulation.remove("bottom"));
   stepFor(simulation, 0.2);  // free fall: 0.196 m of its 0.4 m drop
@@ -125,9 +130,7 @@ TEST(Sleeping, ASleeperFallsWhenTheCrateUnderItIsRemoved) {
 TEST(Sleeping, ASleeperFallsWhenTheCrateUnderItIsTeleportedAway) {
   Simulation simulation(test::emptyWorld());
   WorldApi world(simulation);
-  spawnCrate(simulation, "bottom", 0, kSide / 2);
-  spawnCrate(simulation, "top", 0, 1.5 * kSide);
-  settle(simulation, {"bottom", "top"});
+  stackTwoCrates(simulation);
   const double top = heightOf(world, "top");
   EntityState moved = world.modelState("bottom");
   moved.pose.translation().x() += 3;
