@@ -79,23 +79,13 @@ void MultiBodyRobot::buildParts() {
       frames.principal_inertia = Eigen::Vector3d::Ones();
       continue;
     }
-    if (mass.mass <= 0) {
-      diagnostics.error("links [" + parts_[k].root_link +
-                        "] and those fixed to it have no mass: give one an <inertial>");
-      continue;
-    }
+    if (!checkMovingPart(parts_[k], mass.mass, diagnostics)) continue;
     // Bullet's frame of a part: at its centre of mass, along its principal axes.
     frames.mass = mass.mass;
     frames.part_to_bullet = mass.principalFrame(&frames.principal_inertia);
     for (const auto& name : parts_[k].links) {
       const LinkSpec& link = *spec_.link(name);
       if (!link.gravity && link.inertial) weightless_.emplace_back(static_cast<int>(k), &link);
-    }
-    for (const auto& collision : parts_[k].collisions) {
-      if (collision.shape.type == Shape::Type::kPlane) {
-        diagnostics.error("link [" + parts_[k].root_link +
-                          "] collides with a plane, which only static worlds may have");
-      }
     }
   }
   diagnostics.throwIfErrors();

@@ -50,16 +50,7 @@ void RigidBodyModel::buildBody(const Eigen::Isometry3d& root_pose) {
   std::vector<std::pair<std::string, Eigen::Isometry3d>> placed;
   for (const auto& link : part.links) placed.emplace_back(link, link_in_part_.at(link));
   const MassProperties mass = combineInertia(spec_, placed);
-  if (mass.mass <= 0) {
-    diagnostics.error("links [" + part.root_link +
-                      "] and those fixed to it have no mass: give one an <inertial>");
-  }
-  for (const auto& collision : part.collisions) {
-    if (collision.shape.type == Shape::Type::kPlane) {
-      diagnostics.error("link [" + part.root_link +
-                        "] collides with a plane, which only static worlds may have");
-    }
-  }
+  checkMovingPart(part, mass.mass, diagnostics);
   diagnostics.throwIfErrors();
   Eigen::Vector3d moments;
   part_to_body_ = mass.principalFrame(&moments);

@@ -1,5 +1,7 @@
 #include "physics/robot_parts.h"
 
+#include <algorithm>
+
 namespace bullet_sim {
 
 PartLayout partitionAtMovingJoints(const ModelSpec& model) {
@@ -35,6 +37,18 @@ PartLayout partitionAtMovingJoints(const ModelSpec& model) {
     }
   }
   return layout;
+}
+
+bool checkMovingPart(const RobotPart& part, double mass, Diagnostics& diagnostics) {
+  if (mass <= 0) {
+    diagnostics.error("links [" + part.root_link +
+                      "] and those fixed to it have no mass: give one an <inertial>");
+    return false;
+  }
+  const auto plane = [](const Collision& collision) { return collision.shape.type == Shape::Type::kPlane; };
+  if (std::none_of(part.collisions.begin(), part.collisions.end(), plane)) return true;
+  diagnostics.error("link [" + part.root_link + "] collides with a plane, which only static worlds may have");
+  return false;
 }
 
 }  // namespace bullet_sim

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bullet_sim/model/model_geometry.h"
+#include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model.h"
 #include "bullet_sim/physics/robot_body.h"
 
@@ -25,5 +26,9 @@ struct PartLayout {
 
 /// Splits `model` (which must outlive the layout: it points into its joints).
 PartLayout partitionAtMovingJoints(const ModelSpec& model);
+
+/// Reports what keeps `part`, of `mass` [kg], from moving as a body: no mass, or a plane among its
+/// collisions (only static worlds may have one). Whether it may move.
+bool checkMovingPart(const RobotPart& part, double mass, Diagnostics& diagnostics);
 
 }  // namespace bullet_sim

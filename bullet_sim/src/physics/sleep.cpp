@@ -40,10 +40,8 @@ void wake(btMultiBody& body) {
 
 void wakeSleepers(btMultiBodyDynamicsWorld& world) {
   for (int k = 0; k < world.getNumMultibodies(); ++k) wake(*world.getMultiBody(k));
-  btCollisionObjectArray& objects = world.getCollisionObjectArray();
-  for (int k = 0; k < objects.size(); ++k) {
-    if (btRigidBody::upcast(objects[k])) wakeObject(*objects[k]);
-  }
+  btAlignedObjectArray<btRigidBody*>& bodies = world.getNonStaticRigidBodies();
+  for (int k = 0; k < bodies.size(); ++k) bodies[k]->activate();
 }
 
 void wakeTouching(btMultiBodyDynamicsWorld& world, const std::vector<const btCollisionObject*>& objects) {
