@@ -361,23 +361,28 @@ void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
   ground_.castStatic(ray_origins_, ray_directions_, reach, ray_hits_, &ray_normals_);
 }
 
-inline Eigen::Vector3d RaycastRobot::velocityAt(const Eigen::Vector3d& offset) const {
-  return linear_velocity_ + angular_velocity_.cross(offset);
+RaycastRobot::Row RaycastRobot::row(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const {
+  Row row;
+  row.direction = direction;
+  row.arm = offset.cross(direction);
+  row.turn = inverse_inertia_ * row.arm;
+  row.inverse_mass = 1 / mass_ + row.arm.dot(row.turn);
+  return row;
 }
 
-inline void RaycastRobot::push(const Eigen::Vector3d& impulse, const Eigen::Vector3d& offset) {
-  linear_velocity_ += impulse / mass_;
-  angular_velocity_ += inverse_inertia_ * offset.cross(impulse);
+inline double RaycastRobot::velocityAlong(const Row& row) const {
+  return linear_velocity_.dot(row.direction) + angular_velocity_.dot(row.arm);
 }
 
-inline double RaycastRobot::inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const {
-  const Eigen::Vector3d arm = offset.cross(direction);
-  return 1 / mass_ + arm.dot(inverse_inertia_ * arm);
+inline void RaycastRobot::push(const Row& row, double impulse) {
+  linear_velocity_ += row.direction * (impulse / mass_);
+  angular_velocity_ += row.turn * impulse;
 }
 
 void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
   const Eigen::Vector3d up = root.linear().col(2);
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
+  const Eigen::Vector3d gravity = fromBullet(world_.getGravity());
   // The implicit spring-damper (Catto's soft constraint): over the substep, the wheel's impulse lambda leaves
   // it separating at bias - softness * lambda, where the spring's compression x gives bias = k x / (h k + c)
   // and softness = 1 / (h (h k + c)).
@@ -389,18 +394,20 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     const double compression = wheel.radius - ray_hits_[w];
     if (!(compression > 0)) continue;  // in the air (a miss is +inf)
     if (ray_normals_[w].dot(up) < std::cos(kSteepestGround)) continue;  // a wall carries no wheel
-    const Eigen::Vector3d point = ray_origins_[w] - up * ray_hits_[w];
-    contact.offset = point - com;
+    const Eigen::Vector3d offset = ray_origins_[w] - up * ray_hits_[w] - com;
     contact.compression = compression;
     contact.bias = springs_[w] * compression / stiffness;
     contact.softness = 1 / (dt_ * stiffness);
-    contact.rigid_mass = 1 / inverseMass(contact.offset, up);
     contact.on_ground = true;
-    contact.normal = up;
-    const Eigen::Vector3d axis = root.linear() * hub_in_root_[w].linear() * joints_[wheel.joint].spec->axis;
-    contact.forward = axis.cross(up).normalized();  // where a positive spin rolls the wheel
-    contact.lateral = up.cross(contact.forward);
+    contact.normal = row(offset, up);
+    contact.soft_mass = 1 / (contact.normal.inverse_mass + contact.softness);
+    contact.gravity_speed = gravity.dot(up) * dt_;
     contact.grips = !wheel.caster;
+    if (!contact.grips) continue;
+    const Eigen::Vector3d axis = root.linear() * (hub_in_root_[w].linear() * joints_[wheel.joint].spec->axis);
+    const Eigen::Vector3d forward = axis.cross(up).normalized();  // where a positive spin rolls the wheel
+    contact.forward = row(offset, forward);
+    contact.lateral = row(offset, up.cross(forward));
   }
 }
 
@@ -408,15 +415,15 @@ void RaycastRobot::supportWheel(size_t w) {
   Contact& contact = contacts_[w];
   if (!contact.on_ground) return;
   // How fast the wheel separates from the ground at the substep's end, gravity included (Bullet adds it next).
-  const double gravity = fromBullet(world_.getGravity()).dot(contact.normal) * dt_;
-  const double separating = velocityAt(contact.offset).dot(contact.normal) + gravity;
-  const double soft_mass = 1 / (1 / contact.rigid_mass + contact.softness);
-  const double wanted = contact.normal_impulse +
-                        (contact.bias - separating - contact.softness * contact.normal_impulse) * soft_mass;
+  const double separating = velocityAlong(contact.normal) + contact.gravity_speed;
+  const double wanted =
+      contact.normal_impulse +
+      (contact.bias - separating - contact.softness * contact.normal_impulse) * contact.soft_mass;
   // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed.
-  const double most = contact.normal_impulse + std::max(0.0, kMaxSeparatingSpeed - separating) * contact.rigid_mass;
+  const double most =
+      contact.normal_impulse + std::max(0.0, kMaxSeparatingSpeed - separating) / contact.normal.inverse_mass;
   const double total = std::clamp(wanted, 0.0, std::max(most, 0.0));
-  push(contact.normal * (total - contact.normal_impulse), contact.offset);
+  push(contact.normal, total - contact.normal_impulse);
   contact.normal_impulse = total;
 }
 
@@ -432,15 +439,14 @@ void RaycastRobot::driveWheel(size_t w) {
     contact.motor_impulse = total;
   }
   if (!contact.grips) return;
-  const Eigen::Vector3d velocity = velocityAt(contact.offset);
   // Slip of the chassis over the rim, and the impulses that would cancel it (the rim shares the forward one).
-  const double forward_slip = velocity.dot(contact.forward) - joint.velocity * wheel.radius;
-  const double lateral_slip = velocity.dot(contact.lateral);
+  const double forward_slip = velocityAlong(contact.forward) - joint.velocity * wheel.radius;
+  const double lateral_slip = velocityAlong(contact.lateral);
   // While its motor has torque to spare, the motor holds the rim: the chassis takes the whole impulse.
   const bool held = wheel.max_torque > 0 && std::abs(contact.motor_impulse) < budget;
-  const double forward_mass = 1 / (inverseMass(contact.offset, contact.forward) +
-                                   (held ? 0.0 : wheel.radius * wheel.radius / wheel.inertia));
-  const double lateral_mass = 1 / inverseMass(contact.offset, contact.lateral);
+  const double forward_mass =
+      1 / (contact.forward.inverse_mass + (held ? 0.0 : wheel.radius * wheel.radius / wheel.inertia));
+  const double lateral_mass = 1 / contact.lateral.inverse_mass;
   // One mass for both directions: with a mass each, the clamped impulse would settle along M * slip, not
   // against the slip, and skid steering would turn off Coulomb's rate (issue 29). The smaller one is stable.
   const double mass = std::min(forward_mass, lateral_mass);
@@ -451,7 +457,8 @@ void RaycastRobot::driveWheel(size_t w) {
   const Eigen::Vector2d change = total - Eigen::Vector2d(contact.forward_impulse, contact.lateral_impulse);
   contact.forward_impulse = total.x();
   contact.lateral_impulse = total.y();
-  push(contact.forward * change.x() + contact.lateral * change.y(), contact.offset);
+  push(contact.forward, change.x());
+  push(contact.lateral, change.y());
   // The rim feels the reaction; a holding motor takes what it can, the rest turns the wheel.
   const double reaction = wheel.radius * change.x();
   const double motor =

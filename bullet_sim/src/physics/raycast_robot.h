@@ -94,14 +94,21 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   };
 
   /// A wheel's contact with the ground in one substep, and the impulses solved for it.
+  /// One direction of a wheel's contact, as a sequential-impulse row: fixed for the substep, so that each
+  /// pass only takes dot products.
+  struct Row {
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit, in the world frame
+    Eigen::Vector3d arm = Eigen::Vector3d::Zero();        ///< offset x direction: how spin moves the point along it
+    Eigen::Vector3d turn = Eigen::Vector3d::Zero();       ///< [rad/(s N s)] the spin a unit impulse along it gives
+    double inverse_mass = 0;                              ///< [1/kg] the chassis's, felt at the point along it
+  };
   struct Contact {
-    Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< from the centre of mass
-    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< the spring's direction: the chassis's up
-    Eigen::Vector3d forward = Eigen::Vector3d::UnitX(), lateral = Eigen::Vector3d::UnitY();  ///< roll, side
+    Row normal, forward, lateral;  ///< the spring's (the chassis's up), rolling (positive spin), sideways
     double compression = 0;  ///< [m] of the spring
     double bias = 0;         ///< [m/s] the separating speed the spring asks for
     double softness = 0;     ///< [m/(N s)] how much each unit of impulse relaxes it
-    double rigid_mass = 0;   ///< [kg] the chassis's mass felt at the wheel along the normal
+    double soft_mass = 0;    ///< [kg] the spring's effective mass: 1 / (normal's inverse mass + softness)
+    double gravity_speed = 0;  ///< [m/s] gravity's velocity change along the normal this substep
     double normal_impulse = 0, forward_impulse = 0, lateral_impulse = 0;
     double motor_impulse = 0;  ///< [N m s] on the wheel's spin this substep, within its torque budget
     bool on_ground = false;    ///< its ray found ground within the rim
@@ -128,12 +135,12 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   void refreshPose();
   /// One pass of wheel `w`'s motor and friction impulses.
   void driveWheel(size_t w);
-  /// The chassis's velocity at `offset` from its centre of mass, as the wheels' passes have left it.
-  Eigen::Vector3d velocityAt(const Eigen::Vector3d& offset) const;
-  /// Applies `impulse` at `offset` to the passes' copy of the chassis's velocity.
-  void push(const Eigen::Vector3d& impulse, const Eigen::Vector3d& offset);
-  /// The chassis's inverse mass felt at `offset` from its centre of mass along `direction`.
-  double inverseMass(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const;
+  /// The row along `direction` at `offset` from the chassis's centre of mass, with this step's inertia.
+  Row row(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const;
+  /// The chassis's velocity along `row` at its point, as the wheels' passes have left it.
+  double velocityAlong(const Row& row) const;
+  /// Applies `impulse` [N s] along `row` to the passes' copy of the chassis's velocity.
+  void push(const Row& row, double impulse);
   void buildChassis(const Eigen::Isometry3d& root_pose);
   /// Link frames in the root link's frame, from the joint positions; computed when asked for, after a change.
   const std::vector<Eigen::Isometry3d>& linkFrames() const;
