@@ -1,0 +1,160 @@
+#include "physics/compound_plane.h"
+
+#include <BulletCollision/BroadphaseCollision/btDbvt.h>
+#include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+
+#include <new>
+
+namespace bullet_sim {
+
+namespace {
+
+/// Records the leaves of a tree in the order a traversal visits them.
+struct LeafOrder : btDbvt::ICollide {
+  std::vector<int>* order;
+  void Process(const btDbvtNode* leaf) override { order->push_back(leaf->dataAsInt); }
+};
+
+const btCompoundShape& compoundOf(const btCollisionObjectWrapper& wrapper) {
+  return *static_cast<const btCompoundShape*>(wrapper.getCollisionShape());
+}
+
+}  // namespace
+
+CompoundPlaneAlgorithm::CompoundPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& info,
+                                               const btCollisionObjectWrapper* body0,
+                                               const btCollisionObjectWrapper* body1, bool swapped)
+    : btActivatingCollisionAlgorithm(info, body0, body1), swapped_(swapped), shared_manifold_(info.m_manifold) {
+  restart(compoundOf(*(swapped ? body1 : body0)));
+}
+
+CompoundPlaneAlgorithm::~CompoundPlaneAlgorithm() {
+  for (btCollisionAlgorithm* child : children_) {
+    if (!child) continue;
+    child->~btCollisionAlgorithm();
+    m_dispatcher->freeCollisionAlgorithm(child);
+  }
+}
+
+void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
+  for (btCollisionAlgorithm*& child : children_) {
+    if (!child) continue;
+    child->~btCollisionAlgorithm();
+    m_dispatcher->freeCollisionAlgorithm(child);
+    child = nullptr;
+  }
+  children_.assign(compound.getNumChildShapes(), nullptr);
+  // Bullet meets the children its tree finds within the plane's bounds, which are infinite: every leaf.
+  const btDbvt& tree = *compound.getDynamicAabbTree();
+  const btVector3 everywhere(BT_LARGE_FLOAT, BT_LARGE_FLOAT, BT_LARGE_FLOAT);
+  order_.clear();
+  LeafOrder leaves;
+  leaves.order = &order_;
+  tree.collideTV(tree.m_root, btDbvtVolume::FromMM(-everywhere, everywhere), leaves);
+  revision_ = compound.getUpdateRevision();
+}
+
+void CompoundPlaneAlgorithm::refreshChildManifolds(btManifoldResult& result) {
+  for (btCollisionAlgorithm* child : children_) {
+    if (!child) continue;
+    manifolds_.resize(0);
+    child->getAllContactManifolds(manifolds_);
+    for (int m = 0; m < manifolds_.size(); ++m) {
+      if (!manifolds_[m]->getNumContacts()) continue;
+      result.setPersistentManifold(manifolds_[m]);
+      result.refreshContactPoints();
+      result.setPersistentManifold(nullptr);
+    }
+  }
+  manifolds_.resize(0);
+}
+
+void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
+                                              const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
+                                              btManifoldResult* result) {
+  const btCollisionObjectWrapper& compound = *(swapped_ ? body1 : body0);
+  const btCollisionObjectWrapper& plane = *(swapped_ ? body0 : body1);
+  if (compoundOf(compound).getUpdateRevision() != revision_) restart(compoundOf(compound));
+  refreshChildManifolds(*result);
+  // Bullet would now free the algorithms of children outside the plane's bounds: there are none.
+  for (const int index : order_) processChild(index, compound, plane, info, *result);
+}
+
+void CompoundPlaneAlgorithm::processChild(int index, const btCollisionObjectWrapper& compound,
+                                          const btCollisionObjectWrapper& plane, const btDispatcherInfo& info,
+                                          btManifoldResult& result) {
+  const btCompoundShape& shape = compoundOf(compound);
+  const btCollisionShape* child_shape = shape.getChildShape(index);
+  if (gCompoundChildShapePairCallback && !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
+    return;
+  const btTransform& child_transform = shape.getChildTransform(index);
+  const btTransform child_pose = compound.getWorldTransform() * child_transform;
+  btTransform pre_transform = child_transform;
+  if (compound.m_preTransform) pre_transform = pre_transform * *compound.m_preTransform;
+  const btCollisionObjectWrapper child(&compound, child_shape, compound.getCollisionObject(), child_pose,
+                                      pre_transform, -1, index);
+  btCollisionAlgorithm* algorithm = nullptr;
+  const bool closest_points = result.m_closestPointDistanceThreshold > 0;
+  if (closest_points) {
+    algorithm = m_dispatcher->findAlgorithm(&child, &plane, nullptr, BT_CLOSEST_POINT_ALGORITHMS);
+  } else {
+    if (!children_[index])
+      children_[index] = m_dispatcher->findAlgorithm(&child, &plane, shared_manifold_, BT_CONTACT_POINT_ALGORITHMS);
+    algorithm = children_[index];
+  }
+  const bool compound_is_0 = result.getBody0Internal() == compound.getCollisionObject();
+  const btCollisionObjectWrapper* replaced = compound_is_0 ? result.getBody0Wrap() : result.getBody1Wrap();
+  if (compound_is_0) {
+    result.setBody0Wrap(&child);
+    result.setShapeIdentifiersA(-1, index);
+  } else {
+    result.setBody1Wrap(&child);
+    result.setShapeIdentifiersB(-1, index);
+  }
+  algorithm->processCollision(&child, &plane, info, &result);
+  if (compound_is_0) {
+    result.setBody0Wrap(replaced);
+  } else {
+    result.setBody1Wrap(replaced);
+  }
+  if (closest_points) {
+    algorithm->~btCollisionAlgorithm();
+    m_dispatcher->freeCollisionAlgorithm(algorithm);
+  }
+}
+
+void CompoundPlaneAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
+  for (btCollisionAlgorithm* child : children_) {
+    if (child) child->getAllContactManifolds(manifolds);
+  }
+}
+
+btCollisionAlgorithm* CompoundPlaneAlgorithm::CreateFunc::CreateCollisionAlgorithm(
+    btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* body0,
+    const btCollisionObjectWrapper* body1) {
+  const btCollisionObjectWrapper& compound = *(m_swapped ? body1 : body0);
+  if (!compoundOf(compound).getDynamicAabbTree()) return bullets->CreateCollisionAlgorithm(info, body0, body1);
+  // The dispatcher's pool holds blocks as large as Bullet's compound algorithm.
+  static_assert(sizeof(CompoundPlaneAlgorithm) <= sizeof(btCompoundCollisionAlgorithm));
+  void* memory = info.m_dispatcher1->allocateCollisionAlgorithm(sizeof(CompoundPlaneAlgorithm));
+  return new (memory) CompoundPlaneAlgorithm(info, body0, body1, m_swapped);
+}
+
+void CompoundPlaneAlgorithm::registerWith(btCollisionDispatcher& dispatcher,
+                                          btCollisionConfiguration& configuration, CreateFunc& compound_first,
+                                          CreateFunc& plane_first) {
+  compound_first.m_swapped = false;
+  plane_first.m_swapped = true;
+  compound_first.bullets =
+      configuration.getCollisionAlgorithmCreateFunc(COMPOUND_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE);
+  plane_first.bullets =
+      configuration.getCollisionAlgorithmCreateFunc(STATIC_PLANE_PROXYTYPE, COMPOUND_SHAPE_PROXYTYPE);
+  dispatcher.registerCollisionCreateFunc(COMPOUND_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &compound_first);
+  dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, COMPOUND_SHAPE_PROXYTYPE, &plane_first);
+}
+
+}  // namespace bullet_sim

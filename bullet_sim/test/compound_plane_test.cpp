@@ -1,0 +1,128 @@
+// A compound meets a plane with Bullet's own contacts, point for point, in Bullet's order, while it sinks,
+// tilts and has a child moved, whichever of the two comes first in the pair.
+#include <gtest/gtest.h>
+
+#include <btBulletCollisionCommon.h>
+
+#include <memory>
+#include <vector>
+
+#include "src/physics/compound_plane.h"
+#include "src/physics/cylinder_plane.h"
+
+namespace bullet_sim {
+namespace {
+
+/// A collision world with the dispatcher the physics world has: ours meets compounds with planes through
+/// CompoundPlaneAlgorithm, Bullet's through its own compound algorithm.
+struct World {
+  explicit World(bool ours) {
+    CylinderPlaneAlgorithm::registerWith(dispatcher, cylinder_plane, plane_cylinder);
+    if (ours) CompoundPlaneAlgorithm::registerWith(dispatcher, configuration, compound_plane, plane_compound);
+  }
+  btDefaultCollisionConfiguration configuration;
+  CylinderPlaneAlgorithm::CreateFunc cylinder_plane, plane_cylinder;
+  CompoundPlaneAlgorithm::CreateFunc compound_plane, plane_compound;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btCollisionWorld world{&dispatcher, &broadphase, &configuration};
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btCollisionObject>> objects;
+
+  btCollisionObject& add(btCollisionShape* shape, const btTransform& pose) {
+    objects.push_back(std::make_unique<btCollisionObject>());
+    objects.back()->setCollisionShape(shape);
+    objects.back()->setWorldTransform(pose);
+    world.addCollisionObject(objects.back().get());
+    return *objects.back();
+  }
+
+  /// A box, a cylinder, a sphere and a hull, side by side under a chassis box.
+  btCompoundShape* robot() {
+    auto* compound = new btCompoundShape();
+    shapes.emplace_back(compound);
+    shapes.emplace_back(new btBoxShape(btVector3(0.3, 0.2, 0.1)));
+    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.3)), shapes.back().get());
+    shapes.emplace_back(new btCylinderShape(btVector3(0.1, 0.03, 0.1)));  // along y: a wheel
+    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0.2, 0.25, 0.1)),
+                            shapes.back().get());
+    shapes.emplace_back(new btSphereShape(0.05));
+    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(-0.25, 0, 0.05)),
+                            shapes.back().get());
+    const btScalar hull[] = {0, 0, 0, 0.1, 0, 0, 0, 0.1, 0, 0, 0, 0.1};
+    shapes.emplace_back(new btConvexHullShape(hull, 4, 3 * sizeof(btScalar)));
+    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0.2, -0.25, 0.02)),
+                            shapes.back().get());
+    return compound;
+  }
+
+  /// One robot before the ground (the plane is body 1 of its pair) and one after it (body 0).
+  World& populate() {
+    add(robot(), btTransform::getIdentity());
+    shapes.emplace_back(new btStaticPlaneShape(btVector3(0, 0, 1), 0));
+    add(shapes.back().get(), btTransform::getIdentity());
+    add(robot(), btTransform::getIdentity());
+    return *this;
+  }
+
+  /// Frame k of the robots' motion: they sink from 3 cm above the ground to 2 cm into it while they tilt.
+  void pose(int frame) {
+    const btScalar height = 0.03 - 0.001 * frame;
+    const btQuaternion tilt(btVector3(1, 0.5, 0).normalized(), 0.004 * frame);
+    objects[0]->setWorldTransform(btTransform(tilt, btVector3(0, 0, height)));
+    objects[2]->setWorldTransform(btTransform(tilt.inverse(), btVector3(3, 0, height)));
+    if (frame == 25) {  // steering: the wheel turns on the first robot, as a raycast robot's rims do
+      auto* compound = static_cast<btCompoundShape*>(objects[0]->getCollisionShape());
+      compound->updateChildTransform(1, btTransform(btQuaternion(btVector3(0, 0, 1), 0.3), btVector3(0.2, 0.25, 0.1)));
+    }
+  }
+};
+
+TEST(CompoundPlane, MeetsAPlaneWithBulletsContactsPointForPoint) {
+  World bullets(false), ours(true);
+  bullets.populate();
+  ours.populate();
+  int points = 0;
+  for (int frame = 0; frame < 50; ++frame) {
+    for (World* world : {&bullets, &ours}) {
+      world->pose(frame);
+      world->world.performDiscreteCollisionDetection();
+    }
+    ASSERT_EQ(bullets.dispatcher.getNumManifolds(), ours.dispatcher.getNumManifolds()) << "frame " << frame;
+    for (int m = 0; m < bullets.dispatcher.getNumManifolds(); ++m) {
+      const btPersistentManifold& expected = *bullets.dispatcher.getManifoldByIndexInternal(m);
+      const btPersistentManifold& actual = *ours.dispatcher.getManifoldByIndexInternal(m);
+      ASSERT_EQ(expected.getNumContacts(), actual.getNumContacts()) << "frame " << frame << ", manifold " << m;
+      for (int p = 0; p < expected.getNumContacts(); ++p, ++points) {
+        const btManifoldPoint& want = expected.getContactPoint(p);
+        const btManifoldPoint& got = actual.getContactPoint(p);
+        EXPECT_EQ(want.m_positionWorldOnB, got.m_positionWorldOnB) << "frame " << frame;
+        EXPECT_EQ(want.m_normalWorldOnB, got.m_normalWorldOnB) << "frame " << frame;
+        EXPECT_EQ(want.m_distance1, got.m_distance1) << "frame " << frame;
+        EXPECT_EQ(want.m_index0, got.m_index0) << "frame " << frame;  // the child that touches
+        EXPECT_EQ(want.m_index1, got.m_index1) << "frame " << frame;
+      }
+    }
+  }
+  EXPECT_GT(points, 200);  // every child came within reach, most of them for many frames
+}
+
+TEST(CompoundPlane, TakesThePairsOfCompoundsWithPlanesAndOnlyThose) {
+  World ours(true);
+  ours.populate().pose(0);
+  ours.world.performDiscreteCollisionDetection();
+  btBroadphasePairArray& pairs = ours.broadphase.getOverlappingPairCache()->getOverlappingPairArray();
+  ASSERT_EQ(pairs.size(), 2);  // each robot with the ground; the robots are 3 m apart
+  for (int k = 0; k < pairs.size(); ++k) EXPECT_NE(dynamic_cast<CompoundPlaneAlgorithm*>(pairs[k].m_algorithm), nullptr);
+
+  World bullets(false);
+  bullets.populate().pose(0);
+  bullets.world.performDiscreteCollisionDetection();
+  btBroadphasePairArray& theirs = bullets.broadphase.getOverlappingPairCache()->getOverlappingPairArray();
+  ASSERT_EQ(theirs.size(), 2);
+  for (int k = 0; k < theirs.size(); ++k)
+    EXPECT_EQ(dynamic_cast<CompoundPlaneAlgorithm*>(theirs[k].m_algorithm), nullptr);
+}
+
+}  // namespace
+}  // namespace bullet_sim
