@@ -6,12 +6,16 @@
 #include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 
 #include <new>
 
 namespace bullet_sim {
 
 namespace {
+
+/// [m] beyond a manifold's reach that a child's sphere must stay to be skipped: Bullet's own distances round.
+constexpr btScalar kRoundingSlack = 1e-6;
 
 /// Records the leaves of a tree in the order a traversal visits them.
 struct LeafOrder : btDbvt::ICollide {
@@ -51,10 +55,18 @@ void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
   // Bullet meets the children its tree finds within the plane's bounds, which are infinite: every leaf.
   const btDbvt& tree = *compound.getDynamicAabbTree();
   const btVector3 everywhere(BT_LARGE_FLOAT, BT_LARGE_FLOAT, BT_LARGE_FLOAT);
-  order_.clear();
+  std::vector<int> indices;
   LeafOrder leaves;
-  leaves.order = &order_;
+  leaves.order = &indices;
   tree.collideTV(tree.m_root, btDbvtVolume::FromMM(-everywhere, everywhere), leaves);
+  order_.clear();
+  for (const int index : indices) {
+    const btCollisionShape& shape = *compound.getChildShape(index);
+    Child child{index, shape.isConvex(), btVector3(0, 0, 0), 0};
+    shape.getBoundingSphere(child.centre, child.radius);
+    child.centre = compound.getChildTransform(index) * child.centre;
+    order_.push_back(child);
+  }
   revision_ = compound.getUpdateRevision();
 }
 
@@ -80,40 +92,59 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
   const btCollisionObjectWrapper& plane = *(swapped_ ? body0 : body1);
   if (compoundOf(compound).getUpdateRevision() != revision_) restart(compoundOf(compound));
   refreshChildManifolds(*result);
+  const auto& plane_shape = *static_cast<const btStaticPlaneShape*>(plane.getCollisionShape());
+  const btTransform& plane_pose = plane.getWorldTransform();
+  const btVector3 normal = plane_pose.getBasis() * plane_shape.getPlaneNormal();
+  const Plane surface{normal, normal.dot(plane_pose * (plane_shape.getPlaneNormal() * plane_shape.getPlaneConstant()))};
+  for (const Child& child : order_) processChild(child, compound, plane, surface, info, *result);
   // Bullet would now free the algorithms of children outside the plane's bounds: there are none.
-  for (const int index : order_) processChild(index, compound, plane, info, *result);
 }
 
-void CompoundPlaneAlgorithm::processChild(int index, const btCollisionObjectWrapper& compound,
-                                          const btCollisionObjectWrapper& plane, const btDispatcherInfo& info,
-                                          btManifoldResult& result) {
+bool CompoundPlaneAlgorithm::beyondReach(const Child& child, btCollisionAlgorithm& algorithm,
+                                         const btTransform& compound_pose, const Plane& surface,
+                                         const btManifoldResult& result) {
+  // Bullet's convex-plane algorithm then finds its support point too far and adds nothing; ours for cylinders
+  // likewise. (Bullet's multipoint perturbation would query an empty manifold again, but it is off, as
+  // btDefaultCollisionConfiguration leaves it.) A shared manifold is not the child's alone: never skipped.
+  if (!child.convex || shared_manifold_) return false;
+  manifolds_.resize(0);
+  algorithm.getAllContactManifolds(manifolds_);
+  if (manifolds_.size() != 1 || manifolds_[0]->getNumContacts() > 0) return false;
+  const btScalar reach = manifolds_[0]->getContactBreakingThreshold() + result.m_closestPointDistanceThreshold;
+  const btScalar gap = surface.normal.dot(compound_pose * child.centre) - surface.offset - child.radius;
+  return gap > reach + kRoundingSlack;
+}
+
+void CompoundPlaneAlgorithm::processChild(const Child& met, const btCollisionObjectWrapper& compound,
+                                          const btCollisionObjectWrapper& plane, const Plane& surface,
+                                          const btDispatcherInfo& info, btManifoldResult& result) {
   const btCompoundShape& shape = compoundOf(compound);
-  const btCollisionShape* child_shape = shape.getChildShape(index);
+  const btCollisionShape* child_shape = shape.getChildShape(met.index);
   if (gCompoundChildShapePairCallback && !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
     return;
-  const btTransform& child_transform = shape.getChildTransform(index);
+  const bool closest_points = result.m_closestPointDistanceThreshold > 0;
+  btCollisionAlgorithm* algorithm = closest_points ? nullptr : children_[met.index];
+  if (algorithm && beyondReach(met, *algorithm, compound.getWorldTransform(), surface, result)) return;
+  const btTransform& child_transform = shape.getChildTransform(met.index);
   const btTransform child_pose = compound.getWorldTransform() * child_transform;
   btTransform pre_transform = child_transform;
   if (compound.m_preTransform) pre_transform = pre_transform * *compound.m_preTransform;
   const btCollisionObjectWrapper child(&compound, child_shape, compound.getCollisionObject(), child_pose,
-                                      pre_transform, -1, index);
-  btCollisionAlgorithm* algorithm = nullptr;
-  const bool closest_points = result.m_closestPointDistanceThreshold > 0;
+                                      pre_transform, -1, met.index);
   if (closest_points) {
     algorithm = m_dispatcher->findAlgorithm(&child, &plane, nullptr, BT_CLOSEST_POINT_ALGORITHMS);
-  } else {
-    if (!children_[index])
-      children_[index] = m_dispatcher->findAlgorithm(&child, &plane, shared_manifold_, BT_CONTACT_POINT_ALGORITHMS);
-    algorithm = children_[index];
+  } else if (!algorithm) {
+    algorithm = children_[met.index] =
+        m_dispatcher->findAlgorithm(&child, &plane, shared_manifold_, BT_CONTACT_POINT_ALGORITHMS);
   }
   const bool compound_is_0 = result.getBody0Internal() == compound.getCollisionObject();
   const btCollisionObjectWrapper* replaced = compound_is_0 ? result.getBody0Wrap() : result.getBody1Wrap();
   if (compound_is_0) {
     result.setBody0Wrap(&child);
-    result.setShapeIdentifiersA(-1, index);
+    result.setShapeIdentifiersA(-1, met.index);
   } else {
     result.setBody1Wrap(&child);
-    result.setShapeIdentifiersB(-1, index);
+    result.setShapeIdentifiersB(-1, met.index);
   }
   algorithm->processCollision(&child, &plane, info, &result);
   if (compound_is_0) {
