@@ -1,9 +1,11 @@
 // A compound meets a plane with Bullet's own contacts, point for point, in Bullet's order, while it sinks,
-// tilts and has a child moved, whichever of the two comes first in the pair.
+// tilts and has children moved, whichever of the two comes first in the pair; a small child far from the
+// ground and one lowered to it are met as soon as they come within reach.
 #include <gtest/gtest.h>
 
 #include <btBulletCollisionCommon.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -12,6 +14,9 @@
 
 namespace bullet_sim {
 namespace {
+
+constexpr btScalar kLidarHeight = 0.3;  ///< [m] of the lidar's centre above the robot's origin, at first
+constexpr int kLidar = 5;                ///< its child index
 
 /// A collision world with the dispatcher the physics world has: ours meets compounds with planes through
 /// CompoundPlaneAlgorithm, Bullet's through its own compound algorithm.
@@ -25,9 +30,9 @@ struct World {
   CompoundPlaneAlgorithm::CreateFunc compound_plane, plane_compound;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
-  btCollisionWorld world{&dispatcher, &broadphase, &configuration};
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;    // outlive the world, which lets go of them
   std::vector<std::unique_ptr<btCollisionObject>> objects;
+  btCollisionWorld world{&dispatcher, &broadphase, &configuration};
 
   btCollisionObject& add(btCollisionShape* shape, const btTransform& pose) {
     objects.push_back(std::make_unique<btCollisionObject>());
@@ -37,7 +42,8 @@ struct World {
     return *objects.back();
   }
 
-  /// A box, a cylinder, a sphere and a hull, side by side under a chassis box.
+  /// A box, a cylinder, a sphere and a hull, side by side under a chassis box; a bolt's head, small enough that
+  /// its bounding sphere clears the ground while it is within reach; and a lidar held 0.3 m up.
   btCompoundShape* robot() {
     auto* compound = new btCompoundShape();
     shapes.emplace_back(compound);
@@ -52,6 +58,12 @@ struct World {
     const btScalar hull[] = {0, 0, 0, 0.1, 0, 0, 0, 0.1, 0, 0, 0, 0.1};
     shapes.emplace_back(new btConvexHullShape(hull, 4, 3 * sizeof(btScalar)));
     compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0.2, -0.25, 0.02)),
+                            shapes.back().get());
+    shapes.emplace_back(new btSphereShape(0.003));
+    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(-0.1, 0.1, 0.013)),
+                            shapes.back().get());
+    shapes.emplace_back(new btCylinderShapeZ(btVector3(0.04, 0.04, 0.03)));
+    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0, -0.1, kLidarHeight)),
                             shapes.back().get());
     return compound;
   }
@@ -71,10 +83,14 @@ struct World {
     const btQuaternion tilt(btVector3(1, 0.5, 0).normalized(), 0.004 * frame);
     objects[0]->setWorldTransform(btTransform(tilt, btVector3(0, 0, height)));
     objects[2]->setWorldTransform(btTransform(tilt.inverse(), btVector3(3, 0, height)));
+    auto* compound = static_cast<btCompoundShape*>(objects[0]->getCollisionShape());
     if (frame == 25) {  // steering: the wheel turns on the first robot, as a raycast robot's rims do
-      auto* compound = static_cast<btCompoundShape*>(objects[0]->getCollisionShape());
       compound->updateChildTransform(1, btTransform(btQuaternion(btVector3(0, 0, 1), 0.3), btVector3(0.2, 0.25, 0.1)));
     }
+    // A kinematic joint lowers the lidar to the ground over frames 10 to 30, without a new revision.
+    const btScalar lowered = frame < 10 ? 0 : std::min<btScalar>(1, (frame - 10) / 20.0);
+    compound->updateChildTransform(
+        kLidar, btTransform(btQuaternion::getIdentity(), btVector3(0, -0.1, kLidarHeight * (1 - lowered) + 0.01)));
   }
 };
 
@@ -107,7 +123,7 @@ TEST(CompoundPlane, MeetsAPlaneWithBulletsContactsPointForPoint) {
   EXPECT_GT(points, 200);  // every child came within reach, most of them for many frames
 }
 
-TEST(CompoundPlane, TakesThePairsOfCompoundsWithPlanesAndOnlyThose) {
+TEST(CompoundPlane, IsWhatTheDispatcherPicksForACompoundOnAPlane) {
   World ours(true);
   ours.populate().pose(0);
   ours.world.performDiscreteCollisionDetection();

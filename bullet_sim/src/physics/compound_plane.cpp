@@ -4,6 +4,7 @@
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btConvexPlaneCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
@@ -31,8 +32,12 @@ const btCompoundShape& compoundOf(const btCollisionObjectWrapper& wrapper) {
 
 CompoundPlaneAlgorithm::CompoundPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& info,
                                                const btCollisionObjectWrapper* body0,
-                                               const btCollisionObjectWrapper* body1, bool swapped)
-    : btActivatingCollisionAlgorithm(info, body0, body1), swapped_(swapped), shared_manifold_(info.m_manifold) {
+                                               const btCollisionObjectWrapper* body1, bool swapped,
+                                               bool skips_far_children)
+    : btActivatingCollisionAlgorithm(info, body0, body1),
+      swapped_(swapped),
+      skips_far_children_(skips_far_children),
+      shared_manifold_(info.m_manifold) {
   restart(compoundOf(*(swapped ? body1 : body0)));
 }
 
@@ -64,7 +69,6 @@ void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
     const btCollisionShape& shape = *compound.getChildShape(index);
     Child child{index, shape.isConvex(), btVector3(0, 0, 0), 0};
     shape.getBoundingSphere(child.centre, child.radius);
-    child.centre = compound.getChildTransform(index) * child.centre;
     order_.push_back(child);
   }
   revision_ = compound.getUpdateRevision();
@@ -101,60 +105,54 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
 }
 
 bool CompoundPlaneAlgorithm::beyondReach(const Child& child, btCollisionAlgorithm& algorithm,
-                                         const btTransform& compound_pose, const Plane& surface,
+                                         const btCollisionObjectWrapper& compound, const Plane& surface,
                                          const btManifoldResult& result) {
   // Bullet's convex-plane algorithm then finds its support point too far and adds nothing; ours for cylinders
-  // likewise. (Bullet's multipoint perturbation would query an empty manifold again, but it is off, as
-  // btDefaultCollisionConfiguration leaves it.) A shared manifold is not the child's alone: never skipped.
-  if (!child.convex || shared_manifold_) return false;
+  // likewise. A shared manifold is not the child's alone: never skipped.
+  if (!child.convex || !skips_far_children_ || shared_manifold_) return false;
   manifolds_.resize(0);
   algorithm.getAllContactManifolds(manifolds_);
   if (manifolds_.size() != 1 || manifolds_[0]->getNumContacts() > 0) return false;
   const btScalar reach = manifolds_[0]->getContactBreakingThreshold() + result.m_closestPointDistanceThreshold;
-  const btScalar gap = surface.normal.dot(compound_pose * child.centre) - surface.offset - child.radius;
-  return gap > reach + kRoundingSlack;
+  // The child's transform as it is now: a kinematic joint moves a rim without a new revision of the compound.
+  const btVector3 centre =
+      compound.getWorldTransform() * (compoundOf(compound).getChildTransform(child.index) * child.centre);
+  return surface.normal.dot(centre) - surface.offset - child.radius > reach + kRoundingSlack;
 }
 
-void CompoundPlaneAlgorithm::processChild(const Child& met, const btCollisionObjectWrapper& compound,
+void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionObjectWrapper& compound,
                                           const btCollisionObjectWrapper& plane, const Plane& surface,
                                           const btDispatcherInfo& info, btManifoldResult& result) {
   const btCompoundShape& shape = compoundOf(compound);
-  const btCollisionShape* child_shape = shape.getChildShape(met.index);
+  const btCollisionShape* child_shape = shape.getChildShape(child.index);
   if (gCompoundChildShapePairCallback && !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
     return;
-  const bool closest_points = result.m_closestPointDistanceThreshold > 0;
-  btCollisionAlgorithm* algorithm = closest_points ? nullptr : children_[met.index];
-  if (algorithm && beyondReach(met, *algorithm, compound.getWorldTransform(), surface, result)) return;
-  const btTransform& child_transform = shape.getChildTransform(met.index);
+  btCollisionAlgorithm* algorithm = children_[child.index];
+  if (algorithm && beyondReach(child, *algorithm, compound, surface, result)) return;
+  const btTransform& child_transform = shape.getChildTransform(child.index);
   const btTransform child_pose = compound.getWorldTransform() * child_transform;
   btTransform pre_transform = child_transform;
   if (compound.m_preTransform) pre_transform = pre_transform * *compound.m_preTransform;
-  const btCollisionObjectWrapper child(&compound, child_shape, compound.getCollisionObject(), child_pose,
-                                      pre_transform, -1, met.index);
-  if (closest_points) {
-    algorithm = m_dispatcher->findAlgorithm(&child, &plane, nullptr, BT_CLOSEST_POINT_ALGORITHMS);
-  } else if (!algorithm) {
-    algorithm = children_[met.index] =
-        m_dispatcher->findAlgorithm(&child, &plane, shared_manifold_, BT_CONTACT_POINT_ALGORITHMS);
+  const btCollisionObjectWrapper wrapper(&compound, child_shape, compound.getCollisionObject(), child_pose,
+                                        pre_transform, -1, child.index);
+  if (!algorithm) {
+    algorithm = children_[child.index] =
+        m_dispatcher->findAlgorithm(&wrapper, &plane, shared_manifold_, BT_CONTACT_POINT_ALGORITHMS);
   }
   const bool compound_is_0 = result.getBody0Internal() == compound.getCollisionObject();
   const btCollisionObjectWrapper* replaced = compound_is_0 ? result.getBody0Wrap() : result.getBody1Wrap();
   if (compound_is_0) {
-    result.setBody0Wrap(&child);
-    result.setShapeIdentifiersA(-1, met.index);
+    result.setBody0Wrap(&wrapper);
+    result.setShapeIdentifiersA(-1, child.index);
   } else {
-    result.setBody1Wrap(&child);
-    result.setShapeIdentifiersB(-1, met.index);
+    result.setBody1Wrap(&wrapper);
+    result.setShapeIdentifiersB(-1, child.index);
   }
-  algorithm->processCollision(&child, &plane, info, &result);
+  algorithm->processCollision(&wrapper, &plane, info, &result);
   if (compound_is_0) {
     result.setBody0Wrap(replaced);
   } else {
     result.setBody1Wrap(replaced);
-  }
-  if (closest_points) {
-    algorithm->~btCollisionAlgorithm();
-    m_dispatcher->freeCollisionAlgorithm(algorithm);
   }
 }
 
@@ -168,21 +166,27 @@ btCollisionAlgorithm* CompoundPlaneAlgorithm::CreateFunc::CreateCollisionAlgorit
     btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* body0,
     const btCollisionObjectWrapper* body1) {
   const btCollisionObjectWrapper& compound = *(m_swapped ? body1 : body0);
-  if (!compoundOf(compound).getDynamicAabbTree()) return bullets->CreateCollisionAlgorithm(info, body0, body1);
+  if (!compoundOf(compound).getDynamicAabbTree())
+    return bullet_fallback->CreateCollisionAlgorithm(info, body0, body1);
   // The dispatcher's pool holds blocks as large as Bullet's compound algorithm.
   static_assert(sizeof(CompoundPlaneAlgorithm) <= sizeof(btCompoundCollisionAlgorithm));
   void* memory = info.m_dispatcher1->allocateCollisionAlgorithm(sizeof(CompoundPlaneAlgorithm));
-  return new (memory) CompoundPlaneAlgorithm(info, body0, body1, m_swapped);
+  return new (memory) CompoundPlaneAlgorithm(info, body0, body1, m_swapped, skips_far_children);
 }
 
 void CompoundPlaneAlgorithm::registerWith(btCollisionDispatcher& dispatcher,
                                           btCollisionConfiguration& configuration, CreateFunc& compound_first,
                                           CreateFunc& plane_first) {
-  compound_first.m_swapped = false;
-  plane_first.m_swapped = true;
-  compound_first.bullets =
+  const auto* convex_plane = dynamic_cast<const btConvexPlaneCollisionAlgorithm::CreateFunc*>(
+      configuration.getCollisionAlgorithmCreateFunc(BOX_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE));
+  const bool no_perturbation = convex_plane && convex_plane->m_minimumPointsPerturbationThreshold <= 0;
+  for (CreateFunc* create : {&compound_first, &plane_first}) {
+    create->m_swapped = create == &plane_first;
+    create->skips_far_children = no_perturbation;
+  }
+  compound_first.bullet_fallback =
       configuration.getCollisionAlgorithmCreateFunc(COMPOUND_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE);
-  plane_first.bullets =
+  plane_first.bullet_fallback =
       configuration.getCollisionAlgorithmCreateFunc(STATIC_PLANE_PROXYTYPE, COMPOUND_SHAPE_PROXYTYPE);
   dispatcher.registerCollisionCreateFunc(COMPOUND_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE, &compound_first);
   dispatcher.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, COMPOUND_SHAPE_PROXYTYPE, &plane_first);

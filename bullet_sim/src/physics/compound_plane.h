@@ -14,14 +14,15 @@ namespace bullet_sim {
 /// Every robot meets the ground plane through its compound shape each substep. Bullet's compound algorithm
 /// finds the children near the other shape through the compound's tree and bounds tests, then tests every
 /// child's bounds again to free the algorithms of children that left. A plane's bounds are infinite, so every
-/// child always passes: this visits every child in the order Bullet's tree does, with the same child
-/// algorithms and manifolds, and leaves the tests out. It also skips a convex child that keeps no point and
-/// is beyond reach of the plane (a chassis's seat, its lidar), whose algorithm would find nothing. The
-/// contacts are Bullet's, point for point. A compound without a tree keeps Bullet's own algorithm.
+/// child always passes: this meets every child with the same child algorithms and manifolds, made in the
+/// order Bullet's tree first visits them, and leaves the tests out. It also skips a convex child that keeps
+/// no point and is beyond reach of the plane (a chassis's seat, its lidar), whose algorithm would find
+/// nothing. The contacts are Bullet's, point for point. A compound without a tree keeps Bullet's own
+/// algorithm, and so do closest-point queries: this is registered for contacts only.
 class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
  public:
   CompoundPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* body0,
-                         const btCollisionObjectWrapper* body1, bool swapped);
+                         const btCollisionObjectWrapper* body1, bool swapped, bool skips_far_children);
   ~CompoundPlaneAlgorithm() override;
 
   void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
@@ -34,48 +35,53 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
 
   struct CreateFunc : public btCollisionAlgorithmCreateFunc {
     /// Bullet's compound algorithm, for compounds without a tree.
-    btCollisionAlgorithmCreateFunc* bullets = nullptr;
+    btCollisionAlgorithmCreateFunc* bullet_fallback = nullptr;
+    /// Bullet's convex-plane algorithm queries an empty manifold again with the shape turned about its origin
+    /// when multipoint perturbation is on; far children are then never skipped.
+    bool skips_far_children = false;
     btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& info,
                                                    const btCollisionObjectWrapper* body0,
                                                    const btCollisionObjectWrapper* body1) override;
   };
 
   /// Makes `dispatcher` meet compounds with planes through `compound_first` and `plane_first` (swapped);
-  /// `configuration` gives Bullet's own algorithm for compounds without a tree.
+  /// `configuration` gives Bullet's own algorithms, for compounds without a tree and for convex children.
   static void registerWith(btCollisionDispatcher& dispatcher, btCollisionConfiguration& configuration,
                            CreateFunc& compound_first, CreateFunc& plane_first);
 
  private:
-  /// Frees the children's algorithms and takes the order of the compound's tree afresh.
-  void restart(const btCompoundShape& compound);
-  /// Bullet's refresh of every child manifold with contacts, before the children are met.
-  void refreshChildManifolds(btManifoldResult& result);
   /// A child of the compound, as this meets it.
   struct Child {
     int index;         ///< in the compound
-    bool convex;       ///< its algorithm keeps one manifold and nothing else
-    btVector3 centre;  ///< of a sphere about it, margin included, in the compound's frame
-    btScalar radius;
+    bool convex;       ///< met by Bullet's convex-plane algorithm or ours for cylinders: one manifold, no state
+    btVector3 centre;  ///< of a sphere about it, margin included, in its own frame
+    btScalar radius;   ///< taken when the pair is made: a child's shape must not grow after
   };
   /// The plane in the world: normal . x = offset.
   struct Plane {
     btVector3 normal;
     btScalar offset;
   };
-  void processChild(const Child& met, const btCollisionObjectWrapper& compound,
+
+  /// Frees the children's algorithms and takes the order of the compound's tree afresh.
+  void restart(const btCompoundShape& compound);
+  /// Bullet's refresh of every child manifold with contacts, before the children are met.
+  void refreshChildManifolds(btManifoldResult& result);
+  void processChild(const Child& child, const btCollisionObjectWrapper& compound,
                     const btCollisionObjectWrapper& plane, const Plane& surface, const btDispatcherInfo& info,
                     btManifoldResult& result);
   /// Whether the convex child's algorithm would neither add nor refresh a point: it keeps none, and its
   /// sphere stays beyond its manifold's reach of the plane.
-  bool beyondReach(const Child& child, btCollisionAlgorithm& algorithm, const btTransform& compound_pose,
+  bool beyondReach(const Child& child, btCollisionAlgorithm& algorithm, const btCollisionObjectWrapper& compound,
                    const Plane& surface, const btManifoldResult& result);
 
   bool swapped_;  ///< the plane is body 0
+  bool skips_far_children_;
   btPersistentManifold* shared_manifold_;
-  int revision_ = -1;              ///< of the compound shape, when the order was taken
-  std::vector<Child> order_;       ///< in the order Bullet's tree visits them
+  int revision_ = -1;        ///< of the compound shape, when the order was taken
+  std::vector<Child> order_;  ///< in the order Bullet's tree visits them when the pair is made
   std::vector<btCollisionAlgorithm*> children_;  ///< by child index; null until first met
-  btManifoldArray manifolds_;      ///< scratch
+  btManifoldArray manifolds_;                    ///< scratch
 };
 
 }  // namespace bullet_sim
