@@ -225,6 +225,31 @@ TEST(RayCasterTest, GroundPlaneHitsAtAnalyticDistanceAndNeverGrazing) {
   EXPECT_NEAR(castOne(caster, {0, 0, -0.5}, Eigen::Vector3d::UnitZ()), 0.5, kCurvedTolerance);
 }
 
+// A plane off its body's origin and tilted in it, on a body that is raised: met where the plane is, with its
+// normal, whether the body is static or moves.
+TEST(RayCasterTest, ARaisedTiltedPlaneIsHitWhereItIs) {
+  Collision plane = groundPlane();
+  plane.origin = translation(0.5, 0, 1);
+  plane.origin.rotate(Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitY()));
+  const Eigen::Isometry3d pose = translation(0, 0, 0.5);
+  const Eigen::Vector3d normal(0.5, 0, std::sqrt(3) / 2), on_plane(0.5, 0, 1.5);  // in the world
+  const Eigen::Vector3d origin(0, 0.3, 0), up = Eigen::Vector3d::UnitZ();
+  const double expected = normal.dot(on_plane - origin) / normal.dot(up);
+  for (const bool is_static : {true, false}) {
+    SCOPED_TRACE(is_static);
+    RayCaster caster;
+    caster.addBody({plane}, pose, is_static);
+    caster.commit();
+    EXPECT_NEAR(castOne(caster, origin, up), expected, kCurvedTolerance);
+    if (!is_static) continue;
+    std::vector<double> ranges;
+    std::vector<Eigen::Vector3d> normals;
+    caster.castStatic({origin}, {up}, kMaxRange, ranges, &normals);
+    EXPECT_NEAR(ranges.at(0), expected, kCurvedTolerance);
+    EXPECT_TRUE(normals.at(0).isApprox(-normal, 1e-6)) << normals.at(0).transpose();  // facing the ray
+  }
+}
+
 TEST(RayCasterTest, MeshTrianglesAreExact) {
   auto square = std::make_shared<TriangleMesh>();  // 1 m square in the mesh's y-z plane
   square->vertices = {{0, -0.5, -0.5}, {0, 0.5, -0.5}, {0, 0.5, 0.5}, {0, -0.5, 0.5}};

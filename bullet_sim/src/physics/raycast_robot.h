@@ -93,7 +93,6 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     double max_torque = 0;   ///< [N m]; 0 = free
   };
 
-  /// A wheel's contact with the ground in one substep, and the impulses solved for it.
   /// One direction of a wheel's contact, as a sequential-impulse row: fixed for the substep, so that each
   /// pass only takes dot products.
   struct Row {
@@ -102,6 +101,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     Eigen::Vector3d turn = Eigen::Vector3d::Zero();       ///< [rad/(s N s)] the spin a unit impulse along it gives
     double inverse_mass = 0;                              ///< [1/kg] the chassis's, felt at the point along it
   };
+  /// A wheel's contact with the ground in one substep, and the impulses solved for it. A caster, which does
+  /// not grip, builds only its normal row.
   struct Contact {
     Row normal, forward, lateral;  ///< the spring's (the chassis's up), rolling (positive spin), sideways
     double compression = 0;  ///< [m] of the spring

@@ -34,8 +34,8 @@ constexpr size_t kPacketSize = 16;
 /// the 31 that get one). Rays always include it.
 constexpr unsigned kSharedMaskBit = 1;
 
-/// A sphere, cylinder or plane, intersected in double precision in its own frame. "The frame" is the body
-/// frame for a moving body and the world frame for a static one.
+/// A sphere, cylinder or plane, intersected in double precision: a sphere or cylinder in its own frame, a
+/// plane in the frame. "The frame" is the body frame for a moving body and the world frame for a static one.
 struct AnalyticShape {
   Shape::Type type;
   Eigen::Isometry3d frame_from_shape;
@@ -49,7 +49,7 @@ struct AnalyticShape {
 
 struct SurfaceHit {
   double t;                ///< ray parameter [m for unit directions]
-  Eigen::Vector3d normal;  ///< in the shape frame
+  Eigen::Vector3d normal;  ///< in the frame of the ray that hit
 };
 
 /// Keeps the smallest ray parameter offered within [t_min, t_max].
@@ -76,7 +76,7 @@ class ClosestHit {
 /// Both surfaces a ray crosses count: a ray starting inside a shape hits it on the way out. The ray and the
 /// normal are in the shape's frame; a plane is not intersected here.
 std::optional<SurfaceHit> intersectInShape(const AnalyticShape& shape, const Eigen::Vector3d& origin,
-                                    const Eigen::Vector3d& direction, double t_min, double t_max) {
+                                           const Eigen::Vector3d& direction, double t_min, double t_max) {
   ClosestHit closest(t_min, t_max);
   const double r = shape.radius;
   switch (shape.type) {
@@ -119,8 +119,8 @@ std::optional<SurfaceHit> intersectInShape(const AnalyticShape& shape, const Eig
   return closest.hit();
 }
 
-/// As intersectInShape, with the ray and the normal in the frame. A plane needs no change of frame, which
-/// halves the cost of a wheel's ray to the ground.
+/// As intersectInShape, with the ray and the normal in the frame. A plane needs no change of frame (each
+/// wheel's ray to the ground, every substep).
 std::optional<SurfaceHit> intersect(const AnalyticShape& shape, const Eigen::Vector3d& origin,
                                     const Eigen::Vector3d& direction, double t_min, double t_max) {
   if (shape.type == Shape::Type::kPlane) {
@@ -131,8 +131,8 @@ std::optional<SurfaceHit> intersect(const AnalyticShape& shape, const Eigen::Vec
     closest.offer((shape.offset - shape.normal.dot(origin)) / approach, shape.normal);
     return closest.hit();
   }
-  std::optional<SurfaceHit> hit = intersectInShape(shape, shape.shape_from_frame * origin,
-                                                   shape.shape_from_frame.linear() * direction, t_min, t_max);
+  std::optional<SurfaceHit> hit = intersectInShape(
+      shape, shape.shape_from_frame * origin, shape.shape_from_frame.linear() * direction, t_min, t_max);
   if (hit) hit->normal = shape.frame_from_shape.linear() * hit->normal;
   return hit;
 }
