@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Test node: the simulator's life, each run against a ROS master of its own on a free port. `rosrun bullet_sim
 simulator` registers as /gazebo; SIGINT ends it within 2 s whether it waits for the master, steps, is paused or
-is importing a large mesh; and when the master restarts, it exits with a message, so that respawn="true"
-restarts it."""
+is importing a large mesh; a ~threads it cannot take ends it with the value named; and when the master
+restarts, it exits with a message, so that respawn="true" restarts it."""
 import os
 import re
 import shutil
@@ -155,6 +155,19 @@ class SimulatorLifecycle(unittest.TestCase):
         output.wait_for(r"spawning model \[large\]", 60)
         self.assert_sigint_ends_it(simulator, output)
         self.assertIn("still busy after SIGINT", output.text)  # it was in the import, not between steps
+
+    def test_threads_is_taken_and_a_bad_count_ends_it_naming_the_value(self):
+        _, master_api = self.start_master()
+        for bad in ("two", "-1", "65", "1.5"):
+            simulator, output = self.start_simulator("_threads:=" + bad)
+            try:
+                status = simulator.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                self.fail("the simulator ran on with ~threads %s:\n%s" % (bad, output.text))
+            self.assertEqual(status, 1, output.text)
+            output.wait_for(r"~threads must be a whole number from 0 .* to 64, not %s" % re.escape(bad), 10)
+        self.start_simulator("_threads:=1")
+        self.wait_registered(master_api)
 
     def test_it_exits_with_a_message_when_the_master_restarts(self):
         master, master_api = self.start_master()

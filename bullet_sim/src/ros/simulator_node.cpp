@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/scene/robot_snapshot.h"
@@ -16,6 +17,7 @@ namespace bullet_sim {
 namespace {
 
 constexpr int kMaxSnapshotSide = 4096;  // [px]
+constexpr int kMostThreads = 64;        // ~threads, as bench's --threads
 
 std::filesystem::path defaultSnapshotDir() {
   const char* ros_home = std::getenv("ROS_HOME");
@@ -26,6 +28,21 @@ std::filesystem::path defaultSnapshotDir() {
 }
 
 /// The limits, each from its ~limits/<name> when set.
+/// ~threads: the threads that share each step's per-robot work (SimulationOptions::threads); 0, the
+/// default, takes the machine's cores, at most 4.
+int threadsParam(const ros::NodeHandle& private_node) {
+  XmlRpc::XmlRpcValue given;
+  if (!private_node.getParam("threads", given)) return 0;
+  if (given.getType() == XmlRpc::XmlRpcValue::TypeInt && static_cast<int>(given) >= 0 &&
+      static_cast<int>(given) <= kMostThreads)
+    return static_cast<int>(given);
+  std::ostringstream message;
+  message << "~threads must be a whole number from 0 (the machine's cores, at most 4) to " << kMostThreads
+          << ", not ";
+  given.write(message);
+  throw std::runtime_error(message.str());
+}
+
 Limits limitsParam(const ros::NodeHandle& private_node) {
   Limits limits;
   for (const std::string& name : Limits::names()) {
@@ -70,6 +87,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   options.physics.step_size = private_.param("step_size", world.max_step_size);
   real_time_factor_ = private_.param("real_time_factor", world.real_time_update_rate * world.max_step_size);
   options.seed = static_cast<uint64_t>(private_.param("seed", 0));
+  options.threads = threadsParam(private_);
   paused_ = private_.param("paused", false);
   clock_period_ = ros::WallDuration(1.0 / std::max(1.0, private_.param("pub_clock_frequency", 1000.0)));
   if (options.physics.step_size <= 0 || !std::isfinite(options.physics.step_size)) {
@@ -78,6 +96,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   if (real_time_factor_ < 0 || !std::isfinite(real_time_factor_)) {
     throw std::runtime_error("~real_time_factor must be >= 0 (0 runs as fast as possible)");
   }
+
   if (private_.param("gui", false)) {
     ROS_INFO(
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
