@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Measures many robots in one world (issue 32) with `bench --robots` and writes docs/performance.md's section
-"Many robots" (between <!-- bench-fleet:begin --> and <!-- bench-fleet:end -->) and its plot,
-docs/images/bench_fleet.png: RTF against the number of robots, log-log, beside the anchors' robot x RTF per core;
+"Many robots" (between <!-- bench-fleet:begin --> and <!-- bench-fleet:end -->), the README's summary of it
+(between the same markers) and its plot, docs/images/bench_fleet.png: RTF against the number of robots, log-log, beside the anchors' robot x RTF per core;
 and the issue's 20 wheelchairs among 200 loose boxes in walled_boxes.world, 4 m apart (bench_fleet_boxes.json).
 
     source devel/setup.bash && /usr/bin/python3 scripts/bench_fleet.py [--robots 1,10,30,100] [--duration S]
@@ -32,6 +32,7 @@ from readme_section import write_section  # noqa: E402
 
 PAGE = os.path.join(REPO, "docs", "performance.md")
 PLOT = os.path.join(REPO, "docs", "images", "bench_fleet.png")
+README = os.path.join(REPO, "README.md")
 HEADING = "## Many robots\n"
 # Robot x RTF per core of the anchors: Stage runs about 1,000 simple 2D robots at real time on one core
 # (Vaughan 2008); Gazebo's best reports are near 20 (30 UAVs at RTF 0.6).
@@ -194,6 +195,23 @@ def section(report, boxes=None):
     return lines + ([""] + boxes_lines(boxes) if boxes else [])
 
 
+def readme_lines(report, boxes=None):
+    """The README's summary: the issue's targets beside ours, and the plot; the whole table stays in the page."""
+    by_count = {fleet["robots"]: fleet for fleet in report["fleets"]}
+    intro = ("Many robots in one world: `bench --robots N` drives N wheelchairs with 360-beam lidars in circles, "
+             "measured by `scripts/bench_fleet.py` on %s on a %d-core %s. Every figure, and what the step costs, "
+             "is in [Performance](docs/performance.md#many-robots); on this shared machine they move about 10 %% from "
+             "one run to the next." % (report["date"], report["cores"], report["cpu"]))
+    targets = target_rows(by_count) + ([boxes_target_row(boxes)] if boxes else [])
+    return textwrap.wrap(intro, 110) + [""] + targets + [
+        "", "![RTF against the number of robots, log-log, ours beside Stage's and Gazebo's](docs/images/bench_fleet.png)"]
+
+
+def place_in_readme(text, marked):
+    """A README without the markers gets the summary under its own heading, before "## Documentation"."""
+    return text.replace("\n## Documentation\n", "\n## How fast\n" + marked + "\n\n## Documentation\n", 1)
+
+
 def plot(report, path, boxes=None):
     import matplotlib
     matplotlib.use("Agg")
@@ -249,7 +267,7 @@ def main():
     parser.add_argument("--duration", type=float, default=20, help="sim seconds of driving per run")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--out", default="/tmp/bench_fleet", help="where the JSON goes")
-    parser.add_argument("--no-page", action="store_true", help="leave docs/performance.md and the plot alone")
+    parser.add_argument("--no-page", action="store_true", help="leave docs/performance.md, the README and the plot alone")
     parser.add_argument("--from-json", help="measure nothing: the page and plot from this earlier run's JSON")
     parser.add_argument("--only-boxes", action="store_true",
                         help="measure the walled world only, the fleets from --from-json")
@@ -276,6 +294,7 @@ def main():
         return
     plot(report, PLOT, boxes)
     write_section(PAGE, "bench-fleet", lines, place)
+    write_section(README, "bench-fleet", readme_lines(report, boxes), place_in_readme)
 
 
 def place(text, marked):
