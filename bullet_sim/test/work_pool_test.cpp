@@ -1,6 +1,8 @@
 // The step's pool of threads: every task runs once, whatever the threads; a task's failure reaches the caller.
 #include <gtest/gtest.h>
+#include <sched.h>
 
+#include <algorithm>
 #include <atomic>
 #include <stdexcept>
 #include <string>
@@ -54,6 +56,26 @@ TEST(WorkPool, TheLowestFailingTaskIsRethrownOnceAllAreDone) {
   std::atomic<int> after{0};
   pool.run(3, [&](size_t) { ++after; });  // the pool still works; the caller's thread may take all three
   EXPECT_EQ(after, 3);
+}
+
+// A run pinned to one core (a sweep's taskset) takes one thread; unpinned, the cores it may use, at most 4.
+TEST(WorkPool, TakesTheCoresItsThreadMayRunOn) {
+  cpu_set_t all;
+  ASSERT_EQ(sched_getaffinity(0, sizeof(all), &all), 0);
+  int first = 0;
+  while (!CPU_ISSET(first, &all)) ++first;
+  int pinned = 0, unpinned = 0;
+  std::thread probe([&] {  // its own thread, so that the test's affinity stays as it was
+    unpinned = defaultPoolThreads();
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    if (sched_setaffinity(0, sizeof(one), &one) == 0) pinned = defaultPoolThreads();
+  });
+  probe.join();
+  EXPECT_EQ(unpinned, std::min(CPU_COUNT(&all), 4));
+  EXPECT_EQ(pinned, 1);
+  EXPECT_EQ(defaultPoolThreads(1), 1);
 }
 
 }  // namespace

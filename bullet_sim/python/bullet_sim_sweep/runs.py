@@ -14,7 +14,8 @@ import time
 
 # Where the runs of one machine take their cores: one lock file per core, held for the run.
 CORE_LOCKS = os.path.join(tempfile.gettempdir(), "bullet_sim_cores")
-# The run's libraries stay on one thread: llvmpipe's rasteriser, OpenMP; Embree's TBB follows the affinity.
+# The run's libraries stay on one thread: llvmpipe's rasteriser, OpenMP; Embree's TBB and the simulation's
+# pool follow the affinity.
 ONE_THREAD = {"LP_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
 LOG_TAIL = 4000  # characters of a failed run's log that its result carries
 

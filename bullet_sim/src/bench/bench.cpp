@@ -108,7 +108,7 @@ constexpr char kUsage[] =
     "                               the same in the simulation thread's CPU time;\n"
     "                               process_cpu_ms_per_sim_s_per_robot: in every thread's CPU time\n"
     "                               (--threads T share each step's per-robot work; default: the\n"
-    "                               machine's cores, at most 4)\n"
+    "                               cores it may run on, at most 4)\n"
     "  robot_rtf                    N x rtf\n"
     "  spawn_s                      parsing the URDF and spawning, for every robot (as the node's\n"
     "                               spawn service does); xacro runs once\n"

@@ -1,5 +1,7 @@
 #include "common/work_pool.h"
 
+#include <sched.h>
+
 #include <algorithm>
 #include <utility>
 
@@ -71,7 +73,13 @@ void WorkPool::drain() {
 }
 
 int defaultPoolThreads(int most) {
-  return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, most));
+  // The cores this thread may run on, as nproc counts them: a sweep pins each run to one (taskset), and a
+  // container's cpuset may give fewer than the machine has.
+  cpu_set_t cores;
+  const int usable = sched_getaffinity(0, sizeof(cores), &cores) == 0
+                         ? CPU_COUNT(&cores)
+                         : static_cast<int>(std::thread::hardware_concurrency());
+  return std::clamp(usable, 1, std::max(1, most));
 }
 
 }  // namespace bullet_sim

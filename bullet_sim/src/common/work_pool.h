@@ -48,7 +48,8 @@ class WorkPool {
   std::vector<std::thread> workers_;
 };
 
-/// The threads a simulation's pool takes when not told: the machine's cores, at most `most`.
+/// The threads a simulation's pool takes when not told: the cores the calling thread may run on (its
+/// affinity, as `nproc` counts them), at most `most`.
 int defaultPoolThreads(int most = 4);
 
 }  // namespace bullet_sim

@@ -29,7 +29,7 @@ std::filesystem::path defaultSnapshotDir() {
 
 /// The limits, each from its ~limits/<name> when set.
 /// ~threads: the threads that share each step's per-robot work (SimulationOptions::threads); 0, the
-/// default, takes the machine's cores, at most 4.
+/// default, takes the cores the node may run on, at most 4.
 int threadsParam(const ros::NodeHandle& private_node) {
   XmlRpc::XmlRpcValue given;
   if (!private_node.getParam("threads", given)) return 0;
@@ -37,7 +37,7 @@ int threadsParam(const ros::NodeHandle& private_node) {
       static_cast<int>(given) <= kMostThreads)
     return static_cast<int>(given);
   std::ostringstream message;
-  message << "~threads must be a whole number from 0 (the machine's cores, at most 4) to " << kMostThreads
+  message << "~threads must be a whole number from 0 (the cores it may run on, at most 4) to " << kMostThreads
           << ", not ";
   given.write(message);
   throw std::runtime_error(message.str());

@@ -29,7 +29,7 @@ std::string convexCacheDir();
 /// mesh alone, so they are the same whatever the number of threads and whichever process ends first.
 class ConvexDecomposer {
  public:
-  /// `threads`: CoACD processes at once; 0 (or less): the machine's cores, at most 4.
+  /// `threads`: CoACD processes at once; 0 (or less): the cores it may run on, at most 4.
   explicit ConvexDecomposer(std::string cache_dir = convexCacheDir(), int threads = 0);
 
   /// The convex parts of `mesh`; nullptr when it collides by its hull: limits.max_convex_parts is 1, or

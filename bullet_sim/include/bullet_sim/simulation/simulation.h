@@ -61,7 +61,8 @@ struct SimulationOptions {
   std::string convex_cache_dir = convexCacheDir();
   /// Threads that share each step's per-robot work (every robot's due scans; with many robots, each
   /// substep's wheel forces), the stepping one included, and the CoACD processes that split a spawn's meshes
-  /// side by side; 0: the machine's cores, at most 4. Any count gives the same, bit-identical run.
+  /// side by side; 0: the cores it may run on (taskset, a container's cpuset), at most 4. Any count gives
+  /// the same, bit-identical run.
   int threads = 0;
 };
 
