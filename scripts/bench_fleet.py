@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Measures many robots in one world (issue 32) with `bench --robots` and writes docs/performance.md's section
 "Many robots" (between <!-- bench-fleet:begin --> and <!-- bench-fleet:end -->), the README's summary of it
-(between the same markers) and its plot, docs/images/bench_fleet.png: RTF against the number of robots, log-log, beside the anchors' robot x RTF per core;
-and the issue's 20 wheelchairs among 200 loose boxes in walled_boxes.world, 4 m apart (bench_fleet_boxes.json).
+(between the same markers) and its plot, docs/images/bench_fleet.png: RTF against the number of robots,
+log-log, beside the anchors' robot x RTF per core; and the issue's 20 wheelchairs among 200 loose boxes in
+walled_boxes.world, 4 m apart (bench_fleet_boxes.json).
 
     source devel/setup.bash && /usr/bin/python3 scripts/bench_fleet.py [--robots 1,10,30,100] [--duration S]
                                                                         [--repeat K] [--out DIR] [--no-page]
-    /usr/bin/python3 scripts/bench_fleet.py --from-json DIR/bench_fleet.json   # the page and plot again
+    /usr/bin/python3 scripts/bench_fleet.py --from-json DIR/bench_fleet.json   # the page, README, plot again
     /usr/bin/python3 scripts/bench_fleet.py --from-json DIR/bench_fleet.json --only-boxes --out DIR
                                              # measure the walled world only; the fleets from the JSON
 
@@ -200,8 +201,8 @@ def readme_lines(report, boxes=None):
     by_count = {fleet["robots"]: fleet for fleet in report["fleets"]}
     intro = ("Many robots in one world: `bench --robots N` drives N wheelchairs with 360-beam lidars in circles, "
              "measured by `scripts/bench_fleet.py` on %s on a %d-core %s. Every figure, and what the step costs, "
-             "is in [Performance](docs/performance.md#many-robots); on this shared machine they move about 10 %% from "
-             "one run to the next." % (report["date"], report["cores"], report["cpu"]))
+             "is in [Performance](docs/performance.md#many-robots), with how much they move from one run to the next "
+             "on this shared machine." % (report["date"], report["cores"], report["cpu"]))
     targets = target_rows(by_count) + ([boxes_target_row(boxes)] if boxes else [])
     return textwrap.wrap(intro, 110) + [""] + targets + [
         "", "![RTF against the number of robots, log-log, ours beside Stage's and Gazebo's](docs/images/bench_fleet.png)"]
@@ -268,7 +269,7 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--out", default="/tmp/bench_fleet", help="where the JSON goes")
     parser.add_argument("--no-page", action="store_true", help="leave docs/performance.md, the README and the plot alone")
-    parser.add_argument("--from-json", help="measure nothing: the page and plot from this earlier run's JSON")
+    parser.add_argument("--from-json", help="measure nothing: the page, the README and the plot from this earlier run's JSON")
     parser.add_argument("--only-boxes", action="store_true",
                         help="measure the walled world only, the fleets from --from-json")
     args = parser.parse_args()

@@ -1,5 +1,5 @@
-"""Rewrites a generated section of a page (docs/performance.md): the lines between <!-- NAME:begin --> and
-<!-- NAME:end -->."""
+"""Rewrites a generated section of a page (docs/performance.md, README.md): the lines between
+<!-- NAME:begin --> and <!-- NAME:end -->."""
 import re
 
 

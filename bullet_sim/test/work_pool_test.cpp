@@ -70,9 +70,10 @@ TEST(WorkPool, TakesTheCoresItsThreadMayRunOn) {
     cpu_set_t one;
     CPU_ZERO(&one);
     CPU_SET(first, &one);
-    if (sched_setaffinity(0, sizeof(one), &one) == 0) pinned = defaultPoolThreads();
+    pinned = sched_setaffinity(0, sizeof(one), &one) == 0 ? defaultPoolThreads() : -1;
   });
   probe.join();
+  if (pinned == -1) GTEST_SKIP() << "this process may not pin a thread to one core";
   EXPECT_EQ(unpinned, std::min(CPU_COUNT(&all), 4));
   EXPECT_EQ(pinned, 1);
   EXPECT_EQ(defaultPoolThreads(1), 1);

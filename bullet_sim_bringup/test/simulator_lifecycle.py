@@ -158,15 +158,15 @@ class SimulatorLifecycle(unittest.TestCase):
 
     def test_threads_is_taken_and_a_bad_count_ends_it_naming_the_value(self):
         _, master_api = self.start_master()
-        for bad in ("two", "-1", "65", "1.5"):
+        for bad, named in (("two", '"two"'), ("-1", "-1"), ("65", "65"), ("1.5", "1.5"), ("true", "true")):
             simulator, output = self.start_simulator("_threads:=" + bad)
             try:
                 status = simulator.wait(timeout=60)
             except subprocess.TimeoutExpired:
                 self.fail("the simulator ran on with ~threads %s:\n%s" % (bad, output.text))
             self.assertEqual(status, 1, output.text)
-            output.wait_for(r"~threads must be a whole number from 0 .* to 64, not %s" % re.escape(bad), 10)
-        self.start_simulator("_threads:=1")
+            output.wait_for(r"~threads must be a whole number from 0 .* to 64, not %s\n" % re.escape(named), 10)
+        self.start_simulator("_threads:=2.0")  # a whole number, written as a double
         self.wait_registered(master_api)
 
     def test_it_exits_with_a_message_when_the_master_restarts(self):

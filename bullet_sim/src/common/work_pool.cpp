@@ -73,8 +73,8 @@ void WorkPool::drain() {
 }
 
 int defaultPoolThreads(int most) {
-  // The cores this thread may run on, as nproc counts them: a sweep pins each run to one (taskset), and a
-  // container's cpuset may give fewer than the machine has.
+  // The cores this thread may run on: a sweep pins each run to one (taskset), and a container's cpuset may
+  // give fewer than the machine has.
   cpu_set_t cores;
   const int usable = sched_getaffinity(0, sizeof(cores), &cores) == 0
                          ? CPU_COUNT(&cores)

@@ -49,7 +49,7 @@ class WorkPool {
 };
 
 /// The threads a simulation's pool takes when not told: the cores the calling thread may run on (its
-/// affinity, as `nproc` counts them), at most `most`.
+/// affinity: one under `taskset -c 0`), at most `most`.
 int defaultPoolThreads(int most = 4);
 
 }  // namespace bullet_sim

@@ -27,22 +27,30 @@ std::filesystem::path defaultSnapshotDir() {
   return base / "snapshots";
 }
 
-/// The limits, each from its ~limits/<name> when set.
 /// ~threads: the threads that share each step's per-robot work (SimulationOptions::threads); 0, the
-/// default, takes the cores the node may run on, at most 4.
+/// default, takes the cores the node may run on, at most 4. A whole number given as a double (2.0) counts,
+/// as roscpp's own integer parameters take it.
 int threadsParam(const ros::NodeHandle& private_node) {
   XmlRpc::XmlRpcValue given;
   if (!private_node.getParam("threads", given)) return 0;
-  if (given.getType() == XmlRpc::XmlRpcValue::TypeInt && static_cast<int>(given) >= 0 &&
-      static_cast<int>(given) <= kMostThreads)
-    return static_cast<int>(given);
+  double count = -1;
+  if (given.getType() == XmlRpc::XmlRpcValue::TypeInt) count = static_cast<int>(given);
+  if (given.getType() == XmlRpc::XmlRpcValue::TypeDouble) count = static_cast<double>(given);
+  if (count >= 0 && count <= kMostThreads && count == std::floor(count)) return static_cast<int>(count);
   std::ostringstream message;
-  message << "~threads must be a whole number from 0 (the cores it may run on, at most 4) to " << kMostThreads
-          << ", not ";
-  given.write(message);
+  message << "~threads must be a whole number from 0 (the cores the node may run on, at most 4) to "
+          << kMostThreads << ", not ";
+  if (given.getType() == XmlRpc::XmlRpcValue::TypeBoolean) {
+    message << (static_cast<bool>(given) ? "true" : "false");
+  } else if (given.getType() == XmlRpc::XmlRpcValue::TypeString) {
+    message << '"' << static_cast<std::string>(given) << '"';
+  } else {
+    given.write(message);
+  }
   throw std::runtime_error(message.str());
 }
 
+/// The limits, each from its ~limits/<name> when set.
 Limits limitsParam(const ros::NodeHandle& private_node) {
   Limits limits;
   for (const std::string& name : Limits::names()) {
@@ -96,7 +104,6 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   if (real_time_factor_ < 0 || !std::isfinite(real_time_factor_)) {
     throw std::runtime_error("~real_time_factor must be >= 0 (0 runs as fast as possible)");
   }
-
   if (private_.param("gui", false)) {
     ROS_INFO(
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
