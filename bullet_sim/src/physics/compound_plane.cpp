@@ -7,9 +7,10 @@
 #include <BulletCollision/CollisionDispatch/btConvexPlaneCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
-#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 
 #include <new>
+
+#include "physics/cylinder_plane.h"
 
 namespace bullet_sim {
 
@@ -41,21 +42,19 @@ CompoundPlaneAlgorithm::CompoundPlaneAlgorithm(const btCollisionAlgorithmConstru
   restart(compoundOf(*(swapped ? body1 : body0)));
 }
 
-CompoundPlaneAlgorithm::~CompoundPlaneAlgorithm() {
+CompoundPlaneAlgorithm::~CompoundPlaneAlgorithm() { freeChildren(); }
+
+void CompoundPlaneAlgorithm::freeChildren() {
   for (btCollisionAlgorithm* child : children_) {
     if (!child) continue;
     child->~btCollisionAlgorithm();
     m_dispatcher->freeCollisionAlgorithm(child);
   }
+  children_.clear();
 }
 
 void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
-  for (btCollisionAlgorithm*& child : children_) {
-    if (!child) continue;
-    child->~btCollisionAlgorithm();
-    m_dispatcher->freeCollisionAlgorithm(child);
-    child = nullptr;
-  }
+  freeChildren();
   children_.assign(compound.getNumChildShapes(), nullptr);
   // Bullet meets the children its tree finds within the plane's bounds, which are infinite: every leaf.
   const btDbvt& tree = *compound.getDynamicAabbTree();
@@ -96,16 +95,13 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
   const btCollisionObjectWrapper& plane = *(swapped_ ? body0 : body1);
   if (compoundOf(compound).getUpdateRevision() != revision_) restart(compoundOf(compound));
   refreshChildManifolds(*result);
-  const auto& plane_shape = *static_cast<const btStaticPlaneShape*>(plane.getCollisionShape());
-  const btTransform& plane_pose = plane.getWorldTransform();
-  const btVector3 normal = plane_pose.getBasis() * plane_shape.getPlaneNormal();
-  const Plane surface{normal, normal.dot(plane_pose * (plane_shape.getPlaneNormal() * plane_shape.getPlaneConstant()))};
+  const WorldPlane surface = worldPlane(plane);
   for (const Child& child : order_) processChild(child, compound, plane, surface, info, *result);
   // Bullet would now free the algorithms of children outside the plane's bounds: there are none.
 }
 
 bool CompoundPlaneAlgorithm::beyondReach(const Child& child, btCollisionAlgorithm& algorithm,
-                                         const btCollisionObjectWrapper& compound, const Plane& surface,
+                                         const btCollisionObjectWrapper& compound, const WorldPlane& surface,
                                          const btManifoldResult& result) {
   // Bullet's convex-plane algorithm then finds its support point too far and adds nothing; ours for cylinders
   // likewise. A shared manifold is not the child's alone: never skipped.
@@ -117,11 +113,11 @@ bool CompoundPlaneAlgorithm::beyondReach(const Child& child, btCollisionAlgorith
   // The child's transform as it is now: a kinematic joint moves a rim without a new revision of the compound.
   const btVector3 centre =
       compound.getWorldTransform() * (compoundOf(compound).getChildTransform(child.index) * child.centre);
-  return surface.normal.dot(centre) - surface.offset - child.radius > reach + kRoundingSlack;
+  return surface.normal.dot(centre - surface.point) - child.radius > reach + kRoundingSlack;
 }
 
 void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionObjectWrapper& compound,
-                                          const btCollisionObjectWrapper& plane, const Plane& surface,
+                                          const btCollisionObjectWrapper& plane, const WorldPlane& surface,
                                           const btDispatcherInfo& info, btManifoldResult& result) {
   const btCompoundShape& shape = compoundOf(compound);
   const btCollisionShape* child_shape = shape.getChildShape(child.index);

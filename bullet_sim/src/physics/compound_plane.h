@@ -11,6 +11,8 @@ class btCompoundShape;
 
 namespace bullet_sim {
 
+struct WorldPlane;  // physics/cylinder_plane.h
+
 /// Every robot meets the ground plane through its compound shape each substep. Bullet's compound algorithm
 /// finds the children near the other shape through the compound's tree and bounds tests, then tests every
 /// child's bounds again to free the algorithms of children that left. A plane's bounds are infinite, so every
@@ -57,23 +59,18 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
     btVector3 centre;  ///< of a sphere about it, margin included, in its own frame
     btScalar radius;   ///< taken when the pair is made: a child's shape must not grow after
   };
-  /// The plane in the world: normal . x = offset.
-  struct Plane {
-    btVector3 normal;
-    btScalar offset;
-  };
-
   /// Frees the children's algorithms and takes the order of the compound's tree afresh.
   void restart(const btCompoundShape& compound);
+  void freeChildren();
   /// Bullet's refresh of every child manifold with contacts, before the children are met.
   void refreshChildManifolds(btManifoldResult& result);
   void processChild(const Child& child, const btCollisionObjectWrapper& compound,
-                    const btCollisionObjectWrapper& plane, const Plane& surface, const btDispatcherInfo& info,
+                    const btCollisionObjectWrapper& plane, const WorldPlane& surface, const btDispatcherInfo& info,
                     btManifoldResult& result);
   /// Whether the convex child's algorithm would neither add nor refresh a point: it keeps none, and its
   /// sphere stays beyond its manifold's reach of the plane.
   bool beyondReach(const Child& child, btCollisionAlgorithm& algorithm, const btCollisionObjectWrapper& compound,
-                   const Plane& surface, const btManifoldResult& result);
+                   const WorldPlane& surface, const btManifoldResult& result);
 
   bool swapped_;  ///< the plane is body 0
   bool skips_far_children_;

@@ -57,6 +57,12 @@ Points lowestPoints(const btCylinderShape& cylinder, const btTransform& pose, co
 
 }  // namespace
 
+WorldPlane worldPlane(const btCollisionObjectWrapper& plane) {
+  const auto& shape = *static_cast<const btStaticPlaneShape*>(plane.getCollisionShape());
+  const btTransform& pose = plane.getWorldTransform();
+  return {pose.getBasis() * shape.getPlaneNormal(), pose * (shape.getPlaneNormal() * shape.getPlaneConstant())};
+}
+
 CylinderPlaneAlgorithm::CylinderPlaneAlgorithm(btPersistentManifold* manifold,
                                                const btCollisionAlgorithmConstructionInfo& info,
                                                const btCollisionObjectWrapper* body0,
@@ -80,10 +86,7 @@ void CylinderPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
   if (!manifold_) return;
   const btCollisionObjectWrapper* cylinder = swapped_ ? body1 : body0;
   const btCollisionObjectWrapper* plane = swapped_ ? body0 : body1;
-  const auto& plane_shape = *static_cast<const btStaticPlaneShape*>(plane->getCollisionShape());
-  const btTransform& plane_pose = plane->getWorldTransform();
-  const btVector3 normal = plane_pose.getBasis() * plane_shape.getPlaneNormal();
-  const btVector3 on_plane = plane_pose * (plane_shape.getPlaneNormal() * plane_shape.getPlaneConstant());
+  const auto [normal, on_plane] = worldPlane(*plane);
   result->setPersistentManifold(manifold_);
   const btScalar reach = manifold_->getContactBreakingThreshold() + result->m_closestPointDistanceThreshold;
   const Points points = lowestPoints(*static_cast<const btCylinderShape*>(cylinder->getCollisionShape()),

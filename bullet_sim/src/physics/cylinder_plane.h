@@ -7,6 +7,14 @@
 
 namespace bullet_sim {
 
+/// A static plane as it lies in the world: its unit normal and a point on it.
+struct WorldPlane {
+  btVector3 normal;
+  btVector3 point;
+};
+/// The plane of `plane` (a btStaticPlaneShape's object) in the world.
+WorldPlane worldPlane(const btCollisionObjectWrapper& plane);
+
 /// Bullet meets a cylinder with a plane at one point, its support point: a wheel lying on the ground touches
 /// at one edge of its tread or the other, flipping between them step by step, and a skid-steer robot on such
 /// wheels turned at a tenth of Coulomb's rate. This meets it along its tread: at the tread's middle while it

@@ -382,7 +382,7 @@ inline void RaycastRobot::push(const Row& row, double impulse) {
 void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
   const Eigen::Vector3d up = root.linear().col(2);
   const Eigen::Vector3d com = fromBullet(chassis_->getWorldTransform().getOrigin());
-  const Eigen::Vector3d gravity = fromBullet(world_.getGravity());
+  gravity_speed_ = fromBullet(world_.getGravity()).dot(up) * dt_;
   // The implicit spring-damper (Catto's soft constraint): over the substep, the wheel's impulse lambda leaves
   // it separating at bias - softness * lambda, where the spring's compression x gives bias = k x / (h k + c)
   // and softness = 1 / (h (h k + c)).
@@ -401,7 +401,6 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     contact.on_ground = true;
     contact.normal = row(offset, up);
     contact.soft_mass = 1 / (contact.normal.inverse_mass + contact.softness);
-    contact.gravity_speed = gravity.dot(up) * dt_;
     contact.grips = !wheel.caster;
     if (!contact.grips) continue;
     const Eigen::Vector3d axis = root.linear() * (hub_in_root_[w].linear() * joints_[wheel.joint].spec->axis);
@@ -415,7 +414,7 @@ void RaycastRobot::supportWheel(size_t w) {
   Contact& contact = contacts_[w];
   if (!contact.on_ground) return;
   // How fast the wheel separates from the ground at the substep's end, gravity included (Bullet adds it next).
-  const double separating = velocityAlong(contact.normal) + contact.gravity_speed;
+  const double separating = velocityAlong(contact.normal) + gravity_speed_;
   const double wanted =
       contact.normal_impulse +
       (contact.bias - separating - contact.softness * contact.normal_impulse) * contact.soft_mass;

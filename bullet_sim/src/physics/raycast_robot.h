@@ -109,7 +109,6 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     double bias = 0;         ///< [m/s] the separating speed the spring asks for
     double softness = 0;     ///< [m/(N s)] how much each unit of impulse relaxes it
     double soft_mass = 0;    ///< [kg] the spring's effective mass: 1 / (normal's inverse mass + softness)
-    double gravity_speed = 0;  ///< [m/s] gravity's velocity change along the normal this substep
     double normal_impulse = 0, forward_impulse = 0, lateral_impulse = 0;
     double motor_impulse = 0;  ///< [N m s] on the wheel's spin this substep, within its torque budget
     bool on_ground = false;    ///< its ray found ground within the rim
@@ -189,6 +188,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   std::vector<double> rim_normal_impulse_;  ///< [N s] per wheel: what its rim met took in the last solve
   std::vector<double> rim_impulse_weighed_;  ///< [N s] per wheel: the same, as the world weighs it
   Eigen::Matrix3d inverse_inertia_;  ///< the chassis's, in the world frame, this step
+  double gravity_speed_ = 0;  ///< [m/s] gravity's velocity change along the chassis's up this substep
   Eigen::Vector3d linear_velocity_ = Eigen::Vector3d::Zero();   ///< the chassis's, during the wheels' passes
   Eigen::Vector3d angular_velocity_ = Eigen::Vector3d::Zero();  ///< the chassis's, during the wheels' passes
 };
