@@ -20,11 +20,13 @@ inline btTransform toBullet(const Eigen::Isometry3d& pose) {
   return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), toBullet(pose.translation()));
 }
 
+/// Bullet's own rotation matrix, as it is (no round trip through a quaternion).
 inline Eigen::Isometry3d fromBullet(const btTransform& pose) {
-  const btQuaternion q = pose.getRotation();
-  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
-  result.translate(fromBullet(pose.getOrigin()));
-  result.rotate(Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()));
+  Eigen::Isometry3d result;
+  const btMatrix3x3& basis = pose.getBasis();
+  for (int r = 0; r < 3; ++r) result.linear().row(r) = fromBullet(basis[r]);
+  result.translation() = fromBullet(pose.getOrigin());
+  result.makeAffine();
   return result;
 }
 

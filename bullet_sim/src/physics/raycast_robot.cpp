@@ -102,6 +102,10 @@ RaycastRobot::RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamics
     if (mimic && joint_index_.count(mimic->joint)) joint.leader = joint_index_.at(mimic->joint);
   }
   link_in_root_.resize(spec_.links.size(), Eigen::Isometry3d::Identity());
+  fixed_to_root_.assign(spec_.links.size(), false);
+  fixed_to_root_[0] = true;
+  for (size_t k = 0; k < spec_.joints.size(); ++k)  // parents before children
+    fixed_to_root_[tree_child_[k]] = fixed_to_root_[tree_parent_[k]] && tree_moving_[k] < 0;
   buildWheels();
   buildChassis(root_pose);
   reset(root_pose, {});
@@ -588,7 +592,9 @@ Eigen::Isometry3d RaycastRobot::linkPose(const std::string& link) const {
   const auto found = link_index_.find(link);
   if (found == link_index_.end())
     throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
-  return root_pose_ * linkFrames()[found->second];
+  // A link fixed to the root (its base_link, a lidar's mount) keeps the frame the constructor found.
+  const auto& frames = fixed_to_root_[found->second] ? link_in_root_ : linkFrames();
+  return root_pose_ * frames[found->second];
 }
 
 Eigen::Vector3d RaycastRobot::linkLinearVelocity(const std::string& link) const {

@@ -168,6 +168,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   Eigen::Isometry3d root_to_body_;  ///< the chassis body's frame (com, principal axes) in the root link frame
   mutable std::vector<Eigen::Isometry3d> link_in_root_;
   mutable bool frames_stale_ = true;
+  /// Per link: only fixed joints join it to the root, so its frame in the root's never goes stale.
+  std::vector<bool> fixed_to_root_;
   bool hubs_stale_ = true;
   std::vector<Eigen::Isometry3d> hub_in_root_;  ///< per wheel
   Eigen::Isometry3d root_pose_;                 ///< world pose of the root link after the last step
