@@ -1,6 +1,7 @@
 #include "bullet_shapes.h"
 
 #include <BulletCollision/CollisionShapes/btShapeHull.h>
+#include <LinearMath/btAabbUtil2.h>
 
 namespace bullet_sim {
 
@@ -87,6 +88,33 @@ int BulletShapes::addTo(btCompoundShape& compound, const btTransform& where, con
 btCompoundShape* BulletShapes::makeCompound() {
   shapes_.push_back(std::make_unique<btCompoundShape>());
   return static_cast<btCompoundShape*>(shapes_.back().get());
+}
+
+btCompoundShape* BulletShapes::makeCompound(const btTransform& bounds_frame) {
+  shapes_.push_back(std::make_unique<FramedCompound>(bounds_frame));
+  return static_cast<btCompoundShape*>(shapes_.back().get());
+}
+
+void FramedCompound::recalculateLocalAabb() {
+  btCompoundShape::recalculateLocalAabb();
+  const btTransform to_frame = frame_.inverse();
+  min_.setValue(BT_LARGE_FLOAT, BT_LARGE_FLOAT, BT_LARGE_FLOAT);
+  max_ = -min_;
+  for (int c = 0; c < getNumChildShapes(); ++c) {
+    btVector3 child_min, child_max;
+    getChildShape(c)->getAabb(to_frame * getChildTransform(c), child_min, child_max);
+    min_.setMin(child_min);
+    max_.setMax(child_max);
+  }
+  bounded_children_ = getNumChildShapes();
+}
+
+void FramedCompound::getAabb(const btTransform& pose, btVector3& min, btVector3& max) const {
+  if (bounded_children_ != getNumChildShapes() || bounded_children_ == 0) {
+    btCompoundShape::getAabb(pose, min, max);
+    return;
+  }
+  btTransformAabb(min_, max_, getMargin(), pose * frame_, min, max);
 }
 
 }  // namespace bullet_sim

@@ -187,8 +187,8 @@ void MultiBodyRobot::addCollider(int k) {
     collider->setCollisionShape(shapes_->make(point, true));
     world_.addCollisionObject(collider.get(), 0, 0);
   } else {
-    btCompoundShape* compound = shapes_->makeCompound();
     const Eigen::Isometry3d bullet_to_part = frames_[k].part_to_bullet.inverse();
+    btCompoundShape* compound = shapes_->makeCompound(toBullet(bullet_to_part));  // bounds along the part
     CollisionNames by_child;  // a mesh's convex parts are children of their own
     // A fixed base never moves: its meshes collide by their triangles, as the world's meshes do.
     const bool still = spec_.is_static || (k == 0 && hasFixedBase(spec_));
@@ -201,6 +201,7 @@ void MultiBodyRobot::addCollider(int k) {
       by_child.names.insert(by_child.names.end(), count, collision_names_[k].names.at(c));
     }
     collision_names_[k] = std::move(by_child);
+    compound->recalculateLocalAabb();
     collider->setCollisionShape(compound);
     const SurfaceSpec& surface = spec_.link(parts_[k].root_link)->surface;
     collider->setFriction(surface.mu1);

@@ -163,9 +163,9 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   Eigen::Vector3d moments;
   root_to_body_ = mass.principalFrame(&moments);
 
-  // The chassis collides with everything but the wheels, which are rays.
-  btCompoundShape* compound = shapes_->makeCompound();
+  // The chassis collides with everything but the wheels, which are rays. Its bounds lie along the root link.
   const Eigen::Isometry3d body_to_root = root_to_body_.inverse();
+  btCompoundShape* compound = shapes_->makeCompound(toBullet(body_to_root));
   for (size_t i = 0; i < spec_.links.size(); ++i) {
     const JointSpec* joint = spec_.parentJoint(spec_.links[i].name);
     if (joint && joint->moves() && joints_[joint_index_.at(joint->name)].wheel >= 0) continue;
@@ -178,6 +178,7 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
     }
   }
   addWheelRims(*compound);
+  compound->recalculateLocalAabb();
   chassis_names_ = robotCollisionNames(name_, gazeboCollisions(spec_), chassis_sources_);
   chassis_names_.tuner = this;
   btRigidBody::btRigidBodyConstructionInfo info(mass_, nullptr, compound, toBullet(moments));

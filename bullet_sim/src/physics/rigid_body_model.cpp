@@ -55,9 +55,9 @@ void RigidBodyModel::buildBody(const Eigen::Isometry3d& root_pose) {
   Eigen::Vector3d moments;
   part_to_body_ = mass.principalFrame(&moments);
 
-  btCompoundShape* compound = shapes_->makeCompound();
-  const CollisionNames names = robotCollisionNames(name_, gazeboCollisions(spec_), part.sources);
   const Eigen::Isometry3d body_to_part = part_to_body_.inverse();
+  btCompoundShape* compound = shapes_->makeCompound(toBullet(body_to_part));  // bounds along the part's root
+  const CollisionNames names = robotCollisionNames(name_, gazeboCollisions(spec_), part.sources);
   for (size_t c = 0; c < part.collisions.size(); ++c) {  // a mesh's convex parts are children of their own
     const Collision& collision = part.collisions[c];
     const int first = compound->getNumChildShapes();
@@ -66,6 +66,7 @@ void RigidBodyModel::buildBody(const Eigen::Isometry3d& root_pose) {
     child_ranges_.emplace_back(first, count);
     collision_names_.names.insert(collision_names_.names.end(), count, names.names.at(c));
   }
+  compound->recalculateLocalAabb();
   btRigidBody::btRigidBodyConstructionInfo info(mass.mass, nullptr, compound, toBullet(moments));
   const SurfaceSpec& surface = spec_.link(part.root_link)->surface;
   info.m_friction = surface.mu1;
