@@ -1,8 +1,10 @@
 // A compound meets a plane with Bullet's own contacts, point for point, in Bullet's order, while it sinks,
 // tilts and has children moved, whichever of the two comes first in the pair; a small child far from the
-// ground and one lowered to it are met as soon as they come within reach.
+// ground and one lowered to it are met as soon as they come within reach. A rigid body's child that cannot reach
+// the plane within the substep has no points.
 #include <gtest/gtest.h>
 
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <btBulletCollisionCommon.h>
 
 #include <algorithm>
@@ -138,6 +140,59 @@ TEST(CompoundPlane, IsWhatTheDispatcherPicksForACompoundOnAPlane) {
   ASSERT_EQ(theirs.size(), 2);
   for (int k = 0; k < theirs.size(); ++k)
     EXPECT_EQ(dynamic_cast<CompoundPlaneAlgorithm*>(theirs[k].m_algorithm), nullptr);
+}
+
+/// A rigid body on a wheel (a cylinder 0.1 m in radius, laid on its side as a URDF wheel is) whose rim hovers
+/// `gap` over the ground, as a raycast robot's rim does while its spring holds it.
+btRigidBody& hoveringWheel(World& world, btScalar gap) {
+  auto* compound = new btCompoundShape();
+  world.shapes.emplace_back(compound);
+  world.shapes.emplace_back(new btCylinderShapeZ(btVector3(0.1, 0.1, 0.03)));
+  compound->addChildShape(btTransform(btQuaternion(btVector3(1, 0, 0), SIMD_HALF_PI)), world.shapes.back().get());
+  auto* body = new btRigidBody(1.0, nullptr, compound, btVector3(0.01, 0.01, 0.01));
+  world.objects.emplace_back(body);
+  body->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.1 + gap)));
+  body->setGravity(btVector3(0, 0, -9.81));
+  world.world.addCollisionObject(body);
+  world.shapes.emplace_back(new btStaticPlaneShape(btVector3(0, 0, 1), 0));
+  world.add(world.shapes.back().get(), btTransform::getIdentity());
+  world.world.getDispatchInfo().m_timeStep = 0.001;
+  return *body;
+}
+
+int wheelPoints(World& world) {
+  int points = 0;
+  for (int m = 0; m < world.dispatcher.getNumManifolds(); ++m)
+    points += world.dispatcher.getManifoldByIndexInternal(m)->getNumContacts();
+  return points;
+}
+
+TEST(CompoundPlane, MakesNoPointsForAChildThatCannotReachThePlaneThisSubstep) {
+  constexpr btScalar kGap = 0.0005;  // [m] closed within 1 ms only from about 0.3 m/s (contacts.h)
+  World bullets(false), ours(true);
+  btRigidBody& theirs = hoveringWheel(bullets, kGap);
+  btRigidBody& wheel = hoveringWheel(ours, kGap);
+  const auto detect = [&](btScalar falling) {
+    for (btRigidBody* body : {&theirs, &wheel}) body->setLinearVelocity(btVector3(0, 0, -falling));
+    for (World* world : {&bullets, &ours}) world->world.performDiscreteCollisionDetection();
+  };
+  detect(0);  // at rest: Bullet keeps the rim's points within 2 cm, which the solver would leave at zero
+  EXPECT_GT(wheelPoints(bullets), 0);
+  EXPECT_EQ(wheelPoints(ours), 0);
+  detect(0.5);  // falling fast enough to touch within the substep: Bullet's points
+  ASSERT_GT(wheelPoints(bullets), 0);
+  ASSERT_EQ(wheelPoints(ours), wheelPoints(bullets));
+  const btPersistentManifold& expected = *bullets.dispatcher.getManifoldByIndexInternal(0);
+  const btPersistentManifold& actual = *ours.dispatcher.getManifoldByIndexInternal(0);
+  for (int p = 0; p < expected.getNumContacts(); ++p) {
+    EXPECT_EQ(expected.getContactPoint(p).m_positionWorldOnB, actual.getContactPoint(p).m_positionWorldOnB);
+    EXPECT_EQ(expected.getContactPoint(p).m_distance1, actual.getContactPoint(p).m_distance1);
+  }
+  detect(0);  // held again: the points it had go
+  EXPECT_EQ(wheelPoints(ours), 0);
+  wheel.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.0999)));
+  ours.world.performDiscreteCollisionDetection();  // pressed into the ground: touching, whatever its speed
+  EXPECT_GT(wheelPoints(ours), 0);
 }
 
 }  // namespace

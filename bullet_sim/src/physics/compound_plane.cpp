@@ -7,9 +7,12 @@
 #include <BulletCollision/CollisionDispatch/btConvexPlaneCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <new>
 
+#include "physics/contacts.h"
 #include "physics/cylinder_plane.h"
 
 namespace bullet_sim {
@@ -73,17 +76,14 @@ void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
   revision_ = compound.getUpdateRevision();
 }
 
-void CompoundPlaneAlgorithm::refreshChildManifolds(btManifoldResult& result) {
-  for (btCollisionAlgorithm* child : children_) {
-    if (!child) continue;
-    manifolds_.resize(0);
-    child->getAllContactManifolds(manifolds_);
-    for (int m = 0; m < manifolds_.size(); ++m) {
-      if (!manifolds_[m]->getNumContacts()) continue;
-      result.setPersistentManifold(manifolds_[m]);
-      result.refreshContactPoints();
-      result.setPersistentManifold(nullptr);
-    }
+void CompoundPlaneAlgorithm::refreshManifolds(btCollisionAlgorithm& child, btManifoldResult& result) {
+  manifolds_.resize(0);
+  child.getAllContactManifolds(manifolds_);
+  for (int m = 0; m < manifolds_.size(); ++m) {
+    if (!manifolds_[m]->getNumContacts()) continue;
+    result.setPersistentManifold(manifolds_[m]);
+    result.refreshContactPoints();
+    result.setPersistentManifold(nullptr);
   }
   manifolds_.resize(0);
 }
@@ -94,7 +94,13 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
   const btCollisionObjectWrapper& compound = *(swapped_ ? body1 : body0);
   const btCollisionObjectWrapper& plane = *(swapped_ ? body0 : body1);
   if (compoundOf(compound).getUpdateRevision() != revision_) restart(compoundOf(compound));
-  refreshChildManifolds(*result);
+  // Bullet refreshes every child's manifold, then meets the children. A manifold of a child's own is touched
+  // by nothing else: processChild refreshes it just before the child is met, to the same effect.
+  if (shared_manifold_) {
+    for (btCollisionAlgorithm* child : children_) {
+      if (child) refreshManifolds(*child, *result);
+    }
+  }
   const WorldPlane surface = worldPlane(plane);
   for (const Child& child : order_) processChild(child, compound, plane, surface, info, *result);
   // Bullet would now free the algorithms of children outside the plane's bounds: there are none.
@@ -116,6 +122,43 @@ bool CompoundPlaneAlgorithm::beyondReach(const Child& child, btCollisionAlgorith
   return surface.normal.dot(centre - surface.point) - child.radius > reach + kRoundingSlack;
 }
 
+bool CompoundPlaneAlgorithm::outOfReach(const Child& child, const btCollisionObjectWrapper& compound,
+                                        const WorldPlane& surface, const btDispatcherInfo& info) const {
+  const btRigidBody* body = btRigidBody::upcast(compound.getCollisionObject());
+  // A multibody link's velocity is its multibody's to tell.
+  if (!child.convex || !skips_far_children_ || !body) return false;
+  const btTransform pose = compound.getWorldTransform() * compoundOf(compound).getChildTransform(child.index);
+  const auto& shape = *static_cast<const btConvexShape*>(compoundOf(compound).getChildShape(child.index));
+  const btVector3 lowest = pose * shape.localGetSupportingVertex(-surface.normal * pose.getBasis());
+  const btVector3 velocity = body->getVelocityInLocalPoint(lowest - body->getCenterOfMassPosition());
+  // Every point of the child lies within its sphere's diameter of the lowest: turning, none approaches faster
+  // by more than that.
+  const double approach = std::max(0.0, -static_cast<double>(velocity.dot(surface.normal))) +
+                          body->getAngularVelocity().length() * 2 * child.radius;
+  const double gap = surface.normal.dot(lowest - surface.point);
+  return gap > reachableGap(approach, body->getGravity().length(), info.m_timeStep) + kRoundingSlack;
+}
+
+bool CompoundPlaneAlgorithm::readyToMeet(const Child& child, btCollisionAlgorithm& algorithm,
+                                         const btCollisionObjectWrapper& compound, const WorldPlane& surface,
+                                         const btDispatcherInfo& info, btManifoldResult& result) {
+  if (shared_manifold_) return true;  // refreshed with the others, before any child is met
+  if (beyondReach(child, algorithm, compound, surface, result)) return false;
+  if (outOfReach(child, compound, surface, info)) {
+    forgetPoints(algorithm);
+    return false;
+  }
+  refreshManifolds(algorithm, result);
+  return true;
+}
+
+void CompoundPlaneAlgorithm::forgetPoints(btCollisionAlgorithm& child) {
+  manifolds_.resize(0);
+  child.getAllContactManifolds(manifolds_);
+  for (int m = 0; m < manifolds_.size(); ++m) manifolds_[m]->clearManifold();
+  manifolds_.resize(0);
+}
+
 void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionObjectWrapper& compound,
                                           const btCollisionObjectWrapper& plane, const WorldPlane& surface,
                                           const btDispatcherInfo& info, btManifoldResult& result) {
@@ -124,7 +167,7 @@ void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionO
   if (gCompoundChildShapePairCallback && !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
     return;
   btCollisionAlgorithm* algorithm = children_[child.index];
-  if (algorithm && beyondReach(child, *algorithm, compound, surface, result)) return;
+  if (algorithm && !readyToMeet(child, *algorithm, compound, surface, info, result)) return;
   const btTransform& child_transform = shape.getChildTransform(child.index);
   const btTransform child_pose = compound.getWorldTransform() * child_transform;
   btTransform pre_transform = child_transform;
@@ -134,6 +177,7 @@ void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionO
   if (!algorithm) {
     algorithm = children_[child.index] =
         m_dispatcher->findAlgorithm(&wrapper, &plane, shared_manifold_, BT_CONTACT_POINT_ALGORITHMS);
+    if (!readyToMeet(child, *algorithm, compound, surface, info, result)) return;
   }
   const bool compound_is_0 = result.getBody0Internal() == compound.getCollisionObject();
   const btCollisionObjectWrapper* replaced = compound_is_0 ? result.getBody0Wrap() : result.getBody1Wrap();

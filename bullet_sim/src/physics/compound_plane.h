@@ -19,8 +19,11 @@ struct WorldPlane;  // physics/cylinder_plane.h
 /// child always passes: this meets every child with the same child algorithms and manifolds, made in the
 /// order Bullet's tree first visits them, and leaves the tests out. It also skips a convex child that keeps
 /// no point and is beyond reach of the plane (a chassis's seat, its lidar), whose algorithm would find
-/// nothing. The contacts are Bullet's, point for point. A compound without a tree keeps Bullet's own
-/// algorithm, and so do closest-point queries: this is registered for contacts only.
+/// nothing. And it makes no points for a rigid body's convex child that cannot reach the plane within the
+/// substep (a raycast wheel's rim, 0.5 mm over the ground while its spring holds it), which the solver would
+/// leave without impulse (contacts.h's reachableGap), and drops those it had. Every other contact is Bullet's,
+/// point for point. A compound without a tree keeps Bullet's own algorithm, and so do closest-point queries:
+/// this is registered for contacts only.
 class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
  public:
   CompoundPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* body0,
@@ -62,8 +65,8 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
   /// Frees the children's algorithms and takes the order of the compound's tree afresh.
   void restart(const btCompoundShape& compound);
   void freeChildren();
-  /// Bullet's refresh of every child manifold with contacts, before the children are met.
-  void refreshChildManifolds(btManifoldResult& result);
+  /// Bullet's refresh of a child's manifolds that have contacts, before the child is met.
+  void refreshManifolds(btCollisionAlgorithm& child, btManifoldResult& result);
   void processChild(const Child& child, const btCollisionObjectWrapper& compound,
                     const btCollisionObjectWrapper& plane, const WorldPlane& surface, const btDispatcherInfo& info,
                     btManifoldResult& result);
@@ -71,6 +74,16 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
   /// sphere stays beyond its manifold's reach of the plane.
   bool beyondReach(const Child& child, btCollisionAlgorithm& algorithm, const btCollisionObjectWrapper& compound,
                    const WorldPlane& surface, const btManifoldResult& result);
+  /// Whether the convex child of a rigid body stays, in this substep, farther from the plane than the body
+  /// can close (contacts.h's reachableGap): the solver would give every point it has no impulse.
+  bool outOfReach(const Child& child, const btCollisionObjectWrapper& compound, const WorldPlane& surface,
+                  const btDispatcherInfo& info) const;
+  /// Refreshes the child's own manifold and tells whether to meet it: not when it is beyond or out of reach
+  /// (whose points then go). A shared manifold is always met.
+  bool readyToMeet(const Child& child, btCollisionAlgorithm& algorithm, const btCollisionObjectWrapper& compound,
+                   const WorldPlane& surface, const btDispatcherInfo& info, btManifoldResult& result);
+  /// Empties the manifolds of a child out of reach.
+  void forgetPoints(btCollisionAlgorithm& child);
 
   bool swapped_;  ///< the plane is body 0
   bool skips_far_children_;

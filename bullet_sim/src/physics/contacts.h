@@ -15,6 +15,15 @@ class btManifoldPoint;
 
 namespace bullet_sim {
 
+/// [m/s] beyond its approach, how fast a body may close a gap within one solve (other contacts' impulses).
+constexpr double kSpeculativeSlack = 0.2;
+
+/// [m] the widest gap a body approaching at `approach` [m/s] under `gravity` [m/s^2] may close within a
+/// substep of `dt` [s]. A wider one's solver row would stay at zero impulse: the contact is out of reach.
+inline double reachableGap(double approach, double gravity, double dt) {
+  return (approach + gravity * dt + kSpeculativeSlack) * dt;
+}
+
 /// Adjusts, before each solve, the contacts of a collision object whose surface moves on its own (a wheel
 /// that spins): their friction and the motion their friction aims at. Before each substep, it is shown its
 /// contacts with the impulses the last solve gave them.

@@ -63,9 +63,6 @@ struct PhysicsWorld::Engine {
 };
 
 namespace {
-/// How far, beyond its approach, a body may close a gap within one solve (other contacts' impulses) [m/s].
-constexpr double kSpeculativeSlack = 0.2;
-
 /// A contact between two rigid bodies (or one and the static world) whose gap the bodies cannot close in
 /// this substep: its solver row would stay at zero impulse. Bullet keeps such points within 2 cm (a raycast
 /// wheel's rim hovers 0.5 mm over the ground for as long as its spring holds it), and solving them cost a
@@ -84,7 +81,7 @@ bool outOfReach(const btManifoldPoint& point, const btCollisionObject& a, const 
   if (body_b) relative -=
       body_b->getVelocityInLocalPoint(point.getPositionWorldOnB() - body_b->getCenterOfMassPosition());
   const double approach = std::max(0.0, -static_cast<double>(relative.dot(point.m_normalWorldOnB)));
-  return point.m_distance1 > (approach + gravity * dt + kSpeculativeSlack) * dt;
+  return point.m_distance1 > reachableGap(approach, gravity, dt);
 }
 
 /// Bullet joins into one simulation island the bodies whose bounds overlap; ODE (Gazebo) those in contact.
