@@ -76,16 +76,27 @@ void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
   revision_ = compound.getUpdateRevision();
 }
 
-void CompoundPlaneAlgorithm::refreshManifolds(btCollisionAlgorithm& child, btManifoldResult& result) {
-  manifolds_.resize(0);
-  child.getAllContactManifolds(manifolds_);
+/// What every child of the compound meets in one call: the plane, and what the compound's body can close.
+struct CompoundPlaneAlgorithm::Meeting {
+  const btCollisionObjectWrapper& compound;
+  const btCollisionObjectWrapper& plane;
+  const WorldPlane surface;
+  const btDispatcherInfo& info;
+  btManifoldResult& result;
+  /// The compound's rigid body, whose children may be out of reach: null for a multibody link (its velocity
+  /// is its multibody's to tell), or where far children are never skipped.
+  const btRigidBody* body;
+  double turning;  ///< [rad/s] the body's angular speed
+  double gravity;  ///< [m/s^2] on the body
+};
+
+void CompoundPlaneAlgorithm::refreshManifolds(btManifoldResult& result) {
   for (int m = 0; m < manifolds_.size(); ++m) {
     if (!manifolds_[m]->getNumContacts()) continue;
     result.setPersistentManifold(manifolds_[m]);
     result.refreshContactPoints();
     result.setPersistentManifold(nullptr);
   }
-  manifolds_.resize(0);
 }
 
 void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
@@ -95,79 +106,85 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
   const btCollisionObjectWrapper& plane = *(swapped_ ? body0 : body1);
   if (compoundOf(compound).getUpdateRevision() != revision_) restart(compoundOf(compound));
   // Bullet refreshes every child's manifold, then meets the children. A manifold of a child's own is touched
-  // by nothing else: processChild refreshes it just before the child is met, to the same effect.
+  // by nothing else: readyToMeet refreshes it just before the child is met, to the same effect.
   if (shared_manifold_) {
     for (btCollisionAlgorithm* child : children_) {
-      if (child) refreshManifolds(*child, *result);
+      if (!child) continue;
+      manifolds_.resize(0);
+      child->getAllContactManifolds(manifolds_);
+      refreshManifolds(*result);
     }
   }
-  const WorldPlane surface = worldPlane(plane);
-  for (const Child& child : order_) processChild(child, compound, plane, surface, info, *result);
+  const btRigidBody* body =
+      skips_far_children_ && !shared_manifold_ ? btRigidBody::upcast(compound.getCollisionObject()) : nullptr;
+  const Meeting meeting{compound,
+                        plane,
+                        worldPlane(plane),
+                        info,
+                        *result,
+                        body,
+                        body ? body->getAngularVelocity().length() : 0.0,
+                        body ? body->getGravity().length() : 0.0};
+  for (const Child& child : order_) processChild(child, meeting);
   // Bullet would now free the algorithms of children outside the plane's bounds: there are none.
 }
 
-bool CompoundPlaneAlgorithm::beyondReach(const Child& child, btCollisionAlgorithm& algorithm,
-                                         const btCollisionObjectWrapper& compound, const WorldPlane& surface,
-                                         const btManifoldResult& result) {
+bool CompoundPlaneAlgorithm::beyondReach(const Child& child, const Meeting& meeting) const {
   // Bullet's convex-plane algorithm then finds its support point too far and adds nothing; ours for cylinders
-  // likewise. A shared manifold is not the child's alone: never skipped.
-  if (!child.convex || !skips_far_children_ || shared_manifold_) return false;
-  manifolds_.resize(0);
-  algorithm.getAllContactManifolds(manifolds_);
+  // likewise.
+  if (!child.convex || !skips_far_children_) return false;
   if (manifolds_.size() != 1 || manifolds_[0]->getNumContacts() > 0) return false;
-  const btScalar reach = manifolds_[0]->getContactBreakingThreshold() + result.m_closestPointDistanceThreshold;
+  const btScalar reach =
+      manifolds_[0]->getContactBreakingThreshold() + meeting.result.m_closestPointDistanceThreshold;
   // The child's transform as it is now: a kinematic joint moves a rim without a new revision of the compound.
-  const btVector3 centre =
-      compound.getWorldTransform() * (compoundOf(compound).getChildTransform(child.index) * child.centre);
-  return surface.normal.dot(centre - surface.point) - child.radius > reach + kRoundingSlack;
+  const btVector3 centre = meeting.compound.getWorldTransform() *
+                           (compoundOf(meeting.compound).getChildTransform(child.index) * child.centre);
+  return meeting.surface.normal.dot(centre - meeting.surface.point) - child.radius > reach + kRoundingSlack;
 }
 
-bool CompoundPlaneAlgorithm::outOfReach(const Child& child, const btCollisionObjectWrapper& compound,
-                                        const WorldPlane& surface, const btDispatcherInfo& info) const {
-  const btRigidBody* body = btRigidBody::upcast(compound.getCollisionObject());
-  // A multibody link's velocity is its multibody's to tell.
-  if (!child.convex || !skips_far_children_ || !body) return false;
-  const btTransform pose = compound.getWorldTransform() * compoundOf(compound).getChildTransform(child.index);
-  const auto& shape = *static_cast<const btConvexShape*>(compoundOf(compound).getChildShape(child.index));
-  const btVector3 lowest = pose * shape.localGetSupportingVertex(-surface.normal * pose.getBasis());
-  const btVector3 velocity = body->getVelocityInLocalPoint(lowest - body->getCenterOfMassPosition());
+bool CompoundPlaneAlgorithm::outOfReach(const Child& child, const Meeting& meeting) const {
+  if (!child.convex || !meeting.body) return false;
+  const btCompoundShape& shape = compoundOf(meeting.compound);
+  const btTransform& body_pose = meeting.compound.getWorldTransform();
+  const btTransform& placed = shape.getChildTransform(child.index);
+  const auto& convex = *static_cast<const btConvexShape*>(shape.getChildShape(child.index));
+  const btVector3& up = meeting.surface.normal;
+  const btVector3 down = (-up * body_pose.getBasis()) * placed.getBasis();  // in the child's frame
+  const btVector3 lowest = body_pose * (placed * convex.localGetSupportingVertex(down));
+  const btRigidBody& body = *meeting.body;
+  const btVector3 velocity = body.getVelocityInLocalPoint(lowest - body.getCenterOfMassPosition());
   // Every point of the child lies within its sphere's diameter of the lowest: turning, none approaches faster
   // by more than that.
-  const double approach = std::max(0.0, -static_cast<double>(velocity.dot(surface.normal))) +
-                          body->getAngularVelocity().length() * 2 * child.radius;
-  const double gap = surface.normal.dot(lowest - surface.point);
-  return gap > reachableGap(approach, body->getGravity().length(), info.m_timeStep) + kRoundingSlack;
+  const double approach =
+      std::max(0.0, -static_cast<double>(velocity.dot(up))) + meeting.turning * 2 * child.radius;
+  const double gap = up.dot(lowest - meeting.surface.point);
+  return gap > reachableGap(approach, meeting.gravity, meeting.info.m_timeStep) + kRoundingSlack;
 }
 
 bool CompoundPlaneAlgorithm::readyToMeet(const Child& child, btCollisionAlgorithm& algorithm,
-                                         const btCollisionObjectWrapper& compound, const WorldPlane& surface,
-                                         const btDispatcherInfo& info, btManifoldResult& result) {
+                                         const Meeting& meeting) {
   if (shared_manifold_) return true;  // refreshed with the others, before any child is met
-  if (beyondReach(child, algorithm, compound, surface, result)) return false;
-  if (outOfReach(child, compound, surface, info)) {
-    forgetPoints(algorithm);
+  manifolds_.resize(0);
+  algorithm.getAllContactManifolds(manifolds_);
+  if (beyondReach(child, meeting)) return false;
+  if (outOfReach(child, meeting)) {
+    for (int m = 0; m < manifolds_.size(); ++m) manifolds_[m]->clearManifold();
     return false;
   }
-  refreshManifolds(algorithm, result);
+  refreshManifolds(meeting.result);
   return true;
 }
 
-void CompoundPlaneAlgorithm::forgetPoints(btCollisionAlgorithm& child) {
-  manifolds_.resize(0);
-  child.getAllContactManifolds(manifolds_);
-  for (int m = 0; m < manifolds_.size(); ++m) manifolds_[m]->clearManifold();
-  manifolds_.resize(0);
-}
-
-void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionObjectWrapper& compound,
-                                          const btCollisionObjectWrapper& plane, const WorldPlane& surface,
-                                          const btDispatcherInfo& info, btManifoldResult& result) {
+void CompoundPlaneAlgorithm::processChild(const Child& child, const Meeting& meeting) {
+  const btCollisionObjectWrapper& compound = meeting.compound;
+  const btCollisionObjectWrapper& plane = meeting.plane;
+  btManifoldResult& result = meeting.result;
   const btCompoundShape& shape = compoundOf(compound);
   const btCollisionShape* child_shape = shape.getChildShape(child.index);
   if (gCompoundChildShapePairCallback && !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
     return;
   btCollisionAlgorithm* algorithm = children_[child.index];
-  if (algorithm && !readyToMeet(child, *algorithm, compound, surface, info, result)) return;
+  if (algorithm && !readyToMeet(child, *algorithm, meeting)) return;
   const btTransform& child_transform = shape.getChildTransform(child.index);
   const btTransform child_pose = compound.getWorldTransform() * child_transform;
   btTransform pre_transform = child_transform;
@@ -177,7 +194,7 @@ void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionO
   if (!algorithm) {
     algorithm = children_[child.index] =
         m_dispatcher->findAlgorithm(&wrapper, &plane, shared_manifold_, BT_CONTACT_POINT_ALGORITHMS);
-    if (!readyToMeet(child, *algorithm, compound, surface, info, result)) return;
+    if (!readyToMeet(child, *algorithm, meeting)) return;
   }
   const bool compound_is_0 = result.getBody0Internal() == compound.getCollisionObject();
   const btCollisionObjectWrapper* replaced = compound_is_0 ? result.getBody0Wrap() : result.getBody1Wrap();
@@ -188,7 +205,7 @@ void CompoundPlaneAlgorithm::processChild(const Child& child, const btCollisionO
     result.setBody1Wrap(&wrapper);
     result.setShapeIdentifiersB(-1, child.index);
   }
-  algorithm->processCollision(&wrapper, &plane, info, &result);
+  algorithm->processCollision(&wrapper, &plane, meeting.info, &result);
   if (compound_is_0) {
     result.setBody0Wrap(replaced);
   } else {

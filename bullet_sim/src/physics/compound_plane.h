@@ -65,25 +65,19 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
   /// Frees the children's algorithms and takes the order of the compound's tree afresh.
   void restart(const btCompoundShape& compound);
   void freeChildren();
-  /// Bullet's refresh of a child's manifolds that have contacts, before the child is met.
-  void refreshManifolds(btCollisionAlgorithm& child, btManifoldResult& result);
-  void processChild(const Child& child, const btCollisionObjectWrapper& compound,
-                    const btCollisionObjectWrapper& plane, const WorldPlane& surface, const btDispatcherInfo& info,
-                    btManifoldResult& result);
-  /// Whether the convex child's algorithm would neither add nor refresh a point: it keeps none, and its
-  /// sphere stays beyond its manifold's reach of the plane.
-  bool beyondReach(const Child& child, btCollisionAlgorithm& algorithm, const btCollisionObjectWrapper& compound,
-                   const WorldPlane& surface, const btManifoldResult& result);
+  struct Meeting;
+  /// Bullet's refresh of the manifolds in manifolds_ that have contacts, before their child is met.
+  void refreshManifolds(btManifoldResult& result);
+  void processChild(const Child& child, const Meeting& meeting);
+  /// Whether the convex child's algorithm would neither add nor refresh a point: it keeps none (its manifolds
+  /// in manifolds_), and its sphere stays beyond its manifold's reach of the plane.
+  bool beyondReach(const Child& child, const Meeting& meeting) const;
   /// Whether the convex child of a rigid body stays, in this substep, farther from the plane than the body
   /// can close (contacts.h's reachableGap): the solver would give every point it has no impulse.
-  bool outOfReach(const Child& child, const btCollisionObjectWrapper& compound, const WorldPlane& surface,
-                  const btDispatcherInfo& info) const;
-  /// Refreshes the child's own manifold and tells whether to meet it: not when it is beyond or out of reach
+  bool outOfReach(const Child& child, const Meeting& meeting) const;
+  /// Refreshes the child's own manifolds and tells whether to meet it: not when it is beyond or out of reach
   /// (whose points then go). A shared manifold is always met.
-  bool readyToMeet(const Child& child, btCollisionAlgorithm& algorithm, const btCollisionObjectWrapper& compound,
-                   const WorldPlane& surface, const btDispatcherInfo& info, btManifoldResult& result);
-  /// Empties the manifolds of a child out of reach.
-  void forgetPoints(btCollisionAlgorithm& child);
+  bool readyToMeet(const Child& child, btCollisionAlgorithm& algorithm, const Meeting& meeting);
 
   bool swapped_;  ///< the plane is body 0
   bool skips_far_children_;
