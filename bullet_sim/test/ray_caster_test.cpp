@@ -250,6 +250,35 @@ TEST(RayCasterTest, ARaisedTiltedPlaneIsHitWhereItIs) {
   }
 }
 
+// castStatic meets a world of planes alone in double precision, and the same planes among other static shapes
+// through Embree, in float: the nearest surface either way, its normal facing the ray.
+TEST(RayCasterTest, CastStaticMeetsPlanesAloneInDoublePrecision) {
+  Collision ceiling = groundPlane();
+  ceiling.origin = translation(0, 0, 2.5);
+  const Eigen::Vector3d origin(0.1, 0.2, 0.3), up = Eigen::Vector3d::UnitZ();
+  const std::vector<Eigen::Vector3d> origins(3, origin), directions{-up, up, Eigen::Vector3d::UnitX()};
+  RayCaster caster;
+  caster.addBody({groundPlane(), ceiling}, Eigen::Isometry3d::Identity(), true);
+  caster.commit();
+  std::vector<double> ranges;
+  std::vector<Eigen::Vector3d> normals;
+  caster.castStatic(origins, directions, kMaxRange, ranges, &normals);
+  EXPECT_DOUBLE_EQ(ranges.at(0), 0.3);  // a float ray is 1e-8 off
+  EXPECT_DOUBLE_EQ(ranges.at(1), 2.2);
+  EXPECT_EQ(ranges.at(2), kInf);
+  EXPECT_EQ(normals.at(0), up);
+  EXPECT_EQ(normals.at(1), -up);
+  // A box beside them: Embree meets all three, the planes as before.
+  caster.addBody({box({0.2, 0.2, 0.2}, translation(1.1, 0.2, 0.3))}, Eigen::Isometry3d::Identity(), true);
+  caster.commit();
+  caster.castStatic(origins, directions, kMaxRange, ranges, &normals);
+  EXPECT_NEAR(ranges.at(0), 0.3, kCurvedTolerance);
+  EXPECT_NE(ranges.at(0), 0.3);
+  EXPECT_NEAR(ranges.at(1), 2.2, kCurvedTolerance);
+  EXPECT_NEAR(ranges.at(2), 0.9, kBoxTolerance);
+  EXPECT_TRUE(normals.at(1).isApprox(-up, 1e-6)) << normals.at(1).transpose();
+}
+
 TEST(RayCasterTest, MeshTrianglesAreExact) {
   auto square = std::make_shared<TriangleMesh>();  // 1 m square in the mesh's y-z plane
   square->vertices = {{0, -0.5, -0.5}, {0, 0.5, -0.5}, {0, 0.5, 0.5}, {0, -0.5, 0.5}};

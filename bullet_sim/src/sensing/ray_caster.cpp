@@ -137,6 +137,23 @@ std::optional<SurfaceHit> intersect(const AnalyticShape& shape, const Eigen::Vec
   return hit;
 }
 
+/// castStatic's rays against static planes alone, in double precision (a wheel's ray to the ground: Embree
+/// took 400 instructions a ray, and rounded the ray to float).
+void castAtPlanes(const std::vector<const AnalyticShape*>& planes, const std::vector<Eigen::Vector3d>& origins,
+                  const std::vector<Eigen::Vector3d>& directions, double max_range, std::vector<double>& ranges,
+                  std::vector<Eigen::Vector3d>* normals) {
+  ranges.assign(origins.size(), std::numeric_limits<double>::infinity());
+  if (normals) normals->resize(origins.size());
+  for (size_t i = 0; i < origins.size(); ++i) {
+    for (const AnalyticShape* plane : planes) {
+      const std::optional<SurfaceHit> hit = intersect(*plane, origins[i], directions[i], 0, max_range);
+      if (!hit || hit->t >= ranges[i]) continue;
+      ranges[i] = hit->t;
+      if (normals) (*normals)[i] = hit->normal.dot(directions[i]) > 0 ? -hit->normal : hit->normal;
+    }
+  }
+}
+
 /// The geometries hit by rays that must pass through: a moving body is a whole instance of the top scene; a
 /// static body is up to two geometries inside the static instance.
 struct IgnoredBody {
@@ -318,6 +335,8 @@ struct RayCaster::Impl {
   void attachShapes(const std::vector<Collision>& shapes, const Eigen::Isometry3d& frame_from_body,
                     RTCScene scene, Body& body);
   Body& body(BodyId id, const char* operation) const;
+  /// Sets static_planes from the static bodies.
+  void findStaticPlanes();
 
   std::string embree_error;  // outlives the device, which reports into it
   DeviceHandle device;
@@ -327,6 +346,8 @@ struct RayCaster::Impl {
   std::vector<std::unique_ptr<Body>> bodies;  ///< indexed by BodyId; null once removed
   unsigned free_mask_bits = ~kSharedMaskBit;  ///< for moving bodies
   bool statics_changed = false;
+  /// When every static shape is a plane (empty.world's ground): them, which castStatic meets without Embree.
+  std::optional<std::vector<const AnalyticShape*>> static_planes;
   bool bodies_added_or_removed = false;  ///< Embree's scenes are not castable until committed
   bool top_changed = false;
 };
@@ -471,6 +492,24 @@ void RayCaster::setPose(BodyId id, const Eigen::Isometry3d& pose) {
   impl_->top_changed = true;
 }
 
+void RayCaster::Impl::findStaticPlanes() {
+  static_planes.emplace();
+  for (const auto& body : bodies) {
+    if (!body || !body->is_static) continue;
+    if (body->triangles_id != RTC_INVALID_GEOMETRY_ID) {
+      static_planes.reset();
+      return;
+    }
+    for (const AnalyticShape& shape : body->analytic_shapes) {
+      if (shape.type != Shape::Type::kPlane) {
+        static_planes.reset();
+        return;
+      }
+      static_planes->push_back(&shape);
+    }
+  }
+}
+
 void RayCaster::commit() {
   Impl& impl = *impl_;
   if (!impl.top_changed) return;
@@ -478,6 +517,7 @@ void RayCaster::commit() {
     rtcCommitScene(impl.statics.get());
     // The instance's bounds follow the static scene's.
     rtcCommitGeometry(rtcGetGeometry(impl.top.get(), impl.statics_instance_id));
+    impl.findStaticPlanes();
   }
   for (const auto& body : impl.bodies) {
     if (!body || !body->pose_changed) continue;
@@ -564,6 +604,10 @@ void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
   const Impl& impl = *impl_;
   if (impl.statics_changed)
     throw std::logic_error("RayCaster::castStatic: static bodies changed since the last commit()");
+  if (impl.static_planes) {
+    castAtPlanes(*impl.static_planes, origins, directions, max_range, ranges, normals);
+    return;
+  }
   CastContext context;
   rtcInitIntersectContext(&context.embree);
   ranges.resize(origins.size());
