@@ -118,6 +118,10 @@ RaycastRobot::~RaycastRobot() {
 
 int RaycastRobot::linkIndex(const std::string& link) const { return link_index_.at(link); }
 
+Eigen::Isometry3d RaycastRobot::rootPose() const {
+  return fromBullet(chassis_->getWorldTransform()) * body_to_root_;
+}
+
 void RaycastRobot::buildWheels() {
   linkFrames();  // the zero pose
   for (size_t j = 0; j < joints_.size(); ++j) {
@@ -162,17 +166,17 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   mass_ = mass.mass;
   Eigen::Vector3d moments;
   root_to_body_ = mass.principalFrame(&moments);
+  body_to_root_ = root_to_body_.inverse();
 
   // The chassis collides with everything but the wheels, which are rays. Its bounds lie along the root link.
-  const Eigen::Isometry3d body_to_root = root_to_body_.inverse();
-  btCompoundShape* compound = shapes_->makeCompound(toBullet(body_to_root));
+  btCompoundShape* compound = shapes_->makeCompound(toBullet(body_to_root_));
   for (size_t i = 0; i < spec_.links.size(); ++i) {
     const JointSpec* joint = spec_.parentJoint(spec_.links[i].name);
     if (joint && joint->moves() && joints_[joint_index_.at(joint->name)].wheel >= 0) continue;
     const auto& collisions = spec_.links[i].collisions;
     for (size_t c = 0; c < collisions.size(); ++c) {
       if (btCollisionShape* shape = shapes_->make(collisions[c].shape, true)) {
-        compound->addChildShape(toBullet(body_to_root * link_in_root_[i] * collisions[c].origin), shape);
+        compound->addChildShape(toBullet(body_to_root_ * link_in_root_[i] * collisions[c].origin), shape);
         chassis_sources_.push_back({spec_.links[i].name, static_cast<int>(c)});
       }
     }
@@ -222,7 +226,6 @@ const std::vector<Eigen::Isometry3d>& RaycastRobot::linkFrames() const {
 }
 
 void RaycastRobot::addWheelRims(btCompoundShape& compound) {
-  const Eigen::Isometry3d body_to_root = root_to_body_.inverse();
   for (size_t w = 0; w < wheels_.size(); ++w) {
     const Wheel& wheel = wheels_[w];
     const Joint& joint = joints_[wheel.joint];
@@ -230,7 +233,7 @@ void RaycastRobot::addWheelRims(btCompoundShape& compound) {
     Shape rim = collision.shape;
     rim.radius -= kRimInset;
     rim_children_.push_back(compound.getNumChildShapes());
-    compound.addChildShape(toBullet(body_to_root * link_in_root_[joint.child_link] * collision.origin),
+    compound.addChildShape(toBullet(body_to_root_ * link_in_root_[joint.child_link] * collision.origin),
                            shapes_->make(rim, true));
     chassis_sources_.push_back({spec_.links[joint.child_link].name, 0});
   }
@@ -240,14 +243,13 @@ void RaycastRobot::updateHubs() {
   if (!hubs_stale_) return;
   const auto& frames = linkFrames();
   auto& compound = static_cast<btCompoundShape&>(*chassis_->getCollisionShape());
-  const Eigen::Isometry3d body_to_root = root_to_body_.inverse();
   for (size_t w = 0; w < wheels_.size(); ++w) {
     const int link = joints_[wheels_[w].joint].child_link;
     if (hub_in_root_[w].isApprox(frames[link], 1e-12)) continue;
     hub_in_root_[w] = frames[link];
     // The rim follows kinematic joints (steering); a wheel's spin leaves its cylinder where it is.
     const Eigen::Isometry3d origin = spec_.links[link].collisions.front().origin;
-    compound.updateChildTransform(rim_children_[w], toBullet(body_to_root * hub_in_root_[w] * origin), false);
+    compound.updateChildTransform(rim_children_[w], toBullet(body_to_root_ * hub_in_root_[w] * origin), false);
   }
   compound.recalculateLocalAabb();
   hubs_stale_ = false;
@@ -261,7 +263,7 @@ void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const
   // A free wheel's spin yields to what it meets (its rim's friction stops it): ordinary friction.
   if (wheel.max_torque <= 0) return;
   const Joint& joint = joints_[wheel.joint];
-  const Eigen::Isometry3d root = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
+  const Eigen::Isometry3d root = rootPose();
   const Eigen::Isometry3d hub = root * hub_in_root_[w];
   const Eigen::Vector3d axis = hub.linear() * joint.spec->axis;
   const Eigen::Vector3d normal = (ours_is_a ? 1.0 : -1.0) * fromBullet(point.m_normalWorldOnB);  // towards us
@@ -308,7 +310,7 @@ void RaycastRobot::beforeSubstep(double substep) {
   updateHubs();
   rim_normal_impulse_.swap(rim_impulse_weighed_);  // what the last solve weighed; the next one sums afresh
   std::fill(rim_impulse_weighed_.begin(), rim_impulse_weighed_.end(), 0.0);
-  const Eigen::Isometry3d root = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
+  const Eigen::Isometry3d root = rootPose();
   castWheelRays(root);
   const btMatrix3x3& inverse_inertia = chassis_->getInvInertiaTensorWorld();
   for (int r = 0; r < 3; ++r) inverse_inertia_.row(r) = fromBullet(inverse_inertia[r]);
@@ -493,7 +495,7 @@ void RaycastRobot::afterStep() {
 
 void RaycastRobot::refreshPose() {
   frames_stale_ = true;  // the wheels turned
-  root_pose_ = fromBullet(chassis_->getWorldTransform()) * root_to_body_.inverse();
+  root_pose_ = rootPose();
 }
 
 void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {

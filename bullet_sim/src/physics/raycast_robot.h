@@ -149,6 +149,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   /// Puts each kinematic mimic joint where the joint it follows says (within its limits).
   void followLeaders();
   int linkIndex(const std::string& link) const;
+  /// The root link's pose in the world, from the chassis body's as it is now.
+  Eigen::Isometry3d rootPose() const;
 
   ModelSpec spec_;
   std::string name_;
@@ -166,6 +168,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   std::vector<double> springs_;     ///< [N/m] per wheel
   std::vector<double> dampers_;     ///< [N s/m] per wheel
   Eigen::Isometry3d root_to_body_;  ///< the chassis body's frame (com, principal axes) in the root link frame
+  Eigen::Isometry3d body_to_root_;  ///< its inverse
   mutable std::vector<Eigen::Isometry3d> link_in_root_;
   mutable bool frames_stale_ = true;
   /// Per link: only fixed joints join it to the root, so its frame in the root's never goes stale.
