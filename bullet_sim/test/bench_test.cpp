@@ -20,10 +20,12 @@ namespace {
 
 using ::testing::HasSubstr;
 
+/// The bench scenario's robot.
+std::string robot() { return "--robot '" + test::packageFile("bullet_sim", "bench/bench_robot.urdf") + "'"; }
+
 /// The bench scenario's robot and world.
 std::string scenario() {
-  return "--robot '" + test::packageFile("bullet_sim", "bench/bench_robot.urdf") + "' --world '" +
-         test::packageFile("bullet_sim", "bench/bench_home.world") + "'";
+  return robot() + " --world '" + test::packageFile("bullet_sim", "bench/bench_home.world") + "'";
 }
 
 /// The numbers under `keys` of the JSON object `json`, read by Python's strict json module; a key that is
@@ -101,6 +103,28 @@ TEST(Bench, AWatchedRunHasItsPageTakeInFrames) {
                                                  "web_viewer_frames_per_run"});
   EXPECT_GT(numbers.at("rtf_web_viewer"), 0);
   EXPECT_GE(numbers.at("web_viewer_frames_per_run"), 1);
+}
+
+// --snapshot makes its folder, as scenario --out does, and names one it cannot make.
+TEST(Bench, AFleetSnapshotMakesItsFolder) {
+  char scratch[] = "/tmp/bullet_sim_bench_snapshot_XXXXXX";
+  ASSERT_NE(mkdtemp(scratch), nullptr);
+  const std::string folder = std::string(scratch) + "/pictures/fleet";
+  const std::string fleet = robot() + " --robots 1 --duration 0.1 --repeat 1 --snapshot ";
+  test::CommandResult result = test::run(bench(fleet + folder));
+  EXPECT_EQ(result.status, 0) << result.errors;
+  for (const char* moment : {"settled", "end"}) {
+    for (const char* view : {"top", "corner"}) {
+      const std::string picture = folder + "/fleet_1_" + moment + "_" + view + ".png";
+      EXPECT_TRUE(std::ifstream(picture).good()) << picture;
+    }
+  }
+  const std::string file = std::string(scratch) + "/a_file";
+  std::ofstream(file) << "not a folder";
+  result = test::run(bench(fleet + file + "/fleet"));
+  EXPECT_EQ(result.status, 1);
+  EXPECT_THAT(result.errors, HasSubstr("--snapshot: cannot make [" + file + "/fleet]"));
+  test::run("rm -rf " + std::string(scratch));
 }
 
 TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {

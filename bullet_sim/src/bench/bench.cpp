@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -127,8 +128,9 @@ constexpr char kUsage[] =
     "                               to sleep at the end (Gazebo's auto-disable), in the run with fewest\n"
     "--spacing sets the grid's spacing [m] (default 1.5). The walled 20 x 20 m world of 200 boxes,\n"
     "issue 32's: --robots 20 --world walled_boxes.world --spacing 4 (its boxes leave those places free).\n"
-    "--snapshot writes DIR/fleet_<N>_<settled|end>_<top|corner>.png: the first run of each fleet after\n"
-    "settling and at the end of the drive, from above and from a corner, at --render's size.\n"
+    "--snapshot writes DIR/fleet_<N>_<settled|end>_<top|corner>.png (DIR made if missing): the first run\n"
+    "of each fleet after settling and at the end of the drive, from above and from a corner, at --render's\n"
+    "size.\n"
     "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
     "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
     "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
@@ -878,6 +880,9 @@ Json report(const Options& options, const Figures& figures) {
 /// --snapshot's pictures of a fleet: from straight above (the top view frames the world's obstacles) and from
 /// above the world's south-west corner, looking at its centre.
 std::function<void(const Simulation&, int, const std::string&)> fleetPictures(const Options& options) {
+  std::error_code error;  // made up front, as scenario --out does: a run must not end on a missing folder
+  std::filesystem::create_directories(options.snapshot_dir, error);
+  if (error) throw Failure("--snapshot: cannot make [" + options.snapshot_dir + "]: " + error.message());
   auto renderer = std::make_shared<std::unique_ptr<OffscreenRenderer>>();  // made for the first picture
   return [renderer, dir = options.snapshot_dir, width = options.render_width, height = options.render_height](
              const Simulation& simulation, int count, const std::string& moment) {
