@@ -115,8 +115,7 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
       refreshManifolds(*result);
     }
   }
-  const btRigidBody* body =
-      skips_far_children_ && !shared_manifold_ ? btRigidBody::upcast(compound.getCollisionObject()) : nullptr;
+  const btRigidBody* body = skips_far_children_ ? btRigidBody::upcast(compound.getCollisionObject()) : nullptr;
   const Meeting meeting{compound,
                         plane,
                         worldPlane(plane),

@@ -102,10 +102,7 @@ RaycastRobot::RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamics
     if (mimic && joint_index_.count(mimic->joint)) joint.leader = joint_index_.at(mimic->joint);
   }
   link_in_root_.resize(spec_.links.size(), Eigen::Isometry3d::Identity());
-  fixed_to_root_.assign(spec_.links.size(), false);
-  fixed_to_root_[0] = true;
-  for (size_t k = 0; k < spec_.joints.size(); ++k)  // parents before children
-    fixed_to_root_[tree_child_[k]] = fixed_to_root_[tree_parent_[k]] && tree_moving_[k] < 0;
+  for (const auto& link : spec_.links) fixed_to_root_.push_back(partOf(link.name) == 0);
   buildWheels();
   buildChassis(root_pose);
   reset(root_pose, {});

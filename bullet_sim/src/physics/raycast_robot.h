@@ -171,7 +171,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   Eigen::Isometry3d body_to_root_;  ///< its inverse
   mutable std::vector<Eigen::Isometry3d> link_in_root_;
   mutable bool frames_stale_ = true;
-  /// Per link: only fixed joints join it to the root, so its frame in the root's never goes stale.
+  /// Per link: it is in the root's part (only fixed joints join it to the root), so its frame in the root's
+  /// never goes stale.
   std::vector<bool> fixed_to_root_;
   bool hubs_stale_ = true;
   std::vector<Eigen::Isometry3d> hub_in_root_;  ///< per wheel

@@ -137,6 +137,11 @@ std::optional<SurfaceHit> intersect(const AnalyticShape& shape, const Eigen::Vec
   return hit;
 }
 
+/// A surface's unit normal turned to face the ray that met it.
+Eigen::Vector3d facingRay(const Eigen::Vector3d& normal, const Eigen::Vector3d& direction) {
+  return normal.dot(direction) > 0 ? -normal : normal;
+}
+
 /// castStatic's rays against static planes alone, in double precision (a wheel's ray to the ground: Embree
 /// took 400 instructions a ray, and rounded the ray to float).
 void castAtPlanes(const std::vector<const AnalyticShape*>& planes, const std::vector<Eigen::Vector3d>& origins,
@@ -149,7 +154,7 @@ void castAtPlanes(const std::vector<const AnalyticShape*>& planes, const std::ve
       const std::optional<SurfaceHit> hit = intersect(*plane, origins[i], directions[i], 0, max_range);
       if (!hit || hit->t >= ranges[i]) continue;
       ranges[i] = hit->t;
-      if (normals) (*normals)[i] = hit->normal.dot(directions[i]) > 0 ? -hit->normal : hit->normal;
+      if (normals) (*normals)[i] = facingRay(hit->normal, directions[i]);
     }
   }
 }
@@ -629,8 +634,8 @@ void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
     ranges[i] = ray.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<double>::infinity()
                                                           : static_cast<double>(ray.ray.tfar);
     if (!normals || ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-    const Eigen::Vector3d normal = Eigen::Vector3d(ray.hit.Ng_x, ray.hit.Ng_y, ray.hit.Ng_z).normalized();
-    (*normals)[i] = normal.dot(directions[i]) > 0 ? -normal : normal;
+    (*normals)[i] =
+        facingRay(Eigen::Vector3d(ray.hit.Ng_x, ray.hit.Ng_y, ray.hit.Ng_z).normalized(), directions[i]);
   }
 }
 
