@@ -56,8 +56,17 @@ void CompoundPlaneAlgorithm::freeChildren() {
   children_.clear();
 }
 
+void CompoundPlaneAlgorithm::release(int index) {
+  btCollisionAlgorithm*& child = children_[index];
+  child->~btCollisionAlgorithm();
+  m_dispatcher->freeCollisionAlgorithm(child);
+  child = nullptr;
+  manifolds_.resize(0);  // held the child's manifold, which went with it
+}
+
 void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
   freeChildren();
+  breaking_threshold_ = -1;
   children_.assign(compound.getNumChildShapes(), nullptr);
   // Bullet meets the children its tree finds within the plane's bounds, which are infinite: every leaf.
   const btDbvt& tree = *compound.getDynamicAabbTree();
@@ -129,12 +138,16 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
 }
 
 bool CompoundPlaneAlgorithm::beyondReach(const Child& child, const Meeting& meeting) const {
-  // Bullet's convex-plane algorithm then finds its support point too far and adds nothing; ours for cylinders
-  // likewise.
   if (!child.convex || !skips_far_children_) return false;
   if (manifolds_.size() != 1 || manifolds_[0]->getNumContacts() > 0) return false;
-  const btScalar reach =
-      manifolds_[0]->getContactBreakingThreshold() + meeting.result.m_closestPointDistanceThreshold;
+  return sphereBeyond(child, meeting, manifolds_[0]->getContactBreakingThreshold());
+}
+
+bool CompoundPlaneAlgorithm::sphereBeyond(const Child& child, const Meeting& meeting,
+                                          btScalar breaking_threshold) const {
+  // Bullet's convex-plane algorithm then finds its support point too far and adds nothing; ours for cylinders
+  // likewise.
+  const btScalar reach = breaking_threshold + meeting.result.m_closestPointDistanceThreshold;
   // The child's transform as it is now: a kinematic joint moves a rim without a new revision of the compound.
   const btVector3 centre = meeting.compound.getWorldTransform() *
                            (compoundOf(meeting.compound).getChildTransform(child.index) * child.centre);
@@ -165,13 +178,18 @@ bool CompoundPlaneAlgorithm::readyToMeet(const Child& child, btCollisionAlgorith
   if (shared_manifold_) return true;  // refreshed with the others, before any child is met
   manifolds_.resize(0);
   algorithm.getAllContactManifolds(manifolds_);
-  if (beyondReach(child, meeting)) return false;
-  if (outOfReach(child, meeting)) {
-    for (int m = 0; m < manifolds_.size(); ++m) manifolds_[m]->clearManifold();
+  if (manifolds_.size() == 1) breaking_threshold_ = manifolds_[0]->getContactBreakingThreshold();
+  if (beyondReach(child, meeting) || outOfReach(child, meeting)) {
+    release(child.index);  // the points outOfReach drops go with its manifold
     return false;
   }
   refreshManifolds(meeting.result);
   return true;
+}
+
+bool CompoundPlaneAlgorithm::staysAway(const Child& child, const Meeting& meeting) const {
+  if (shared_manifold_ || !child.convex || !skips_far_children_ || breaking_threshold_ < 0) return false;
+  return sphereBeyond(child, meeting, breaking_threshold_) || outOfReach(child, meeting);
 }
 
 void CompoundPlaneAlgorithm::processChild(const Child& child, const Meeting& meeting) {
@@ -183,7 +201,7 @@ void CompoundPlaneAlgorithm::processChild(const Child& child, const Meeting& mee
   if (gCompoundChildShapePairCallback && !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
     return;
   btCollisionAlgorithm* algorithm = children_[child.index];
-  if (algorithm && !readyToMeet(child, *algorithm, meeting)) return;
+  if (algorithm ? !readyToMeet(child, *algorithm, meeting) : staysAway(child, meeting)) return;
   const btTransform& child_transform = shape.getChildTransform(child.index);
   const btTransform child_pose = compound.getWorldTransform() * child_transform;
   btTransform pre_transform = child_transform;

@@ -21,8 +21,10 @@ struct WorldPlane;  // physics/cylinder_plane.h
 /// no point and is beyond reach of the plane (a chassis's seat, its lidar), whose algorithm would find
 /// nothing. And it makes no points for a rigid body's convex child that cannot reach the plane within the
 /// substep (a raycast wheel's rim, 0.5 mm over the ground while its spring holds it), which the solver would
-/// leave without impulse (contacts.h's reachableGap), and drops those it had. Every other contact is Bullet's,
-/// point for point. A compound without a tree keeps Bullet's own algorithm, and so do closest-point queries:
+/// leave without impulse (contacts.h's reachableGap), and drops those it had. A child skipped so keeps no
+/// algorithm and no manifold until it comes near: the solver, the islands and the contact weighing each step
+/// walk every manifold in the world, empty or not. Every other contact is Bullet's, point for point (in
+/// manifolds that are made and freed as their children come and go, so in another order). A compound without a tree keeps Bullet's own algorithm, and so do closest-point queries:
 /// this is registered for contacts only.
 class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
  public:
@@ -75,16 +77,24 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
   /// Whether the convex child of a rigid body stays, in this substep, farther from the plane than the body
   /// can close (contacts.h's reachableGap): the solver would give every point it has no impulse.
   bool outOfReach(const Child& child, const Meeting& meeting) const;
-  /// Refreshes the child's own manifolds and tells whether to meet it: not when it is beyond or out of reach
-  /// (whose points then go). A shared manifold is always met.
+  /// Whether the child's sphere stays farther from the plane than a manifold of `breaking_threshold` reaches.
+  bool sphereBeyond(const Child& child, const Meeting& meeting, btScalar breaking_threshold) const;
+  /// Refreshes the child's own manifolds and tells whether to meet it: not when it is beyond or out of reach,
+  /// when its algorithm and manifold (and the points outOfReach drops) go. A shared manifold is always met.
   bool readyToMeet(const Child& child, btCollisionAlgorithm& algorithm, const Meeting& meeting);
+  /// Whether a child without an algorithm is beyond or out of reach: one made now would go unmet.
+  bool staysAway(const Child& child, const Meeting& meeting) const;
+  /// Frees the algorithm of the child at `index`, and its manifold.
+  void release(int index);
 
   bool swapped_;  ///< the plane is body 0
   bool skips_far_children_;
   btPersistentManifold* shared_manifold_;
   int revision_ = -1;        ///< of the compound shape, when the order was taken
   std::vector<Child> order_;  ///< in the order Bullet's tree visits them when the pair is made
-  std::vector<btCollisionAlgorithm*> children_;  ///< by child index; null until first met
+  std::vector<btCollisionAlgorithm*> children_;  ///< by child index; null while unmet
+  /// Of the children's manifolds, once one was made (the same for all: made for the pair's two objects).
+  btScalar breaking_threshold_ = -1;
   btManifoldArray manifolds_;                    ///< scratch
 };
 
