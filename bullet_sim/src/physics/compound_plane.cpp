@@ -180,7 +180,10 @@ bool CompoundPlaneAlgorithm::readyToMeet(const Child& child, btCollisionAlgorith
   algorithm.getAllContactManifolds(manifolds_);
   if (manifolds_.size() == 1) breaking_threshold_ = manifolds_[0]->getContactBreakingThreshold();
   if (beyondReach(child, meeting) || outOfReach(child, meeting)) {
-    release(child.index);  // the points outOfReach drops go with its manifold
+    // A rigid body's child gives up its algorithm and its manifold (the points outOfReach drops go with it).
+    // A multibody link's keeps an empty manifold, and its place in the solver's order: a contact robot's
+    // results stay as they were (a car launched at 10 ms steps veers by how its wheels are ordered).
+    if (meeting.body) release(child.index);
     return false;
   }
   refreshManifolds(meeting.result);
@@ -188,7 +191,7 @@ bool CompoundPlaneAlgorithm::readyToMeet(const Child& child, btCollisionAlgorith
 }
 
 bool CompoundPlaneAlgorithm::staysAway(const Child& child, const Meeting& meeting) const {
-  if (shared_manifold_ || !child.convex || !skips_far_children_ || breaking_threshold_ < 0) return false;
+  if (!meeting.body || !child.convex || breaking_threshold_ < 0) return false;
   return sphereBeyond(child, meeting, breaking_threshold_) || outOfReach(child, meeting);
 }
 

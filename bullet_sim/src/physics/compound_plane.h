@@ -21,11 +21,12 @@ struct WorldPlane;  // physics/cylinder_plane.h
 /// no point and is beyond reach of the plane (a chassis's seat, its lidar), whose algorithm would find
 /// nothing. And it makes no points for a rigid body's convex child that cannot reach the plane within the
 /// substep (a raycast wheel's rim, 0.5 mm over the ground while its spring holds it), which the solver would
-/// leave without impulse (contacts.h's reachableGap), and drops those it had. A child skipped so keeps no
-/// algorithm and no manifold until it comes near: the solver, the islands and the contact weighing each step
-/// walk every manifold in the world, empty or not. Every other contact is Bullet's, point for point (in
-/// manifolds that are made and freed as their children come and go, so in another order). A compound without a tree keeps Bullet's own algorithm, and so do closest-point queries:
-/// this is registered for contacts only.
+/// leave without impulse (contacts.h's reachableGap), and drops those it had. Such a rigid body's child
+/// skipped either way keeps no algorithm and no manifold until it comes near: the solver, the islands and the
+/// contact weighing walk every manifold in the world each step, empty or not. Every other contact is Bullet's,
+/// point for point (a rigid body's in manifolds made and freed as its children come and go: in another order).
+/// A compound without a tree keeps Bullet's own algorithm, and so do closest-point queries: this is
+/// registered for contacts only.
 class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
  public:
   CompoundPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* body0,
@@ -80,9 +81,10 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
   /// Whether the child's sphere stays farther from the plane than a manifold of `breaking_threshold` reaches.
   bool sphereBeyond(const Child& child, const Meeting& meeting, btScalar breaking_threshold) const;
   /// Refreshes the child's own manifolds and tells whether to meet it: not when it is beyond or out of reach,
-  /// when its algorithm and manifold (and the points outOfReach drops) go. A shared manifold is always met.
+  /// when a rigid body's child's algorithm and manifold (and the points outOfReach drops) go. A shared
+  /// manifold is always met.
   bool readyToMeet(const Child& child, btCollisionAlgorithm& algorithm, const Meeting& meeting);
-  /// Whether a child without an algorithm is beyond or out of reach: one made now would go unmet.
+  /// Whether a rigid body's child without an algorithm is beyond or out of reach: one made now would go unmet.
   bool staysAway(const Child& child, const Meeting& meeting) const;
   /// Frees the algorithm of the child at `index`, and its manifold.
   void release(int index);
