@@ -136,7 +136,8 @@ void RaycastRobot::buildWheels() {
     const double inertia =
         link.inertial ? joint.spec->axis.dot(link.inertial->inertia * joint.spec->axis) : 0.0;
     joint.wheel = static_cast<int>(wheels_.size());
-    wheels_.push_back({static_cast<int>(j), *radius, std::max(inertia, 1e-6), link.surface.mu1, caster});
+    const double axle_inertia = std::max(inertia, 1e-6);
+    wheels_.push_back({static_cast<int>(j), *radius, axle_inertia, 1 / axle_inertia, link.surface.mu1, caster});
   }
   Diagnostics diagnostics(spec_.source);
   if (wheels_.empty()) {
@@ -370,6 +371,7 @@ RaycastRobot::Row RaycastRobot::row(const Eigen::Vector3d& offset, const Eigen::
   row.direction = direction;
   row.arm = offset.cross(direction);
   row.turn = inverse_inertia_ * row.arm;
+  row.shift = direction / mass_;
   row.inverse_mass = 1 / mass_ + row.arm.dot(row.turn);
   return row;
 }
@@ -379,7 +381,7 @@ inline double RaycastRobot::velocityAlong(const Row& row) const {
 }
 
 inline void RaycastRobot::push(const Row& row, double impulse) {
-  linear_velocity_ += row.direction * (impulse / mass_);
+  linear_velocity_ += row.shift * impulse;
   angular_velocity_ += row.turn * impulse;
 }
 
@@ -405,12 +407,20 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     contact.on_ground = true;
     contact.normal = row(offset, up);
     contact.soft_mass = 1 / (contact.normal.inverse_mass + contact.softness);
+    contact.normal_mass = 1 / contact.normal.inverse_mass;
     contact.grips = !wheel.caster;
     if (!contact.grips) continue;
     const Eigen::Vector3d axis = root.linear() * (hub_in_root_[w].linear() * joints_[wheel.joint].spec->axis);
     const Eigen::Vector3d forward = axis.cross(up).normalized();  // where a positive spin rolls the wheel
     contact.forward = row(offset, forward);
     contact.lateral = row(offset, up.cross(forward));
+    // One mass for both directions: with a mass each, the clamped impulse would settle along M * slip, not
+    // against the slip, and skid steering would turn off Coulomb's rate (issue 29). The smaller one is stable.
+    // A rim its motor holds passes the whole forward impulse to the chassis; a slipping one also spins.
+    const double lateral_mass = 1 / contact.lateral.inverse_mass;
+    contact.grip_mass_held = std::min(1 / contact.forward.inverse_mass, lateral_mass);
+    contact.grip_mass_free = std::min(
+        1 / (contact.forward.inverse_mass + wheel.radius * wheel.radius * wheel.inverse_inertia), lateral_mass);
   }
 }
 
@@ -424,7 +434,7 @@ void RaycastRobot::supportWheel(size_t w) {
       (contact.bias - separating - contact.softness * contact.normal_impulse) * contact.soft_mass;
   // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed.
   const double most =
-      contact.normal_impulse + std::max(0.0, kMaxSeparatingSpeed - separating) / contact.normal.inverse_mass;
+      contact.normal_impulse + std::max(0.0, kMaxSeparatingSpeed - separating) * contact.normal_mass;
   const double total = std::clamp(wanted, 0.0, std::max(most, 0.0));
   push(contact.normal, total - contact.normal_impulse);
   contact.normal_impulse = total;
@@ -438,7 +448,7 @@ void RaycastRobot::driveWheel(size_t w) {
   if (wheel.max_torque > 0) {
     const double wanted = contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia;
     const double total = std::clamp(wanted, -budget, budget);
-    joint.velocity += (total - contact.motor_impulse) / wheel.inertia;
+    joint.velocity += (total - contact.motor_impulse) * wheel.inverse_inertia;
     contact.motor_impulse = total;
   }
   if (!contact.grips) return;
@@ -447,16 +457,12 @@ void RaycastRobot::driveWheel(size_t w) {
   const double lateral_slip = velocityAlong(contact.lateral);
   // While its motor has torque to spare, the motor holds the rim: the chassis takes the whole impulse.
   const bool held = wheel.max_torque > 0 && std::abs(contact.motor_impulse) < budget;
-  const double forward_mass =
-      1 / (contact.forward.inverse_mass + (held ? 0.0 : wheel.radius * wheel.radius / wheel.inertia));
-  const double lateral_mass = 1 / contact.lateral.inverse_mass;
-  // One mass for both directions: with a mass each, the clamped impulse would settle along M * slip, not
-  // against the slip, and skid steering would turn off Coulomb's rate (issue 29). The smaller one is stable.
-  const double mass = std::min(forward_mass, lateral_mass);
+  const double mass = held ? contact.grip_mass_held : contact.grip_mass_free;
   Eigen::Vector2d total(contact.forward_impulse - forward_slip * mass,
                         contact.lateral_impulse - lateral_slip * mass);
   const double limit = wheel.friction * contact.normal_impulse;  // the friction circle
-  if (total.norm() > limit) total *= limit / total.norm();
+  const double size = total.norm();
+  if (size > limit) total *= limit / size;
   const Eigen::Vector2d change = total - Eigen::Vector2d(contact.forward_impulse, contact.lateral_impulse);
   contact.forward_impulse = total.x();
   contact.lateral_impulse = total.y();
@@ -466,7 +472,7 @@ void RaycastRobot::driveWheel(size_t w) {
   const double reaction = wheel.radius * change.x();
   const double motor =
       held ? std::clamp(contact.motor_impulse + reaction, -budget, budget) : contact.motor_impulse;
-  joint.velocity -= (reaction - (motor - contact.motor_impulse)) / wheel.inertia;
+  joint.velocity -= (reaction - (motor - contact.motor_impulse)) * wheel.inverse_inertia;
   contact.motor_impulse = motor;
 }
 

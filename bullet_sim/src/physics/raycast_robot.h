@@ -87,6 +87,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     int joint;
     double radius;           ///< [m]
     double inertia;          ///< about the axle [kg m^2]
+    double inverse_inertia;  ///< 1 / inertia: the passes multiply
     double friction;         ///< mu
     bool caster;             ///< on a swivel: load only
     double spin_target = 0;  ///< [rad/s]
@@ -99,6 +100,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit, in the world frame
     Eigen::Vector3d arm = Eigen::Vector3d::Zero();        ///< offset x direction: how spin moves the point along it
     Eigen::Vector3d turn = Eigen::Vector3d::Zero();       ///< [rad/(s N s)] the spin a unit impulse along it gives
+    Eigen::Vector3d shift = Eigen::Vector3d::Zero();      ///< [m/(s N s)] the velocity a unit impulse along it gives
     double inverse_mass = 0;                              ///< [1/kg] the chassis's, felt at the point along it
   };
   /// A wheel's contact with the ground in one substep, and the impulses solved for it. A caster, which does
@@ -109,6 +111,9 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     double bias = 0;         ///< [m/s] the separating speed the spring asks for
     double softness = 0;     ///< [m/(N s)] how much each unit of impulse relaxes it
     double soft_mass = 0;    ///< [kg] the spring's effective mass: 1 / (normal's inverse mass + softness)
+    double normal_mass = 0;  ///< [kg] 1 / the normal's inverse mass
+    /// [kg] the one mass of both grip rows (pressWheels), while the motor holds the rim and while it slips
+    double grip_mass_held = 0, grip_mass_free = 0;
     double normal_impulse = 0, forward_impulse = 0, lateral_impulse = 0;
     double motor_impulse = 0;  ///< [N m s] on the wheel's spin this substep, within its torque budget
     bool on_ground = false;    ///< its ray found ground within the rim
