@@ -58,6 +58,21 @@ TEST(WorkPool, TheLowestFailingTaskIsRethrownOnceAllAreDone) {
   EXPECT_EQ(after, 3);
 }
 
+TEST(WorkPool, AmongManyTasksTakenInChunksTheLowestFailingOneIsRethrown) {
+  WorkPool pool(2);
+  std::vector<std::atomic<int>> runs(100);
+  try {
+    pool.run(100, [&](size_t k) {  // 30 and 31 share a chunk; 37 is in the next
+      ++runs[k];
+      if (k == 31 || k == 37 || k == 30) throw std::runtime_error("task " + std::to_string(k));
+    });
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "task 30");
+  }
+  for (size_t k = 0; k < runs.size(); ++k) EXPECT_EQ(runs[k], 1) << "task " << k;
+}
+
 // A run pinned to one core (a sweep's taskset) takes one thread; unpinned, the cores it may use, at most 4.
 TEST(WorkPool, TakesTheCoresItsThreadMayRunOn) {
   cpu_set_t all;

@@ -27,6 +27,7 @@ void WorkPool::run(size_t count, const std::function<void(size_t)>& task) {
     task_ = &task;
     count_ = unfinished_ = count;
     next_ = 0;
+    chunk_ = std::max<size_t>(1, count / (kChunksPerThread * static_cast<size_t>(threads())));
     failure_ = nullptr;
     ++batch_;
   }
@@ -54,21 +55,30 @@ void WorkPool::work() {
 void WorkPool::drain() {
   std::unique_lock<std::mutex> lock(mutex_);
   while (task_ && next_ < count_) {
-    const size_t index = next_++;
+    const size_t first = next_;
+    const size_t end = std::min(count_, first + chunk_);
+    next_ = end;
     const std::function<void(size_t)>& task = *task_;
     lock.unlock();
     std::exception_ptr failure;
-    try {
-      task(index);
-    } catch (...) {
-      failure = std::current_exception();
+    size_t failed = 0;
+    for (size_t index = first; index < end; ++index) {
+      try {
+        task(index);
+      } catch (...) {
+        if (!failure) {  // the chunk's lowest
+          failure = std::current_exception();
+          failed = index;
+        }
+      }
     }
     lock.lock();
-    if (failure && (!failure_ || index < failed_task_)) {
+    if (failure && (!failure_ || failed < failed_task_)) {
       failure_ = failure;
-      failed_task_ = index;
+      failed_task_ = failed;
     }
-    if (--unfinished_ == 0) done_.notify_all();
+    unfinished_ -= end - first;
+    if (unfinished_ == 0) done_.notify_all();
   }
 }
 

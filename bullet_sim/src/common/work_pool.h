@@ -27,10 +27,14 @@ class WorkPool {
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
 
   /// Runs task(0) ... task(count - 1), each once, on the pool's threads and the caller's; returns when all
-  /// are done. If tasks throw, the exception of the lowest-numbered one is rethrown here.
+  /// are done. If tasks throw, the exception of the lowest-numbered one is rethrown here. A thread takes
+  /// consecutive tasks a chunk at a time (about a quarter of its share), so that a hundred robots' small
+  /// tasks cost a few handovers of the pool's lock, not two each.
   void run(size_t count, const std::function<void(size_t)>& task);
 
  private:
+  static constexpr size_t kChunksPerThread = 4;
+
   void work();
   /// Takes tasks of the current batch until none is left.
   void drain();
@@ -40,6 +44,7 @@ class WorkPool {
   const std::function<void(size_t)>* task_ = nullptr;
   size_t count_ = 0;
   size_t next_ = 0;        ///< the next task to hand out
+  size_t chunk_ = 1;       ///< tasks handed out at once
   size_t unfinished_ = 0;  ///< tasks handed out or not, not yet done
   uint64_t batch_ = 0;     ///< counts batches, so a worker wakes once per batch
   bool stopping_ = false;
