@@ -127,6 +127,26 @@ TEST(Bench, AFleetSnapshotMakesItsFolder) {
   test::run("rm -rf " + std::string(scratch));
 }
 
+// --strike-render makes its folder too, and names one it cannot make before any cell runs.
+TEST(Bench, StrikePicturesMakeTheirFolder) {
+  char scratch[] = "/tmp/bullet_sim_bench_strikes_XXXXXX";
+  ASSERT_NE(mkdtemp(scratch), nullptr);
+  const std::string folder = std::string(scratch) + "/pictures/strikes";
+  const std::string cell = "--strikes --strike-filter caster_two_wheeler --strike-filter raycast --strike-filter 10ms "
+                           "--strike-filter 2m/s --strike-filter panel --strike-render ";
+  test::CommandResult result = test::run(bench(cell + folder));
+  EXPECT_EQ(result.status, 0) << result.errors;
+  const std::string stem = folder + "/caster_two_wheeler_raycast_10ms_2m_s_0deg_panel";
+  for (const char* written : {"_end_side.png", "_end_chase.png", "_trail.csv"})
+    EXPECT_TRUE(std::ifstream(stem + written).good()) << stem + written;
+  const std::string file = std::string(scratch) + "/a_file";
+  std::ofstream(file) << "not a folder";
+  result = test::run(bench(cell + file + "/strikes"));
+  EXPECT_EQ(result.status, 1);
+  EXPECT_THAT(result.errors, HasSubstr("--strike-render: cannot make [" + file + "/strikes]"));
+  test::run("rm -rf " + std::string(scratch));
+}
+
 TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
   for (const std::string args :
        {"", "--world home.world", "--robot x.urdf --bogus 1", "--robot x.urdf --cmd 0.5",

@@ -1,6 +1,7 @@
 #include "bench/bench_strikes.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -140,6 +141,11 @@ Json strikeMatrixReport(const StrikeMatrixOptions& options) {
   const auto worlds = resolver.packageDirectory("bullet_sim");
   if (!worlds) throw Failure("package [bullet_sim] is not on ROS_PACKAGE_PATH");
   const WorldSpec world = loadWorld(*worlds + "/worlds/empty.world", resolver, nullptr);
+  if (!options.render_dir.empty()) {
+    std::error_code error;  // made up front, as --snapshot's: a matrix must not run on without its pictures
+    std::filesystem::create_directories(options.render_dir, error);
+    if (error) throw Failure("--strike-render: cannot make [" + options.render_dir + "]: " + error.message());
+  }
   int cells = 0, passed = 0;
   double tilt = 0, rise = 0, energy = 0;
   std::map<double, std::pair<double, double>> timing;  // per step: sim s, wall s
