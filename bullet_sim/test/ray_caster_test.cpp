@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -295,6 +297,42 @@ TEST(RayCasterTest, MeshTrianglesAreExact) {
   EXPECT_NEAR(castOne(caster, {0, 0, 1}, {1.5, 0.3, -0.2}), Eigen::Vector3d(1.5, 0.3, -0.2).norm(),
               kBoxTolerance);
   EXPECT_EQ(castOne(caster, {0, 0, 1}, {1.5, 0.6, 0}), kInf);
+}
+
+size_t threadsOfThisProcess() {
+  return static_cast<size_t>(std::distance(std::filesystem::directory_iterator("/proc/self/task"),
+                                           std::filesystem::directory_iterator()));
+}
+
+// Scenes are built on the calling thread: Embree's TBB workers, woken by each step's rebuild of the top tree,
+// would spin on a core the simulation's pool and the node's other processes want.
+TEST(RayCasterTest, BuildsItsScenesOnTheCallingThreadAlone) {
+  const size_t before = threadsOfThisProcess();
+  auto grid = std::make_shared<TriangleMesh>();  // 20,000 triangles: large enough for a parallel build
+  constexpr int kCells = 100;
+  for (int i = 0; i <= kCells; ++i) {
+    for (int j = 0; j <= kCells; ++j) grid->vertices.push_back({0.01 * i, 0.01 * j, 0});
+  }
+  for (int i = 0; i < kCells; ++i) {
+    for (int j = 0; j < kCells; ++j) {
+      const int corner = i * (kCells + 1) + j;
+      grid->triangles.push_back({corner, corner + 1, corner + kCells + 2});
+      grid->triangles.push_back({corner, corner + kCells + 2, corner + kCells + 1});
+    }
+  }
+  Collision floor;
+  floor.shape.type = Shape::Type::kMesh;
+  floor.shape.mesh = grid;
+  RayCaster caster;
+  caster.addBody({floor}, Eigen::Isometry3d::Identity(), true);
+  const BodyId moving = caster.addBody({sphere(0.1, Eigen::Isometry3d::Identity())}, translation(0.5, 0.5, 1), false);
+  caster.commit();
+  for (int step = 0; step < 50; ++step) {
+    caster.setPose(moving, translation(0.5, 0.5, 1 + 0.01 * step));
+    caster.commit();
+    EXPECT_NEAR(castOne(caster, {0.3, 0.3, 0.5}, -Eigen::Vector3d::UnitZ()), 0.5, kBoxTolerance);
+  }
+  EXPECT_EQ(threadsOfThisProcess(), before);
 }
 
 TEST(RayCasterTest, WallBeyondMaxRangeIsNotHit) {
