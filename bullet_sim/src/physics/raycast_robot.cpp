@@ -103,6 +103,7 @@ RaycastRobot::RaycastRobot(ModelSpec spec, std::string name, btMultiBodyDynamics
   }
   link_in_root_.resize(spec_.links.size(), Eigen::Isometry3d::Identity());
   for (const auto& link : spec_.links) fixed_to_root_.push_back(partOf(link.name) == 0);
+  for (const auto& part : layout_.parts) part_root_links_.push_back(linkIndex(part.root_link));
   buildWheels();
   buildChassis(root_pose);
   reset(root_pose, {});
@@ -598,9 +599,13 @@ Eigen::Isometry3d RaycastRobot::linkPose(const std::string& link) const {
   const auto found = link_index_.find(link);
   if (found == link_index_.end())
     throw std::out_of_range("no link [" + link + "] in model [" + spec_.name + "]");
+  return linkPoseAt(found->second);
+}
+
+Eigen::Isometry3d RaycastRobot::linkPoseAt(int link) const {
   // A link fixed to the root (its base_link, a lidar's mount) keeps the frame the constructor found.
-  const auto& frames = fixed_to_root_[found->second] ? link_in_root_ : linkFrames();
-  return root_pose_ * frames[found->second];
+  const auto& frames = fixed_to_root_[link] ? link_in_root_ : linkFrames();
+  return root_pose_ * frames[link];
 }
 
 Eigen::Vector3d RaycastRobot::linkLinearVelocity(const std::string& link) const {
@@ -624,9 +629,7 @@ int RaycastRobot::partOf(const std::string& link) const {
   return found == layout_.part_of_link.end() ? -1 : found->second;
 }
 
-Eigen::Isometry3d RaycastRobot::partPose(int part) const {
-  return linkPose(layout_.parts.at(part).root_link);
-}
+Eigen::Isometry3d RaycastRobot::partPose(int part) const { return linkPoseAt(part_root_links_.at(part)); }
 
 std::vector<CollisionContact> RaycastRobot::contacts(const CollisionSource& source) const {
   const auto found = std::find(chassis_sources_.begin(), chassis_sources_.end(), source);

@@ -154,6 +154,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   /// Puts each kinematic mimic joint where the joint it follows says (within its limits).
   void followLeaders();
   int linkIndex(const std::string& link) const;
+  /// linkPose by the link's index in spec_.links, after the last step.
+  Eigen::Isometry3d linkPoseAt(int link) const;
   /// The root link's pose in the world, from the chassis body's as it is now.
   Eigen::Isometry3d rootPose() const;
 
@@ -179,6 +181,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   /// Per link: it is in the root's part (only fixed joints join it to the root), so its frame in the root's
   /// never goes stale.
   std::vector<bool> fixed_to_root_;
+  std::vector<int> part_root_links_;  ///< per part, its root link's index: every ray body's pose, every step
   bool hubs_stale_ = true;
   std::vector<Eigen::Isometry3d> hub_in_root_;  ///< per wheel
   Eigen::Isometry3d root_pose_;                 ///< world pose of the root link after the last step
