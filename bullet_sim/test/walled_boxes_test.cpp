@@ -67,7 +67,7 @@ TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
   // The drive struck boxes, or the test shows nothing.
   EXPECT_GT(struck, 0);
   for (const RobotTrack& robot : run.robots) {
-    EXPECT_LT(robot.tilt_max, kUprightTilt);
+    EXPECT_LT(robot.tiltMax(), kUprightTilt);
     EXPECT_LT(robot.rise_max, kSettling);
   }
 }

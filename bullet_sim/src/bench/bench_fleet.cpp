@@ -71,7 +71,7 @@ void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
     asleep = std::min(asleep, static_cast<size_t>(std::count_if(run.loose.begin(), run.loose.end(), sleeper)));
     for (const RobotTrack& robot : run.robots) {
       robot_rise = std::max(robot_rise, robot.rise_max);
-      tilt = std::max(tilt, robot.tilt_max);
+      tilt = std::max(tilt, robot.tiltMax());
     }
     clearance = std::min(clearance, run.start_clearance);
   }

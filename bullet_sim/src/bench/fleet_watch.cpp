@@ -9,6 +9,13 @@ namespace {
 
 Eigen::Isometry3d rootPose(const Robot& robot) { return robot.body().linkPose(robot.body().spec().root); }
 
+/// The part whose frame is the robot's root link's, or -1.
+int rootPart(const Robot& robot) {
+  const RobotBody& body = robot.body();
+  const int part = body.partOf(body.spec().root);
+  return part >= 0 && body.parts()[part].root_link == body.spec().root ? part : -1;
+}
+
 }  // namespace
 
 FleetWatch::FleetWatch(Simulation& simulation, std::vector<const Robot*> robots)
@@ -36,6 +43,7 @@ FleetWatch::FleetWatch(Simulation& simulation, std::vector<const Robot*> robots)
     }
   }
   for (const Robot* robot : robots_) {
+    root_parts_.push_back(rootPart(*robot));
     RobotTrack track;
     const Eigen::Vector3d root = rootPose(*robot).translation();
     track.z_start = root.z();
@@ -67,9 +75,10 @@ void FleetWatch::sample() {
   }
   for (size_t k = 0; k < robots_.size(); ++k) {
     RobotTrack& track = robot_tracks_[k];
-    const Eigen::Isometry3d root = rootPose(*robots_[k]);
+    const RobotBody& body = robots_[k]->body();
+    const Eigen::Isometry3d root = root_parts_[k] >= 0 ? body.partPose(root_parts_[k]) : rootPose(*robots_[k]);
     track.rise_max = std::max(track.rise_max, root.translation().z() - track.z_start);
-    track.tilt_max = std::max(track.tilt_max, std::acos(std::clamp(root.linear()(2, 2), -1.0, 1.0)));
+    track.up_min = std::min(track.up_min, root.linear()(2, 2));
   }
 }
 

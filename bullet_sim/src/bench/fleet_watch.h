@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -30,7 +31,9 @@ struct LooseBodyTrack {
 struct RobotTrack {
   double z_start = 0;   ///< [m] when the watch began
   double rise_max = 0;  ///< [m] the most its root link rose above z_start
-  double tilt_max = 0;  ///< [rad] the most its root link's z axis leaned from the vertical
+  double up_min = 1;    ///< the least world z of its root link's z axis
+  /// [rad] the most its root link's z axis leaned from the vertical
+  double tiltMax() const { return std::acos(std::clamp(up_min, -1.0, 1.0)); }
 };
 
 /// Tracks a simulation's loose world bodies and the given robots from its construction on.
@@ -48,6 +51,8 @@ class FleetWatch {
  private:
   Simulation& simulation_;
   std::vector<const Robot*> robots_;
+  /// Per robot, the part whose frame is its root link's (read every step without looking the link up), or -1.
+  std::vector<int> root_parts_;
   std::vector<size_t> loose_models_;  ///< indices into the world's models
   std::vector<LooseBodyTrack> loose_;
   std::vector<RobotTrack> robot_tracks_;
