@@ -21,7 +21,8 @@ namespace {
 
 constexpr double kSag = 0.0005;        // [m] suspension compression at rest: stiff, yet soft enough for 1 kHz
 constexpr double kDampingRatio = 1.0;  // critically damped suspension
-constexpr int kIterations = 6;         // sequential-impulse passes over the wheels per substep
+constexpr int kIterations = 6;         // sequential-impulse passes over the wheels per substep, at most
+constexpr double kConvergedImpulse = 1e-9;  // [N s] a pass that changes no impulse by more ends them
 constexpr double kVerticalAxis = 0.9;   // |axis . up| above which a continuous joint is a caster swivel
 // The suspension is integrated implicitly (stable at any substep); substeps of at most this fraction of its
 // period over 2 pi keep it as springy and damped as it is meant to be.
@@ -326,11 +327,11 @@ void RaycastRobot::beforeSubstep(double substep) {
   pressWheels(root);
   linear_velocity_ = fromBullet(chassis_->getLinearVelocity());  // the passes work on a copy, kept in Eigen
   angular_velocity_ = fromBullet(chassis_->getAngularVelocity());
+  warmStart();
   for (int pass = 0; pass < kIterations; ++pass) {
-    for (size_t w = 0; w < wheels_.size(); ++w) {
-      supportWheel(w);
-      driveWheel(w);
-    }
+    double largest = 0;  // [N s] the largest change of any impulse in this pass
+    for (size_t w = 0; w < wheels_.size(); ++w) largest = std::max({largest, supportWheel(w), driveWheel(w)});
+    if (largest < kConvergedImpulse) break;
   }
   chassis_->setLinearVelocity(toBullet(linear_velocity_));
   chassis_->setAngularVelocity(toBullet(angular_velocity_));
@@ -397,7 +398,10 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     const double stiffness = dt_ * springs_[w] + dampers_[w];
     Wheel& wheel = wheels_[w];
     Contact& contact = contacts_[w];
+    const Contact last = contact;
     contact = Contact{};
+    const double budget = std::max(wheel.max_torque, 0.0) * dt_;
+    contact.motor_impulse = std::clamp(last.motor_impulse, -budget, budget);
     const double compression = wheel.radius - ray_hits_[w];
     if (!(compression > 0)) continue;  // in the air (a miss is +inf)
     if (ray_normals_[w].dot(up) < std::cos(kSteepestGround)) continue;  // a wall carries no wheel
@@ -409,8 +413,13 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     contact.normal = row(offset, up);
     contact.soft_mass = 1 / (contact.normal.inverse_mass + contact.softness);
     contact.normal_mass = 1 / contact.normal.inverse_mass;
+    if (last.on_ground) contact.normal_impulse = last.normal_impulse;
     contact.grips = !wheel.caster;
     if (!contact.grips) continue;
+    if (last.grips) {
+      contact.forward_impulse = last.forward_impulse;
+      contact.lateral_impulse = last.lateral_impulse;
+    }
     const Eigen::Vector3d axis = root.linear() * (hub_in_root_[w].linear() * joints_[wheel.joint].spec->axis);
     const Eigen::Vector3d forward = axis.cross(up).normalized();  // where a positive spin rolls the wheel
     contact.forward = row(offset, forward);
@@ -425,34 +434,52 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
   }
 }
 
-void RaycastRobot::supportWheel(size_t w) {
+void RaycastRobot::warmStart() {
+  for (size_t w = 0; w < wheels_.size(); ++w) {
+    const Contact& contact = contacts_[w];
+    const Wheel& wheel = wheels_[w];
+    // The motor turns the wheel; the rim's forward friction turns it back.
+    joints_[wheel.joint].velocity +=
+        (contact.motor_impulse - wheel.radius * contact.forward_impulse) * wheel.inverse_inertia;
+    if (contact.on_ground) push(contact.normal, contact.normal_impulse);
+    if (!contact.grips) continue;
+    push(contact.forward, contact.forward_impulse);
+    push(contact.lateral, contact.lateral_impulse);
+  }
+}
+
+double RaycastRobot::supportWheel(size_t w) {
   Contact& contact = contacts_[w];
-  if (!contact.on_ground) return;
+  if (!contact.on_ground) return 0;
   // How fast the wheel separates from the ground at the substep's end, gravity included (Bullet adds it next).
   const double separating = velocityAlong(contact.normal) + gravity_speed_;
   const double wanted =
       contact.normal_impulse +
       (contact.bias - separating - contact.softness * contact.normal_impulse) * contact.soft_mass;
-  // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed.
-  const double most =
-      contact.normal_impulse + std::max(0.0, kMaxSeparatingSpeed - separating) * contact.normal_mass;
+  // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed: at most the impulse that
+  // leaves it separating at that speed, less than the one it has when it separates faster (a warm start's).
+  const double most = contact.normal_impulse + (kMaxSeparatingSpeed - separating) * contact.normal_mass;
   const double total = std::clamp(wanted, 0.0, std::max(most, 0.0));
   push(contact.normal, total - contact.normal_impulse);
+  const double change = std::abs(total - contact.normal_impulse);
   contact.normal_impulse = total;
+  return change;
 }
 
-void RaycastRobot::driveWheel(size_t w) {
+double RaycastRobot::driveWheel(size_t w) {
   Contact& contact = contacts_[w];
   Wheel& wheel = wheels_[w];
   Joint& joint = joints_[wheel.joint];
   const double budget = wheel.max_torque * dt_;
+  double motor_change = 0;
   if (wheel.max_torque > 0) {
     const double wanted = contact.motor_impulse + (wheel.spin_target - joint.velocity) * wheel.inertia;
     const double total = std::clamp(wanted, -budget, budget);
+    motor_change = std::abs(total - contact.motor_impulse);
     joint.velocity += (total - contact.motor_impulse) * wheel.inverse_inertia;
     contact.motor_impulse = total;
   }
-  if (!contact.grips) return;
+  if (!contact.grips) return motor_change;
   // Slip of the chassis over the rim, and the impulses that would cancel it (the rim shares the forward one).
   const double forward_slip = velocityAlong(contact.forward) - joint.velocity * wheel.radius;
   const double lateral_slip = velocityAlong(contact.lateral);
@@ -475,6 +502,7 @@ void RaycastRobot::driveWheel(size_t w) {
       held ? std::clamp(contact.motor_impulse + reaction, -budget, budget) : contact.motor_impulse;
   joint.velocity -= (reaction - (motor - contact.motor_impulse)) * wheel.inverse_inertia;
   contact.motor_impulse = motor;
+  return std::max({motor_change, std::abs(change.x()), std::abs(change.y())});
 }
 
 void RaycastRobot::followLeaders() {
@@ -534,7 +562,12 @@ void RaycastRobot::setJointPositions(const JointPositions& joints) {
   hubs_stale_ = frames_stale_ = true;
 }
 
-void RaycastRobot::setStepSize(double step_size) { dt_ = step_size; }
+void RaycastRobot::setStepSize(double step_size) {
+  if (step_size != dt_) {  // impulses scale with the substep: the next one starts afresh
+    for (auto& contact : contacts_) contact = Contact{};
+  }
+  dt_ = step_size;
+}
 
 int RaycastRobot::jointIndex(const std::string& joint) const {
   const auto found = joint_index_.find(joint);

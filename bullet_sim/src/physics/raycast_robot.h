@@ -134,12 +134,14 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   void castWheelRays(const Eigen::Isometry3d& root);
   /// Sets up each wheel's contact with the ground under it.
   void pressWheels(const Eigen::Isometry3d& root);
+  /// Applies the impulses each wheel starts from (the last substep's) to the chassis and the wheels' spin.
+  void warmStart();
   /// One pass of wheel `w`'s spring-damper impulse, solved implicitly.
-  void supportWheel(size_t w);
+  double supportWheel(size_t w);
   /// Caches the root pose after the chassis moved.
   void refreshPose();
   /// One pass of wheel `w`'s motor and friction impulses.
-  void driveWheel(size_t w);
+  double driveWheel(size_t w);
   /// The row along `direction` at `offset` from the chassis's centre of mass, with this step's inertia.
   Row row(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const;
   /// The chassis's velocity along `row` at its point, as the wheels' passes have left it.
