@@ -105,13 +105,23 @@ TEST(Bench, AWatchedRunHasItsPageTakeInFrames) {
   EXPECT_GE(numbers.at("web_viewer_frames_per_run"), 1);
 }
 
+/// `arguments` ending in a folder under a plain file: bench ends with status 1 and names it after `option`.
+void expectNamesAFolderItCannotMake(const std::string& scratch, const std::string& arguments,
+                                    const std::string& option) {
+  const std::string file = scratch + "/a_file";
+  std::ofstream(file) << "not a folder";
+  const test::CommandResult result = test::run(bench(arguments + file + "/pictures"));
+  EXPECT_EQ(result.status, 1);
+  EXPECT_THAT(result.errors, HasSubstr(option + ": cannot make [" + file + "/pictures]"));
+}
+
 // --snapshot makes its folder, as scenario --out does, and names one it cannot make.
 TEST(Bench, AFleetSnapshotMakesItsFolder) {
   char scratch[] = "/tmp/bullet_sim_bench_snapshot_XXXXXX";
   ASSERT_NE(mkdtemp(scratch), nullptr);
   const std::string folder = std::string(scratch) + "/pictures/fleet";
   const std::string fleet = robot() + " --robots 1 --duration 0.1 --repeat 1 --snapshot ";
-  test::CommandResult result = test::run(bench(fleet + folder));
+  const test::CommandResult result = test::run(bench(fleet + folder));
   EXPECT_EQ(result.status, 0) << result.errors;
   for (const char* moment : {"settled", "end"}) {
     for (const char* view : {"top", "corner"}) {
@@ -119,11 +129,7 @@ TEST(Bench, AFleetSnapshotMakesItsFolder) {
       EXPECT_TRUE(std::ifstream(picture).good()) << picture;
     }
   }
-  const std::string file = std::string(scratch) + "/a_file";
-  std::ofstream(file) << "not a folder";
-  result = test::run(bench(fleet + file + "/fleet"));
-  EXPECT_EQ(result.status, 1);
-  EXPECT_THAT(result.errors, HasSubstr("--snapshot: cannot make [" + file + "/fleet]"));
+  expectNamesAFolderItCannotMake(scratch, fleet, "--snapshot");
   test::run("rm -rf " + std::string(scratch));
 }
 
@@ -134,16 +140,12 @@ TEST(Bench, StrikePicturesMakeTheirFolder) {
   const std::string folder = std::string(scratch) + "/pictures/strikes";
   const std::string cell = "--strikes --strike-filter caster_two_wheeler --strike-filter raycast --strike-filter 10ms "
                            "--strike-filter 2m/s --strike-filter panel --strike-render ";
-  test::CommandResult result = test::run(bench(cell + folder));
+  const test::CommandResult result = test::run(bench(cell + folder));
   EXPECT_EQ(result.status, 0) << result.errors;
   const std::string stem = folder + "/caster_two_wheeler_raycast_10ms_2m_s_0deg_panel";
   for (const char* written : {"_end_side.png", "_end_chase.png", "_trail.csv"})
     EXPECT_TRUE(std::ifstream(stem + written).good()) << stem + written;
-  const std::string file = std::string(scratch) + "/a_file";
-  std::ofstream(file) << "not a folder";
-  result = test::run(bench(cell + file + "/strikes"));
-  EXPECT_EQ(result.status, 1);
-  EXPECT_THAT(result.errors, HasSubstr("--strike-render: cannot make [" + file + "/strikes]"));
+  expectNamesAFolderItCannotMake(scratch, cell, "--strike-render");
   test::run("rm -rf " + std::string(scratch));
 }
 

@@ -358,9 +358,8 @@ struct RayCaster::Impl {
 };
 
 // One build thread. The top tree is rebuilt at every step that casts, and each build woke Embree's TBB workers,
-// which then spun on the other core for the next one: a fifth of a core beside one robot, taken from the pool,
-// the node's publishers or the lidar's own run (one wheelchair's RTF with its lidar rose from 87 % to 93 % of
-// its RTF without). Static shapes are built once, at spawn or when the world loads, on the calling thread.
+// which then spun on the other core for the next one, taking it from the pool and the node's other processes
+// (docs/performance.md). Static shapes are built once, at spawn or when the world loads, on the calling thread.
 RayCaster::Impl::Impl() : device(rtcNewDevice("threads=1")) {
   if (!device) throw std::runtime_error("RayCaster: cannot create an Embree device");
   rtcSetDeviceErrorFunction(
