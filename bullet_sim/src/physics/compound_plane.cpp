@@ -78,15 +78,20 @@ void CompoundPlaneAlgorithm::restart(const btCompoundShape& compound) {
   order_.clear();
   for (const int index : indices) {
     const btCollisionShape& shape = *compound.getChildShape(index);
-    Child child{index, shape.isConvex(), btVector3(0, 0, 0), 0};
+    Child child{index, shape.isConvex(), btVector3(0, 0, 0), 0, false};
     shape.getBoundingSphere(child.centre, child.radius);
     order_.push_back(child);
   }
   revision_ = compound.getUpdateRevision();
 }
 
-/// What every child of the compound meets in one call: the plane, and what the compound's body can close.
+/// What every child of the compound meets in one call: the plane, and what the compound's body can close. The
+/// plane and the body's motion are also kept in the compound's frame, where each child is placed: a child's
+/// tests then take its own transform only.
 struct CompoundPlaneAlgorithm::Meeting {
+  Meeting(const btCollisionObjectWrapper& compound, const btCollisionObjectWrapper& plane,
+          const btDispatcherInfo& info, btManifoldResult& result, const btRigidBody* body);
+
   const btCollisionObjectWrapper& compound;
   const btCollisionObjectWrapper& plane;
   const WorldPlane surface;
@@ -95,9 +100,29 @@ struct CompoundPlaneAlgorithm::Meeting {
   /// The compound's rigid body, whose children may be out of reach: null for a multibody link (its velocity
   /// is its multibody's to tell), or where far children are never skipped.
   const btRigidBody* body;
-  double turning;  ///< [rad/s] the body's angular speed
-  double gravity;  ///< [m/s^2] on the body
+  double turning = 0;  ///< [rad/s] the body's angular speed
+  double gravity = 0;  ///< [m/s^2] on the body
+  btVector3 up;        ///< the plane's normal, in the compound's frame
+  btScalar height;     ///< [m] of the compound's origin over the plane
+  // With a body: its velocity at the compound's origin and its angular velocity, in the compound's frame.
+  btVector3 linear{0, 0, 0};
+  btVector3 angular{0, 0, 0};
 };
+
+CompoundPlaneAlgorithm::Meeting::Meeting(const btCollisionObjectWrapper& compound_in,
+                                         const btCollisionObjectWrapper& plane_in, const btDispatcherInfo& info_in,
+                                         btManifoldResult& result_in, const btRigidBody* body_in)
+    : compound(compound_in), plane(plane_in), surface(worldPlane(plane_in)), info(info_in), result(result_in),
+      body(body_in) {
+  const btTransform& pose = compound.getWorldTransform();
+  up = surface.normal * pose.getBasis();
+  height = surface.normal.dot(pose.getOrigin() - surface.point);
+  if (!body) return;
+  turning = body->getAngularVelocity().length();
+  gravity = body->getGravity().length();
+  linear = body->getVelocityInLocalPoint(pose.getOrigin() - body->getCenterOfMassPosition()) * pose.getBasis();
+  angular = body->getAngularVelocity() * pose.getBasis();
+}
 
 void CompoundPlaneAlgorithm::refreshManifolds(btManifoldResult& result) {
   for (int m = 0; m < manifolds_.size(); ++m) {
@@ -125,14 +150,7 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
     }
   }
   const btRigidBody* body = skips_far_children_ ? btRigidBody::upcast(compound.getCollisionObject()) : nullptr;
-  const Meeting meeting{compound,
-                        plane,
-                        worldPlane(plane),
-                        info,
-                        *result,
-                        body,
-                        body ? body->getAngularVelocity().length() : 0.0,
-                        body ? body->getGravity().length() : 0.0};
+  const Meeting meeting(compound, plane, info, *result, body);
   for (const Child& child : order_) processChild(child, meeting);
   // Bullet would now free the algorithms of children outside the plane's bounds: there are none.
 }
@@ -149,27 +167,23 @@ bool CompoundPlaneAlgorithm::sphereBeyond(const Child& child, const Meeting& mee
   // likewise.
   const btScalar reach = breaking_threshold + meeting.result.m_closestPointDistanceThreshold;
   // The child's transform as it is now: a kinematic joint moves a rim without a new revision of the compound.
-  const btVector3 centre = meeting.compound.getWorldTransform() *
-                           (compoundOf(meeting.compound).getChildTransform(child.index) * child.centre);
-  return meeting.surface.normal.dot(centre - meeting.surface.point) - child.radius > reach + kRoundingSlack;
+  const btVector3 centre = compoundOf(meeting.compound).getChildTransform(child.index) * child.centre;
+  return meeting.up.dot(centre) + meeting.height - child.radius > reach + kRoundingSlack;
 }
 
 bool CompoundPlaneAlgorithm::outOfReach(const Child& child, const Meeting& meeting) const {
   if (!child.convex || !meeting.body) return false;
   const btCompoundShape& shape = compoundOf(meeting.compound);
-  const btTransform& body_pose = meeting.compound.getWorldTransform();
   const btTransform& placed = shape.getChildTransform(child.index);
   const auto& convex = *static_cast<const btConvexShape*>(shape.getChildShape(child.index));
-  const btVector3& up = meeting.surface.normal;
-  const btVector3 down = (-up * body_pose.getBasis()) * placed.getBasis();  // in the child's frame
-  const btVector3 lowest = body_pose * (placed * convex.localGetSupportingVertex(down));
-  const btRigidBody& body = *meeting.body;
-  const btVector3 velocity = body.getVelocityInLocalPoint(lowest - body.getCenterOfMassPosition());
+  const btVector3 down = -meeting.up * placed.getBasis();  // in the child's frame
+  const btVector3 lowest = placed * convex.localGetSupportingVertex(down);  // in the compound's frame
+  const btVector3 velocity = meeting.linear + meeting.angular.cross(lowest);
   // Every point of the child lies within its sphere's diameter of the lowest: turning, none approaches faster
   // by more than that.
   const double approach =
-      std::max(0.0, -static_cast<double>(velocity.dot(up))) + meeting.turning * 2 * child.radius;
-  const double gap = up.dot(lowest - meeting.surface.point);
+      std::max(0.0, -static_cast<double>(velocity.dot(meeting.up))) + meeting.turning * 2 * child.radius;
+  const double gap = meeting.up.dot(lowest) + meeting.height;
   return gap > reachableGap(approach, meeting.gravity, meeting.info.m_timeStep) + kRoundingSlack;
 }
 
@@ -192,7 +206,16 @@ bool CompoundPlaneAlgorithm::readyToMeet(const Child& child, btCollisionAlgorith
 
 bool CompoundPlaneAlgorithm::staysAway(const Child& child, const Meeting& meeting) const {
   if (!meeting.body || !child.convex || breaking_threshold_ < 0) return false;
-  return sphereBeyond(child, meeting, breaking_threshold_) || outOfReach(child, meeting);
+  // Either test skips the child. A rim its spring holds over the ground reaches the plane with its sphere,
+  // substep after substep, but not within the substep: the test that skipped it last goes first.
+  if (child.sphere_reaches && outOfReach(child, meeting)) return true;
+  const bool reaches = !sphereBeyond(child, meeting, breaking_threshold_);
+  if (!reaches || child.sphere_reaches) {
+    child.sphere_reaches = reaches;
+    return !reaches;
+  }
+  child.sphere_reaches = true;
+  return outOfReach(child, meeting);
 }
 
 void CompoundPlaneAlgorithm::processChild(const Child& child, const Meeting& meeting) {

@@ -64,6 +64,8 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
     bool convex;       ///< met by Bullet's convex-plane algorithm or ours for cylinders: one manifold, no state
     btVector3 centre;  ///< of a sphere about it, margin included, in its own frame
     btScalar radius;   ///< taken when the pair is made: a child's shape must not grow after
+    /// Its sphere reached the plane when last tested (staysAway): it tests whether it is out of reach first.
+    mutable bool sphere_reaches;
   };
   /// Frees the children's algorithms and takes the order of the compound's tree afresh.
   void restart(const btCompoundShape& compound);
