@@ -353,14 +353,14 @@ TEST(RayCasterTest, IgnoredBodyEnclosingTheOriginIsSkipped) {
                                         box({0.1, 4, 2}, translation(-3.05, 0, 0))};
   const Eigen::Isometry3d link_pose = translation(0, 0, 0.4);
   const Eigen::Vector3d origin(0, 0, 0.4);
-  // Moving bodies ignored by their own mask bit until the 31 bits run out, by the filter after that.
-  enum class Link { kMoving, kMovingWithoutMaskBit, kStatic };
-  for (const Link kind : {Link::kMoving, Link::kMovingWithoutMaskBit, Link::kStatic}) {
+  // Moving bodies ignored by a mask of their own until the 4,495 masks run out, by the filter after that.
+  enum class Link { kMoving, kMovingWithoutMask, kStatic };
+  for (const Link kind : {Link::kMoving, Link::kMovingWithoutMask, Link::kStatic}) {
     SCOPED_TRACE(static_cast<int>(kind));
     RayCaster caster;
     const BodyId walls_id = caster.addBody(walls, Eigen::Isometry3d::Identity(), true);
-    if (kind == Link::kMovingWithoutMaskBit) {
-      for (int i = 0; i < 31; ++i) caster.addBody(link, translation(10, 10 + i, 0), false);
+    if (kind == Link::kMovingWithoutMask) {
+      for (int i = 0; i < 4495; ++i) caster.addBody(link, translation(10, 10 + i, 0), false);
     }
     const BodyId link_id = caster.addBody(link, link_pose, kind == Link::kStatic);
     caster.commit();
@@ -372,6 +372,30 @@ TEST(RayCasterTest, IgnoredBodyEnclosingTheOriginIsSkipped) {
     EXPECT_NEAR(castOne(caster, origin, -Eigen::Vector3d::UnitX(), kMaxRange, link_id), 3, kBoxTolerance);
     EXPECT_EQ(castOne(caster, origin, Eigen::Vector3d::UnitZ(), kMaxRange, link_id), kInf);
   }
+}
+
+TEST(RayCasterTest, IgnoringOneMovingBodyHidesNoOther) {
+  // Forty plates 0.1 m thick across the x axis, 1 m apart, the first at x = 0: masks of three bits each, most
+  // sharing two with the next. A ray from inside plate k that ignores it meets plate k + 1 at 0.95 m.
+  RayCaster caster;
+  std::vector<BodyId> plates;
+  for (int k = 0; k < 40; ++k)
+    plates.push_back(caster.addBody({box({0.1, 1, 1}, Eigen::Isometry3d::Identity())}, translation(k, 0, 0), false));
+  caster.commit();
+  for (int k = 0; k + 1 < 40; ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_NEAR(castOne(caster, Eigen::Vector3d(k, 0, 0), Eigen::Vector3d::UnitX(), kMaxRange, plates[k]), 0.95,
+                kBoxTolerance);
+  }
+  // A removed plate's mask goes to the next body added, which is then ignored alone as well.
+  caster.removeBody(plates[5]);
+  const BodyId replacement =
+      caster.addBody({box({0.1, 1, 1}, Eigen::Isometry3d::Identity())}, translation(5, 0, 0), false);
+  caster.commit();
+  EXPECT_NEAR(castOne(caster, Eigen::Vector3d(5, 0, 0), Eigen::Vector3d::UnitX(), kMaxRange, replacement), 0.95,
+              kBoxTolerance);
+  EXPECT_NEAR(castOne(caster, Eigen::Vector3d(4, 0, 0), Eigen::Vector3d::UnitX(), kMaxRange, plates[4]), 0.95,
+              kBoxTolerance);
 }
 
 TEST(RayCasterTest, MovedBodyIsHitAtItsNewPoseAfterCommit) {

@@ -30,9 +30,40 @@ using GeometryHandle = std::unique_ptr<RTCGeometryTy, ReleaseGeometry>;
 constexpr double kPlaneRadius = 1e6;
 /// Rays per rtcIntersect16 packet.
 constexpr size_t kPacketSize = 16;
-/// The geometry mask bit of everything without a mask bit of its own (static bodies, and moving bodies beyond
-/// the 31 that get one). Rays always include it.
-constexpr unsigned kSharedMaskBit = 1;
+/// The geometry mask of everything without a mask of its own (static bodies, and moving bodies beyond the
+/// MaskPool's). Rays always include it.
+constexpr unsigned kSharedMask = 1;
+
+/// Gives each moving body a mask of its own: three of the 31 bits besides kSharedMask's. A ray that ignores
+/// a body clears that body's three bits, and Embree skips the instances whose mask has no bit left in the
+/// ray's. Every body has three bits and no two the same three, so that skips the ignored body alone. 4,495
+/// bodies get one (a mask of a bit each ran out at 31, six robots' parts).
+class MaskPool {
+ public:
+  /// A mask of its own, or kSharedMask once every one is taken.
+  unsigned take() {
+    if (!released_.empty()) {
+      const unsigned mask = released_.back();
+      released_.pop_back();
+      return mask;
+    }
+    if (next_ >= kEnd) return kSharedMask;
+    const unsigned mask = next_ << 1;  // above kSharedMask's bit
+    // The next larger number with as many bits set (Gosper's hack).
+    const unsigned lowest = next_ & -next_;
+    const unsigned carried = next_ + lowest;
+    next_ = carried | (((next_ ^ carried) >> 2) / lowest);
+    return mask;
+  }
+  void give(unsigned mask) {
+    if (mask != kSharedMask) released_.push_back(mask);
+  }
+
+ private:
+  static constexpr unsigned kEnd = 1u << 31;  ///< the three bits are taken from 31
+  unsigned next_ = 0b111;
+  std::vector<unsigned> released_;
+};
 
 /// A sphere, cylinder or plane, intersected in double precision: a sphere or cylinder in its own frame, a
 /// plane in the frame. "The frame" is the body frame for a moving body and the world frame for a static one.
@@ -323,7 +354,7 @@ struct Body {
   SceneHandle scene;
   GeometryHandle instance;  ///< of `scene`, in the top scene
   unsigned instance_id = RTC_INVALID_GEOMETRY_ID;
-  unsigned mask_bit = kSharedMaskBit;  ///< the instance's geometry mask
+  unsigned mask = kSharedMask;  ///< the instance's geometry mask
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   bool pose_changed = false;
 };
@@ -349,7 +380,7 @@ struct RayCaster::Impl {
   SceneHandle top;      ///< the static scene once plus one instance per moving body
   unsigned statics_instance_id = RTC_INVALID_GEOMETRY_ID;
   std::vector<std::unique_ptr<Body>> bodies;  ///< indexed by BodyId; null once removed
-  unsigned free_mask_bits = ~kSharedMaskBit;  ///< for moving bodies
+  MaskPool masks;  ///< for moving bodies
   bool statics_changed = false;
   /// When every static shape is a plane (empty.world's ground): them, which castStatic meets without Embree.
   std::optional<std::vector<const AnalyticShape*>> static_planes;
@@ -372,7 +403,7 @@ RayCaster::Impl::Impl() : device(rtcNewDevice("threads=1")) {
   top = newScene(device.get(), RTC_BUILD_QUALITY_LOW, RTC_SCENE_FLAG_DYNAMIC);
   const GeometryHandle instance(rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_INSTANCE));
   rtcSetGeometryInstancedScene(instance.get(), statics.get());
-  rtcSetGeometryMask(instance.get(), kSharedMaskBit);
+  rtcSetGeometryMask(instance.get(), kSharedMask);
   setInstanceTransform(instance.get(), Eigen::Isometry3d::Identity());
   statics_instance_id = rtcAttachGeometry(top.get(), instance.get());
   rtcCommitScene(top.get());
@@ -459,11 +490,8 @@ BodyId RayCaster::addBody(const std::vector<Collision>& shapes, const Eigen::Iso
     rtcCommitScene(body->scene.get());
     body->instance.reset(rtcNewGeometry(impl.device.get(), RTC_GEOMETRY_TYPE_INSTANCE));
     rtcSetGeometryInstancedScene(body->instance.get(), body->scene.get());
-    if (impl.free_mask_bits != 0) {
-      body->mask_bit = impl.free_mask_bits & -impl.free_mask_bits;  // the lowest free bit
-      impl.free_mask_bits &= ~body->mask_bit;
-    }
-    rtcSetGeometryMask(body->instance.get(), body->mask_bit);
+    body->mask = impl.masks.take();
+    rtcSetGeometryMask(body->instance.get(), body->mask);
     setInstanceTransform(body->instance.get(), pose);
     body->pose = pose;
     body->instance_id = rtcAttachGeometry(impl.top.get(), body->instance.get());
@@ -484,7 +512,7 @@ void RayCaster::removeBody(BodyId id) {
     impl.statics_changed = true;
   } else {
     rtcDetachGeometry(impl.top.get(), body.instance_id);
-    if (body.mask_bit != kSharedMaskBit) impl.free_mask_bits |= body.mask_bit;
+    impl.masks.give(body.mask);
   }
   impl.bodies[id].reset();
   impl.bodies_added_or_removed = true;
@@ -558,12 +586,13 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   unsigned ray_mask = ~0u;
   if (ignore != kNoBody) {
-    // A body with its own mask bit is skipped by the ray mask at no cost. Masks have too few bits for every
-    // body, though, so the others are skipped by a filter on the context. The filter runs on every candidate
-    // hit, and a sensor inside the ignored body makes one per ray: a lidar on a robot cast 1.5x slower so.
+    // A body with a mask of its own is skipped by the ray mask at no cost. The others (static bodies, and
+    // moving ones once the MaskPool ran out) are skipped by a filter on the context. The filter runs on every
+    // candidate hit, and a sensor inside the ignored body makes one per ray: a lidar on a robot cast 1.5x
+    // slower so.
     const Body& body = impl.body(ignore, "RayCaster::cast");
-    if (body.mask_bit != kSharedMaskBit) {
-      ray_mask = ~body.mask_bit;
+    if (body.mask != kSharedMask) {
+      ray_mask = ~body.mask;
     } else {
       context.ignored =
           body.is_static ? IgnoredBody{impl.statics_instance_id, false, body.triangles_id, body.analytic_id}
