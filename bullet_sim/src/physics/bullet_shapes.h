@@ -20,6 +20,13 @@ inline btTransform toBullet(const Eigen::Isometry3d& pose) {
   return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), toBullet(pose.translation()));
 }
 
+/// The pose's rotation matrix as it is (no round trip through a quaternion).
+inline btTransform toBulletExactly(const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d& r = pose.linear();
+  return btTransform(btMatrix3x3(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)),
+                     toBullet(pose.translation()));
+}
+
 /// Bullet's own rotation matrix, as it is (no round trip through a quaternion).
 inline Eigen::Isometry3d fromBullet(const btTransform& pose) {
   Eigen::Isometry3d result;

@@ -118,7 +118,7 @@ RaycastRobot::~RaycastRobot() {
 int RaycastRobot::linkIndex(const std::string& link) const { return link_index_.at(link); }
 
 Eigen::Isometry3d RaycastRobot::rootPose() const {
-  return fromBullet(chassis_->getWorldTransform()) * body_to_root_;
+  return fromBullet(chassis_->getWorldTransform() * body_to_root_bullet_);  // Bullet's product inlines
 }
 
 void RaycastRobot::buildWheels() {
@@ -167,6 +167,7 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   Eigen::Vector3d moments;
   root_to_body_ = mass.principalFrame(&moments);
   body_to_root_ = root_to_body_.inverse();
+  body_to_root_bullet_ = toBulletExactly(body_to_root_);
 
   // The chassis collides with everything but the wheels, which are rays. Its bounds lie along the root link.
   btCompoundShape* compound = shapes_->makeCompound(toBullet(body_to_root_));
