@@ -104,9 +104,8 @@ struct CompoundPlaneAlgorithm::Meeting {
   double gravity = 0;  ///< [m/s^2] on the body
   btVector3 up;        ///< the plane's normal, in the compound's frame
   btScalar height;     ///< [m] of the compound's origin over the plane
-  // With a body: its velocity at the compound's origin and its angular velocity, in the compound's frame.
-  btVector3 linear{0, 0, 0};
-  btVector3 angular{0, 0, 0};
+  btVector3 linear{0, 0, 0};   ///< [m/s] with a body: its velocity at the compound's origin, in its frame
+  btVector3 angular{0, 0, 0};  ///< [rad/s] with a body: its angular velocity, in the compound's frame
 };
 
 CompoundPlaneAlgorithm::Meeting::Meeting(const btCollisionObjectWrapper& compound_in,
@@ -207,7 +206,8 @@ bool CompoundPlaneAlgorithm::readyToMeet(const Child& child, btCollisionAlgorith
 bool CompoundPlaneAlgorithm::staysAway(const Child& child, const Meeting& meeting) const {
   if (!meeting.body || !child.convex || breaking_threshold_ < 0) return false;
   // Either test skips the child. A rim its spring holds over the ground reaches the plane with its sphere,
-  // substep after substep, but not within the substep: the test that skipped it last goes first.
+  // substep after substep, but not within the substep: a child whose sphere reached the plane when last
+  // tested is tested for being out of reach first.
   if (child.sphere_reaches && outOfReach(child, meeting)) return true;
   const bool reaches = !sphereBeyond(child, meeting, breaking_threshold_);
   if (!reaches || child.sphere_reaches) {

@@ -180,7 +180,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   std::vector<double> dampers_;     ///< [N s/m] per wheel
   Eigen::Isometry3d root_to_body_;  ///< the chassis body's frame (com, principal axes) in the root link frame
   Eigen::Isometry3d body_to_root_;  ///< its inverse
-  btTransform body_to_root_bullet_;  ///< the same
+  btTransform body_to_root_bullet_;  ///< body_to_root_, for Bullet's products
   mutable std::vector<Eigen::Isometry3d> link_in_root_;
   mutable bool frames_stale_ = true;
   /// Per link: it is in the root's part (only fixed joints join it to the root), so its frame in the root's
