@@ -208,14 +208,11 @@ bool CompoundPlaneAlgorithm::staysAway(const Child& child, const Meeting& meetin
   // Either test skips the child. A rim its spring holds over the ground reaches the plane with its sphere,
   // substep after substep, but not within the substep: a child whose sphere reached the plane when last
   // tested is tested for being out of reach first.
-  if (child.sphere_reaches && outOfReach(child, meeting)) return true;
-  const bool reaches = !sphereBeyond(child, meeting, breaking_threshold_);
-  if (!reaches || child.sphere_reaches) {
-    child.sphere_reaches = reaches;
-    return !reaches;
-  }
-  child.sphere_reaches = true;
-  return outOfReach(child, meeting);
+  const bool tested_reach = child.sphere_reaches;
+  if (tested_reach && outOfReach(child, meeting)) return true;
+  child.sphere_reaches = !sphereBeyond(child, meeting, breaking_threshold_);
+  if (!child.sphere_reaches) return true;
+  return !tested_reach && outOfReach(child, meeting);
 }
 
 void CompoundPlaneAlgorithm::processChild(const Child& child, const Meeting& meeting) {

@@ -37,7 +37,7 @@ constexpr unsigned kSharedMask = 1;
 /// Gives each moving body a mask of its own: three of the 31 bits besides kSharedMask's. A ray that ignores
 /// a body clears that body's three bits, and Embree skips the instances whose mask has no bit left in the
 /// ray's. Every body has three bits and no two the same three, so that skips the ignored body alone. 4,495
-/// bodies get one (a mask of a bit each ran out at 31, six robots' parts).
+/// bodies get one.
 class MaskPool {
  public:
   /// A mask of its own, or kSharedMask once every one is taken.
