@@ -1,7 +1,10 @@
 // Bodies at rest sleep as Gazebo's do (ODE's auto-disable: 1 s under 0.1 m/s and 0.1 rad/s; only models
 // without joints, sensors or plugins, and not when <allow_auto_disable> is false), and whatever reaches a
 // sleeper wakes it: a wrench, a teleport, a contact, the body under it removed or moved, gravity changed;
-// what does not reach it (a body removed far away) leaves it asleep.
+// what does not reach it (a body removed far away) leaves it asleep. Before it sleeps, a body at rest costs
+// the solver one iteration a step.
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <gtest/gtest.h>
 
 #include "bullet_sim/simulation/world_api.h"
@@ -67,6 +70,34 @@ TEST(Sleeping, ACrateAtRestSleepsAfterOneSecondAndStaysWhereItWas) {
   stepFor(simulation, 0.3);
   EXPECT_TRUE(sleeping(simulation, "crate"));
   EXPECT_NEAR(heightOf(world, "crate"), kSide / 2, 1e-3);
+}
+
+/// The normal impulses [N s] the crate took from the ground in the last step's solve.
+double groundImpulse(Simulation& simulation) {
+  btDispatcher& dispatcher = *simulation.physics().bullet().getDispatcher();
+  double impulse = 0;
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
+    for (int p = 0; p < manifold.getNumContacts(); ++p) impulse += manifold.getContactPoint(p).m_appliedImpulse;
+  }
+  return impulse;
+}
+
+TEST(Sleeping, ACrateAtRestCostsTheSolverOneIterationAStepUntilItSleeps) {
+  Simulation simulation(test::emptyWorld());
+  spawnCrate(simulation, "crate", 0, kSide / 2);
+  stepFor(simulation, 0.3);  // settled: it was spawned touching the ground
+  const auto& solver =
+      dynamic_cast<const btSequentialImpulseConstraintSolver&>(*simulation.physics().bullet().getConstraintSolver());
+  while (simulation.time() < 0.9) {  // Gazebo waits 1 s at rest
+    simulation.step();
+    SCOPED_TRACE(simulation.time());
+    ASSERT_FALSE(sleeping(simulation, "crate"));
+    // Started from the last step's impulses, in full, the solve finds them unchanged at once: the ground
+    // carries the crate's weight over the step.
+    ASSERT_EQ(solver.m_analyticsData.m_numIterationsUsed, 1);
+    ASSERT_NEAR(groundImpulse(simulation), kMass * kGravity * simulation.stepSize(), 1e-6);
+  }
 }
 
 TEST(Sleeping, AWrenchWakesASleeperAndMovesItByNewtonsLaw) {
