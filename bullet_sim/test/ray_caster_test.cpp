@@ -378,23 +378,24 @@ TEST(RayCasterTest, IgnoringOneMovingBodyHidesNoOther) {
   // Forty plates 0.1 m thick across the x axis, 1 m apart, the first at x = 0: masks of three bits each, most
   // sharing two with the next. A ray from inside plate k that ignores it meets the plate beyond it, either
   // way, at 0.95 m.
+  const std::vector<Collision> plate = {box({0.1, 1, 1}, Eigen::Isometry3d::Identity())};
   RayCaster caster;
   std::vector<BodyId> plates;
-  for (int k = 0; k < 40; ++k)
-    plates.push_back(caster.addBody({box({0.1, 1, 1}, Eigen::Isometry3d::Identity())}, translation(k, 0, 0), false));
+  for (int k = 0; k < 40; ++k) plates.push_back(caster.addBody(plate, translation(k, 0, 0), false));
   caster.commit();
   for (int k = 0; k < 40; ++k) {
     SCOPED_TRACE(k);
     const Eigen::Vector3d inside(k, 0, 0);
-    if (k + 1 < 40)
+    if (k + 1 < 40) {
       EXPECT_NEAR(castOne(caster, inside, Eigen::Vector3d::UnitX(), kMaxRange, plates[k]), 0.95, kBoxTolerance);
-    if (k > 0)
+    }
+    if (k > 0) {
       EXPECT_NEAR(castOne(caster, inside, -Eigen::Vector3d::UnitX(), kMaxRange, plates[k]), 0.95, kBoxTolerance);
+    }
   }
   // A body added where a plate was removed (it takes the freed mask) is ignored alone as well.
   caster.removeBody(plates[5]);
-  const BodyId replacement =
-      caster.addBody({box({0.1, 1, 1}, Eigen::Isometry3d::Identity())}, translation(5, 0, 0), false);
+  const BodyId replacement = caster.addBody(plate, translation(5, 0, 0), false);
   caster.commit();
   EXPECT_NEAR(castOne(caster, Eigen::Vector3d(5, 0, 0), Eigen::Vector3d::UnitX(), kMaxRange, replacement), 0.95,
               kBoxTolerance);

@@ -94,7 +94,6 @@ struct CompoundPlaneAlgorithm::Meeting {
 
   const btCollisionObjectWrapper& compound;
   const btCollisionObjectWrapper& plane;
-  const WorldPlane surface;
   const btDispatcherInfo& info;
   btManifoldResult& result;
   /// The compound's rigid body, whose children may be out of reach: null for a multibody link (its velocity
@@ -111,8 +110,8 @@ struct CompoundPlaneAlgorithm::Meeting {
 CompoundPlaneAlgorithm::Meeting::Meeting(const btCollisionObjectWrapper& compound_in,
                                          const btCollisionObjectWrapper& plane_in, const btDispatcherInfo& info_in,
                                          btManifoldResult& result_in, const btRigidBody* body_in)
-    : compound(compound_in), plane(plane_in), surface(worldPlane(plane_in)), info(info_in), result(result_in),
-      body(body_in) {
+    : compound(compound_in), plane(plane_in), info(info_in), result(result_in), body(body_in) {
+  const WorldPlane surface = worldPlane(plane);
   const btTransform& pose = compound.getWorldTransform();
   up = surface.normal * pose.getBasis();
   height = surface.normal.dot(pose.getOrigin() - surface.point);
@@ -208,11 +207,11 @@ bool CompoundPlaneAlgorithm::staysAway(const Child& child, const Meeting& meetin
   // Either test skips the child. A rim its spring holds over the ground reaches the plane with its sphere,
   // substep after substep, but not within the substep: a child whose sphere reached the plane when last
   // tested is tested for being out of reach first.
-  const bool tested_reach = child.sphere_reaches;
-  if (tested_reach && outOfReach(child, meeting)) return true;
+  const bool reach_tested_first = child.sphere_reaches;
+  if (reach_tested_first && outOfReach(child, meeting)) return true;
   child.sphere_reaches = !sphereBeyond(child, meeting, breaking_threshold_);
   if (!child.sphere_reaches) return true;
-  return !tested_reach && outOfReach(child, meeting);
+  return !reach_tested_first && outOfReach(child, meeting);
 }
 
 void CompoundPlaneAlgorithm::processChild(const Child& child, const Meeting& meeting) {
