@@ -128,7 +128,9 @@ TEST_P(RobotBodyActuation, TheRootVelocityIsSetAndTheRobotMovesRigidlyAtIt) {
   for (const std::string link : {"base_link", "left_wheel", "right_wheel"}) {
     EXPECT_LT((body.linkAngularVelocity(link) - angular).norm(), 1e-9) << link << " turns with the root";
   }
-  if (GetParam() != kRigid) EXPECT_EQ(body.jointVelocity(body.jointIndex("left_wheel_joint")), 0);
+  if (GetParam() != kRigid) {
+    EXPECT_EQ(body.jointVelocity(body.jointIndex("left_wheel_joint")), 0);
+  }
 
   const Eigen::Isometry3d start = body.linkPose("base_footprint");
   body.setRootVelocity(linear, Eigen::Vector3d::Zero());
