@@ -1,4 +1,5 @@
 // The step's pool of threads: every task runs once, whatever the threads; a task's failure reaches the caller.
+// The lane: a job runs on its own thread while the caller goes on, and its failure reaches whoever waits.
 #include <gtest/gtest.h>
 #include <sched.h>
 
@@ -92,6 +93,54 @@ TEST(WorkPool, TakesTheCoresItsThreadMayRunOn) {
   EXPECT_EQ(unpinned, std::min(CPU_COUNT(&all), 4));
   EXPECT_EQ(pinned, 1);
   EXPECT_EQ(defaultPoolThreads(1), 1);
+}
+
+TEST(WorkLane, RunsAJobOnItsOwnThreadWhileTheCallerGoesOn) {
+  WorkLane lane;
+  EXPECT_TRUE(lane.finished());
+  lane.wait();  // nothing started: returns at once
+  std::atomic<bool> release{false};
+  std::thread::id ran_on;
+  lane.start([&] {
+    ran_on = std::this_thread::get_id();
+    for (int i = 0; i < 20000000 && !release; ++i) std::this_thread::yield();  // bounded
+  });
+  EXPECT_FALSE(lane.finished());  // the job waits for the caller, which went on
+  EXPECT_THROW(lane.start([] {}), std::logic_error);
+  release = true;
+  lane.wait();
+  EXPECT_TRUE(lane.finished());
+  EXPECT_NE(ran_on, std::this_thread::get_id());
+  int second = 0;
+  lane.start([&] { second = 2; });  // the same thread takes the next job
+  lane.wait();
+  EXPECT_EQ(second, 2);
+}
+
+TEST(WorkLane, AJobsFailureIsRethrownByWaitOnce) {
+  WorkLane lane;
+  lane.start([] { throw std::runtime_error("the job"); });
+  try {
+    lane.wait();
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "the job");
+  }
+  lane.wait();  // the failure is delivered once
+  lane.start([] {});  // and the lane still works
+  lane.wait();
+}
+
+TEST(WorkLane, ItsDestructorWaitsForTheJob) {
+  std::atomic<int> done{0};
+  {
+    WorkLane lane;
+    lane.start([&] {
+      for (int i = 0; i < 1000; ++i) std::this_thread::yield();
+      ++done;
+    });
+  }
+  EXPECT_EQ(done, 1);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <utility>
 
 namespace bullet_sim {
@@ -79,6 +80,58 @@ void WorkPool::drain() {
     }
     unfinished_ -= end - first;
     if (unfinished_ == 0) done_.notify_all();
+  }
+}
+
+WorkLane::WorkLane() : thread_([this] { work(); }) {}
+
+WorkLane::~WorkLane() {
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return finished(); });
+    stopping_ = true;
+  }
+  wake_.notify_one();
+  thread_.join();
+}
+
+void WorkLane::start(std::function<void()> job) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (started_) throw std::logic_error("WorkLane::start: the last job was not waited for");
+    job_ = std::move(job);
+    started_ = true;
+    failure_ = nullptr;
+    finished_.store(false, std::memory_order_release);
+  }
+  wake_.notify_one();
+}
+
+void WorkLane::wait() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (!started_) return;
+  done_.wait(lock, [this] { return finished(); });
+  started_ = false;
+  if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+}
+
+void WorkLane::work() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [this] { return stopping_ || !finished(); });
+    if (stopping_) return;
+    std::function<void()> job = std::move(job_);
+    lock.unlock();
+    std::exception_ptr failure;
+    try {
+      job();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    lock.lock();
+    failure_ = failure;
+    finished_.store(true, std::memory_order_release);
+    done_.notify_all();
   }
 }
 

@@ -1,9 +1,11 @@
 // A fixed pool of threads that runs independent tasks side by side: a step's (each robot's lidar scans, each
 // robot's wheels) and a spawn's (each mesh's CoACD process). Each task writes only its own results, so the
 // order the threads take them in never shows: whoever merges them does so in task order, and reruns stay
-// bit-identical.
+// bit-identical. A lane runs one job behind the caller's back: a step's scans while the next steps' physics
+// runs.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -51,6 +53,35 @@ class WorkPool {
   size_t failed_task_ = 0;
   std::exception_ptr failure_;
   std::vector<std::thread> workers_;
+};
+
+/// One thread that runs one job at a time while the caller goes on.
+class WorkLane {
+ public:
+  WorkLane();
+  /// Waits for the job, if one runs, and stops the thread.
+  ~WorkLane();
+  WorkLane(const WorkLane&) = delete;
+  WorkLane& operator=(const WorkLane&) = delete;
+
+  /// Starts `job` on the lane's thread. Throws std::logic_error while the last job is not waited for.
+  void start(std::function<void()> job);
+  /// Whether the job started last has ended, so that wait() returns at once.
+  bool finished() const { return finished_.load(std::memory_order_acquire); }
+  /// Waits for the job started last to end, and rethrows what it threw; returns at once without one.
+  void wait();
+
+ private:
+  void work();
+
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::function<void()> job_;
+  bool started_ = false;  ///< a job was started and not yet waited for
+  bool stopping_ = false;
+  std::atomic<bool> finished_{true};
+  std::exception_ptr failure_;
+  std::thread thread_;
 };
 
 /// The threads a simulation's pool takes when not told: the cores the calling thread may run on (its
