@@ -143,6 +143,101 @@ TEST(Simulation, FortyRobotsWhoseWheelWorkIsSharedRerunBitIdentically) {
   EXPECT_EQ(alone.ranges, shared.ranges);
 }
 
+/// Every scan of a fleet as it appears: its robot, its stamp, its ranges and the step after which it appeared.
+struct SeenScan {
+  size_t robot = 0;
+  double stamp = 0;
+  std::vector<float> ranges;
+  uint64_t seen_after = 0;  ///< steps
+  bool operator==(const SeenScan& other) const {  // what was measured, not when it was seen
+    return robot == other.robot && stamp == other.stamp && ranges == other.ranges;
+  }
+};
+
+/// Four wheelchairs driving circles for 2 s, their lidars seeing each other, with the rays cast in lockstep or
+/// behind physics: every scan in the order they appeared, and every link's pose at the end.
+std::pair<std::vector<SeenScan>, std::vector<Eigen::Isometry3d>> scansOfFleet(bool lockstep) {
+  Simulation simulation(test::shippedWorld("empty.world"), {.seed = 3, .lockstep = lockstep});
+  std::vector<Robot*> robots;
+  for (int k = 0; k < 4; ++k) {
+    robots.push_back(&simulation.spawn("chair" + std::to_string(k), test::wheelchair("raycast"),
+                                       {.x = 1.5 * (k % 2), .y = 1.5 * (k / 2), .yaw = 0.5 * k}));
+  }
+  std::vector<SeenScan> scans;
+  std::vector<uint64_t> counted(robots.size(), 0);
+  const auto collect = [&] {
+    for (size_t k = 0; k < robots.size(); ++k) {
+      const Stream<LaserScan>& stream = *robots[k]->outputs<LaserScan>().at(0).stream;
+      if (stream.count() == counted[k]) continue;
+      EXPECT_EQ(stream.count(), counted[k] + 1) << "a scan was overwritten before it was seen";
+      counted[k] = stream.count();
+      scans.push_back({k, stream.latest().stamp, stream.latest().ranges, simulation.steps()});
+    }
+  };
+  for (int step = 0; step < 2000; ++step) {  // 2 s, the commands re-sent at 10 Hz
+    for (size_t k = 0; k < robots.size() && step % 100 == 0; ++k)
+      test::pluginsOf<WheeledDrive>(*robots[k]).at(0)->setCommand(0.3, 0.3 + 0.1 * k, simulation.time());
+    simulation.step();
+    collect();
+  }
+  simulation.finishCasts();
+  collect();
+  std::vector<Eigen::Isometry3d> poses;
+  for (const Robot* robot : robots) {
+    for (const auto& link : robot->body().spec().links) poses.push_back(robot->body().linkPose(link.name));
+  }
+  return {scans, poses};
+}
+
+TEST(Simulation, ScansCastBehindPhysicsAreTheLockstepScansSeenWithinAPeriod) {
+  const auto [in_step, in_step_poses] = scansOfFleet(true);
+  const auto [behind, behind_poses] = scansOfFleet(false);
+  ASSERT_EQ(behind_poses.size(), in_step_poses.size());
+  for (size_t i = 0; i < in_step_poses.size(); ++i)
+    EXPECT_EQ(behind_poses[i].matrix(), in_step_poses[i].matrix()) << "physics is the same";
+  ASSERT_GE(in_step.size(), 4u * 9);  // 2 s of a lidar at 5.5 Hz, each robot's
+  std::vector<SeenScan> sorted = behind;  // seen later, the order of robots may change
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const SeenScan& a, const SeenScan& b) { return a.stamp < b.stamp; });
+  EXPECT_EQ(sorted, in_step);
+  size_t later = 0;
+  for (size_t i = 0; i < in_step.size() && i < sorted.size(); ++i) {
+    const double step = 0.001;
+    const double lag = static_cast<double>(sorted[i].seen_after) * step - sorted[i].stamp;
+    EXPECT_NEAR(static_cast<double>(in_step[i].seen_after) * step, in_step[i].stamp, 1e-9) << "seen at its step";
+    EXPECT_GE(lag, -1e-9);
+    EXPECT_LT(lag, 1 / 5.5) << "seen before the lidar is due again";
+    later += lag > 1e-9;
+  }
+  RecordProperty("scans_seen_after_their_step", static_cast<int>(later));
+}
+
+TEST(Simulation, ScansBehindPhysicsAreDeliveredBeforeTheRaysMoveFromOutside) {
+  Simulation simulation(test::shippedWorld("empty.world"), {.lockstep = false});
+  Robot& mast = simulation.spawn("mast", fixtureRobot("lidar_mast.urdf"), {});
+  const Stream<LaserScan>& scans = *mast.outputs<LaserScan>().at(0).stream;
+  const auto step_to = [&](uint64_t steps) {  // the mast's 10 Hz lidar casts at every 100th step
+    while (simulation.steps() < steps) simulation.step();
+  };
+  const auto ahead = [&] { return scans.latest().ranges[90]; };  // beam 90 of 181 points along +x
+  step_to(100);  // the scan of 0.1 s may still be cast
+  simulation.spawn("chair", test::wheelchair(), {.x = 1.5, .yaw = M_PI / 2});  // joins the ray caster
+  EXPECT_NEAR(scans.latest().stamp, 0.1, 1e-9);
+  EXPECT_FALSE(std::isfinite(ahead())) << "cast before the chair came";
+  step_to(200);
+  EXPECT_TRUE(simulation.remove("chair"));
+  EXPECT_NEAR(scans.latest().stamp, 0.2, 1e-9);
+  EXPECT_GT(ahead(), 1.0) << "cast while the chair was there";
+  EXPECT_LT(ahead(), 1.5);
+  step_to(300);
+  simulation.refreshRays();  // as after a teleport
+  EXPECT_NEAR(scans.latest().stamp, 0.3, 1e-9);
+  EXPECT_FALSE(std::isfinite(ahead())) << "cast after the chair left";
+  step_to(400);
+  simulation.resetWorld();
+  EXPECT_NEAR(scans.latest().stamp, 0.4, 1e-9);
+}
+
 TEST(Simulation, InitialJointPositionsApplyAtSpawnAndAfterAReset) {
   for (const auto& wheel_model : test::kWheelModels) {
     SCOPED_TRACE(wheel_model);

@@ -95,12 +95,24 @@ double RangeSensor::measured(double nearest, double /*sim_time*/) {
   return std::clamp(nearest + gaussian(noise()), config_.rays.range_min, config_.rays.range_max);
 }
 
-void RangeSensor::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
-  if (!timer().due(time)) return;
+void RangeSensor::aimRays(const StepTime& time, const RobotBody& body) {
   const Eigen::Isometry3d sensor = body.linkPose(config_.rays.link) * config_.rays.pose;
   const Eigen::Matrix3f rotation = sensor.linear().cast<float>();
   for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
-  rays.cast(sensor.translation(), world_directions_, config_.rays.range_max, own_body_, ranges_);
+  origin_ = sensor.translation();
+  aimed_at_ = time.sim_time;
+}
+
+void RangeSensor::castRays(const RayCaster& rays) {
+  rays.cast(origin_, world_directions_, config_.rays.range_max, own_body_, ranges_);
+}
+
+void RangeSensor::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
+  if (!timer().due(time)) return;
+  if (aimed_at_ != time.sim_time) {  // a caller that skipped phases 3a and 3b
+    aimRays(time, body);
+    castRays(rays);
+  }
   RangeSample& sample = samples_.next();
   sample.stamp = time.sim_time;
   sample.range = measured(*std::min_element(ranges_.begin(), ranges_.end()), time.sim_time);

@@ -32,6 +32,8 @@ class RangeSensor : public Plugin, public RaySensor {
   RangeSensor(const PluginDeclaration& declaration, const RangeConfig& config, const PluginSetup& setup);
 
   bool castsRays(const StepTime& time) const override { return timer().wouldFire(time); }
+  void aimRays(const StepTime& time, const RobotBody& body) override;
+  void castRays(const RayCaster& rays) override;
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
   RayPattern rayPattern(const RobotBody& body) const override;
 
@@ -45,7 +47,9 @@ class RangeSensor : public Plugin, public RaySensor {
   RangeConfig config_;
   BodyId own_body_;
   std::vector<Eigen::Vector3f> directions_;  ///< in the sensor frame
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();  ///< where aimRays() aimed from, in the world
   std::vector<Eigen::Vector3f> world_directions_;
+  double aimed_at_ = -1;  ///< [s] the sim time it aimed for
   std::vector<double> ranges_;
   Stream<RangeSample> samples_;
 };

@@ -238,17 +238,23 @@ double RayLidar::measured(double range, std::normal_distribution<double>& gaussi
   return range;
 }
 
-void RayLidar::castRays(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
+void RayLidar::aimRays(const StepTime& time, const RobotBody& body) {
   sensor_ = body.linkPose(config_.link) * config_.pose;
   const Eigen::Matrix3f rotation = sensor_.linear().cast<float>();
   for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
+  aimed_at_ = time.sim_time;
+}
+
+void RayLidar::castRays(const RayCaster& rays) {
   rays.cast(sensor_.translation(), world_directions_, config_.range_max, own_body_, ranges_);
-  cast_at_ = time.sim_time;
 }
 
 void RayLidar::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
   if (!timer().due(time)) return;
-  if (cast_at_ != time.sim_time) castRays(time, body, rays);  // a caller that skipped phase 3a
+  if (aimed_at_ != time.sim_time) {  // a caller that skipped phases 3a and 3b
+    aimRays(time, body);
+    castRays(rays);
+  }
   if (config_.output == RayLidarConfig::Output::kLaserScan) {
     publishScan(time, sensor_);
   } else {

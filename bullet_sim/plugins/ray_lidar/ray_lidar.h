@@ -53,7 +53,8 @@ class RayLidar : public Plugin, public RaySensor {
   RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& config, const PluginSetup& setup);
 
   bool castsRays(const StepTime& time) const override { return timer().wouldFire(time); }
-  void castRays(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
+  void aimRays(const StepTime& time, const RobotBody& body) override;
+  void castRays(const RayCaster& rays) override;
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
   RayPattern rayPattern(const RobotBody& body) const override;
 
@@ -70,8 +71,8 @@ class RayLidar : public Plugin, public RaySensor {
   std::vector<Eigen::Vector3f> directions_;  ///< per ray, in the sensor frame, channel-major
   std::vector<Eigen::Vector3f> world_directions_;
   std::vector<double> ranges_;
-  Eigen::Isometry3d sensor_ = Eigen::Isometry3d::Identity();  ///< where castRays() cast from
-  double cast_at_ = -1;                                        ///< [s] the sim time it cast for
+  Eigen::Isometry3d sensor_ = Eigen::Isometry3d::Identity();  ///< where aimRays() aimed from
+  double aimed_at_ = -1;                                       ///< [s] the sim time it aimed for
   Stream<LaserScan> scan_;
   Stream<PointCloud> cloud_;
   Stream<LegacyPointCloud> legacy_cloud_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -163,7 +164,8 @@ Robot::~Robot() = default;
 Simulation::Simulation(WorldSpec world, SimulationOptions options)
     : world_(std::move(world)),
       options_(options),
-      pool_(std::make_unique<WorkPool>(options_.threads > 0 ? options_.threads : defaultPoolThreads())) {
+      pool_(std::make_unique<WorkPool>(options_.threads > 0 ? options_.threads : defaultPoolThreads())),
+      lane_(options_.lockstep ? nullptr : std::make_unique<WorkLane>()) {
   physics_ = std::make_unique<PhysicsWorld>(world_, options_.physics);
   for (const auto& model : world_.models) {
     PlacedWorldModel& placed = world_models_.emplace_back();
@@ -223,6 +225,7 @@ Eigen::Isometry3d Simulation::worldVisualFrame(size_t model, size_t visual) cons
 }
 
 void Simulation::moveWorldModel(size_t model, const Eigen::Isometry3d& pose) {
+  finishCasts();
   PlacedWorldModel& placed = world_models_.at(model);
   placed.pose = pose;
   physics_->setModelPose(model, pose);
@@ -257,6 +260,7 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
   }
   const std::string wheel_model = wheelModelOf(model, name, pose, options_, diagnostics);
   diagnostics.throwIfErrors();
+  finishCasts();  // the robot's parts join the ray caster
   if (model.is_static) {  // a static model is rigid: its joints do not move
     for (auto& joint : model.joints) joint.type = JointSpec::Type::kFixed;
   }
@@ -356,6 +360,7 @@ bool Simulation::remove(const std::string& name) {
   const auto found =
       std::find_if(robots_.begin(), robots_.end(), [&](const auto& r) { return r->name() == name; });
   if (found == robots_.end()) return false;
+  finishCasts();
   for (BodyId body : (*found)->ray_bodies_) {
     if (body != kNoBody) rays_.removeBody(body);
   }
@@ -389,13 +394,15 @@ std::vector<std::string> Simulation::robotNames() const {
 
 void Simulation::step() {
   const StepTime time{timeAfter(steps_ + 1), options_.physics.step_size};
+  if (!casting_behind_.empty() && time.sim_time >= next_cast_due_ - time.dt / 2) finishCasts();
   for (StepHooks* hooks : hooks_) hooks->beforeStep();
   ray_casting_.clear();
   for (auto& robot : robots_) {
     bool casts = false;
-    for (auto& plugin : robot->plugins_) {
-      plugin->applyCommands(time, *robot->body_);
-      casts |= plugin->castsRays(time);
+    for (size_t k = 0; k < robot->plugins_.size(); ++k) {
+      robot->plugins_[k]->applyCommands(time, *robot->body_);
+      const bool casting = !robot->casting_.empty() && robot->casting_[k];  // not due again yet
+      casts |= !casting && robot->plugins_[k]->castsRays(time);
     }
     if (casts) ray_casting_.push_back(robot.get());
   }
@@ -409,25 +416,82 @@ void Simulation::step() {
   });
   for (Robot* model : moving) model->body_->afterStep();
   if (!ray_casting_.empty()) {
-    refreshRays();  // once, for every scan due in this step
+    refreshRays();  // once, for every scan due in this step, once the last step's are cast
     castRays(time);
   }
-  for (auto& robot : robots_) {
-    for (auto& plugin : robot->plugins_) plugin->sense(time, *robot->body_, rays_);
-  }
+  sense(time);
+  if (lane_ && lane_->finished()) finishCasts();
   ++steps_;
 }
 
-void Simulation::castRays(const StepTime& time) {
-  pool_->run(ray_casting_.size(), [&](size_t k) {
-    Robot& robot = *ray_casting_[k];
-    for (auto& plugin : robot.plugins_) {
-      if (plugin->castsRays(time)) plugin->castRays(time, *robot.body_, rays_);
+void Simulation::aimRays(const StepTime& time) {
+  next_cast_due_ = std::numeric_limits<double>::infinity();
+  for (Robot* robot : ray_casting_) {
+    robot->casting_.resize(robot->plugins_.size());
+    for (size_t k = 0; k < robot->plugins_.size(); ++k) {
+      Plugin& plugin = *robot->plugins_[k];
+      robot->casting_[k] = plugin.castsRays(time);
+      if (!robot->casting_[k]) continue;
+      plugin.aimRays(time, *robot->body_);
+      const double rate = plugin.updateRate();
+      next_cast_due_ = std::min(next_cast_due_, time.sim_time + (rate > 0 ? 1 / rate : 0));
     }
-  });
+  }
+}
+
+void Simulation::castRays(const StepTime& time) {
+  aimRays(time);
+  const auto cast = [this](const Robot& robot) {
+    for (size_t k = 0; k < robot.plugins_.size(); ++k) {
+      if (robot.casting_[k]) robot.plugins_[k]->castRays(rays_);
+    }
+  };
+  if (lane_) {
+    casting_behind_ = ray_casting_;
+    cast_time_ = time;
+    lane_->start([this, cast] {
+      for (const Robot* robot : casting_behind_) cast(*robot);
+    });
+    return;
+  }
+  std::exception_ptr failure;
+  try {
+    pool_->run(ray_casting_.size(), [&](size_t k) { cast(*ray_casting_[k]); });
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  for (Robot* robot : ray_casting_) robot->casting_.clear();  // all of them sense in this step
+  if (failure) std::rethrow_exception(failure);
+}
+
+void Simulation::sense(const StepTime& time) {
+  for (auto& robot : robots_) {
+    for (size_t k = 0; k < robot->plugins_.size(); ++k) {
+      if (robot->casting_.empty() || !robot->casting_[k]) robot->plugins_[k]->sense(time, *robot->body_, rays_);
+    }
+  }
+}
+
+void Simulation::finishCasts() {
+  if (casting_behind_.empty()) return;
+  std::exception_ptr failure;
+  try {
+    lane_->wait();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  for (Robot* robot : casting_behind_) {
+    for (size_t k = 0; k < robot->plugins_.size() && !failure; ++k) {
+      if (robot->casting_[k]) robot->plugins_[k]->sense(cast_time_, *robot->body_, rays_);
+    }
+    robot->casting_.clear();
+  }
+  casting_behind_.clear();
+  if (failure) std::rethrow_exception(failure);
 }
 
 void Simulation::refreshRays() {
+  finishCasts();
   for (Robot* robot : movingModels()) {
     for (size_t k = 0; k < robot->ray_bodies_.size(); ++k) {
       if (robot->ray_bodies_[k] != kNoBody) rays_.setPose(robot->ray_bodies_[k], robot->body_->partPose(k));
@@ -437,6 +501,7 @@ void Simulation::refreshRays() {
 }
 
 void Simulation::resetWorld() {
+  finishCasts();
   for (size_t i = 0; i < world_models_.size(); ++i) {
     const Eigen::Isometry3d& in_file = world_.models[i].pose;
     if (Robot* body = world_models_[i].body.get()) {

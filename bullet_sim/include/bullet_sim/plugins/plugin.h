@@ -1,6 +1,6 @@
 // Plugins: Gazebo plugin and sensor behaviour, ROS-free. Each step runs in three phases: every plugin applies
 // its commands, physics steps, then every plugin senses the stepped world, which it may only read (ray sensors
-// cast their rays first, every robot's side by side: castRays).
+// aim their rays and cast them first, every robot's side by side or behind the next steps' physics: castRays).
 #pragma once
 
 #include <Eigen/Core>
@@ -113,13 +113,20 @@ class Plugin {
 
   /// Phase 1: apply commands to the robot (motor targets) for this step.
   virtual void applyCommands(const StepTime&, RobotBody&) {}
-  /// Whether sense() casts rays this step, so that moving bodies are refreshed for it first.
+  /// Whether sense() reads rays cast this step: moving bodies are refreshed for them, then aimRays() and
+  /// castRays() run first.
   virtual bool castsRays(const StepTime&) const { return false; }
-  /// Phase 3a, when castsRays() said so: casts this step's rays into the plugin's own buffers, for sense() to
-  /// publish. Runs on a pool thread beside other robots' plugins (one robot's plugins on one thread, in their
-  /// order): it may read the body and the rays and write only the plugin's own members, never its noise.
-  virtual void castRays(const StepTime&, const RobotBody&, const RayCaster&) {}
-  /// Phase 3: read the stepped world.
+  /// Phase 3a, on the stepping thread, when castsRays() said so: where this step's rays start and go, from
+  /// the stepped body, into the plugin's own members.
+  virtual void aimRays(const StepTime&, const RobotBody&) {}
+  /// Phase 3b: casts the aimed rays into the plugin's own buffers, for sense() to publish. Runs on a pool
+  /// thread beside other robots' plugins (one robot's plugins on one thread, in their order), or on the
+  /// simulation's lane while the next steps' physics runs (SimulationOptions::lockstep false): it may read
+  /// the rays and its own members and write only its own buffers, never its noise.
+  virtual void castRays(const RayCaster&) {}
+  /// Phase 3: read the stepped world. After a cast behind physics, the simulation calls it for the cast's
+  /// step once the cast is done, some steps later, when the body has moved on: a plugin whose castsRays()
+  /// was true reads what it aimed, not the body.
   virtual void sense(const StepTime&, const RobotBody&, const RayCaster&) {}
   /// Back to the state at spawn: the timer and the noise restart, then onReset().
   void reset();

@@ -39,6 +39,7 @@ SpawnPose spawnPoseFrom(const Eigen::Vector3d& position, const Eigen::Quaternion
                         bool place_on_ground, Diagnostics& diagnostics);
 
 class Simulation;
+class WorkLane;
 class WorkPool;
 
 /// Makes the image source that a simulation's cameras render through; it may keep the simulation to draw.
@@ -64,6 +65,12 @@ struct SimulationOptions {
   /// side by side; 0: the cores it may run on (taskset, a container's cpuset), at most 4. Any count gives
   /// the same, bit-identical run.
   int threads = 0;
+  /// Whether ray sensors cast within the step they measure (Gazebo's --lockstep), or behind the next steps'
+  /// physics on a thread of their own: each reading is the same, stamped with its step, and appears at the
+  /// end of the first step after its cast is done (in time that depends on the machine), at the latest when
+  /// the next cast is due, or when anything moves the ray caster's bodies from outside the step (spawn,
+  /// delete, teleport, reset). Physics is the same either way.
+  bool lockstep = true;
 };
 
 /// One of a robot's outputs whose samples are `Sample`s: the plugin publishing it, its topic and its stream.
@@ -166,6 +173,8 @@ class Robot {
   Eigen::Isometry3d spawn_pose_;
   JointPositions spawn_joints_;
   std::vector<std::unique_ptr<Plugin>> plugins_;
+  /// Per plugin, whether its rays are being cast behind physics (empty when none is): it senses once they are.
+  std::vector<bool> casting_;
   std::vector<BodyId> ray_bodies_;  ///< per part; kNoBody for a part without collisions
   std::string wheel_model_;
 };
@@ -245,6 +254,9 @@ class Simulation {
   /// After bodies moved between steps (a teleport, joints set), the ray caster (sensors, raycast wheels)
   /// sees them where they are now.
   void refreshRays();
+  /// Delivers the readings of rays cast behind physics (lockstep false) now: waits for their cast, then their
+  /// plugins sense for the step they were aimed at. Nothing to do in lockstep.
+  void finishCasts();
 
  private:
   friend class StepHooks;
@@ -272,8 +284,13 @@ class Simulation {
   void addRayBodies(Robot& robot);
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
-  /// Phase 3a: the ray plugins due this step cast their rays, each robot's on one of the pool's threads.
+  /// Phase 3a: the ray plugins due this step aim their rays, and are marked as casting.
+  void aimRays(const StepTime& time);
+  /// Phases 3a and 3b: the ray plugins due this step aim their rays, then cast them, each robot's on one of
+  /// the pool's threads, or all on the lane (not in lockstep).
   void castRays(const StepTime& time);
+  /// Phase 3: every plugin senses, but those whose rays are still being cast.
+  void sense(const StepTime& time);
 
   WorldSpec world_;
   SimulationOptions options_;
@@ -286,6 +303,10 @@ class Simulation {
   std::vector<StepHooks*> hooks_;  ///< in the order they hooked in
   std::unique_ptr<WorkPool> pool_;   ///< shares each step's per-robot work
   std::vector<Robot*> ray_casting_;  ///< this step's robots with a ray plugin due, in robot order
+  std::vector<Robot*> casting_behind_;  ///< the robots whose rays the lane casts, in robot order
+  StepTime cast_time_;                  ///< the step they were aimed at
+  double next_cast_due_ = 0;            ///< [s] when the first of them is due again, so waited for
+  std::unique_ptr<WorkLane> lane_;      ///< casts behind physics when not in lockstep; stops first
   uint64_t steps_ = 0;
   double time_base_ = 0;        ///< [s] at steps_at_base_: the step size may change
   uint64_t steps_at_base_ = 0;
