@@ -80,11 +80,12 @@ class NodeTypes(unittest.TestCase):
     def test_gzserver_maps_its_command_line_onto_the_simulator(self):
         with Started("gzserver", "-u", "--verbose", "-e", "ode", "-s", "libgazebo_ros_api_plugin.so",
                      "-s", "libgazebo_ros_paths_plugin.so", "-s", "libmy_world_plugin.so", "--seed", "7",
-                     "--iters", "10", "--bogus", "worlds/shapes.world") as server:
+                     "--lockstep", "--iters", "10", "--bogus", "worlds/shapes.world") as server:
             wait_for_simulator()
             self.assertEqual(rospy.get_param("/gazebo/world"), "worlds/shapes.world")
             self.assertIs(rospy.get_param("/gazebo/paused"), True)
             self.assertEqual(rospy.get_param("/gazebo/seed"), 7)
+            self.assertIs(rospy.get_param("/gazebo/lockstep"), True)
             server.wait_for_line(server.stdout, "bullet_sim/worlds/shapes.world")  # the simulator's INFO
             server.wait_for_line(server.stderr, "system plugin [libmy_world_plugin.so] ignored")
             server.wait_for_line(server.stderr, "--iters is not honoured")

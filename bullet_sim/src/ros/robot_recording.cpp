@@ -4,6 +4,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
+#include <type_traits>
 
 namespace bullet_sim {
 
@@ -110,6 +111,21 @@ void RobotRecording::connect(const Plugin& plugin, const PluginPorts& ports, std
   }
 }
 
+namespace {
+
+/// When a sample is recorded in the bag: a ray sensor's at its stamp (cast behind physics, it is published some
+/// steps later, SimulationOptions::lockstep), every other one at the step it was published in, its stamp.
+template <class Sample>
+double recordedAt(const Sample& sample, double sim_time) {
+  if constexpr (std::is_same_v<Sample, LaserScan> || std::is_base_of_v<PointCloud, Sample> ||
+                std::is_same_v<Sample, RangeSample>) {
+    return sample.stamp;
+  }
+  return sim_time;
+}
+
+}  // namespace
+
 template <class Sample>
 void RobotRecording::connectStream(const Plugin& plugin, const std::string& topic, const Stream<Sample>* stream,
                                    Demand* demand, std::vector<Output>& into) const {
@@ -125,7 +141,8 @@ void RobotRecording::connectStream(const Plugin& plugin, const std::string& topi
   if (!recorded && !links) return;
   into.push_back({[stream] { return stream->count(); },
                   [this, stream, frames, name, recorded, links](BagWriter& writer, double sim_time) {
-                    if (recorded) writer.write(name, sim_time, toMessage(stream->latest(), frames));
+                    if (recorded)
+                      writer.write(name, recordedAt(stream->latest(), sim_time), toMessage(stream->latest(), frames));
                     if constexpr (std::is_same_v<Sample, JointStateSample>) {
                       if (links) writer.write("/tf", sim_time, movingTransforms(stream->latest()));
                     }

@@ -96,6 +96,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   real_time_factor_ = private_.param("real_time_factor", world.real_time_update_rate * world.max_step_size);
   options.seed = static_cast<uint64_t>(private_.param("seed", 0));
   options.threads = threadsParam(private_);
+  options.lockstep = private_.param("lockstep", false);
   paused_ = private_.param("paused", false);
   clock_period_ = ros::WallDuration(1.0 / std::max(1.0, private_.param("pub_clock_frequency", 1000.0)));
   if (options.physics.step_size <= 0 || !std::isfinite(options.physics.step_size)) {
@@ -129,7 +130,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
 
 std::unique_ptr<NodeWebView> SimulatorNode::startWebView() {
   NodeWebView::Actions actions;
-  actions.pause = [this] { paused_ = true; };
+  actions.pause = [this] { setPaused(true); };
   actions.resume = [this] { setPaused(false); };
   actions.reset = [this] {
     std_srvs::Empty::Request request;
@@ -257,7 +258,13 @@ void SimulatorNode::physicsChanged() {
 
 void SimulatorNode::setPaused(bool paused) {
   paused_ = paused;
+  if (paused_) publishPendingScans();
   if (!paused_) anchorPacing();
+}
+
+void SimulatorNode::publishPendingScans() {
+  simulation_->finishCasts();
+  for (auto& [name, adapter] : adapters_) adapter->publish();
 }
 
 bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
@@ -296,6 +303,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
 }
 
 bool SimulatorNode::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  publishPendingScans();  // before time restarts
   simulation_->resetSimulation();
   recording_->restart();
   if (bag_) bag_->restart();  // sim time restarts: FILE_1.bag
@@ -311,7 +319,7 @@ bool SimulatorNode::resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Respo
 }
 
 bool SimulatorNode::pause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-  paused_ = true;
+  setPaused(true);
   return true;
 }
 

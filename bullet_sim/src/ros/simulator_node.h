@@ -59,6 +59,7 @@ class SimulatorNode final : public SimulationHost {
   /// For hosts that run the node (the scenario runner): the simulation, a call after every step, and pausing.
   const Simulation& simulation() const { return *simulation_; }
   void observeSteps(std::function<void(const Simulation&)> observer) { observer_ = std::move(observer); }
+  /// Paused, the scans still being cast (SimulationOptions::lockstep false) are published at once.
   void setPaused(bool paused);
 
  private:
@@ -89,6 +90,8 @@ class SimulatorNode final : public SimulationHost {
 
   /// Connects and drops the ports that came and went (ros_control's controllers) since the last call.
   void refreshPorts();
+  /// Publishes the readings of the rays still being cast behind physics, once they are.
+  void publishPendingScans();
   /// The live viewer of ~web_port, with what its pages may do; nullptr when off or when it cannot serve.
   std::unique_ptr<NodeWebView> startWebView();
   /// The resolved name of a robot's velocity input, or "" when it has none.

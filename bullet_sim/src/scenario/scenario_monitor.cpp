@@ -81,7 +81,7 @@ void ScenarioMonitor::afterStep(const Simulation& simulation) {
     recordPose(simulation, *robot, record);
     if (row) trajectory_.push_back(record.last);
     if (clearance) recordClearance(*robot, time, record);
-    recordLidar(*robot, time, record);
+    recordLidar(*robot, record);
     recordContacts(simulation, *robot, record);
   }
 }
@@ -142,24 +142,25 @@ std::vector<double> measuredRanges(const PointCloud& cloud) {
 }  // namespace
 
 template <class Sample>
-void ScenarioMonitor::recordRanges(const Robot& robot, double time, RobotRecord& record) {
+void ScenarioMonitor::recordRanges(const Robot& robot, RobotRecord& record) {
   for (const RobotOutput<Sample>& output : robot.outputs<Sample>()) {
     uint64_t& seen = scans_seen_[robot.name() + "/" + output.plugin->name() + "/" + output.topic];
     if (output.stream->count() == seen) continue;
     seen = output.stream->count();
-    for (const double measured : measuredRanges(output.stream->latest())) {
+    const Sample& scan = output.stream->latest();
+    for (const double measured : measuredRanges(scan)) {
       if (!record.min_lidar_range || measured < *record.min_lidar_range) {
         record.min_lidar_range = measured;
-        record.lidar_time = time;
+        record.lidar_time = scan.stamp;  // cast behind physics (not in lockstep), it is read some steps later
       }
     }
   }
 }
 
-void ScenarioMonitor::recordLidar(const Robot& robot, double time, RobotRecord& record) {
-  recordRanges<LaserScan>(robot, time, record);
-  recordRanges<PointCloud>(robot, time, record);
-  recordRanges<LegacyPointCloud>(robot, time, record);
+void ScenarioMonitor::recordLidar(const Robot& robot, RobotRecord& record) {
+  recordRanges<LaserScan>(robot, record);
+  recordRanges<PointCloud>(robot, record);
+  recordRanges<LegacyPointCloud>(robot, record);
 }
 
 void ScenarioMonitor::recordContacts(const Simulation& simulation, const Robot& robot, RobotRecord& record) {

@@ -80,9 +80,9 @@ class ScenarioMonitor {
   void recordPose(const Simulation& simulation, const Robot& robot, RobotRecord& record);
   void recordClearance(const Robot& robot, double time, RobotRecord& record);
   /// The nearest range of the robot's scans and point clouds published since the last step.
-  void recordLidar(const Robot& robot, double time, RobotRecord& record);
+  void recordLidar(const Robot& robot, RobotRecord& record);
   template <class Sample>
-  void recordRanges(const Robot& robot, double time, RobotRecord& record);
+  void recordRanges(const Robot& robot, RobotRecord& record);
   void recordContacts(const Simulation& simulation, const Robot& robot, RobotRecord& record);
   CheckResult evaluate(const Check& check, size_t index, const std::string& robot) const;
 

@@ -32,7 +32,8 @@ def gzserver_parser(program):
     parser.add_argument("-v", "--version", action="store_true", help="print the version and exit")
     parser.add_argument("--verbose", action="store_true", help="accepted")
     parser.add_argument("-u", "--pause", action="store_true", help="start paused")
-    parser.add_argument("--lockstep", action="store_true", help="accepted: sensors are always in lockstep")
+    parser.add_argument("--lockstep", action="store_true",
+                        help="ray sensors cast within the step they measure (the simulator's ~lockstep)")
     parser.add_argument("-e", "--physics", help="accepted: bullet_sim always simulates with Bullet")
     parser.add_argument("-p", "--play", help="not supported: bullet_sim plays no Gazebo logs")
     parser.add_argument("-r", "--record", action="store_true", help="not honoured: record with rosbag")
@@ -80,6 +81,8 @@ def simulator_arguments(program, argv):
     arguments = ["_world:=" + options.world_file, "_world_fallback:=" + EMPTY_WORLD]
     if options.pause:
         arguments.append("_paused:=true")
+    if options.lockstep:
+        arguments.append("_lockstep:=true")
     if options.seed is not None:
         arguments.append("_seed:=%d" % int(options.seed))
     if not any(a.startswith("__name:=") for a in ros_arguments):
