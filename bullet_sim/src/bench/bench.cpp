@@ -51,10 +51,10 @@ constexpr char kUsage[] =
     "             [--wheel-model contact|raycast] [--step S] [--duration S] [--cmd v,w]\n"
     "             [--lidar SAMPLES|SAMPLESxCHANNELS] [--lidar-rate HZ] [--render WxH]\n"
     "             [--obstacles N] [--boxes N] [--delete-cycles K] [--repeat K]\n"
-    "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]...\n"
+    "             [--camera WxH@HZ [--depth]] [--web-viewer] [--limit NAME=VALUE]... [--lockstep]\n"
     "       bench --robots N[,N]... [--robot FILE] [--world FILE] [--pose x,y,yaw] [--wheel-model M]\n"
     "             [--step S] [--duration S] [--cmd v,w] [--lidar ...] [--lidar-rate HZ] [--repeat K]\n"
-    "             [--threads T] [--spacing M] [--snapshot DIR]\n"
+    "             [--threads T] [--spacing M] [--snapshot DIR] [--lockstep]\n"
     "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
@@ -95,6 +95,8 @@ constexpr char kUsage[] =
     "0.1 x 0.1 x 1 m posts at random (seeded) places at least 1.5 m from the commanded path.\n"
     "--boxes N drives in a world of N x N static boxes of 0.3 x 0.3 x 0.5 m, 1 m apart, the grid's\n"
     "nearest row 2.5 m to the right of the start (instead of --world). --delete-cycles sets K.\n"
+    "--lockstep casts the lidars' rays within the step they measure (gzserver's --lockstep); without it,\n"
+    "they are cast behind the next steps' physics on a thread of their own, as the simulator node does.\n"
     "--limit sets one of the simulator's limits (its ~limits/NAME), e.g. max_links=2000.\n"
     "--camera adds a 60 degree camera of WxH pixels at HZ on the robot's root link, 0.3 m ahead and\n"
     "1 m up, looking ahead (libgazebo_ros_camera.so); with --depth, a depth camera with its depth\n"
@@ -185,6 +187,7 @@ struct Options {
   };
   std::optional<Camera> camera;
   bool web_viewer = false;
+  bool lockstep = false;    ///< the lidars cast within their step, not behind physics
   std::vector<int> robots;  ///< --robots: the fleets' sizes
   int threads = 0;          ///< --robots: the simulation's pool; 0 = its default
   double spacing = 1.5;     ///< [m] --robots: between neighbours on the grid
@@ -309,6 +312,7 @@ Options parseArguments(int argc, char** argv) {
         },
         false, /*flag=*/true},
        {"--web-viewer", [&](Value) { options.web_viewer = true; }, false, /*flag=*/true},
+       {"--lockstep", [&](Value) { options.lockstep = true; }, false, /*flag=*/true},
        {"--robots", [&](Value value) { options.robots = parseRobotCounts(value); }},
        {"--strikes", [&](Value) { options.strikes = true; }, false, /*flag=*/true},
        {"--strike-filter", [&](Value value) { options.strike_options.filter.push_back(value); }, true},
@@ -558,6 +562,7 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
   SimulationOptions simulation_options;
   simulation_options.physics.step_size = options.step;
   simulation_options.images = imagesFrom(benchRenderer);
+  simulation_options.lockstep = options.lockstep;
   Simulation simulation(world, simulation_options);
   Robot& robot = simulation.spawn(model.name, model, options.pose, &warnings);
   const Drive drive = driveOf(robot, model.source);
@@ -581,6 +586,7 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
     if (after_step) after_step(simulation);
     if (i + 1 == spin_up) run.after_spin_up = axlePose(robot, drive.joints);
   }
+  simulation.finishCasts();
   run.wall_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
   run.end = axlePose(robot, drive.joints);
@@ -842,6 +848,7 @@ Json report(const Options& options, const Figures& figures) {
   json["obstacles"] = options.obstacles;
   json["render_size"] = {options.render_width, options.render_height};
   json["repeat"] = options.repeat;
+  json["lockstep"] = options.lockstep;
   json["rtf_physics"] = figure(median(rtf(figures.physics_runs)));
   json["rtf_lidar"] = figure(median(rtf(figures.lidar_runs)));
   json["rays_per_s"] = figure(median(figures.rays_per_s));
@@ -925,6 +932,7 @@ Json fleetReport(Options options) {
   fleet.origin = options.pose;
   fleet.limits = options.limits;
   fleet.threads = options.threads;
+  fleet.lockstep = options.lockstep;
   fleet.spacing = options.spacing;
   if (!options.snapshot_dir.empty()) fleet.snapshot = fleetPictures(options);
   std::vector<std::string> warnings;
@@ -941,6 +949,7 @@ Json fleetReport(Options options) {
   json["cmd"] = figureList({fleet.v, fleet.w});
   json["spacing_m"] = fleet.spacing;
   json["repeat"] = options.repeat;
+  json["lockstep"] = options.lockstep;
   json["threads"] = options.threads > 0 ? options.threads : defaultPoolThreads();
   json["fleets"] = fleetFigures(world, options.robots, options.repeat, fleet, &warnings);
   std::vector<std::string> unique;

@@ -141,6 +141,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   simulation_options.physics.step_size = options.step;
   simulation_options.limits = options.limits;
   simulation_options.threads = options.threads;
+  simulation_options.lockstep = options.lockstep;
   Simulation simulation(world, simulation_options);
   const std::vector<Robot*> robots = spawnFleet(simulation, count, options, warnings, run);
   std::vector<Drive> drives;
@@ -152,6 +153,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
     watch.sample();
   }
   run.settled = axlePoses(robots, drives);
+  simulation.finishCasts();  // the settling's scans are not the drive's
   if (options.snapshot) options.snapshot(simulation, count, "settled");
   uint64_t scans_before = 0;
   for (const Robot* robot : robots) scans_before += lidarScans(*robot);
@@ -169,6 +171,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
     simulation.step();
     watch.sample();
   }
+  simulation.finishCasts();
   run.drive_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
   run.process_cpu_s = processCpuSeconds() - process_cpu_start;

@@ -25,6 +25,7 @@ struct FleetOptions {
   SpawnPose origin;         ///< the grid's centre (x, y) and every robot's yaw
   Limits limits;
   int threads = 0;  ///< the simulation's pool (SimulationOptions::threads)
+  bool lockstep = false;  ///< scans cast within their step (SimulationOptions::lockstep), not behind physics
   /// When set, driveFleet calls it with the simulation, the fleet's size and the moment ("settled" or "end"),
   /// outside the timed drive; fleetFigures sets it for the first run of each fleet only.
   std::function<void(const Simulation&, int count, const std::string& moment)> snapshot;
