@@ -96,15 +96,14 @@ double RangeSensor::measured(double nearest, double /*sim_time*/) {
 }
 
 void RangeSensor::aimRays(const StepTime& time, const RobotBody& body) {
-  const Eigen::Isometry3d sensor = body.linkPose(config_.rays.link) * config_.rays.pose;
-  const Eigen::Matrix3f rotation = sensor.linear().cast<float>();
-  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
-  origin_ = sensor.translation();
+  sensor_ = body.linkPose(config_.rays.link) * config_.rays.pose;
   aimed_at_ = time.sim_time;
 }
 
 void RangeSensor::castRays(const RayCaster& rays) {
-  rays.cast(origin_, world_directions_, config_.rays.range_max, own_body_, ranges_);
+  const Eigen::Matrix3f rotation = sensor_.linear().cast<float>();
+  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
+  rays.cast(sensor_.translation(), world_directions_, config_.rays.range_max, own_body_, ranges_);
 }
 
 void RangeSensor::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {

@@ -47,7 +47,7 @@ class RangeSensor : public Plugin, public RaySensor {
   RangeConfig config_;
   BodyId own_body_;
   std::vector<Eigen::Vector3f> directions_;  ///< in the sensor frame
-  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();  ///< where aimRays() aimed from, in the world
+  Eigen::Isometry3d sensor_ = Eigen::Isometry3d::Identity();  ///< where aimRays() aimed from
   std::vector<Eigen::Vector3f> world_directions_;
   double aimed_at_ = -1;  ///< [s] the sim time it aimed for
   std::vector<double> ranges_;

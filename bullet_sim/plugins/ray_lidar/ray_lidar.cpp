@@ -240,12 +240,12 @@ double RayLidar::measured(double range, std::normal_distribution<double>& gaussi
 
 void RayLidar::aimRays(const StepTime& time, const RobotBody& body) {
   sensor_ = body.linkPose(config_.link) * config_.pose;
-  const Eigen::Matrix3f rotation = sensor_.linear().cast<float>();
-  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
   aimed_at_ = time.sim_time;
 }
 
 void RayLidar::castRays(const RayCaster& rays) {
+  const Eigen::Matrix3f rotation = sensor_.linear().cast<float>();
+  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
   rays.cast(sensor_.translation(), world_directions_, config_.range_max, own_body_, ranges_);
 }
 

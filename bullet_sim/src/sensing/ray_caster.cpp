@@ -564,8 +564,9 @@ void RayCaster::commit() {
   }
   rtcCommitScene(impl.top.get());
   impl.throwOnError("RayCaster::commit");
-  impl.statics_changed = false;
-  impl.bodies_added_or_removed = false;
+  // Written only when they change: a commit of moved bodies alone may run beside castStatic, which reads them.
+  if (impl.statics_changed) impl.statics_changed = false;
+  if (impl.bodies_added_or_removed) impl.bodies_added_or_removed = false;
   impl.top_changed = false;
 }
 

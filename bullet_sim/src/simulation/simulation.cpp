@@ -415,10 +415,7 @@ void Simulation::step() {
     pool_->run(moving.size(), [&](size_t k) { moving[k]->body_->beforeSubstep(substep); });
   });
   for (Robot* model : moving) model->body_->afterStep();
-  if (!ray_casting_.empty()) {
-    refreshRays();  // once, for every scan due in this step, once the last step's are cast
-    castRays(time);
-  }
+  if (!ray_casting_.empty()) castRays(time);
   sense(time);
   if (lane_ && lane_->finished()) finishCasts();
   ++steps_;
@@ -440,20 +437,24 @@ void Simulation::aimRays(const StepTime& time) {
 }
 
 void Simulation::castRays(const StepTime& time) {
+  finishCasts();  // the last step's first: what they cast against moves now
   aimRays(time);
   const auto cast = [this](const Robot& robot) {
     for (size_t k = 0; k < robot.plugins_.size(); ++k) {
       if (robot.casting_[k]) robot.plugins_[k]->castRays(rays_);
     }
   };
-  if (lane_) {
+  if (lane_) {  // the moving bodies too are moved for the rays on the lane, beside the raycast wheels
+    rayBodyPoses(ray_poses_);
     casting_behind_ = ray_casting_;
     cast_time_ = time;
     lane_->start([this, cast] {
+      moveRayBodies(ray_poses_);
       for (const Robot* robot : casting_behind_) cast(*robot);
     });
     return;
   }
+  refreshRays();  // once, for every scan due in this step
   std::exception_ptr failure;
   try {
     pool_->run(ray_casting_.size(), [&](size_t k) { cast(*ray_casting_[k]); });
@@ -492,11 +493,21 @@ void Simulation::finishCasts() {
 
 void Simulation::refreshRays() {
   finishCasts();
+  rayBodyPoses(ray_poses_);
+  moveRayBodies(ray_poses_);
+}
+
+void Simulation::rayBodyPoses(std::vector<std::pair<BodyId, Eigen::Isometry3d>>& poses) {
+  poses.clear();
   for (Robot* robot : movingModels()) {
     for (size_t k = 0; k < robot->ray_bodies_.size(); ++k) {
-      if (robot->ray_bodies_[k] != kNoBody) rays_.setPose(robot->ray_bodies_[k], robot->body_->partPose(k));
+      if (robot->ray_bodies_[k] != kNoBody) poses.emplace_back(robot->ray_bodies_[k], robot->body_->partPose(k));
     }
   }
+}
+
+void Simulation::moveRayBodies(const std::vector<std::pair<BodyId, Eigen::Isometry3d>>& poses) {
+  for (const auto& [body, pose] : poses) rays_.setPose(body, pose);
   rays_.commit();
 }
 

@@ -116,8 +116,8 @@ class Plugin {
   /// Whether sense() reads rays cast this step: moving bodies are refreshed for them, then aimRays() and
   /// castRays() run first.
   virtual bool castsRays(const StepTime&) const { return false; }
-  /// Phase 3a, on the stepping thread, when castsRays() said so: where this step's rays start and go, from
-  /// the stepped body, into the plugin's own members.
+  /// Phase 3a, on the stepping thread, when castsRays() said so: takes what this step's rays need from the
+  /// stepped body (the sensor's pose) into the plugin's own members, and as little else as it can.
   virtual void aimRays(const StepTime&, const RobotBody&) {}
   /// Phase 3b: casts the aimed rays into the plugin's own buffers, for sense() to publish. Runs on a pool
   /// thread beside other robots' plugins (one robot's plugins on one thread, in their order), or on the

@@ -23,6 +23,9 @@ constexpr BodyId kNoBody = -1;
 /// Usage: add bodies, then per scan that is due: setPose() for the moving bodies (cheap, may also be called
 /// every physics step), commit() once, then cast() any number of times.
 ///
+/// Threads: cast() and castStatic() may run side by side. setPose() and a commit() of moved bodies alone may
+/// run beside castStatic() (they change only what cast() sees), never beside cast().
+///
 /// Movable, not copyable. A moved-from caster may only be destroyed or assigned to.
 class RayCaster {
  public:

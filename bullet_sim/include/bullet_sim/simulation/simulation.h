@@ -286,9 +286,14 @@ class Simulation {
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
   /// Phase 3a: the ray plugins due this step aim their rays, and are marked as casting.
   void aimRays(const StepTime& time);
-  /// Phases 3a and 3b: the ray plugins due this step aim their rays, then cast them, each robot's on one of
-  /// the pool's threads, or all on the lane (not in lockstep).
+  /// Phases 3a and 3b: the ray plugins due this step aim their rays; the ray caster's moving bodies are moved
+  /// where they are now, and the rays cast, each robot's on one of the pool's threads, or all on the lane (not
+  /// in lockstep).
   void castRays(const StepTime& time);
+  /// Where every moving model's ray-caster bodies are now, into `poses`.
+  void rayBodyPoses(std::vector<std::pair<BodyId, Eigen::Isometry3d>>& poses);
+  /// Moves the ray caster's bodies to `poses`, and commits.
+  void moveRayBodies(const std::vector<std::pair<BodyId, Eigen::Isometry3d>>& poses);
   /// Phase 3: every plugin senses, but those whose rays are still being cast.
   void sense(const StepTime& time);
 
@@ -305,6 +310,7 @@ class Simulation {
   std::vector<Robot*> ray_casting_;  ///< this step's robots with a ray plugin due, in robot order
   std::vector<Robot*> casting_behind_;  ///< the robots whose rays the lane casts, in robot order
   StepTime cast_time_;                  ///< the step they were aimed at
+  std::vector<std::pair<BodyId, Eigen::Isometry3d>> ray_poses_;  ///< where the ray caster's bodies go next
   double next_cast_due_ = 0;            ///< [s] when the first of them is due again, so waited for
   std::unique_ptr<WorkLane> lane_;      ///< casts behind physics when not in lockstep; stops first
   uint64_t steps_ = 0;
