@@ -9,10 +9,14 @@ constexpr double kTimeEpsilon = 1e-9;
 
 bool UpdateTimer::wouldFire(const StepTime& time) const { return time.sim_time + kTimeEpsilon >= next_; }
 
+double UpdateTimer::nextAfter(const StepTime& time) const {
+  const double next = next_ + period_;
+  return next < time.sim_time + kTimeEpsilon ? time.sim_time + period_ : next;  // never fire twice in one step
+}
+
 bool UpdateTimer::due(const StepTime& time) {
   if (!wouldFire(time)) return false;
-  next_ += period_;
-  if (next_ < time.sim_time + kTimeEpsilon) next_ = time.sim_time + period_;  // never fire twice in one step
+  next_ = nextAfter(time);
   return true;
 }
 

@@ -417,8 +417,10 @@ void Simulation::step() {
   for (Robot* model : moving) model->body_->afterStep();
   if (!ray_casting_.empty()) castRays(time);
   sense(time);
-  if (lane_ && lane_->finished()) finishCasts();
   ++steps_;
+  // A scan delivered since the last step ended may not have been read yet: the next one waits for a step.
+  if (lane_ && !delivered_since_step_ && lane_->finished()) finishCasts();
+  delivered_since_step_ = false;
 }
 
 void Simulation::aimRays(const StepTime& time) {
@@ -430,8 +432,7 @@ void Simulation::aimRays(const StepTime& time) {
       robot->casting_[k] = plugin.castsRays(time);
       if (!robot->casting_[k]) continue;
       plugin.aimRays(time, *robot->body_);
-      const double rate = plugin.updateRate();
-      next_cast_due_ = std::min(next_cast_due_, time.sim_time + (rate > 0 ? 1 / rate : 0));
+      next_cast_due_ = std::min(next_cast_due_, plugin.nextUpdateAfter(time));
     }
   }
 }
@@ -488,6 +489,7 @@ void Simulation::finishCasts() {
     robot->casting_.clear();
   }
   casting_behind_.clear();
+  delivered_since_step_ = true;
   if (failure) std::rethrow_exception(failure);
 }
 

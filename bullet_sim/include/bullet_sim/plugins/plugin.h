@@ -36,6 +36,8 @@ class UpdateTimer {
   bool due(const StepTime& time);
   /// Whether due() would be true, without scheduling.
   bool wouldFire(const StepTime& time) const;
+  /// [s] when the update after one due at `time` is due: what due(time) schedules.
+  double nextAfter(const StepTime& time) const;
   void reset() { next_ = period_; }
   double period() const { return period_; }
 
@@ -102,6 +104,8 @@ class Plugin {
   const PluginPorts& ports() const { return ports_; }
   /// [Hz] its update timer's rate; 0 = every step.
   double updateRate() const { return timer_.period() > 0 ? 1 / timer_.period() : 0.0; }
+  /// [s] when its update after one due at `time` is due.
+  double nextUpdateAfter(const StepTime& time) const { return timer_.nextAfter(time); }
   /// Ports that come and go while the plugin runs (a ros_control controller's); none for most plugins.
   virtual std::vector<PortGroup> portGroups() const { return {}; }
   /// Changes whenever portGroups() does.

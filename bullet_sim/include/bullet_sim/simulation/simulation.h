@@ -312,6 +312,7 @@ class Simulation {
   StepTime cast_time_;                  ///< the step they were aimed at
   std::vector<std::pair<BodyId, Eigen::Isometry3d>> ray_poses_;  ///< where the ray caster's bodies go next
   double next_cast_due_ = 0;            ///< [s] when the first of them is due again, so waited for
+  bool delivered_since_step_ = false;   ///< scans were delivered since the last step ended
   std::unique_ptr<WorkLane> lane_;      ///< casts behind physics when not in lockstep; stops first
   uint64_t steps_ = 0;
   double time_base_ = 0;        ///< [s] at steps_at_base_: the step size may change
