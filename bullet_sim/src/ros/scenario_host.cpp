@@ -59,14 +59,15 @@ class Readiness {
   std::vector<ros::Subscriber> subscribers_;
 };
 
-/// Sets the node's parameters from the scenario: its world, step, seed and pace, paused until ready, and the
-/// bag --bag asks for.
+/// Sets the node's parameters from the scenario: its world, step, seed and pace, paused until ready, in
+/// lockstep, and the bag --bag asks for.
 void setParameters(const ros::NodeHandle& node, const ScenarioSpec& spec, const std::optional<BagSettings>& bag) {
   node.setParam("world", spec.world);
   node.setParam("step_size", spec.step);
   node.setParam("seed", static_cast<int>(spec.seed));
   node.setParam("real_time_factor", spec.launch->real_time_factor);
   node.setParam("paused", true);
+  node.setParam("lockstep", true);  // scans as the in-process run has them, none still cast at the end
   if (!bag) return;
   node.setParam("record", bag->path);
   if (!bag->topics.empty()) node.setParam("record_topics", bag->topics);

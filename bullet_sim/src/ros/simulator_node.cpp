@@ -241,6 +241,7 @@ Robot& SimulatorNode::spawnRobot(const std::string& name, ModelSpec model, const
 }
 
 bool SimulatorNode::deleteRobot(const std::string& name) {
+  publishPendingScans();  // the robot's last scan too
   adapters_.erase(name);
   if (bag_) bag_->removeRobot(name);
   recording_->forget(name);
@@ -265,6 +266,7 @@ void SimulatorNode::setPaused(bool paused) {
 void SimulatorNode::publishPendingScans() {
   simulation_->finishCasts();
   for (auto& [name, adapter] : adapters_) adapter->publish();
+  if (bag_) bag_->afterStep(*simulation_);  // recorded too, in the bag of their time
 }
 
 bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& response) {
