@@ -62,22 +62,12 @@ void parseRange(const DeclarationSource& source, RangeConfig& config) {
   frameLink(source, "frameName", config.frame);
 }
 
-RayPattern RangeSensor::rayPattern(const RobotBody& body) const {
-  RayPattern pattern{config_.rays.link, body.linkPose(config_.rays.link) * config_.rays.pose, {},
-                     config_.rays.range_max, config_.update_rate};
-  const Eigen::Matrix3f rotation = pattern.sensor.linear().cast<float>();
-  for (const Eigen::Vector3f& direction : directions_) pattern.directions.push_back(rotation * direction);
-  return pattern;
-}
-
 RangeSensor::RangeSensor(const PluginDeclaration& declaration, const RangeConfig& config,
                          const PluginSetup& setup)
-    : Plugin(declaration, setup),
-      config_(config),
-      own_body_(setup.own_ray_body),
-      directions_(rayDirections(config_.rays, config_.rays.channels)) {
-  world_directions_.resize(directions_.size());
-  ranges_.resize(directions_.size());
+    : RayCastingPlugin(declaration, setup,
+                       {config.rays.link, config.rays.pose, rayDirections(config.rays, config.rays.channels),
+                        config.rays.range_max}),
+      config_(config) {
   RangeSample& sample = samples_.next();
   sample.frame_id = config_.frame;
   sample.infrared = config_.infrared;
@@ -95,26 +85,11 @@ double RangeSensor::measured(double nearest, double /*sim_time*/) {
   return std::clamp(nearest + gaussian(noise()), config_.rays.range_min, config_.rays.range_max);
 }
 
-void RangeSensor::aimRays(const StepTime& time, const RobotBody& body) {
-  sensor_ = body.linkPose(config_.rays.link) * config_.rays.pose;
-  aimed_at_ = time.sim_time;
-}
-
-void RangeSensor::castRays(const RayCaster& rays) {
-  const Eigen::Matrix3f rotation = sensor_.linear().cast<float>();
-  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
-  rays.cast(sensor_.translation(), world_directions_, config_.rays.range_max, own_body_, ranges_);
-}
-
 void RangeSensor::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
-  if (!timer().due(time)) return;
-  if (aimed_at_ != time.sim_time) {  // a caller that skipped phases 3a and 3b
-    aimRays(time, body);
-    castRays(rays);
-  }
+  if (!readingDue(time, body, rays)) return;
   RangeSample& sample = samples_.next();
   sample.stamp = time.sim_time;
-  sample.range = measured(*std::min_element(ranges_.begin(), ranges_.end()), time.sim_time);
+  sample.range = measured(*std::min_element(ranges().begin(), ranges().end()), time.sim_time);
   samples_.publish();
 }
 

@@ -27,15 +27,11 @@ void parseRange(const DeclarationSource& source, RangeConfig& config);
 void readRangeRays(const DeclarationSource& source, RangeConfig& config, const std::string& plugin,
                    const std::string& author);
 
-class RangeSensor : public Plugin, public RaySensor {
+class RangeSensor : public RayCastingPlugin {
  public:
   RangeSensor(const PluginDeclaration& declaration, const RangeConfig& config, const PluginSetup& setup);
 
-  bool castsRays(const StepTime& time) const override { return timer().wouldFire(time); }
-  void aimRays(const StepTime& time, const RobotBody& body) override;
-  void castRays(const RayCaster& rays) override;
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-  RayPattern rayPattern(const RobotBody& body) const override;
 
   const RangeConfig& config() const { return config_; }
 
@@ -45,12 +41,6 @@ class RangeSensor : public Plugin, public RaySensor {
 
  private:
   RangeConfig config_;
-  BodyId own_body_;
-  std::vector<Eigen::Vector3f> directions_;  ///< in the sensor frame
-  Eigen::Isometry3d sensor_ = Eigen::Isometry3d::Identity();  ///< where aimRays() aimed from
-  std::vector<Eigen::Vector3f> world_directions_;
-  double aimed_at_ = -1;  ///< [s] the sim time it aimed for
-  std::vector<double> ranges_;
   Stream<RangeSample> samples_;
 };
 

@@ -190,24 +190,21 @@ void parseRayLidar(const DeclarationSource& source, RayLidarConfig& config) {
   frameLink(source, "frameName", config.frame);
 }
 
-RayPattern RayLidar::rayPattern(const RobotBody& body) const {
-  RayPattern pattern{config_.link, body.linkPose(config_.link) * config_.pose, {}, config_.range_max,
-                     config_.update_rate};
-  const Eigen::Matrix3f rotation = pattern.sensor.linear().cast<float>();
-  for (const Eigen::Vector3f& direction : directions_) pattern.directions.push_back(rotation * direction);
-  return pattern;
+namespace {
+
+/// A LaserScan is the plane at 0 elevation; point clouds take every channel, bottom first.
+RayAim lidarAim(const RayLidarConfig& config) {
+  const bool planar = config.output == RayLidarConfig::Output::kLaserScan;
+  return {config.link, config.pose, rayDirections(config, planar ? 1 : config.channels), config.range_max};
 }
+
+}  // namespace
 
 RayLidar::RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& config,
                    const PluginSetup& setup)
-    : Plugin(declaration, setup), config_(config), own_body_(setup.own_ray_body) {
+    : RayCastingPlugin(declaration, setup, lidarAim(config)), config_(config) {
   const int beams = config_.beams();
   const double increment = beams > 1 ? (config_.max_angle - config_.min_angle) / (beams - 1) : 0.0;
-  // A LaserScan is the plane at 0 elevation; point clouds take every channel, bottom first.
-  const bool planar = config_.output == RayLidarConfig::Output::kLaserScan;
-  directions_ = rayDirections(config_, planar ? 1 : config_.channels);
-  world_directions_.resize(directions_.size());
-  ranges_.resize(directions_.size());
   LaserScan& scan = scan_.next();
   scan.frame_id = cloud_.next().frame_id = legacy_cloud_.next().frame_id = config_.frame;
   scan.angle_min = config_.min_angle;
@@ -238,56 +235,41 @@ double RayLidar::measured(double range, std::normal_distribution<double>& gaussi
   return range;
 }
 
-void RayLidar::aimRays(const StepTime& time, const RobotBody& body) {
-  sensor_ = body.linkPose(config_.link) * config_.pose;
-  aimed_at_ = time.sim_time;
-}
-
-void RayLidar::castRays(const RayCaster& rays) {
-  const Eigen::Matrix3f rotation = sensor_.linear().cast<float>();
-  for (size_t i = 0; i < directions_.size(); ++i) world_directions_[i] = rotation * directions_[i];
-  rays.cast(sensor_.translation(), world_directions_, config_.range_max, own_body_, ranges_);
-}
-
 void RayLidar::sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) {
-  if (!timer().due(time)) return;
-  if (aimed_at_ != time.sim_time) {  // a caller that skipped phases 3a and 3b
-    aimRays(time, body);
-    castRays(rays);
-  }
+  if (!readingDue(time, body, rays)) return;
   if (config_.output == RayLidarConfig::Output::kLaserScan) {
-    publishScan(time, sensor_);
+    publishScan(time);
   } else {
-    publishCloud(time, sensor_);
+    publishCloud(time);
   }
 }
 
-void RayLidar::publishScan(const StepTime& time, const Eigen::Isometry3d& sensor) {
+void RayLidar::publishScan(const StepTime& time) {
   std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
   LaserScan& scan = scan_.next();
-  for (size_t i = 0; i < ranges_.size(); ++i)
-    scan.ranges[i] = static_cast<float>(measured(ranges_[i], gaussian));
+  for (size_t i = 0; i < ranges().size(); ++i)
+    scan.ranges[i] = static_cast<float>(measured(ranges()[i], gaussian));
   scan.stamp = time.sim_time;
-  scan.sensor_pose = sensor;
+  scan.sensor_pose = sensorPose();
   scan_.publish();
 }
 
-void RayLidar::publishCloud(const StepTime& time, const Eigen::Isometry3d& sensor) {
+void RayLidar::publishCloud(const StepTime& time) {
   std::normal_distribution<double> gaussian(config_.noise_mean, config_.noise_stddev);
   const bool legacy = config_.output == RayLidarConfig::Output::kPointCloud;
   PointCloud& cloud = legacy ? legacy_cloud_.next() : cloud_.next();
   cloud.points.clear();
   cloud.rings.clear();
   const size_t beams = static_cast<size_t>(config_.beams());
-  for (size_t i = 0; i < ranges_.size(); ++i) {
-    const double range = measured(ranges_[i], gaussian);
+  for (size_t i = 0; i < ranges().size(); ++i) {
+    const double range = measured(ranges()[i], gaussian);
     if (!std::isfinite(range)) continue;
-    cloud.points.push_back(directions_[i] * static_cast<float>(range));
+    cloud.points.push_back(directions()[i] * static_cast<float>(range));
     cloud.rings.push_back(static_cast<uint16_t>(i / beams));
   }
   cloud.intensities.assign(cloud.points.size(), 1.0f);
   cloud.stamp = time.sim_time;
-  cloud.sensor_pose = sensor;
+  cloud.sensor_pose = sensorPose();
   legacy ? legacy_cloud_.publish() : cloud_.publish();
 }
 

@@ -10,8 +10,7 @@
 #include <vector>
 
 #include "bullet_sim/plugins/outputs.h"
-#include "bullet_sim/plugins/plugin.h"
-#include "bullet_sim/plugins/sensor_interfaces.h"
+#include "bullet_sim/plugins/ray_casting_plugin.h"
 
 namespace bullet_sim {
 
@@ -48,31 +47,21 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
 /// first; `channels` = 1 takes the plane at 0 elevation.
 std::vector<Eigen::Vector3f> rayDirections(const RayLidarConfig& config, int channels);
 
-class RayLidar : public Plugin, public RaySensor {
+class RayLidar : public RayCastingPlugin {
  public:
   RayLidar(const PluginDeclaration& declaration, const RayLidarConfig& config, const PluginSetup& setup);
 
-  bool castsRays(const StepTime& time) const override { return timer().wouldFire(time); }
-  void aimRays(const StepTime& time, const RobotBody& body) override;
-  void castRays(const RayCaster& rays) override;
   void sense(const StepTime& time, const RobotBody& body, const RayCaster& rays) override;
-  RayPattern rayPattern(const RobotBody& body) const override;
 
   const RayLidarConfig& config() const { return config_; }
 
  private:
-  void publishScan(const StepTime& time, const Eigen::Isometry3d& sensor);
-  void publishCloud(const StepTime& time, const Eigen::Isometry3d& sensor);
+  void publishScan(const StepTime& time);
+  void publishCloud(const StepTime& time);
   /// What the sensor measures for a true range: REP 117's infinities, noise on in-range values.
   double measured(double range, std::normal_distribution<double>& gaussian);
 
   RayLidarConfig config_;
-  BodyId own_body_;
-  std::vector<Eigen::Vector3f> directions_;  ///< per ray, in the sensor frame, channel-major
-  std::vector<Eigen::Vector3f> world_directions_;
-  std::vector<double> ranges_;
-  Eigen::Isometry3d sensor_ = Eigen::Isometry3d::Identity();  ///< where aimRays() aimed from
-  double aimed_at_ = -1;                                       ///< [s] the sim time it aimed for
   Stream<LaserScan> scan_;
   Stream<PointCloud> cloud_;
   Stream<LegacyPointCloud> legacy_cloud_;
