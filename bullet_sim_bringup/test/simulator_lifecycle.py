@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Test node: the simulator's life, each run against a ROS master of its own on a free port. `rosrun bullet_sim
 simulator` registers as /gazebo; SIGINT ends it within 2 s whether it waits for the master, steps, is paused or
-is importing a large mesh; a ~threads it cannot take ends it with the value named; and when the master
-restarts, it exits with a message, so that respawn="true" restarts it."""
+is importing a large mesh; a ~threads it cannot take, or a parameter of the wrong type, ends it with the value
+named; and when the master restarts, it exits with a message, so that respawn="true" restarts it."""
 import os
 import re
 import shutil
@@ -168,6 +168,29 @@ class SimulatorLifecycle(unittest.TestCase):
             output.wait_for(r"~threads must be a whole number from 0 .* to 64, not %s\n" % re.escape(named), 10)
         self.start_simulator("_threads:=2.0")  # a whole number, written as a double
         self.wait_registered(master_api)
+
+    def test_a_parameter_of_the_wrong_type_ends_it_naming_the_value(self):
+        _, master_api = self.start_master()
+        for given, named in (("_paused:=yes", r'~paused must be true or false, not "yes" \(/gazebo/paused\)'),
+                             ("_step_size:=fast", r'~step_size must be a number, not "fast"'),
+                             ("_world:=3", r"~world must be a string, not 3"),
+                             ("_seed:=1.5", r"~seed must be a whole number, not 1.5"),
+                             ("_limits/max_links:=many", r'~limits/max_links must be a number, not "many"')):
+            simulator, output = self.start_simulator(given)
+            try:
+                status = simulator.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                self.fail("the simulator ran on with %s:\n%s" % (given, output.text))
+            self.assertEqual(status, 1, output.text)
+            output.wait_for(named, 10)
+            master_api.deleteParam("/gazebo/" + given[1:].split(":=")[0])  # the master keeps it for the next run
+        # roscpp would have taken 1 as "not set", and run unpaused; it is taken as true, with a warning.
+        _, output = self.start_simulator("_paused:=1")
+        self.wait_registered(master_api)
+        output.wait_for(r"~paused: 1 taken as true; write true or false", 10)
+        properties = subprocess.run(["rosservice", "call", "/gazebo/get_physics_properties"], env=self.env,
+                                    capture_output=True, text=True, timeout=30)
+        self.assertRegex(properties.stdout, r"pause: True", properties.stdout + properties.stderr)
 
     def test_it_exits_with_a_message_when_the_master_restarts(self):
         master, master_api = self.start_master()

@@ -10,6 +10,7 @@
 #include "bullet_sim/common/request_values.h"
 #include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
+#include "ros_parameters.h"
 
 namespace bullet_sim {
 
@@ -138,7 +139,7 @@ const char* const kNoLights =
 GazeboServices::GazeboServices(ros::NodeHandle private_node, Simulation& simulation, WorldApi& world,
                                SimulationHost& host)
     : node_(private_node), simulation_(simulation), world_(world), host_(host), ode_(gazeboOdeDefaults()) {
-  const double rate = node_.param("model_states_rate", kDefaultStatesRate);
+  const double rate = numberParam(node_, "model_states_rate", kDefaultStatesRate);
   states_period_ = rate > 0 && std::isfinite(rate) ? 1.0 / rate : 0.0;
   // Subscribers are counted as they come and go, as Gazebo does, so a step without any costs nothing.
   const auto counting = [](int& count, int change) {
@@ -228,7 +229,7 @@ std::string GazeboServices::spawn(const gazebo_msgs::SpawnModel::Request& reques
   ModelSpec model;
   if (root == "robot") {
     model = parseModel(request.model_xml, source, resolver, &warnings, simulation_.limits(),
-                       node_.param("strict_models", false));
+                       flagParam(node_, "strict_models", false));
   } else if (root == "sdf" && sdf_too) {
     model = parseSdfModel(request.model_xml, source, resolver, PluginRegistry::builtin(), &warnings,
                           simulation_.limits());

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "ros_parameters.h"
+
 namespace bullet_sim {
 
 namespace {
@@ -27,11 +29,12 @@ BagSettings settingsFrom(const ros::NodeHandle& private_node, const std::string&
   BagSettings settings;
   settings.path = recordPath(file);
   settings.topics = topicPatterns(private_node);
-  settings.compression = private_node.param<std::string>("record_compression", settings.compression);
-  const int chunk_size = private_node.param("record_chunk_size", static_cast<int>(settings.chunk_size));
+  settings.compression = textParam(private_node, "record_compression", settings.compression);
+  const int chunk_size = wholeParam(private_node, "record_chunk_size", static_cast<int>(settings.chunk_size));
   if (chunk_size <= 0) throw std::runtime_error("~record_chunk_size [" + std::to_string(chunk_size) + "]: give bytes > 0");
   settings.chunk_size = static_cast<uint32_t>(chunk_size);
-  settings.ground_truth_rate = private_node.param("record_ground_truth_rate", settings.ground_truth_rate);
+  settings.ground_truth_rate =
+      numberParam(private_node, "record_ground_truth_rate", settings.ground_truth_rate);
   return settings;
 }
 
@@ -47,7 +50,7 @@ std::string recordPath(const std::string& file) {
 
 std::unique_ptr<NodeRecording> NodeRecording::fromParameters(const ros::NodeHandle& private_node,
                                                              std::function<double()> sim_time) {
-  const std::string file = private_node.param<std::string>("record", "");
+  const std::string file = textParam(private_node, "record", "");
   if (file.empty()) return nullptr;
   try {
     return std::make_unique<NodeRecording>(settingsFrom(private_node, file), std::move(sim_time));

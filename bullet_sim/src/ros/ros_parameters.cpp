@@ -1,7 +1,13 @@
 #include "ros_parameters.h"
 
+#include <ros/console.h>
 #include <ros/param.h>
 #include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
 
 namespace bullet_sim {
 
@@ -41,6 +47,72 @@ ParameterTree RosParameters::fetch(const std::string& ns) const {
   YAML::Emitter out;
   out << toYaml(value);
   return ParameterTree::fromYaml(out.c_str(), "the parameter server's " + ns);
+}
+
+namespace {
+
+[[noreturn]] void wrongType(const ros::NodeHandle& node, const std::string& name, const std::string& expected,
+                            const XmlRpc::XmlRpcValue& value) {
+  throw std::runtime_error("~" + name + " must be " + expected + ", not " + describeParam(value) + " (" +
+                           node.resolveName(name) + ")");
+}
+
+}  // namespace
+
+std::string describeParam(XmlRpc::XmlRpcValue value) {
+  switch (value.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return static_cast<bool>(value) ? "true" : "false";
+    case XmlRpc::XmlRpcValue::TypeString:
+      return '"' + static_cast<std::string>(value) + '"';
+    default: {
+      std::ostringstream text;
+      value.write(text);
+      return text.str();
+    }
+  }
+}
+
+bool flagParam(const ros::NodeHandle& node, const std::string& name, bool fallback) {
+  XmlRpc::XmlRpcValue value;
+  if (!node.getParam(name, value)) return fallback;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeBoolean) return static_cast<bool>(value);
+  const bool bit = value.getType() == XmlRpc::XmlRpcValue::TypeInt && static_cast<int>(value) >= 0 &&
+                   static_cast<int>(value) <= 1;
+  if (bit) {
+    const bool flag = static_cast<int>(value) == 1;
+    ROS_WARN("~%s: %d taken as %s; write true or false", name.c_str(), static_cast<int>(value),
+             flag ? "true" : "false");
+    return flag;
+  }
+  wrongType(node, name, "true or false", value);
+}
+
+double numberParam(const ros::NodeHandle& node, const std::string& name, double fallback) {
+  XmlRpc::XmlRpcValue value;
+  if (!node.getParam(name, value)) return fallback;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(value);
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(value);
+  wrongType(node, name, "a number", value);
+}
+
+int wholeParam(const ros::NodeHandle& node, const std::string& name, int fallback) {
+  XmlRpc::XmlRpcValue value;
+  if (!node.getParam(name, value)) return fallback;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(value);
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    const double number = value;
+    if (number == std::floor(number) && std::abs(number) <= std::numeric_limits<int>::max())
+      return static_cast<int>(number);
+  }
+  wrongType(node, name, "a whole number", value);
+}
+
+std::string textParam(const ros::NodeHandle& node, const std::string& name, const std::string& fallback) {
+  XmlRpc::XmlRpcValue value;
+  if (!node.getParam(name, value)) return fallback;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeString) return static_cast<std::string>(value);
+  wrongType(node, name, "a string", value);
 }
 
 }  // namespace bullet_sim

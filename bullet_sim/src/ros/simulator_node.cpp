@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/scene/robot_snapshot.h"
@@ -37,25 +36,17 @@ int threadsParam(const ros::NodeHandle& private_node) {
   if (given.getType() == XmlRpc::XmlRpcValue::TypeInt) count = static_cast<int>(given);
   if (given.getType() == XmlRpc::XmlRpcValue::TypeDouble) count = static_cast<double>(given);
   if (count >= 0 && count <= kMostThreads && count == std::floor(count)) return static_cast<int>(count);
-  std::ostringstream message;
-  message << "~threads must be a whole number from 0 (the cores the node may run on, at most 4) to "
-          << kMostThreads << ", not ";
-  if (given.getType() == XmlRpc::XmlRpcValue::TypeBoolean) {
-    message << (static_cast<bool>(given) ? "true" : "false");
-  } else if (given.getType() == XmlRpc::XmlRpcValue::TypeString) {
-    message << '"' << static_cast<std::string>(given) << '"';
-  } else {
-    given.write(message);
-  }
-  throw std::runtime_error(message.str());
+  throw std::runtime_error(
+      "~threads must be a whole number from 0 (the cores the node may run on, at most 4) to " +
+      std::to_string(kMostThreads) + ", not " + describeParam(given));
 }
 
 /// The limits, each from its ~limits/<name> when set.
 Limits limitsParam(const ros::NodeHandle& private_node) {
   Limits limits;
   for (const std::string& name : Limits::names()) {
-    double value = 0;
-    if (!private_node.getParam("limits/" + name, value)) continue;
+    if (!private_node.hasParam("limits/" + name)) continue;
+    const double value = numberParam(private_node, "limits/" + name, 0);
     try {
       limits.set(name, value);
     } catch (const std::invalid_argument& e) {
@@ -66,10 +57,10 @@ Limits limitsParam(const ros::NodeHandle& private_node) {
 }
 
 WorldSpec loadWorldParam(const ros::NodeHandle& private_node, const Limits& limits) {
-  const std::string name = private_node.param<std::string>("world", "empty.world");
-  const std::string fallback = private_node.param<std::string>("world_fallback", "empty.world");
+  const std::string name = textParam(private_node, "world", "empty.world");
+  const std::string fallback = textParam(private_node, "world_fallback", "empty.world");
   WorldOptions options;
-  options.strict_models = private_node.param("strict_models", false);
+  options.strict_models = flagParam(private_node, "strict_models", false);
   options.limits = limits;
   std::vector<std::string> warnings;
   std::string path;
@@ -92,20 +83,22 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   options.limits = limitsParam(private_);
   WorldSpec world = loadWorldParam(private_, options.limits);
   // The world's <physics>, unless the node's own parameters say otherwise.
-  options.physics.step_size = private_.param("step_size", world.max_step_size);
-  real_time_factor_ = private_.param("real_time_factor", world.real_time_update_rate * world.max_step_size);
-  options.seed = static_cast<uint64_t>(private_.param("seed", 0));
+  options.physics.step_size = numberParam(private_, "step_size", world.max_step_size);
+  real_time_factor_ =
+      numberParam(private_, "real_time_factor", world.real_time_update_rate * world.max_step_size);
+  options.seed = static_cast<uint64_t>(wholeParam(private_, "seed", 0));
   options.threads = threadsParam(private_);
-  options.lockstep = private_.param("lockstep", false);
-  paused_ = private_.param("paused", false);
-  clock_period_ = ros::WallDuration(1.0 / std::max(1.0, private_.param("pub_clock_frequency", 1000.0)));
+  options.lockstep = flagParam(private_, "lockstep", false);
+  paused_ = flagParam(private_, "paused", false);
+  const double clock_frequency = numberParam(private_, "pub_clock_frequency", 1000.0);
+  clock_period_ = ros::WallDuration(1.0 / std::max(1.0, clock_frequency));
   if (options.physics.step_size <= 0 || !std::isfinite(options.physics.step_size)) {
     throw std::runtime_error("~step_size must be a positive number of seconds");
   }
   if (real_time_factor_ < 0 || !std::isfinite(real_time_factor_)) {
     throw std::runtime_error("~real_time_factor must be >= 0 (0 runs as fast as possible)");
   }
-  if (private_.param("gui", false)) {
+  if (flagParam(private_, "gui", false)) {
     ROS_INFO(
         "gui:=true is accepted, but bullet_sim renders headless: use its snapshot service or render_model");
   }
@@ -115,8 +108,8 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   bag_ = NodeRecording::fromParameters(private_, [this] { return simulation_->time(); });
   world_api_ = std::make_unique<WorldApi>(*simulation_, real_time_factor_ / options.physics.step_size);
   gazebo_services_ = std::make_unique<GazeboServices>(private_, *simulation_, *world_api_, *this);
-  snapshot_dir_ = private_.param<std::string>("snapshot_dir", defaultSnapshotDir().string());
-  recording_ = std::make_unique<Recording>(std::max(0.0, private_.param("snapshot_period", 0.0)));
+  snapshot_dir_ = textParam(private_, "snapshot_dir", defaultSnapshotDir().string());
+  recording_ = std::make_unique<Recording>(std::max(0.0, numberParam(private_, "snapshot_period", 0.0)));
 
   clock_ = node_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   services_.push_back(private_.advertiseService("spawn_urdf", &SimulatorNode::spawn, this));
@@ -286,7 +279,7 @@ bool SimulatorNode::spawn(SpawnModel::Request& request, SpawnModel::Response& re
     pose_problems.throwIfErrors();
     warnings = pose_problems.warnings();
     ModelSpec model = parseModel(request.model_xml, source, PackageResolver::fromEnvironment(), &warnings,
-                                 simulation_->limits(), private_.param("strict_models", false));
+                                 simulation_->limits(), flagParam(private_, "strict_models", false));
     if (!request.robot_namespace.empty()) pose.robot_namespace = request.robot_namespace;
     for (size_t i = 0; i < request.joint_names.size(); ++i) {
       pose.joints[request.joint_names[i]] = request.joint_positions[i];

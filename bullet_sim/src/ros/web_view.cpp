@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bullet_sim/assets/package_resolver.h"
+#include "ros_parameters.h"
 
 namespace bullet_sim {
 
@@ -52,16 +53,16 @@ uint64_t queueId(const NodeWebView* view) { return reinterpret_cast<uint64_t>(vi
 }  // namespace
 
 std::unique_ptr<NodeWebView> NodeWebView::fromParameters(const ros::NodeHandle& private_node, Actions actions) {
-  const int port = private_node.param("web_port", 0);
+  const int port = wholeParam(private_node, "web_port", 0);
   if (port == 0) return nullptr;
   if (port < 0 || port > 65535) {
     throw std::runtime_error("~web_port must be a TCP port, 1 to 65535 (0: no viewer), not " + std::to_string(port));
   }
   WebViewerOptions options;
   options.port = static_cast<uint16_t>(port);
-  options.address = private_node.param<std::string>("web_address", options.address);
+  options.address = textParam(private_node, "web_address", options.address);
   options.allowed_origins = originsParam(private_node);
-  options.control_beyond_localhost = private_node.param("web_control", false);
+  options.control_beyond_localhost = flagParam(private_node, "web_control", false);
   const auto package = PackageResolver::fromEnvironment().packageDirectory("bullet_sim");
   options.page_dir = package.value_or(".") + "/web";
 
