@@ -401,8 +401,7 @@ void Simulation::step() {
     bool casts = false;
     for (size_t k = 0; k < robot->plugins_.size(); ++k) {
       robot->plugins_[k]->applyCommands(time, *robot->body_);
-      const bool casting = !robot->casting_.empty() && robot->casting_[k];  // not due again yet
-      casts |= !casting && robot->plugins_[k]->castsRays(time);
+      casts |= !robot->casting(k) && robot->plugins_[k]->castsRays(time);  // not while its last cast runs
     }
     if (casts) ray_casting_.push_back(robot.get());
   }
@@ -469,7 +468,7 @@ void Simulation::castRays(const StepTime& time) {
 void Simulation::sense(const StepTime& time) {
   for (auto& robot : robots_) {
     for (size_t k = 0; k < robot->plugins_.size(); ++k) {
-      if (robot->casting_.empty() || !robot->casting_[k]) robot->plugins_[k]->sense(time, *robot->body_, rays_);
+      if (!robot->casting(k)) robot->plugins_[k]->sense(time, *robot->body_, rays_);
     }
   }
 }

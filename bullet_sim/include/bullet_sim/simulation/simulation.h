@@ -167,6 +167,8 @@ class Robot {
       for (const PortGroup& group : plugin->portGroups()) visit(*plugin, *group.ports);
     }
   }
+  /// Whether plugin k's rays are being cast (behind physics, or in this step's castRays).
+  bool casting(size_t k) const { return !casting_.empty() && casting_[k]; }
 
   std::string name_;
   std::unique_ptr<PhysicsRobot> body_;
