@@ -2,7 +2,8 @@
 """Test node: the simulator's life, each run against a ROS master of its own on a free port. `rosrun bullet_sim
 simulator` registers as /gazebo; SIGINT ends it within 2 s whether it waits for the master, steps, is paused or
 is importing a large mesh; a ~threads it cannot take, or a parameter of the wrong type, ends it with the value
-named; and when the master restarts, it exits with a message, so that respawn="true" restarts it."""
+named (ackermann_joint_commander's too); and when the master restarts, it exits with a message, so that
+respawn="true" restarts it."""
 import os
 import re
 import shutil
@@ -191,6 +192,20 @@ class SimulatorLifecycle(unittest.TestCase):
         properties = subprocess.run(["rosservice", "call", "/gazebo/get_physics_properties"], env=self.env,
                                     capture_output=True, text=True, timeout=30)
         self.assertRegex(properties.stdout, r"pause: True", properties.stdout + properties.stderr)
+
+    def test_the_ackermann_commander_too_names_a_parameter_of_the_wrong_type(self):
+        self.start_master()
+        joints = ["_%s:=%s" % (name, name) for name in ("left_steering_joint", "right_steering_joint",
+                                                       "front_left_joint", "front_right_joint",
+                                                       "rear_left_joint", "rear_right_joint")]
+        commander, output = self.start("rosrun", "bullet_sim", "ackermann_joint_commander", "_max_steer:=wide",
+                                       *joints)
+        try:
+            status = commander.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            self.fail("the commander ran on with ~max_steer wide:\n" + output.text)
+        self.assertEqual(status, 1, output.text)
+        output.wait_for(r'~max_steer must be a number, not "wide" \(/ackermann_joint_commander/max_steer\)', 10)
 
     def test_it_exits_with_a_message_when_the_master_restarts(self):
         master, master_api = self.start_master()

@@ -13,6 +13,7 @@
 //     rear_left_controller rear_right_controller  the controllers, required: commands go to
 //     <controller>/command
 //   max_steer [0.6 rad], max_speed [20 m/s]  as the plugin's tags
+// A parameter of the wrong type ends it, naming the value (ros_parameters.h).
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
 #include <std_msgs/Float64.h>
@@ -24,6 +25,7 @@
 #include "bullet_sim/model/model.h"
 #include "bullet_sim/assets/package_resolver.h"
 #include "plugins/ackermann_drive/ackermann_drive.h"
+#include "ros_parameters.h"
 #include "bullet_sim/plugins/registry.h"
 
 namespace {
@@ -34,10 +36,9 @@ constexpr std::array<const char*, 6> kWheels = {"left_steering", "right_steering
                                                 "front_right",   "rear_left",      "rear_right"};
 
 std::string required(const ros::NodeHandle& parameters, const std::string& name) {
-  std::string value;
-  if (!parameters.getParam(name, value) || value.empty()) {
+  const std::string value = bullet_sim::textParam(parameters, name, "");
+  if (value.empty())
     throw std::runtime_error("~" + name + " is not set: name the joints and controllers it drives");
-  }
   return value;
 }
 
@@ -50,10 +51,11 @@ AckermannConfig readConfig(const ros::NodeHandle& parameters) {
   config.front_right_joint = required(parameters, "front_right_joint");
   config.rear_left_joint = required(parameters, "rear_left_joint");
   config.rear_right_joint = required(parameters, "rear_right_joint");
-  config.robot_base_frame = parameters.param<std::string>("robot_base_frame", "base_footprint");
-  config.max_steer = parameters.param("max_steer", 0.6);
-  config.max_speed = parameters.param("max_speed", 20.0);
-  const std::string description = parameters.param<std::string>("robot_description", "robot_description");
+  config.robot_base_frame = bullet_sim::textParam(parameters, "robot_base_frame", "base_footprint");
+  config.max_steer = bullet_sim::numberParam(parameters, "max_steer", 0.6);
+  config.max_speed = bullet_sim::numberParam(parameters, "max_speed", 20.0);
+  const std::string description =
+      bullet_sim::textParam(parameters, "robot_description", "robot_description");
   std::string urdf;
   if (!ros::param::get(description, urdf))
     throw std::runtime_error("no robot description on [" + description + "]");
