@@ -122,8 +122,8 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
   /// where it is; undamped, its velocity stays as it is. The prediction serves continuous collision alone,
   /// which no body of ours uses: without it, Bullet also stops widening each body's bounds to where it is
   /// predicted to be (and computing them twice). A body's bounds stay widened by the 2 cm within which
-  /// contacts are found, outside which the narrowphase would find no point either. (A tenth of ten
-  /// wheelchairs' step.)
+  /// contacts are found, outside which the narrowphase would find no point either. (5 % of ten wheelchairs'
+  /// instructions.)
   void predictUnconstraintMotion(btScalar dt) override {
     const bool continuous = usesContinuousCollision();
     getDispatchInfo().m_useContinuous = continuous;

@@ -88,12 +88,16 @@ bool flagParam(const ros::NodeHandle& node, const std::string& name, bool fallba
   wrongType(node, name, "true or false", value);
 }
 
-double numberParam(const ros::NodeHandle& node, const std::string& name, double fallback) {
+std::optional<double> numberParamIfSet(const ros::NodeHandle& node, const std::string& name) {
   XmlRpc::XmlRpcValue value;
-  if (!node.getParam(name, value)) return fallback;
+  if (!node.getParam(name, value)) return std::nullopt;
   if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(value);
   if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(value);
   wrongType(node, name, "a number", value);
+}
+
+double numberParam(const ros::NodeHandle& node, const std::string& name, double fallback) {
+  return numberParamIfSet(node, name).value_or(fallback);
 }
 
 int wholeParam(const ros::NodeHandle& node, const std::string& name, int fallback) {

@@ -4,6 +4,7 @@
 
 #include <ros/node_handle.h>
 
+#include <optional>
 #include <string>
 
 #include "bullet_sim/plugins/parameter_tree.h"
@@ -22,6 +23,8 @@ class RosParameters : public ParameterSource {
 /// integer a whole number written as a double (2.0); a flag takes 0 and 1 too, with a warning.
 bool flagParam(const ros::NodeHandle& node, const std::string& name, bool fallback);
 double numberParam(const ros::NodeHandle& node, const std::string& name, double fallback);
+/// As numberParam, without a fallback: nothing when the parameter is not set.
+std::optional<double> numberParamIfSet(const ros::NodeHandle& node, const std::string& name);
 int wholeParam(const ros::NodeHandle& node, const std::string& name, int fallback);
 std::string textParam(const ros::NodeHandle& node, const std::string& name, const std::string& fallback);
 /// A parameter's value as a user wrote it: "two" with its quotes, true, 1.5, [1, 2].

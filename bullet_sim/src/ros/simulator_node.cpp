@@ -45,10 +45,10 @@ int threadsParam(const ros::NodeHandle& private_node) {
 Limits limitsParam(const ros::NodeHandle& private_node) {
   Limits limits;
   for (const std::string& name : Limits::names()) {
-    if (!private_node.hasParam("limits/" + name)) continue;
-    const double value = numberParam(private_node, "limits/" + name, 0);
+    const std::optional<double> value = numberParamIfSet(private_node, "limits/" + name);
+    if (!value) continue;
     try {
-      limits.set(name, value);
+      limits.set(name, *value);
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error("~limits/" + name + ": " + e.what());
     }
