@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """rostest node: gazebo_ros's empty_world.launch hands its arguments to bullet_sim's simulator (node gazebo):
-the world, the pause (the clock stands still until unpause_physics), the seed and /clock's rate."""
+the world, the pause (the clock stands still until unpause_physics), the seed and /clock's rate, in sim time."""
 import sys
 import unittest
 
@@ -30,6 +30,18 @@ class EmptyWorldArguments(unittest.TestCase):
         rospy.wait_for_service("/gazebo/unpause_physics", TIMEOUT)
         rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
         clock.wait_for(lambda m: m[-1].clock > paused[0].clock, TIMEOUT, "the clock to move after unpause")
+
+    def test_the_clock_comes_at_pub_clock_frequency_in_sim_time(self):
+        # Gazebo's rule: /clock once every 1/pub_clock_frequency s of sim time (50 Hz: 20 ms), whatever the
+        # pace; at the test's half real time, 50 wall Hz would give 10 ms.
+        clock = Collector("/clock", Clock)
+        rospy.wait_for_service("/gazebo/unpause_physics", TIMEOUT)
+        rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
+        ticks = clock.wait_for(lambda m: len({t.clock for t in m}) >= 12, TIMEOUT, "12 ticks of /clock")
+        times = sorted({m.clock.to_sec() for m in ticks})[1:]  # the first may be the paused one
+        steps = [round((b - a) * 1000) for a, b in zip(times, times[1:])]
+        self.assertTrue(all(step >= 20 for step in steps), steps)
+        self.assertEqual(sorted(steps)[len(steps) // 2], 20, steps)
 
 
 if __name__ == "__main__":
