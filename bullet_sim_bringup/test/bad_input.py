@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """rostest node: the simulator under bad input. A NaN or inf in cmd_vel is ignored (the robot stays put, the node
 keeps stepping); the drive's commandTimeout stops the robot when commands stop; a malformed and an empty robot
-description, or a flag that is not a number, make spawn_model exit non-zero with the reason, while the simulator
-keeps running. Every case of bullet_sim's test/fixtures/bad_input/cases.yaml, spawn poses that are not finite and
-an SDF model of absurd mass through the world API are refused with their message while the wheelchair drives
-on."""
+description, or a flag that is unknown or not a number, make spawn_model exit non-zero with the reason, while the
+simulator keeps running; spawn_model -wait spawns once the model it names is in. Every case of bullet_sim's
+test/fixtures/bad_input/cases.yaml, spawn poses that are not finite and an SDF model of absurd mass through the
+world API are refused with their message while the wheelchair drives on."""
 import math
 import os
 import shutil
@@ -19,7 +19,7 @@ import rospy
 import rostest
 import yaml
 from bullet_sim.srv import SpawnModel, SpawnModelRequest
-from gazebo_msgs.srv import DeleteModel, SpawnModel as GazeboSpawnModel
+from gazebo_msgs.srv import DeleteModel, GetWorldProperties, SpawnModel as GazeboSpawnModel
 from geometry_msgs.msg import Pose
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
@@ -156,6 +156,51 @@ class BadInput(unittest.TestCase):
         result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
         self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
         self.assertIn("-timeout must be a number, not [soon]", result.stderr)
+
+    def test_an_unknown_flag_fails_the_spawn_naming_it(self):
+        # It was taken as a value and dropped without a word.
+        fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
+        result = self.spawn_model("-file", os.path.join(fixtures, "minimal.urdf"), "-colour", "red")
+        self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
+        self.assertIn("unexpected argument [-colour]", result.stderr)
+
+    def test_wait_spawns_only_once_the_model_it_names_is_in_the_world(self):
+        fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
+        minimal = os.path.join(fixtures, "minimal.urdf")
+        absent = subprocess.run(["rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", minimal, "-model", "bad",
+                                 "-wait", "absent", "-timeout", "1"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+        self.assertEqual(absent.returncode, 1, absent.stdout + absent.stderr)
+        self.assertIn("-wait absent: no model of that name in the world after 1 s (-timeout)", absent.stderr)
+
+        # Line-buffered, so that its log line arrives when it is written, not when it exits.
+        command = ["stdbuf", "-oL", "rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", minimal, "-model",
+                   "waiter", "-x", "60", "-robot_namespace", "waiter", "-wait", "waited_for", "-timeout", "30"]
+        waiter = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            for line in waiter.stdout:  # ends when it does, within its -timeout
+                if "Waiting for model waited_for" in line:
+                    break
+            self.assertIsNone(waiter.poll(), "spawn_model -wait did not wait")
+            self.assertNotIn("waiter", self.world_models())
+            result = self.spawn_model_named("waited_for", minimal)
+            self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+            self.assertEqual(waiter.wait(timeout=60), 0, waiter.stderr.read())
+            self.assertIn("waiter", self.world_models())
+        finally:
+            if waiter.poll() is None:
+                waiter.kill()
+            for name in ("waiter", "waited_for"):
+                rospy.ServiceProxy("/gazebo/delete_model", DeleteModel)(name)
+
+    def world_models(self):
+        rospy.wait_for_service("/gazebo/get_world_properties", timeout=30)
+        return rospy.ServiceProxy("/gazebo/get_world_properties", GetWorldProperties)().model_names
+
+    def spawn_model_named(self, name, urdf):
+        command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", urdf, "-model", name, "-x", "70",
+                   "-robot_namespace", name, "-timeout", "30"]
+        return subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
 
     def test_a_file_that_is_not_a_regular_file_fails_the_spawn_promptly(self):
         # A directory threw an uncaught exception, and /dev/zero was read for ever.

@@ -4,12 +4,15 @@
 //
 //   spawn_model -urdf (-file FILE | -param PARAM) -model NAME [-x X -y Y -z Z -R R -P P -Y Y] [-J joint
 //   value]...
-//               [-robot_namespace NS] [-gazebo_namespace NS] [-unpause] [-timeout S]
+//               [-robot_namespace NS] [-gazebo_namespace NS] [-unpause] [-wait MODEL] [-timeout S]
+#include <gazebo_msgs/GetWorldProperties.h>
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
 #include <tf2/LinearMath/Quaternion.h>
 
+#include <algorithm>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -30,6 +33,11 @@ struct Arguments {
   std::vector<std::pair<std::string, std::string>> joints;  ///< -J joint value
 };
 
+/// Gazebo's spawn_model's flags that take a value, and ours (-timeout).
+const std::set<std::string> kValueFlags = {"-file", "-param", "-model", "-reference_frame", "-gazebo_namespace",
+                                           "-robot_namespace", "-wait", "-x", "-y", "-z", "-R", "-P", "-Y",
+                                           "-timeout"};
+
 Arguments parseFlags(const std::vector<std::string>& args) {
   Arguments parsed;
   for (size_t i = 1; i < args.size(); ++i) {
@@ -41,10 +49,12 @@ Arguments parseFlags(const std::vector<std::string>& args) {
     } else if (flag == "-J" && i + 2 < args.size()) {
       parsed.joints.emplace_back(args[i + 1], args[i + 2]);
       i += 2;
+    } else if (flag == "-package_to_model" || flag == "-b") {
+      ROS_WARN("spawn_model: %s is accepted and not honoured here", flag.c_str());
     } else if (flag == "-sdf" || flag == "-database" || flag == "-stdin") {
       throw Refusal(flag + " is not supported here: this spawn_model takes -urdf with -file or -param; spawn " +
                     "SDF with gazebo_ros's spawn_model or the simulator's spawn_sdf_model service");
-    } else if (flag.size() > 1 && flag[0] == '-' && i + 1 < args.size()) {
+    } else if (kValueFlags.count(flag) && i + 1 < args.size()) {
       parsed.values[flag.substr(1)] = args[++i];
       parsed.have_z |= flag == "-z";
     } else {
@@ -52,6 +62,9 @@ Arguments parseFlags(const std::vector<std::string>& args) {
                     "]; usage: spawn_model -urdf (-file F | -param P) -model NAME ...");
     }
   }
+  const auto frame = parsed.values.find("reference_frame");
+  if (frame != parsed.values.end() && !frame->second.empty() && frame->second != "world")
+    ROS_WARN("spawn_model: -reference_frame %s is not honoured: the pose is in the world", frame->second.c_str());
   if (!parsed.urdf) throw Refusal("give -urdf: bullet_sim spawns URDF models");
   if (!parsed.values.count("model")) throw Refusal("give -model NAME");
   return parsed;
@@ -121,15 +134,40 @@ bullet_sim::SpawnModel::Request makeRequest(const Arguments& arguments, const st
   return request;
 }
 
+std::string seconds(double value) {
+  std::ostringstream text;
+  text << value << " s";
+  return text.str();
+}
+
+/// -wait MODEL: until the world holds MODEL, asked of the simulator every 20 ms of wall time (Gazebo's
+/// spawn_model reads model_states at 10 Hz of sim time, which a paused world never reaches).
+void waitForModel(const std::string& gazebo, const std::string& model, double timeout) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
+  const std::string service = gazebo + "/get_world_properties";
+  ROS_INFO("Waiting for model %s before proceeding.", model.c_str());
+  while (ros::ok() && ros::WallTime::now() < deadline) {
+    gazebo_msgs::GetWorldProperties world;
+    if (ros::service::call(service, world)) {
+      const auto& names = world.response.model_names;
+      if (std::find(names.begin(), names.end(), model) != names.end()) return;
+    }
+    ros::WallDuration(0.02).sleep();  // the period of asking, within the deadline
+  }
+  if (!ros::ok()) throw Refusal("-wait " + model + ": stopped before that model was in the world");
+  throw Refusal("-wait " + model + ": no model of that name in the world after " + seconds(timeout) + " (-timeout)");
+}
+
 /// Asks the simulator's spawn service, and unpauses it when asked to.
 void spawn(const Arguments& arguments, bullet_sim::SpawnModel& call) {
-  const double timeout = number(arguments, "timeout", 60.0);  // [s] for the simulator's service
+  const double timeout = number(arguments, "timeout", 60.0);  // [s] for the simulator's service, and -wait
   const auto ns = arguments.values.find("gazebo_namespace");
   const std::string gazebo = ns == arguments.values.end() ? "/gazebo" : ns->second;
   if (!ros::service::waitForService(gazebo + "/spawn_urdf", ros::Duration(timeout))) {
-    throw Refusal("no service " + gazebo + "/spawn_urdf after " + std::to_string(timeout) +
-                  " s: is the simulator running?");
+    throw Refusal("no service " + gazebo + "/spawn_urdf after " + seconds(timeout) + ": is the simulator running?");
   }
+  const auto wait = arguments.values.find("wait");
+  if (wait != arguments.values.end()) waitForModel(gazebo, wait->second, timeout);
   if (!ros::service::call(gazebo + "/spawn_urdf", call))
     throw Refusal("the call to " + gazebo + "/spawn_urdf failed");
   if (!call.response.success) throw Refusal(call.response.message);
@@ -143,6 +181,7 @@ void spawn(const Arguments& arguments, bullet_sim::SpawnModel& call) {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "spawn_model", ros::init_options::AnonymousName);
+  const ros::NodeHandle node;  // starts the node: ros::ok() holds until it is stopped
   std::vector<std::string> args;
   ros::removeROSArgs(argc, argv, args);
   try {
