@@ -28,8 +28,8 @@ import textwrap
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_machine import cpu_model  # noqa: E402
-from readme_section import write_section  # noqa: E402
+from bench_machine import cpu_model, load_average  # noqa: E402
+from readme_section import met, write_section  # noqa: E402
 
 PAGE = os.path.join(REPO, "docs", "performance.md")
 PLOT = os.path.join(REPO, "docs", "images", "bench_fleet.png")
@@ -49,11 +49,6 @@ BOXES_WORLD, BOXES_ROBOTS, BOXES_SPACING, BOXES_TARGET_RTF = "walled_boxes.world
 BOXES_JSON = "bench_fleet_boxes.json"
 
 
-def load():
-    with open("/proc/loadavg") as file:
-        return " ".join(file.read().split()[:3])
-
-
 def run_bench(arguments):
     command = ["rosrun", "bullet_sim", "bench"] + arguments
     print("==", " ".join(command), file=sys.stderr)
@@ -64,10 +59,10 @@ def run_bench(arguments):
 def measure(args, arguments, name):
     """bench's JSON, with the command, the date, the machine and its load before and after; also in
     args.out/name."""
-    load_before = load()
+    load_before = load_average()
     command, report = run_bench(arguments)
     report.update(command=command, date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"),
-                  cores=os.cpu_count(), cpu=cpu_model(), load_before=load_before, load_after=load())
+                  cores=os.cpu_count(), cpu=cpu_model(), load_before=load_before, load_after=load_average())
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, name), "w") as file:
         json.dump(report, file, indent=2)
@@ -82,10 +77,6 @@ def measure_fleets(args):
 def measure_boxes(args):
     return measure(args, ["--robots", str(BOXES_ROBOTS), "--world", BOXES_WORLD, "--spacing", "%g" % BOXES_SPACING,
                           "--duration", "%g" % args.duration, "--repeat", str(args.repeat)], BOXES_JSON)
-
-
-def met(ok):
-    return "yes" if ok else "**no**"
 
 
 def process_cpu_ms(fleet):

@@ -33,8 +33,8 @@ import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_machine import cpu_model  # noqa: E402
-from readme_section import write_section  # noqa: E402
+from bench_machine import cpu_model, load_average  # noqa: E402
+from readme_section import met, write_section  # noqa: E402
 
 PAGE = os.path.join(REPO, "docs", "performance.md")
 README = os.path.join(REPO, "README.md")
@@ -44,12 +44,7 @@ TARGET_RTF_10 = 100
 SPAWN_LIMIT_S = 120  # a bound on every wait for the fleet
 CPU_KINDS = {"simulator": "lib/bullet_sim/simulator", "rosmaster": "bin/rosmaster",
              "robot_state_publishers": "robot_state_publisher/robot_state_publisher", "roslaunch": "bin/roslaunch"}
-WHEELCHAIR = "$(find smartwheelchair_model)/urdf/smartwheelchair_model.urdf.xacro"
-
-
-def load():
-    with open("/proc/loadavg") as file:
-        return " ".join(file.read().split()[:3])
+WHEELCHAIR = ("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro")  # package, path in it
 
 
 def pids(pattern):
@@ -121,11 +116,23 @@ def wait_for_fleet(count, started):
     raise RuntimeError("the fleet of %d was not up after %d s" % (count, SPAWN_LIMIT_S))
 
 
-def cpu_over(window, sim_clock=None):
-    """Each kind's share of a core over `window` s of wall time, and the RTF when a clock is given."""
-    before, sim_before, wall_before = cpu_by_kind(), sim_clock() if sim_clock else 0, time.monotonic()
+def own_cpu_seconds():
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def cpu_over(window, sim_clock=None, own_kind=None):
+    """Each kind's share of a core over `window` s of wall time (this process's under `own_kind`, when given),
+    and the RTF when a clock is given."""
+    def sample():
+        cpu = cpu_by_kind()
+        if own_kind:
+            cpu[own_kind] = own_cpu_seconds()
+        return cpu, sim_clock() if sim_clock else 0, time.monotonic()
+    before, sim_before, wall_before = sample()
     time.sleep(window)  # the measuring window
-    after, sim_after, wall = cpu_by_kind(), sim_clock() if sim_clock else 0, time.monotonic() - wall_before
+    after, sim_after, wall_after = sample()
+    wall = wall_after - wall_before
     shares = {kind: (after[kind] - before[kind]) / wall for kind in after}
     return shares, (sim_after - sim_before) / wall
 
@@ -155,8 +162,9 @@ def measure_spawn(count, window, repeat):
 
 def scenario_text(count, columns=10, spacing=1.5):
     poses = ", ".join("{x: %g, y: %g}" % (i % columns * spacing, i // columns * spacing) for i in range(count))
+    description = "$(find %s)/%s" % WHEELCHAIR
     return ("name: fleet_%d\nrobot: {description: %s, count: %d}\nworld: empty.world\nspawn: [%s]\n"
-            "duration: 0.1\nchecks:\n  - upright: {max_tilt: 0.1}\n" % (count, WHEELCHAIR, count, poses))
+            "duration: 0.1\nchecks:\n  - upright: {max_tilt: 0.1}\n" % (count, description, count, poses))
 
 
 def measure_scenario(count):
@@ -210,10 +218,10 @@ def spawn_without_state_publishers(count, spacing=3, columns=10):
     import rospy
     from gazebo_msgs.srv import SpawnModel
     from geometry_msgs.msg import Pose
-    description = subprocess.run(["xacro", subprocess.run(["rospack", "find", "smartwheelchair_model"],
-                                                          stdout=subprocess.PIPE, universal_newlines=True,
-                                                          check=True).stdout.strip() + WHEELCHAIR.split(")", 1)[1]],
-                                 stdout=subprocess.PIPE, universal_newlines=True, check=True).stdout
+    import rospkg
+    package, path = WHEELCHAIR
+    xacro = os.path.join(rospkg.RosPack().get_path(package), path)
+    description = subprocess.run(["xacro", xacro], stdout=subprocess.PIPE, universal_newlines=True, check=True).stdout
     rospy.wait_for_service("/gazebo/spawn_urdf_model", timeout=SPAWN_LIMIT_S)
     spawn = rospy.ServiceProxy("/gazebo/spawn_urdf_model", SpawnModel)
     for i in range(count):
@@ -240,14 +248,10 @@ def measure_driving(count, window, state_publishers):
             spawn_without_state_publishers(count)
         driver = Driver(count)
         before = model_positions(count)
-        own_before = resource.getrusage(resource.RUSAGE_SELF)
-        shares, rtf = cpu_over(window, lambda: driver.sim_time)
-        own_after = resource.getrusage(resource.RUSAGE_SELF)
+        shares, rtf = cpu_over(window, lambda: driver.sim_time, own_kind="driver")
         after = model_positions(count)
     finally:
         launch.stop()
-    own = (own_after.ru_utime + own_after.ru_stime - own_before.ru_utime - own_before.ru_stime) / window
-    shares["driver"] = own
     moved = [math.hypot(a.x - b.x, a.y - b.y) for a, b in zip(after, before)]
     return {"count": count, "rtf": rtf, "cpu_shares": shares, "window_s": window,
             "moved_m": [min(moved), max(moved)], "highest_z_m": max(abs(a.z) for a in after)}
@@ -255,10 +259,6 @@ def measure_driving(count, window, state_publishers):
 
 def shares_text(shares):
     return ", ".join("%s %.2f" % (kind.replace("_", " "), share) for kind, share in sorted(shares.items()))
-
-
-def met(ok):
-    return "yes" if ok else "**no**"
 
 
 def table(report):
@@ -317,12 +317,12 @@ def driving_in_own_process(args, state_publishers):
 
 def measure(args):
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % args.port
-    report = {"date": datetime.date.today().isoformat(), "machine": cpu_model(), "load_before": load()}
+    report = {"date": datetime.date.today().isoformat(), "machine": cpu_model(), "load_before": load_average()}
     report["scenario"] = measure_scenario(args.spawn)
     report["spawn"] = measure_spawn(args.spawn, args.window, args.repeat)
     report["drive"] = driving_in_own_process(args, "with")
     report["drive_alone"] = driving_in_own_process(args, "without")
-    report["load_after"] = load()
+    report["load_after"] = load_average()
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "bench_fleet_node.json"), "w") as file:
         json.dump(report, file, indent=2)

@@ -11,17 +11,13 @@ import os
 import sys
 import textwrap
 
-from readme_section import write_section
+from readme_section import met, write_section
 
 
 def median(values):
     values = sorted(values)
     middle = len(values) // 2
     return values[middle] if len(values) % 2 else (values[middle - 1] + values[middle]) / 2
-
-
-def met(ok):
-    return "yes" if ok else "**no**"
 
 
 def rtf(run):

@@ -14,3 +14,8 @@ def write_section(readme, name, lines, place):
     else:
         text = place(text, section)
     open(readme, "w").write(text)
+
+
+def met(ok):
+    """A table's "met" column: yes, or a bold no."""
+    return "yes" if ok else "**no**"
