@@ -143,17 +143,19 @@ class BadInput(unittest.TestCase):
         self.assertLess(travelled(messages, last_command + 1.5, last_command + 2.5), 0.005,
                         "the chair kept driving after the commands stopped")
 
-    def spawn_model(self, *source):
-        # Far from the chair, and in a namespace of its own, should it load.
-        command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", *source, "-model", "bad", "-timeout", "30",
-                   "-x", "50", "-robot_namespace", "bad"]
-        return subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+    @staticmethod
+    def spawn_command(*source, model="bad", x="50", timeout="30"):
+        """spawn_model's command line: far from the chair, and in a namespace of its own, should it load."""
+        return ["rosrun", "bullet_sim", "spawn_model", "-urdf", *source, "-model", model, "-timeout", timeout,
+                "-x", x, "-robot_namespace", model]
+
+    def spawn_model(self, *source, **options):
+        return subprocess.run(self.spawn_command(*source, **options), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True, timeout=60)
 
     def test_a_flag_that_is_not_a_number_fails_the_spawn_with_the_reason(self):
         fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
-        command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", os.path.join(fixtures, "minimal.urdf"),
-                   "-model", "bad", "-timeout", "soon"]
-        result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+        result = self.spawn_model("-file", os.path.join(fixtures, "minimal.urdf"), timeout="soon")
         self.assertEqual(result.returncode, 1, result.stdout + result.stderr)
         self.assertIn("-timeout must be a number, not [soon]", result.stderr)
 
@@ -167,15 +169,13 @@ class BadInput(unittest.TestCase):
     def test_wait_spawns_only_once_the_model_it_names_is_in_the_world(self):
         fixtures = os.path.join(rospkg.RosPack().get_path("bullet_sim"), "test", "fixtures", "robots")
         minimal = os.path.join(fixtures, "minimal.urdf")
-        absent = subprocess.run(["rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", minimal, "-model", "bad",
-                                 "-wait", "absent", "-timeout", "1"],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+        absent = self.spawn_model("-file", minimal, "-wait", "absent", timeout="1")
         self.assertEqual(absent.returncode, 1, absent.stdout + absent.stderr)
         self.assertIn("-wait absent: no model of that name in the world after 1 s (-timeout)", absent.stderr)
 
         # Line-buffered, so that its log line arrives when it is written, not when it exits.
-        command = ["stdbuf", "-oL", "rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", minimal, "-model",
-                   "waiter", "-x", "60", "-robot_namespace", "waiter", "-wait", "waited_for", "-timeout", "30"]
+        command = ["stdbuf", "-oL"] + self.spawn_command("-file", minimal, "-wait", "waited_for", model="waiter",
+                                                         x="60")
         waiter = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         try:
             for line in waiter.stdout:  # ends when it does, within its -timeout
@@ -183,7 +183,7 @@ class BadInput(unittest.TestCase):
                     break
             self.assertIsNone(waiter.poll(), "spawn_model -wait did not wait")
             self.assertNotIn("waiter", self.world_models())
-            result = self.spawn_model_named("waited_for", minimal)
+            result = self.spawn_model("-file", minimal, model="waited_for", x="70")
             self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
             self.assertEqual(waiter.wait(timeout=60), 0, waiter.stderr.read())
             self.assertIn("waiter", self.world_models())
@@ -196,11 +196,6 @@ class BadInput(unittest.TestCase):
     def world_models(self):
         rospy.wait_for_service("/gazebo/get_world_properties", timeout=30)
         return rospy.ServiceProxy("/gazebo/get_world_properties", GetWorldProperties)().model_names
-
-    def spawn_model_named(self, name, urdf):
-        command = ["rosrun", "bullet_sim", "spawn_model", "-urdf", "-file", urdf, "-model", name, "-x", "70",
-                   "-robot_namespace", name, "-timeout", "30"]
-        return subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
 
     def test_a_file_that_is_not_a_regular_file_fails_the_spawn_promptly(self):
         # A directory threw an uncaught exception, and /dev/zero was read for ever.
