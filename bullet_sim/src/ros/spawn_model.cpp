@@ -145,11 +145,16 @@ std::string seconds(double value) {
 void waitForModel(const std::string& gazebo, const std::string& model, double timeout) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
   const std::string service = gazebo + "/get_world_properties";
+  // One connection for all the asking (made again if it drops): a fleet's spawners would otherwise each ask the
+  // master where the service is, fifty times a second.
+  ros::NodeHandle node;
+  ros::ServiceClient world;
   ROS_INFO("Waiting for model %s before proceeding.", model.c_str());
   while (ros::ok() && ros::WallTime::now() < deadline) {
-    gazebo_msgs::GetWorldProperties world;
-    if (ros::service::call(service, world)) {
-      const auto& names = world.response.model_names;
+    if (!world.isValid()) world = node.serviceClient<gazebo_msgs::GetWorldProperties>(service, true);
+    gazebo_msgs::GetWorldProperties properties;
+    if (world.call(properties)) {
+      const auto& names = properties.response.model_names;
       if (std::find(names.begin(), names.end(), model) != names.end()) return;
     }
     ros::WallDuration(0.02).sleep();  // the period of asking, within the deadline
