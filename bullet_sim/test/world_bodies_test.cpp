@@ -76,22 +76,21 @@ TEST(WorldBodies, InTheAirItMovesAsNewtonAndEulerSay) {
   thrown.linear = Eigen::Vector3d(1, -0.5, 2);
   thrown.angular = Eigen::Vector3d(0, 0, 3);  // about a principal axis of a cube: no gyroscopic torque
   ASSERT_EQ(world.setModelState("crate", thrown), "");
-  const Eigen::Vector3d force(4, 0, 0);   // [N] on the 1 kg crate
+  const Eigen::Vector3d force(4, 0, 0);     // [N]
   const Eigen::Vector3d torque(0, 0, 0.2);  // [N m]
   const double seconds = 0.5;
   ASSERT_EQ(world.applyBodyWrench({"crate", "", {}, force, torque, {0, -1}}), "");  // until cleared
   const int steps = static_cast<int>(std::lround(seconds / simulation.stepSize()));
   for (int i = 0; i < steps; ++i) simulation.step();
   const EntityState now = world.modelState("crate");
-  const Eigen::Vector3d gravity(0, 0, -9.81);
-  const Eigen::Vector3d expected = thrown.linear + (force / 1.0 + gravity) * seconds;
-  EXPECT_LT((now.linear - expected).norm(), 1e-9) << now.linear.transpose();
-  const double inertia = world.linkProperties("crate::link").inertia(2, 2);  // [kg m^2] as the file writes it
+  const LinkProperties crate = world.linkProperties("crate::link");  // mass and inertia as the file writes them
+  const Eigen::Vector3d acceleration = force / crate.mass + Eigen::Vector3d(0, 0, -9.81);
+  EXPECT_LT((now.linear - (thrown.linear + acceleration * seconds)).norm(), 1e-9) << now.linear.transpose();
+  const double inertia = crate.inertia(2, 2);  // [kg m^2]
   EXPECT_NEAR(now.angular.z(), 3 + torque.z() / inertia * seconds, 1e-9);
   EXPECT_NEAR(now.angular.head<2>().norm(), 0, 1e-12);
   // Semi-implicit Euler: the position takes each step's new velocity, half a step's worth ahead of the exact
   // parabola.
-  const Eigen::Vector3d acceleration = force / 1.0 + gravity;
   const Eigen::Vector3d exact =
       thrown.pose.translation() + thrown.linear * seconds + acceleration * seconds * seconds / 2;
   const Eigen::Vector3d stepped = exact + acceleration * seconds * simulation.stepSize() / 2;

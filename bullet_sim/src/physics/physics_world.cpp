@@ -105,7 +105,7 @@ class TouchingIslands : public btSimulationIslandManager {
 
 /// Bullet solves every awake island, one without contacts or joints too, where all the solver does is add
 /// each rigid body's forces, torques and gyroscopic impulse to its velocities, through its setup and
-/// write-back: two thirds of a lone raycast robot's solve. This does that arithmetic directly, in Bullet's
+/// write-back: half of a lone raycast robot's solve. This does that arithmetic directly, in Bullet's
 /// order (btSequentialImpulseConstraintSolver's initSolverBody, convertBodies and writeBackBodies), so that
 /// every velocity comes out bit for bit as Bullet's. The other islands are batched and solved as before.
 class FreeIslandsDirect : public MultiBodyInplaceSolverIslandCallback {
