@@ -31,6 +31,10 @@ class Collector:
                 self._changed.wait(remaining)
             return list(self.messages)
 
+    def close(self):
+        """Unsubscribes: the publisher sees its subscriber go."""
+        self._subscriber.unregister()
+
     def wait_for_publisher(self, timeout):
         """Blocks until the topic's publisher is connected, polling every 10 ms up to `timeout` s of wall time."""
         deadline = time.monotonic() + timeout

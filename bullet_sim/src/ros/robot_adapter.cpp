@@ -9,6 +9,7 @@
 #include <std_msgs/Float64MultiArray.h>
 #include <std_srvs/Empty.h>
 #include <tf2_eigen/tf2_eigen.h>
+#include <tf2_msgs/TFMessage.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 
 #include "action_server.h"
 #include "controller_manager_services.h"
+#include "listened_publisher.h"
 #include "messages.h"
 #include "trajectory_messages.h"
 
@@ -67,7 +69,7 @@ struct RobotAdapter::Connection {
 };
 
 RobotAdapter::RobotAdapter(Robot& robot, const std::string& robot_namespace,
-                           tf2_ros::TransformBroadcaster& tf, FrameOwners& owners,
+                           const ListenedPublisher& tf, FrameOwners& owners,
                            std::function<double()> sim_time)
     : robot_name_(robot.name()),
       namespace_(withoutSlashes(robot_namespace)),
@@ -173,19 +175,20 @@ void RobotAdapter::serveAction(const Connection& plugin, const ActionPort& port)
 template <class Message, class Sample, class Convert>
 void RobotAdapter::advertiseStream(const Connection& plugin, const OutputPort& port,
                                    const Stream<Sample>* stream, Convert convert) {
-  ros::Publisher publisher = plugin.handle.advertise<Message>(port.topic, 10);
+  const auto publisher = ListenedPublisher::advertise<Message>(plugin.handle, port.topic, 10);
   if (!publisher) {
     const std::string type = ros::message_traits::DataType<Message>::value();
     return cannotConnect(refusal(plugin.where, "publish", type, plugin.handle.resolveName(port.topic)));
   }
-  checkTypeElsewhere(plugin, "publish", ros::message_traits::DataType<Message>::value(), publisher.getTopic());
-  plugin.into.publishers.push_back(publisher);
-  topics_.push_back(publisher.getTopic());
+  const std::string topic = publisher.publisher().getTopic();
+  checkTypeElsewhere(plugin, "publish", ros::message_traits::DataType<Message>::value(), topic);
+  plugin.into.publishers.push_back(publisher.publisher());
+  topics_.push_back(topic);
   plugin.into.outputs.push_back({[stream] { return stream->count(); },
                       [publisher, stream, convert, frames = plugin.frames] {
-                        publisher.publish(convert(stream->latest(), frames));
+                        publisher.publishBuilt([&] { return convert(stream->latest(), frames); });
                       },
-                      0, port.demand, [publisher] { return publisher.getNumSubscribers(); }});
+                      0, port.demand, [publisher] { return publisher.listeners(); }});
 }
 
 void RobotAdapter::advertiseImages(const Connection& plugin, const OutputPort& port,
@@ -242,12 +245,16 @@ void RobotAdapter::broadcast(const Connection& plugin, const Stream<TransformSam
   plugin.into.outputs.push_back({[stream] { return stream->count(); },
                       [this, stream, frames = plugin.frames] {
                         const TransformSample& sample = stream->latest();
-                        for (const auto& frame : sample.frames) {
-                          geometry_msgs::TransformStamped transform = tf2::eigenToTransform(frame.pose);
-                          transform.header = header(sample.stamp, frames(frame.parent));
-                          transform.child_frame_id = frames(frame.child);
-                          sendTransform(transform);
-                        }
+                        for (const auto& frame : sample.frames) claimFrame(frames(frame.child));
+                        tf_.publishBuilt([&] {  // one message per sample
+                          tf2_msgs::TFMessage message;
+                          for (const auto& frame : sample.frames) {
+                            message.transforms.push_back(tf2::eigenToTransform(frame.pose));
+                            message.transforms.back().header = header(sample.stamp, frames(frame.parent));
+                            message.transforms.back().child_frame_id = frames(frame.child);
+                          }
+                          return message;
+                        });
                       }});
 }
 
@@ -326,16 +333,14 @@ FramePrefix RobotAdapter::framesOf(const Plugin& plugin) const {
   return framePrefixOf(handleFor(plugin.robotNamespace()), plugin);
 }
 
-void RobotAdapter::sendTransform(const geometry_msgs::TransformStamped& transform) {
-  const auto [owner, first] = owners_.robot_of.emplace(transform.child_frame_id, robot_name_);
-  if (!first && owner->second != robot_name_ &&
-      owners_.warned.insert(transform.child_frame_id + " " + robot_name_).second) {
+void RobotAdapter::claimFrame(const std::string& child) {
+  const auto [owner, first] = owners_.robot_of.emplace(child, robot_name_);
+  if (!first && owner->second != robot_name_ && owners_.warned.insert(child + " " + robot_name_).second) {
     ROS_WARN("robots [%s] and [%s] both publish frame [%s] on /tf: set the tf_prefix parameter in each robot's "
              "namespace (e.g. <param name=\"tf_prefix\" value=\"%s\"/> in its <group ns>), which its plugins "
              "and robot_state_publisher read",
-             owner->second.c_str(), robot_name_.c_str(), transform.child_frame_id.c_str(), robot_name_.c_str());
+             owner->second.c_str(), robot_name_.c_str(), child.c_str(), robot_name_.c_str());
   }
-  tf_.sendTransform(transform);
 }
 
 RobotAdapter::~RobotAdapter() {

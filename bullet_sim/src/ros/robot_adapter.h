@@ -8,7 +8,6 @@
 
 #include <image_transport/publisher.h>
 #include <ros/ros.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include <functional>
 #include <map>
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "bullet_sim/simulation/simulation.h"
+#include "listened_publisher.h"
 #include "messages.h"
 
 namespace camera_info_manager {
@@ -40,7 +40,7 @@ class RobotAdapter {
   /// `robot_namespace` from the spawn request overrides every plugin's <robotNamespace> when it is not empty.
   /// Each plugin's frames take the tf_prefix parameter by its type's rule (TfPrefixRule), never the namespace
   /// by itself. `owners` is shared by the robots of one simulator; `sim_time` tells when an input arrived.
-  RobotAdapter(Robot& robot, const std::string& robot_namespace, tf2_ros::TransformBroadcaster& tf,
+  RobotAdapter(Robot& robot, const std::string& robot_namespace, const ListenedPublisher& tf,
                FrameOwners& owners, std::function<double()> sim_time);
   ~RobotAdapter();
 
@@ -105,8 +105,8 @@ class RobotAdapter {
   ros::NodeHandle handleFor(const std::string& plugin_namespace) const;
   /// The tf_prefix of `plugin`'s frames, read from the parameter server by its rule.
   FramePrefix framesOf(const Plugin& plugin) const;
-  /// Sends a transform, warning once when another robot already publishes its child frame.
-  void sendTransform(const geometry_msgs::TransformStamped& transform);
+  /// Warns once when another robot already publishes `child` on /tf.
+  void claimFrame(const std::string& child);
   /// Warns and keeps `why` for problems().
   void cannotConnect(const std::string& why);
   /// Warns, as cannotConnect, when another node publishes `topic` as a type other than `type`: roscpp
@@ -116,7 +116,7 @@ class RobotAdapter {
 
   const std::string robot_name_;
   std::string namespace_;
-  tf2_ros::TransformBroadcaster& tf_;
+  const ListenedPublisher& tf_;  ///< /tf, shared by the robots
   FrameOwners& owners_;
   std::function<double()> sim_time_;
   /// By the camera's namespace.

@@ -3,6 +3,7 @@
 #include <malloc.h>
 #include <ros/callback_queue.h>
 #include <rosgraph_msgs/Clock.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
 #include <cmath>
@@ -83,7 +84,9 @@ WorldSpec loadWorldParam(const ros::NodeHandle& private_node, const Limits& limi
 }  // namespace
 
 SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
-    : node_(node), private_(private_node) {
+    : node_(node),
+      private_(private_node),
+      tf_(ListenedPublisher::advertise<tf2_msgs::TFMessage>(node_, "/tf", 100)) {
   SimulationOptions options;
   options.limits = limitsParam(private_);
   WorldSpec world = loadWorldParam(private_, options.limits);

@@ -17,7 +17,6 @@
 
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include <filesystem>
 #include <limits>
@@ -34,6 +33,7 @@
 #include "bullet_sim/scene/simulation_images.h"
 #include "bullet_sim/simulation/simulation.h"
 #include "gazebo_services.h"
+#include "listened_publisher.h"
 #include "node_recording.h"
 #include "render_library.h"
 #include "robot_adapter.h"
@@ -108,7 +108,7 @@ class SimulatorNode final : public SimulationHost {
   std::map<std::string, std::unique_ptr<RobotAdapter>> adapters_;
   std::unique_ptr<WorldApi> world_api_;  ///< before gazebo_services_, which serves it
   std::unique_ptr<GazeboServices> gazebo_services_;
-  tf2_ros::TransformBroadcaster tf_;
+  ListenedPublisher tf_;  ///< /tf, for every robot
   ros::Publisher clock_;
   std::vector<ros::ServiceServer> services_;
 
