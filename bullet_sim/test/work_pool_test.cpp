@@ -95,52 +95,64 @@ TEST(WorkPool, TakesTheCoresItsThreadMayRunOn) {
   EXPECT_EQ(defaultPoolThreads(1), 1);
 }
 
-TEST(WorkLane, RunsAJobOnItsOwnThreadWhileTheCallerGoesOn) {
+TEST(WorkLane, RunsJobsInTheOrderStartedOnItsOwnThreadWhileTheCallerGoesOn) {
   WorkLane lane;
   EXPECT_TRUE(lane.finished());
   lane.wait();  // nothing started: returns at once
   std::atomic<bool> release{false};
   std::thread::id ran_on;
-  lane.start([&] {
+  std::vector<int> order;  // written by the lane's thread only, read after wait()
+  const WorkLane::Ticket first = lane.start([&] {
     ran_on = std::this_thread::get_id();
     for (int i = 0; i < 20000000 && !release; ++i) std::this_thread::yield();  // bounded
+    order.push_back(1);
   });
-  EXPECT_FALSE(lane.finished());  // the job waits for the caller, which went on
-  EXPECT_THROW(lane.start([] {}), std::logic_error);
+  const WorkLane::Ticket second = lane.start([&] { order.push_back(2); });  // queued behind the first
+  EXPECT_LT(first, second);
+  EXPECT_FALSE(lane.finished(first));  // the job waits for the caller, which went on
+  EXPECT_FALSE(lane.finished());
   release = true;
+  lane.wait(first);
+  EXPECT_TRUE(lane.finished(first));
   lane.wait();
-  EXPECT_TRUE(lane.finished());
+  EXPECT_TRUE(lane.finished(second));
+  EXPECT_EQ(order, (std::vector<int>{1, 2}));
   EXPECT_NE(ran_on, std::this_thread::get_id());
-  int second = 0;
-  lane.start([&] { second = 2; });  // the same thread takes the next job
-  lane.wait();
-  EXPECT_EQ(second, 2);
 }
 
-TEST(WorkLane, AJobsFailureIsRethrownByWaitOnce) {
+TEST(WorkLane, AJobsFailureIsRethrownOnceByTheFirstWaitThatCoversIt) {
   WorkLane lane;
-  lane.start([] { throw std::runtime_error("the job"); });
+  std::atomic<bool> release{false};
+  const WorkLane::Ticket before = lane.start([&] {
+    for (int i = 0; i < 20000000 && !release; ++i) std::this_thread::yield();  // bounded
+  });
+  const WorkLane::Ticket failing = lane.start([] { throw std::runtime_error("the job"); });
+  int after = 0;
+  lane.start([&] { after = 3; });  // the lane goes on after a failure
+  release = true;
+  EXPECT_NO_THROW(lane.wait(before));  // the failure came later
   try {
-    lane.wait();
+    lane.wait(failing);
     ADD_FAILURE() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "the job");
   }
-  lane.wait();  // the failure is delivered once
-  lane.start([] {});  // and the lane still works
-  lane.wait();
+  EXPECT_NO_THROW(lane.wait());  // the failure is delivered once
+  EXPECT_EQ(after, 3);
 }
 
-TEST(WorkLane, ItsDestructorWaitsForTheJob) {
+TEST(WorkLane, ItsDestructorWaitsForEveryJobStarted) {
   std::atomic<int> done{0};
   {
     WorkLane lane;
-    lane.start([&] {
-      for (int i = 0; i < 1000; ++i) std::this_thread::yield();
-      ++done;
-    });
+    for (int job = 0; job < 3; ++job) {
+      lane.start([&] {
+        for (int i = 0; i < 1000; ++i) std::this_thread::yield();
+        ++done;
+      });
+    }
   }
-  EXPECT_EQ(done, 1);
+  EXPECT_EQ(done, 3);
 }
 
 }  // namespace

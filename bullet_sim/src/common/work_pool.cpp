@@ -95,32 +95,31 @@ WorkLane::~WorkLane() {
   thread_.join();
 }
 
-void WorkLane::start(std::function<void()> job) {
+WorkLane::Ticket WorkLane::start(std::function<void()> job) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (started_) throw std::logic_error("WorkLane::start: the last job was not waited for");
-    job_ = std::move(job);
-    started_ = true;
-    failure_ = nullptr;
-    finished_.store(false, std::memory_order_release);
+    jobs_.push_back(std::move(job));
   }
   wake_.notify_one();
+  return ++started_;
 }
 
-void WorkLane::wait() {
+void WorkLane::wait(Ticket ticket) {
   std::unique_lock<std::mutex> lock(mutex_);
-  if (!started_) return;
-  done_.wait(lock, [this] { return finished(); });
-  started_ = false;
-  if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+  done_.wait(lock, [this, ticket] { return finished(ticket); });
+  if (failure_ && failed_ <= ticket) {
+    failed_ = 0;
+    std::rethrow_exception(std::exchange(failure_, nullptr));
+  }
 }
 
 void WorkLane::work() {
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
-    wake_.wait(lock, [this] { return stopping_ || !finished(); });
-    if (stopping_) return;
-    std::function<void()> job = std::move(job_);
+    wake_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
+    if (jobs_.empty()) return;  // stopping, every job ended
+    std::function<void()> job = std::move(jobs_.front());
+    jobs_.pop_front();
     lock.unlock();
     std::exception_ptr failure;
     try {
@@ -129,8 +128,12 @@ void WorkLane::work() {
       failure = std::current_exception();
     }
     lock.lock();
-    failure_ = failure;
-    finished_.store(true, std::memory_order_release);
+    const Ticket ended = ended_.load(std::memory_order_relaxed) + 1;
+    if (failure && !failure_) {
+      failure_ = failure;
+      failed_ = ended;
+    }
+    ended_.store(ended, std::memory_order_release);
     done_.notify_all();
   }
 }

@@ -1,14 +1,15 @@
 // A fixed pool of threads that runs independent tasks side by side: a step's (each robot's lidar scans, each
 // robot's wheels) and a spawn's (each mesh's CoACD process). Each task writes only its own results, so the
 // order the threads take them in never shows: whoever merges them does so in task order, and reruns stay
-// bit-identical. A lane runs one job behind the caller's back: a step's scans while the next steps' physics
-// runs.
+// bit-identical. A lane runs jobs behind the caller's back, one after another in the order they were started:
+// the scans due in a step while the next steps' physics runs.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <exception>
 #include <functional>
 #include <mutex>
@@ -55,31 +56,40 @@ class WorkPool {
   std::vector<std::thread> workers_;
 };
 
-/// One thread that runs one job at a time while the caller goes on.
+/// One thread that runs jobs one after another, in the order they were started, while the caller goes on.
+/// Only one thread may start and wait.
 class WorkLane {
  public:
+  using Ticket = uint64_t;  ///< a job's number: 1 for the first started
+
   WorkLane();
-  /// Waits for the job, if one runs, and stops the thread.
+  /// Waits for the jobs started, and stops the thread.
   ~WorkLane();
   WorkLane(const WorkLane&) = delete;
   WorkLane& operator=(const WorkLane&) = delete;
 
-  /// Starts `job` on the lane's thread. Throws std::logic_error while the last job is not waited for.
-  void start(std::function<void()> job);
-  /// Whether the job started last has ended, so that wait() returns at once.
-  bool finished() const { return finished_.load(std::memory_order_acquire); }
-  /// Waits for the job started last to end, and rethrows what it threw; returns at once without one.
-  void wait();
+  /// Queues `job` behind the jobs started before it.
+  Ticket start(std::function<void()> job);
+  /// Whether job `ticket`, and so every job before it, has ended.
+  bool finished(Ticket ticket) const { return ended_.load(std::memory_order_acquire) >= ticket; }
+  /// Whether every job started has ended, so that wait() returns at once.
+  bool finished() const { return finished(started_); }
+  /// Waits for job `ticket` and those before it to end, and rethrows the first failure among them not yet
+  /// rethrown.
+  void wait(Ticket ticket);
+  /// Waits for every job started.
+  void wait() { wait(started_); }
 
  private:
   void work();
 
   std::mutex mutex_;
   std::condition_variable wake_, done_;
-  std::function<void()> job_;
-  bool started_ = false;  ///< a job was started and not yet waited for
+  std::deque<std::function<void()>> jobs_;  ///< started, not yet taken by the thread
+  Ticket started_ = 0;                      ///< the caller's count of jobs started
+  std::atomic<Ticket> ended_{0};            ///< jobs ended, in order
   bool stopping_ = false;
-  std::atomic<bool> finished_{true};
+  Ticket failed_ = 0;  ///< the first job whose failure is not yet rethrown; 0: none
   std::exception_ptr failure_;
   std::thread thread_;
 };

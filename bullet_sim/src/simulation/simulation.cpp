@@ -394,7 +394,7 @@ std::vector<std::string> Simulation::robotNames() const {
 
 void Simulation::step() {
   const StepTime time{timeAfter(steps_ + 1), options_.physics.step_size};
-  if (!casting_behind_.empty() && time.sim_time >= next_cast_due_ - time.dt / 2) finishCasts();
+  deliverCastsDue(time);
   for (StepHooks* hooks : hooks_) hooks->beforeStep();
   ray_casting_.clear();
   for (auto& robot : robots_) {
@@ -417,13 +417,13 @@ void Simulation::step() {
   if (!ray_casting_.empty()) castRays(time);
   sense(time);
   ++steps_;
-  // A scan delivered since the last step ended may not have been read yet: the next one waits for a step.
-  if (lane_ && !delivered_since_step_ && lane_->finished()) finishCasts();
+  // A scan delivered since the last step ended may not have been read yet: the next ones wait for a step.
+  if (lane_ && !delivered_since_step_) deliverCasts(finishedCasts());
   delivered_since_step_ = false;
 }
 
-void Simulation::aimRays(const StepTime& time) {
-  next_cast_due_ = std::numeric_limits<double>::infinity();
+double Simulation::aimRays(const StepTime& time) {
+  double next_due = std::numeric_limits<double>::infinity();
   for (Robot* robot : ray_casting_) {
     robot->casting_.resize(robot->plugins_.size());
     for (size_t k = 0; k < robot->plugins_.size(); ++k) {
@@ -431,33 +431,25 @@ void Simulation::aimRays(const StepTime& time) {
       robot->casting_[k] = plugin.castsRays(time);
       if (!robot->casting_[k]) continue;
       plugin.aimRays(time, *robot->body_);
-      next_cast_due_ = std::min(next_cast_due_, plugin.nextUpdateAfter(time));
+      next_due = std::min(next_due, plugin.nextUpdateAfter(time));
     }
+  }
+  return next_due;
+}
+
+void Simulation::castEach(const Robot& robot, RayCaster& rays) {
+  for (size_t k = 0; k < robot.plugins_.size(); ++k) {
+    if (robot.casting_[k]) robot.plugins_[k]->castRays(rays);
   }
 }
 
 void Simulation::castRays(const StepTime& time) {
-  finishCasts();  // the last step's first: what they cast against moves now
+  if (lane_) return castBehind(time);
   aimRays(time);
-  const auto cast = [this](const Robot& robot) {
-    for (size_t k = 0; k < robot.plugins_.size(); ++k) {
-      if (robot.casting_[k]) robot.plugins_[k]->castRays(rays_);
-    }
-  };
-  if (lane_) {  // the moving bodies too are moved for the rays on the lane, beside the raycast wheels
-    rayBodyPoses(ray_poses_);
-    casting_behind_ = ray_casting_;
-    cast_time_ = time;
-    lane_->start([this, cast] {
-      moveRayBodies(ray_poses_);
-      for (const Robot* robot : casting_behind_) cast(*robot);
-    });
-    return;
-  }
   refreshRays();  // once, for every scan due in this step
   std::exception_ptr failure;
   try {
-    pool_->run(ray_casting_.size(), [&](size_t k) { cast(*ray_casting_[k]); });
+    pool_->run(ray_casting_.size(), [&](size_t k) { castEach(*ray_casting_[k], rays_); });
   } catch (...) {
     failure = std::current_exception();
   }
@@ -473,24 +465,59 @@ void Simulation::sense(const StepTime& time) {
   }
 }
 
-void Simulation::finishCasts() {
-  if (casting_behind_.empty()) return;
+void Simulation::castBehind(const StepTime& time) {
+  // A robot casts in one batch at a time: one whose other plugin's rays are still on the lane senses first.
+  const auto in_flight = [](const Robot* robot) { return !robot->casting_.empty(); };
+  if (std::any_of(ray_casting_.begin(), ray_casting_.end(), in_flight)) finishCasts();
+  const double next_due = aimRays(time);
+  std::vector<std::pair<BodyId, Eigen::Isometry3d>> poses;
+  rayBodyPoses(poses);
+  // The lane moves its bodies once the casts before have met them where they were, beside the raycast wheels
+  // (which meet only static bodies).
+  const uint64_t ticket = lane_->start([this, robots = ray_casting_, poses = std::move(poses)] {
+    moveRayBodies(poses);
+    for (const Robot* robot : robots) castEach(*robot, rays_);
+  });
+  casts_behind_.push_back({ray_casting_, time, next_due, ticket});
+}
+
+void Simulation::deliverCasts(size_t count) {
+  if (count == 0) return;
   std::exception_ptr failure;
   try {
-    lane_->wait();
+    lane_->wait(casts_behind_[count - 1].ticket);
   } catch (...) {
     failure = std::current_exception();
   }
-  for (Robot* robot : casting_behind_) {
-    for (size_t k = 0; k < robot->plugins_.size() && !failure; ++k) {
-      if (robot->casting_[k]) robot->plugins_[k]->sense(cast_time_, *robot->body_, rays_);
+  for (size_t i = 0; i < count; ++i) {
+    const CastBehind& cast = casts_behind_.front();
+    for (Robot* robot : cast.robots) {
+      for (size_t k = 0; k < robot->plugins_.size() && !failure; ++k) {
+        if (robot->casting_[k]) robot->plugins_[k]->sense(cast.time, *robot->body_, rays_);
+      }
+      robot->casting_.clear();
     }
-    robot->casting_.clear();
+    casts_behind_.pop_front();
   }
-  casting_behind_.clear();
   delivered_since_step_ = true;
   if (failure) std::rethrow_exception(failure);
 }
+
+size_t Simulation::finishedCasts() const {
+  size_t count = 0;
+  while (count < casts_behind_.size() && lane_->finished(casts_behind_[count].ticket)) ++count;
+  return count;
+}
+
+void Simulation::deliverCastsDue(const StepTime& time) {
+  size_t count = 0;
+  for (size_t i = 0; i < casts_behind_.size(); ++i) {
+    if (time.sim_time >= casts_behind_[i].next_due - time.dt / 2) count = i + 1;
+  }
+  deliverCasts(count);
+}
+
+void Simulation::finishCasts() { deliverCasts(casts_behind_.size()); }
 
 void Simulation::refreshRays() {
   finishCasts();

@@ -2,6 +2,7 @@
 // every robot's plugins around the physics. ROS-free; time is a count of steps, never a clock.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -286,12 +287,23 @@ class Simulation {
   void addRayBodies(Robot& robot);
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
-  /// Phase 3a: the ray plugins due this step aim their rays, and are marked as casting.
-  void aimRays(const StepTime& time);
+  /// Phase 3a: the ray plugins due this step aim their rays, and are marked as casting. Returns when the first
+  /// of them is due again.
+  double aimRays(const StepTime& time);
   /// Phases 3a and 3b: the ray plugins due this step aim their rays; the ray caster's moving bodies are moved
   /// where they are now, and the rays cast, each robot's on one of the pool's threads, or all on the lane (not
   /// in lockstep).
   void castRays(const StepTime& time);
+  /// The rays of `robot`'s plugins marked as casting.
+  static void castEach(const Robot& robot, RayCaster& rays);
+  /// The ray plugins due this step aim, and their rays are queued on the lane behind the casts before.
+  void castBehind(const StepTime& time);
+  /// Delivers the readings of the first `count` casts behind physics: waits for them, then their plugins sense.
+  void deliverCasts(size_t count);
+  /// How many casts at the front the lane has finished.
+  size_t finishedCasts() const;
+  /// Delivers the casts up to the last one with a plugin due again at `time`, so that it senses before it aims.
+  void deliverCastsDue(const StepTime& time);
   /// Where every moving model's ray-caster bodies are now, into `poses`.
   void rayBodyPoses(std::vector<std::pair<BodyId, Eigen::Isometry3d>>& poses);
   /// Moves the ray caster's bodies to `poses`, and commits.
@@ -310,10 +322,15 @@ class Simulation {
   std::vector<StepHooks*> hooks_;  ///< in the order they hooked in
   std::unique_ptr<WorkPool> pool_;   ///< shares each step's per-robot work
   std::vector<Robot*> ray_casting_;  ///< this step's robots with a ray plugin due, in robot order
-  std::vector<Robot*> casting_behind_;  ///< the robots whose rays the lane casts, in robot order
-  StepTime cast_time_;                  ///< the step they were aimed at
+  /// The rays of one step's robots, cast on the lane.
+  struct CastBehind {
+    std::vector<Robot*> robots;  ///< in robot order
+    StepTime time;               ///< the step they were aimed at
+    double next_due;             ///< [s] when the first of them is due again, so delivered by then
+    uint64_t ticket;             ///< the lane's job
+  };
+  std::deque<CastBehind> casts_behind_;  ///< in the order they were started, each robot in one at most
   std::vector<std::pair<BodyId, Eigen::Isometry3d>> ray_poses_;  ///< where the ray caster's bodies go next
-  double next_cast_due_ = 0;            ///< [s] when the first of them is due again, so waited for
   bool delivered_since_step_ = false;   ///< scans were delivered since the last step ended
   std::unique_ptr<WorkLane> lane_;      ///< casts behind physics when not in lockstep; stops first
   uint64_t steps_ = 0;
