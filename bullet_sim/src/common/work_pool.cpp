@@ -3,7 +3,6 @@
 #include <sched.h>
 
 #include <algorithm>
-#include <stdexcept>
 #include <utility>
 
 namespace bullet_sim {
