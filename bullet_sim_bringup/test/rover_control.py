@@ -2,7 +2,8 @@
 """rostest node: the controller manager inside the simulator, as controller_manager's tools and services see it:
 list_controllers shows what runs (also through the `controller_manager` script), switch_controller stops and
 starts the drive, a controller of an unknown type fails with a message that names the type and the types there
-are, killing a spawner unloads what it loaded, and an unspawner holds a controller stopped while it runs."""
+are, killing a spawner unloads what it loaded, an unspawner holds a controller stopped while it runs, and a second
+cmd_vel publisher brakes the drive (allow_multiple_cmd_vel_publishers false)."""
 import signal
 import subprocess
 import sys
@@ -39,6 +40,22 @@ class RoverControl(unittest.TestCase):
         while rospy.get_time() < end:
             self.command.publish(twist(linear, 0.0))
             rate.sleep()
+
+    def test_a_second_cmd_vel_publisher_brakes_the_drive(self):
+        other = subprocess.Popen(["rostopic", "pub", "-r", "10", "/%s/cmd_vel" % CONTROLLER, "geometry_msgs/Twist",
+                                  "{linear: {x: 0.5}}"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            wanted = "from one of 2 publishers, with allow_multiple_cmd_vel_publishers false: braking"
+            self.log.wait_for(lambda m: any(wanted in x.msg for x in m), 30, "the simulator's warning: " + wanted)
+            self.drive(0.5, 1.5)
+            self.assertLess(max(self.truth.speed(m) for m in self.truth.messages[-25:]), 0.01,
+                            "two publishers must brake the rover")
+        finally:
+            other.send_signal(signal.SIGINT)
+            other.wait(timeout=30)
+        self.drive(0.5, 1.5)  # one publisher again
+        self.assertAlmostEqual(max(self.truth.speed(m) for m in self.truth.messages[-25:]), 0.5, delta=0.05)
+        self.truth.wait_until_stopped(30)
 
     def test_list_controllers_shows_what_runs(self):
         listed = controllers()

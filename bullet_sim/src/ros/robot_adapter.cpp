@@ -290,8 +290,12 @@ void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, 
     *last = now;
     ROS_WARN("[%s] %s: ignored %s", name.c_str(), topic.c_str(), why.c_str());
   };
+  // A plugin that cares how many publish to the input is told with each message, as ros_controllers' diff drive
+  // asks in its callback: asking roscpp scans every subscription by name.
   ros::Subscriber subscriber = plugin.handle.subscribe<Message>(
-      port.topic, 10, [this, handler, warn](const typename Message::ConstPtr& message) {
+      port.topic, 10,
+      [this, handler, warn, topic, publishers = port.publishers](const typename Message::ConstPtr& message) {
+        if (publishers) publishers->count = ros::TopicManager::instance()->getNumPublishers(topic);
         if (const std::optional<Input> input = fromMessage(*message)) warn(handler(*input, sim_time_()));
       });
   if (!subscriber) {
@@ -300,7 +304,6 @@ void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, 
   }
   checkTypeElsewhere(plugin, "subscribe to", ros::message_traits::DataType<Message>::value(), subscriber.getTopic());
   plugin.into.subscribers.push_back(subscriber);
-  if (port.publishers) plugin.into.counted_inputs.emplace_back(subscriber, port.publishers);
   topics_.push_back(subscriber.getTopic() + " (in)");
 }
 
@@ -364,7 +367,6 @@ void RobotAdapter::publish(Connections& connections) {
     }
     if (output.demand) output.demand->wanted = output.subscribers() > 0;
   }
-  for (auto& [subscriber, publishers] : connections.counted_inputs) publishers->count = subscriber.getNumPublishers();
   for (auto& action : connections.actions) action->sendReports();
 }
 

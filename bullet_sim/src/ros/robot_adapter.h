@@ -76,7 +76,6 @@ class RobotAdapter {
     std::vector<ros::ServiceServer> services;
     std::vector<std::shared_ptr<ActionConnection>> actions;
     std::vector<Output> outputs;
-    std::vector<std::pair<ros::Subscriber, Publishers*>> counted_inputs;  ///< and the plugin's count of them
   };
   /// A plugin whose port groups come and go, and the revision of them connected.
   struct Watched {
