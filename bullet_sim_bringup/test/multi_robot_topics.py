@@ -2,7 +2,8 @@
 """rostest node: in multi_robot.launch each robot publishes odom and scan in its own namespace with frames that
 carry its prefix, tf reaches each robot's lidar from its odom, and nothing is published un-namespaced. ~count
 is the launch's count (0: its three robots robot1 to robot3; N: its fleet, robot1 to robotN); with
-~real_time_factor, the launch's real_time_factor, which the simulator must have been given."""
+~real_time_factor, the launch's real_time_factor, which the simulator must have been given; with
+~publish_frequency, the launch's, which every robot's robot_state_publisher must have been given."""
 import sys
 import time
 import unittest
@@ -34,6 +35,10 @@ class MultiRobotTopics(unittest.TestCase):
                             "no tf from %s/odom to %s" % (ns, scan.header.frame_id))
         if rospy.has_param("~real_time_factor"):
             self.assertEqual(rospy.get_param("/gazebo/real_time_factor"), rospy.get_param("~real_time_factor"))
+        if rospy.has_param("~publish_frequency"):
+            for ns in robots:
+                self.assertEqual(rospy.get_param("/%s/robot_state_publisher/publish_frequency" % ns),
+                                 rospy.get_param("~publish_frequency"))
         publishers, _, _ = rosgraph.Master("/multi_robot_topics").getSystemState()
         for topic in ("/odom", "/scan", "/joint_states", "/cmd_vel"):
             self.assertNotIn(topic, [t for t, _ in publishers], "%s is not namespaced" % topic)
