@@ -205,6 +205,24 @@ TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {
                   HasSubstr("<wheelDiameter> must be > 0, not -1")));
 }
 
+/// `driveable()` with a box link whose size starts with `word`.
+std::string withBoxOf(const std::string& word) {
+  return withElements(driveable(),
+                      "<link name='box'><collision><geometry><box size='" + word +
+                          " 0.1 0.1'/></geometry></collision></link><joint name='box_joint' type='fixed'>"
+                          "<parent link='base_link'/><child link='box'/></joint>");
+}
+
+TEST(TolerantLoading, NumbersAreDecimalAsUrdfdomReadsThem) {
+  for (const std::string word : {"0.5", "+0.5", ".5", "5.", "5e-1", "0.05E+1", "50e-2"}) {
+    EXPECT_THAT(test::loadErrors(withBoxOf(word)), IsEmpty()) << word;
+  }
+  for (const std::string word : {"0x1", "inf", "nan", "1e", "+-1", "--1", ".", "1.5.2", "e5", "1e+", "0.5f", "1,5"}) {
+    EXPECT_THAT(test::loadErrors(withBoxOf(word)), ElementsAre(HasSubstr("[" + word + "] is not a number")))
+        << word;
+  }
+}
+
 TEST(TolerantLoading, AnUnknownModelUriNamesTheModel) {
   const std::string visual =
       "<link name='logo'><visual><geometry><mesh filename='MESH'/></geometry></visual>"
