@@ -173,13 +173,13 @@ def section(report, boxes=None):
         "namespace, on a square grid 1.5 m apart. After %.1f s at rest every one drives v = %.1f m/s, "
         "w = %.1f rad/s for %.0f s of sim time, the command re-sent at 10 Hz of sim time as a teleop would, "
         "its 360-beam lidar scanning at its own 5.5 Hz; 1 ms steps, as fast as it goes. Bullet steps on one "
-        "thread; %s; from 32 robots on, a pool of %d threads (the stepping one included) shares each "
-        "substep's raycast-wheel forces. Medians of %d runs. The simulation runs in bench's process, without "
-        "ROS: the issue's \"today\" figures were through the node."
+        "thread; %s. Medians of %d runs. The simulation runs in bench's process, without ROS: the issue's "
+        "\"today\" figures were through the node."
         % (report["settle_s"], report["cmd"][0], report["cmd"][1], report["duration_s"],
-           "the pool casts each step's due lidar scans side by side (--lockstep)" if report.get("lockstep")
+           "a pool of %d threads (the stepping one included) casts each step's due lidar scans side by side "
+           "(--lockstep)" % report.get("threads", 1) if report.get("lockstep")
            else "the lidar scans are cast on a thread of their own behind the next steps' physics, as in the node",
-           report.get("threads", 1), report["repeat"]),
+           report["repeat"]),
     ]
     lines = textwrap.wrap(paragraphs[0], 110) + [""] + textwrap.wrap(paragraphs[1], 110) + [""]
     targets = target_rows(by_count) + ([boxes_target_row(boxes)] if boxes else [])

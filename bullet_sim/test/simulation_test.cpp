@@ -86,11 +86,12 @@ TEST(Simulation, TheSameInputsAndSeedGiveABitIdenticalRun) {
   }
 }
 
-/// `count` wheelchairs 1.5 m apart in the empty world, each driving its own circle for 1 s with its lidar
-/// scanning the others; the step's per-robot work shared by `threads`. Every robot's link poses, then its
+/// Ten wheelchairs 1.5 m apart in the empty world, each driving its own circle for 1 s with its lidar scanning
+/// the others; each step's scans cast in the step by `threads` (lockstep). Every robot's link poses, then its
 /// latest scan.
-RunResult runFleet(uint64_t seed, const std::string& wheel_model, int threads, int count = 10) {
-  Simulation simulation(test::shippedWorld("empty.world"), {.seed = seed, .threads = threads});
+RunResult runFleet(uint64_t seed, const std::string& wheel_model, int threads) {
+  Simulation simulation(test::shippedWorld("empty.world"), {.seed = seed, .threads = threads, .lockstep = true});
+  constexpr int count = 10;
   std::vector<Robot*> robots;
   for (int k = 0; k < count; ++k) {
     const std::string name = "chair" + std::to_string(k);
@@ -132,15 +133,6 @@ TEST(Simulation, TenRobotsRerunBitIdenticallyWhateverThreadsCastTheirRays) {
               100);
     EXPECT_NE(runFleet(8, wheel_model, 2).ranges, first.ranges) << "the seed drives the lidar noise";
   }
-}
-
-TEST(Simulation, FortyRobotsWhoseWheelWorkIsSharedRerunBitIdentically) {
-  // From 32 moving models on, each substep's wheel forces are shared by the pool too.
-  const RunResult alone = runFleet(7, "raycast", 1, 40);
-  const RunResult shared = runFleet(7, "raycast", 2, 40);
-  ASSERT_EQ(alone.poses.size(), shared.poses.size());
-  for (size_t i = 0; i < alone.poses.size(); ++i) EXPECT_EQ(alone.poses[i].matrix(), shared.poses[i].matrix());
-  EXPECT_EQ(alone.ranges, shared.ranges);
 }
 
 /// Every scan of a fleet as it appears: its robot, its stamp, its ranges and the step after which it appeared.

@@ -20,12 +20,6 @@ namespace bullet_sim {
 
 namespace {
 
-/// Moving models from which each substep's wheel and force work (beforeSubstep) is shared by the pool: waking
-/// its threads twice a substep costs about what ten raycast robots' work does (bench --robots 10 --threads 2
-/// spent 1.5x the CPU time of --threads 1 when it was shared from 8 on). Each body's beforeSubstep changes only
-/// that body and reads only its own state, gravity and the static ray scene, so they may run side by side.
-constexpr size_t kModelsPerSharedSubstep = 32;
-
 /// A model of the `contact` wheel model, or one without wheels: one rigid body when nothing in it moves
 /// (its contacts cost less to solve), a multibody otherwise.
 std::unique_ptr<PhysicsRobot> makeContactBody(ModelSpec model, const std::string& name,
@@ -406,12 +400,10 @@ void Simulation::step() {
     if (casts) ray_casting_.push_back(robot.get());
   }
   const std::vector<Robot*> moving = movingModels();
+  // On the stepping thread: shared with the pool, a hundred wheelchairs took a tenth more CPU time and ran no
+  // faster, the pool's thread taking the core the lane casts scans on (performance.md).
   physics_->step([&](double substep) {
-    if (moving.size() < kModelsPerSharedSubstep) {
-      for (Robot* model : moving) model->body_->beforeSubstep(substep);
-      return;
-    }
-    pool_->run(moving.size(), [&](size_t k) { moving[k]->body_->beforeSubstep(substep); });
+    for (Robot* model : moving) model->body_->beforeSubstep(substep);
   });
   for (Robot* model : moving) model->body_->afterStep();
   if (!ray_casting_.empty()) castRays(time);

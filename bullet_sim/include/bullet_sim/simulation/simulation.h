@@ -61,9 +61,8 @@ struct SimulationOptions {
   Limits limits;
   /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
   std::string convex_cache_dir = convexCacheDir();
-  /// Threads that share each step's per-robot work (every robot's due scans; with many robots, each
-  /// substep's wheel forces), the stepping one included, and the CoACD processes that split a spawn's meshes
-  /// side by side; 0: the cores it may run on (taskset, a container's cpuset), at most 4. Any count gives
+  /// Threads that share each step's due scans in lockstep, the stepping one included, and the CoACD
+  /// processes that split a spawn's meshes side by side; 0: the cores it may run on (taskset, a container's cpuset), at most 4. Any count gives
   /// the same, bit-identical run.
   int threads = 0;
   /// Whether ray sensors cast within the step they measure (Gazebo's --lockstep), or behind the next steps'
@@ -320,7 +319,7 @@ class Simulation {
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
   std::vector<StepHooks*> hooks_;  ///< in the order they hooked in
-  std::unique_ptr<WorkPool> pool_;   ///< shares each step's per-robot work
+  std::unique_ptr<WorkPool> pool_;   ///< casts each step's rays in lockstep
   std::vector<Robot*> ray_casting_;  ///< this step's robots with a ray plugin due, in robot order
   /// The rays of one step's robots, cast on the lane.
   struct CastBehind {
