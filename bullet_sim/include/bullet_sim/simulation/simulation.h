@@ -62,8 +62,8 @@ struct SimulationOptions {
   /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
   std::string convex_cache_dir = convexCacheDir();
   /// Threads that share each step's due scans in lockstep, the stepping one included, and the CoACD
-  /// processes that split a spawn's meshes side by side; 0: the cores it may run on (taskset, a container's cpuset), at most 4. Any count gives
-  /// the same, bit-identical run.
+  /// processes that split a spawn's meshes side by side; 0: the cores it may run on (taskset, a container's
+  /// cpuset), at most 4. Any count gives the same, bit-identical run.
   int threads = 0;
   /// Whether ray sensors cast within the step they measure (Gazebo's --lockstep), or behind the next steps'
   /// physics on a thread of their own: each reading is the same, stamped with its step, and appears at the
