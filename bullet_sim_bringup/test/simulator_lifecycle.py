@@ -193,6 +193,12 @@ class SimulatorLifecycle(unittest.TestCase):
                                     capture_output=True, text=True, timeout=30)
         self.assertRegex(properties.stdout, r"pause: True", properties.stdout + properties.stderr)
 
+    def test_a_negative_seed_is_taken_with_a_warning(self):
+        _, master_api = self.start_master()
+        _, output = self.start_simulator("_seed:=-3")  # gzserver --seed takes it too
+        self.wait_registered(master_api)
+        output.wait_for(r"~seed -3 is negative: taken as the unsigned seed 18446744073709551613", 10)
+
     def test_the_ackermann_commander_too_names_a_parameter_of_the_wrong_type(self):
         self.start_master()
         joints = ["_%s:=%s" % (name, name) for name in ("left_steering_joint", "right_steering_joint",

@@ -32,8 +32,8 @@ std::filesystem::path defaultSnapshotDir() {
   return base / "snapshots";
 }
 
-/// ~threads: the threads that share each step's per-robot work (SimulationOptions::threads); 0, the
-/// default, takes the cores the node may run on, at most 4. A whole number given as a double (2.0) counts,
+/// ~threads: the threads that cast each step's due scans in lockstep and split a spawn's meshes
+/// (SimulationOptions::threads); 0, the default, takes the cores the node may run on, at most 4. A whole number given as a double (2.0) counts,
 /// as roscpp's own integer parameters take it.
 int threadsParam(const ros::NodeHandle& private_node) {
   XmlRpc::XmlRpcValue given;
@@ -45,6 +45,17 @@ int threadsParam(const ros::NodeHandle& private_node) {
   throw std::runtime_error(
       "~threads must be a whole number from 0 (the cores the node may run on, at most 4) to " +
       std::to_string(kMostThreads) + ", not " + describeParam(given));
+}
+
+/// ~seed: any whole number, as gzserver's --seed takes any; a negative one with a warning, as the unsigned
+/// seed it wraps to.
+uint64_t seedParam(const ros::NodeHandle& private_node) {
+  const int seed = wholeParam(private_node, "seed", 0);
+  const auto taken = static_cast<uint64_t>(static_cast<int64_t>(seed));
+  if (seed < 0) {
+    ROS_WARN("~seed %d is negative: taken as the unsigned seed %llu", seed, static_cast<unsigned long long>(taken));
+  }
+  return taken;
 }
 
 /// The limits, each from its ~limits/<name> when set.
@@ -94,7 +105,7 @@ SimulatorNode::SimulatorNode(ros::NodeHandle node, ros::NodeHandle private_node)
   options.physics.step_size = numberParam(private_, "step_size", world.max_step_size);
   real_time_factor_ =
       numberParam(private_, "real_time_factor", world.real_time_update_rate * world.max_step_size);
-  options.seed = static_cast<uint64_t>(wholeParam(private_, "seed", 0));
+  options.seed = seedParam(private_);
   options.threads = threadsParam(private_);
   options.lockstep = flagParam(private_, "lockstep", false);
   paused_ = flagParam(private_, "paused", false);
