@@ -24,6 +24,16 @@ def run(*command):
                           universal_newlines=True)
 
 
+def stop(process):
+    """Ends `process` as Ctrl-C would; killed after 10 s (rostopic pub once outlived SIGINT by 30 s in CI)."""
+    process.send_signal(signal.SIGINT)
+    try:
+        process.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait(timeout=10)
+
+
 class RoverControl(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -51,8 +61,7 @@ class RoverControl(unittest.TestCase):
             self.assertLess(max(self.truth.speed(m) for m in self.truth.messages[-25:]), 0.01,
                             "two publishers must brake the rover")
         finally:
-            other.send_signal(signal.SIGINT)
-            other.wait(timeout=30)
+            stop(other)
         self.drive(0.5, 1.5)  # one publisher again
         self.assertAlmostEqual(max(self.truth.speed(m) for m in self.truth.messages[-25:]), 0.5, delta=0.05)
         self.truth.wait_until_stopped(30)
