@@ -86,11 +86,12 @@ TEST(Simulation, TheSameInputsAndSeedGiveABitIdenticalRun) {
   }
 }
 
-/// Ten wheelchairs 1.5 m apart in the empty world, each driving its own circle for 1 s with its lidar scanning
-/// the others; each step's scans cast in the step by `threads` (lockstep). Every robot's link poses, then its
-/// latest scan.
+/// Ten wheelchairs 1.5 m apart in the empty world, each driving its own circle for 1 s with its lidar
+/// scanning the others; each step's scans cast in the step by `threads` (lockstep). Every robot's link poses,
+/// then its latest scan.
 RunResult runFleet(uint64_t seed, const std::string& wheel_model, int threads) {
-  Simulation simulation(test::shippedWorld("empty.world"), {.seed = seed, .threads = threads, .lockstep = true});
+  Simulation simulation(test::shippedWorld("empty.world"),
+                        {.seed = seed, .threads = threads, .lockstep = true});
   constexpr int count = 10;
   std::vector<Robot*> robots;
   for (int k = 0; k < count; ++k) {

@@ -217,7 +217,8 @@ TEST(TolerantLoading, NumbersAreDecimalAsUrdfdomReadsThem) {
   for (const std::string word : {"0.5", "+0.5", ".5", "5.", "5e-1", "0.05E+1", "50e-2"}) {
     EXPECT_THAT(test::loadErrors(withBoxOf(word)), IsEmpty()) << word;
   }
-  for (const std::string word : {"0x1", "inf", "nan", "1e", "+-1", "--1", ".", "1.5.2", "e5", "1e+", "0.5f", "1,5"}) {
+  for (const std::string word :
+       {"0x1", "inf", "nan", "1e", "+-1", "--1", ".", "1.5.2", "e5", "1e+", "0.5f", "1,5"}) {
     EXPECT_THAT(test::loadErrors(withBoxOf(word)), ElementsAre(HasSubstr("[" + word + "] is not a number")))
         << word;
   }

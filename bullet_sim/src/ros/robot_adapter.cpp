@@ -290,8 +290,8 @@ void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, 
     *last = now;
     ROS_WARN("[%s] %s: ignored %s", name.c_str(), topic.c_str(), why.c_str());
   };
-  // A plugin that cares how many publish to the input is told with each message, as ros_controllers' diff drive
-  // asks in its callback: asking roscpp scans every subscription by name.
+  // A plugin that cares how many publish to the input is told with each message, as ros_controllers' diff
+  // drive asks in its callback: asking roscpp scans every subscription by name.
   ros::Subscriber subscriber = plugin.handle.subscribe<Message>(
       port.topic, 10,
       [this, handler, warn, topic, publishers = port.publishers](const typename Message::ConstPtr& message) {

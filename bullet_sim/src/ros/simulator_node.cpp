@@ -33,8 +33,8 @@ std::filesystem::path defaultSnapshotDir() {
 }
 
 /// ~threads: the threads that cast each step's due scans in lockstep and split a spawn's meshes
-/// (SimulationOptions::threads); 0, the default, takes the cores the node may run on, at most 4. A whole number given as a double (2.0) counts,
-/// as roscpp's own integer parameters take it.
+/// (SimulationOptions::threads); 0, the default, takes the cores the node may run on, at most 4. A whole
+/// number given as a double (2.0) counts, as roscpp's own integer parameters take it.
 int threadsParam(const ros::NodeHandle& private_node) {
   XmlRpc::XmlRpcValue given;
   if (!private_node.getParam("threads", given)) return 0;
@@ -53,7 +53,8 @@ uint64_t seedParam(const ros::NodeHandle& private_node) {
   const int seed = wholeParam(private_node, "seed", 0);
   const auto taken = static_cast<uint64_t>(static_cast<int64_t>(seed));
   if (seed < 0) {
-    ROS_WARN("~seed %d is negative: taken as the unsigned seed %llu", seed, static_cast<unsigned long long>(taken));
+    ROS_WARN("~seed %d is negative: taken as the unsigned seed %llu", seed,
+             static_cast<unsigned long long>(taken));
   }
   return taken;
 }

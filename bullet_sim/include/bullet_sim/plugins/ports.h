@@ -79,8 +79,8 @@ using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTrajectory
                                InputHandler<Float64ArrayCommand>, InputHandler<BoolCommand>>;
 
 /// How many publish to an input. The node sets it from the subscription as each message comes in, before the
-/// input's handler runs (diff_drive_controller refuses commands from several publishers when asked to); without a
-/// node, one.
+/// input's handler runs (diff_drive_controller refuses commands from several publishers when asked to);
+/// without a node, one.
 struct Publishers {
   uint32_t count = 1;
 };
