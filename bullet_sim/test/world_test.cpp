@@ -317,6 +317,34 @@ TEST(WorldSpec, PhysicsPacesByTheUpdateRateAndWithoutOneByTheRealTimeFactor) {
   EXPECT_TRUE(contains(warnings[0], "(3 x real time)")) << warnings[0];
 }
 
+TEST(WorldSpec, OdeSettingsAreKeptAsWrittenAndNamedInOneWarning) {
+  std::vector<std::string> warnings;
+  WorldSpec world = parse(withPhysics("<max_step_size>0.001</max_step_size>"), &warnings);
+  EXPECT_EQ(world.ode.iters, 50) << "sdformat's default";
+  EXPECT_DOUBLE_EQ(world.ode.sor, 1.3);
+  EXPECT_DOUBLE_EQ(world.ode.erp, 0.2);
+  EXPECT_EQ(world.ode.max_contacts, 20);
+  EXPECT_TRUE(warnings.empty());
+  // TurtleBot3's worlds write these.
+  world = parse(withPhysics("<max_contacts>10</max_contacts><ode><solver><type>quick</type><iters>150</iters>"
+                            "<sor>1.4</sor></solver><constraints><cfm>0.00001</cfm>"
+                            "<contact_max_correcting_vel>2000</contact_max_correcting_vel></constraints></ode>"),
+                &warnings);
+  EXPECT_EQ(world.ode.iters, 150);
+  EXPECT_EQ(world.ode.precon_iters, 0);
+  EXPECT_DOUBLE_EQ(world.ode.sor, 1.4);
+  EXPECT_DOUBLE_EQ(world.ode.cfm, 1e-5);
+  EXPECT_DOUBLE_EQ(world.ode.erp, 0.2) << "not written: sdformat's default";
+  EXPECT_DOUBLE_EQ(world.ode.contact_max_correcting_vel, 2000);
+  EXPECT_DOUBLE_EQ(world.ode.contact_surface_layer, 0.001);
+  EXPECT_EQ(world.ode.max_contacts, 10);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(contains(warnings[0], "iters [150], sor [1.4], cfm [1e-05], contact_max_correcting_vel [2000], "
+                                    "max_contacts [10] are reported by get_physics_properties"))
+      << warnings[0];
+  EXPECT_FALSE(contains(warnings[0], "erp")) << warnings[0];
+}
+
 TEST(WorldSpec, ColoursComeFromDiffuseThenAmbientThenTheGazeboScript) {
   std::vector<std::string> warnings;
   const WorldSpec world = parse(R"(<sdf version="1.6"><world name="w"><model name="m"><static>true</static>

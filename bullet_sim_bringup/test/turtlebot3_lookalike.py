@@ -25,6 +25,7 @@ import unittest
 import rospkg
 import rospy
 import rostest
+from gazebo_msgs.srv import GetPhysicsProperties
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
@@ -172,6 +173,20 @@ class TurtleBot3LookAlike(unittest.TestCase):
         if in_world:
             ranges, scan = self.averaged_scan(scans, stopped.header.stamp.to_sec())
             self.check_pillars(ranges, scan, (pose.position.x, pose.position.y, yaw(pose.orientation)))
+
+    def test_physics_properties_are_the_worlds(self):
+        """get_physics_properties reports the world's <ode> settings, as Gazebo does (they are not used)."""
+        rospy.wait_for_service("/gazebo/get_physics_properties", timeout=TIMEOUT)
+        physics = rospy.ServiceProxy("/gazebo/get_physics_properties", GetPhysicsProperties)()
+        self.assertTrue(physics.success, physics.status_message)
+        self.assertEqual(physics.time_step, 0.001)
+        self.assertEqual(physics.max_update_rate, 1000.0)
+        ode = physics.ode_config
+        self.assertEqual((ode.sor_pgs_iters, ode.sor_pgs_precon_iters), (150, 0))
+        self.assertAlmostEqual(ode.sor_pgs_w, 1.4)
+        self.assertAlmostEqual(ode.cfm, 1e-5)
+        self.assertAlmostEqual(ode.erp, 0.2)
+        self.assertEqual(ode.max_contacts, 20, "sdformat's default: the world writes none")
 
     def drive_forward(self, odometry, distance):
         """Drives at 0.15 m/s until odometry has moved `distance` [m], then stops; the odometry at rest."""

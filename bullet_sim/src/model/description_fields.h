@@ -58,8 +58,13 @@ void fields(A& a, SphericalCoordinates& c) {
   a(c.latitude, c.longitude, c.elevation, c.heading);
 }
 template <class A>
+void fields(A& a, OdeSettings& o) {
+  a(o.iters, o.precon_iters, o.sor, o.cfm, o.erp, o.contact_max_correcting_vel, o.contact_surface_layer,
+    o.max_contacts);
+}
+template <class A>
 void fields(A& a, WorldSpec& w) {
-  a(w.source, w.name, w.gravity, w.max_step_size, w.real_time_factor, w.real_time_update_rate, w.models,
+  a(w.source, w.name, w.gravity, w.max_step_size, w.real_time_factor, w.real_time_update_rate, w.ode, w.models,
     w.spherical_coordinates);
 }
 

@@ -14,6 +14,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
 #include "bullet_sim/common/files.h"
 #include "bullet_sim/assets/gazebo_materials.h"
@@ -145,7 +146,10 @@ class WorldConverter {
                          toText(spec.gravity) + "] is not finite");
       spec.gravity = Eigen::Vector3d(0, 0, -9.81);
     }
-    if (const sdf::Physics* physics = world.PhysicsDefault()) convertPhysics(*physics, spec);
+    if (const sdf::Physics* physics = world.PhysicsDefault()) {
+      convertPhysics(*physics, spec);
+      convertOde(*physics, spec.ode);
+    }
     if (const ignition::math::SphericalCoordinates* earth = world.SphericalCoordinates()) {
       spec.spherical_coordinates =
           SphericalCoordinates{earth->LatitudeReference().Degree(), earth->LongitudeReference().Degree(),
@@ -214,6 +218,42 @@ class WorldConverter {
                            (rate > 0 ? toText(rate * spec.max_step_size) + " x real time)"
                                      : "as fast as possible)"));
     }
+  }
+
+  /// <physics><ode> and <max_contacts>, kept for get_physics_properties as Gazebo reports them. Bullet's
+  /// solver reads none of them, so the ones the file writes are named in one warning.
+  void convertOde(const sdf::Physics& physics, OdeSettings& ode) {
+    const sdf::ElementPtr element = physics.Element();
+    if (!element) return;
+    const sdf::ElementPtr ode_element = element->FindElement("ode");
+    const sdf::ElementPtr solver = ode_element ? ode_element->FindElement("solver") : nullptr;
+    const sdf::ElementPtr constraints = ode_element ? ode_element->FindElement("constraints") : nullptr;
+    std::vector<std::string> written;
+    const auto read = [&](const sdf::ElementPtr& parent, const std::string& name, auto& value) {
+      const sdf::ElementPtr child = parent ? parent->FindElement(name) : nullptr;
+      if (!child) return;
+      const auto given = child->Get<std::decay_t<decltype(value)>>();
+      if (!std::isfinite(static_cast<double>(given))) {
+        diagnostics_.error(locate(child) + name + " [" + toText(given) + "] is not finite");
+        return;
+      }
+      value = given;
+      if (child->GetExplicitlySetInFile()) written.push_back(name + " [" + toText(value) + "]");
+    };
+    read(solver, "iters", ode.iters);
+    read(solver, "precon_iters", ode.precon_iters);
+    read(solver, "sor", ode.sor);
+    read(constraints, "cfm", ode.cfm);
+    read(constraints, "erp", ode.erp);
+    read(constraints, "contact_max_correcting_vel", ode.contact_max_correcting_vel);
+    read(constraints, "contact_surface_layer", ode.contact_surface_layer);
+    read(element, "max_contacts", ode.max_contacts);
+    if (written.empty()) return;
+    std::string list;
+    for (size_t i = 0; i < written.size(); ++i) list += (i == 0 ? "" : ", ") + written[i];
+    diagnostics_.warning(locate(element) + "physics [" + physics.Name() + "]: the ODE settings " + list +
+                         " are reported by get_physics_properties, as Gazebo reports them, but not used: "
+                         "bullet_sim's contacts are Bullet's");
   }
 
   /// "[file:line] " of an element, for messages.

@@ -100,19 +100,21 @@ uint8_t jointType(JointSpec::Type type) {
   return gazebo_msgs::GetJointProperties::Response::FIXED;
 }
 
-/// Gazebo's ODE defaults (sdformat's ode physics), which get_physics_properties reports until they are set.
-gazebo_msgs::ODEPhysics gazeboOdeDefaults() {
+/// The world's <physics><ode> and <max_contacts> (sdformat's defaults where it gives none), which
+/// get_physics_properties reports until they are set, as Noetic's Gazebo does. Gazebo leaves
+/// sor_pgs_rms_error_tol at 0.
+gazebo_msgs::ODEPhysics odePhysicsOf(const OdeSettings& settings) {
   gazebo_msgs::ODEPhysics ode;
   ode.auto_disable_bodies = false;
-  ode.sor_pgs_precon_iters = 0;
-  ode.sor_pgs_iters = 50;
-  ode.sor_pgs_w = 1.3;
+  ode.sor_pgs_precon_iters = settings.precon_iters;
+  ode.sor_pgs_iters = settings.iters;
+  ode.sor_pgs_w = settings.sor;
   ode.sor_pgs_rms_error_tol = 0;
-  ode.contact_surface_layer = 0.001;
-  ode.contact_max_correcting_vel = 100;
-  ode.cfm = 0;
-  ode.erp = 0.2;
-  ode.max_contacts = 20;
+  ode.contact_surface_layer = settings.contact_surface_layer;
+  ode.contact_max_correcting_vel = settings.contact_max_correcting_vel;
+  ode.cfm = settings.cfm;
+  ode.erp = settings.erp;
+  ode.max_contacts = settings.max_contacts;
   return ode;
 }
 
@@ -138,7 +140,7 @@ const char* const kNoLights =
 
 GazeboServices::GazeboServices(ros::NodeHandle private_node, Simulation& simulation, WorldApi& world,
                                SimulationHost& host)
-    : node_(private_node), simulation_(simulation), world_(world), host_(host), ode_(gazeboOdeDefaults()) {
+    : node_(private_node), simulation_(simulation), world_(world), host_(host), ode_(odePhysicsOf(simulation.world().ode)) {
   const double rate = numberParam(node_, "model_states_rate", kDefaultStatesRate);
   states_period_ = rate > 0 && std::isfinite(rate) ? 1.0 / rate : 0.0;
   // Subscribers are counted as they come and go, as Gazebo does, so a step without any costs nothing.

@@ -75,6 +75,19 @@ struct SphericalCoordinates {
   double heading = 0;    ///< [rad] of the world's x axis, counter-clockwise from east (SDF's heading_deg)
 };
 
+/// A world's <physics><ode> and <max_contacts>, sdformat's defaults where the file gives none: what Gazebo's
+/// get_physics_properties reports. Bullet solves the contacts, so they change nothing in a step.
+struct OdeSettings {
+  int iters = 50;
+  int precon_iters = 0;
+  double sor = 1.3;
+  double cfm = 0;
+  double erp = 0.2;
+  double contact_max_correcting_vel = 100;  ///< [m/s]
+  double contact_surface_layer = 0.001;     ///< [m]
+  int max_contacts = 20;
+};
+
 struct WorldSpec {
   std::string source;  ///< file path (or label of the text), for messages
   std::string name;
@@ -84,6 +97,7 @@ struct WorldSpec {
   /// [steps per wall s] the pace: <real_time_update_rate> (0 = as fast as possible), as Gazebo paces its
   /// steps, or, in a <physics> without one, real_time_factor / max_step_size.
   double real_time_update_rate = 1000;
+  OdeSettings ode;
   std::vector<WorldModelSpec> models;  ///< in file order, including the ground plane
   std::optional<SphericalCoordinates> spherical_coordinates;  ///< nullopt when the world gives none
 };
