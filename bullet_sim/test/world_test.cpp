@@ -343,6 +343,14 @@ TEST(WorldSpec, OdeSettingsAreKeptAsWrittenAndNamedInOneWarning) {
                                     "max_contacts [10] are reported by get_physics_properties"))
       << warnings[0];
   EXPECT_FALSE(contains(warnings[0], "erp")) << warnings[0];
+  try {
+    parse(withPhysics("<ode><solver><sor>nan</sor></solver><constraints><cfm>inf</cfm></constraints></ode>"));
+    FAIL() << "a NaN sor loaded";
+  } catch (const SpecError& error) {
+    EXPECT_EQ(error.problems().size(), 2u) << error.what();
+    EXPECT_TRUE(contains(error.what(), "sor [nan] is not finite")) << error.what();
+    EXPECT_TRUE(contains(error.what(), "cfm [inf] is not finite")) << error.what();
+  }
 }
 
 TEST(WorldSpec, ColoursComeFromDiffuseThenAmbientThenTheGazeboScript) {
