@@ -1,5 +1,7 @@
 """Helpers for the bringup's rostest nodes: bounded waits, the robot description's sensor tags."""
 import math
+import signal
+import subprocess
 import threading
 import time
 import xml.etree.ElementTree as ET
@@ -42,6 +44,17 @@ class Collector:
             if time.monotonic() > deadline:
                 raise AssertionError("no publisher of %s within %.0f s" % (self._subscriber.name, timeout))
             time.sleep(0.01)
+
+
+def interrupt(process, timeout):
+    """Ends `process` as Ctrl-C would, killing it if it outlives SIGINT by `timeout` [s]; its exit code."""
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+        try:
+            process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            process.kill()
+    return process.wait(timeout=timeout)
 
 
 def yaw(orientation):

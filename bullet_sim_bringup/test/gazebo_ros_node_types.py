@@ -4,7 +4,6 @@ simulator's parameters, falls back on the empty world when the world cannot be f
 model with one warning (an error with ~strict_models); gzclient says there is no window and stays up; gazebo
 and debug run the simulator too."""
 import os
-import signal
 import subprocess
 import sys
 import threading
@@ -15,6 +14,8 @@ import roslib.packages
 import rospkg
 import rospy
 import rostest
+
+from bringup_support import interrupt
 
 TIMEOUT = 60.0  # [s] for a simulator to come up or go down
 
@@ -53,13 +54,7 @@ class Started:
                 self.said.wait(remaining)
 
     def stop(self):
-        if self.process.poll() is None:
-            self.process.send_signal(signal.SIGINT)
-            try:
-                self.process.wait(timeout=TIMEOUT)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-        return self.process.wait(timeout=TIMEOUT)
+        return interrupt(self.process, TIMEOUT)
 
     def __enter__(self):
         return self

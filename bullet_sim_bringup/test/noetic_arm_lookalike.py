@@ -14,7 +14,6 @@ a commanded pose where forward kinematics over the YAML's lengths puts its forea
 import math
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -30,7 +29,7 @@ from gazebo_msgs.srv import GetLinkState
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
-from bringup_support import Collector
+from bringup_support import Collector, interrupt
 
 TIMEOUT = 60.0  # [s] for the launch to come up, and for each wait after that
 JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint"]
@@ -67,11 +66,7 @@ class NoeticArmLookAlike(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
-        cls.launch.send_signal(signal.SIGINT)
-        try:
-            cls.launch.wait(timeout=TIMEOUT)
-        except subprocess.TimeoutExpired:
-            cls.launch.kill()
+        interrupt(cls.launch, TIMEOUT)
         cls.log.close()
         shutil.rmtree(cls.folder, ignore_errors=True)
 

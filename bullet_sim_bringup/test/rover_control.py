@@ -15,23 +15,13 @@ from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
 
-from bringup_support import Collector
+from bringup_support import Collector, interrupt
 from rover_support import CONTROLLER, GroundTruth, controllers, load, switch, twist, wait_for_state, wait_until
 
 
 def run(*command):
     return subprocess.run(list(command), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=60,
                           universal_newlines=True)
-
-
-def stop(process):
-    """Ends `process` as Ctrl-C would; killed after 10 s (rostopic pub once outlived SIGINT by 30 s in CI)."""
-    process.send_signal(signal.SIGINT)
-    try:
-        process.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        process.kill()
-        process.wait(timeout=10)
 
 
 class RoverControl(unittest.TestCase):
@@ -61,7 +51,7 @@ class RoverControl(unittest.TestCase):
             self.assertLess(max(self.truth.speed(m) for m in self.truth.messages[-25:]), 0.01,
                             "two publishers must brake the rover")
         finally:
-            stop(other)
+            interrupt(other, 10)  # rostopic pub once outlived SIGINT by 30 s in CI
         self.drive(0.5, 1.5)  # one publisher again
         self.assertAlmostEqual(max(self.truth.speed(m) for m in self.truth.messages[-25:]), 0.5, delta=0.05)
         self.truth.wait_until_stopped(30)

@@ -15,7 +15,6 @@ see the pillars again from where odometry says it stopped.
 import math
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -30,7 +29,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
 
-from bringup_support import Collector, yaw
+from bringup_support import Collector, interrupt, yaw
 from collada import prism, write_collada
 
 TIMEOUT = 90.0  # [s] for the launch to come up, and for each wait after that
@@ -109,11 +108,7 @@ class TurtleBot3LookAlike(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
-        cls.launch.send_signal(signal.SIGINT)
-        try:
-            cls.launch.wait(timeout=TIMEOUT)
-        except subprocess.TimeoutExpired:
-            cls.launch.kill()
+        interrupt(cls.launch, TIMEOUT)
         cls.log.close()
         shutil.rmtree(cls.folder, ignore_errors=True)
 
