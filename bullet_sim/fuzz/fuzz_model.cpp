@@ -1,5 +1,5 @@
-// libFuzzer target for the robot description parser (URDF with <gazebo> tags) and urdf_doctor's checks: whatever
-// the bytes, both must return or throw SpecError, never crash, hang or touch memory they do not own.
+// libFuzzer target for the robot description parser (URDF with <gazebo> tags) and urdf_doctor's checks:
+// whatever the bytes, both must return or throw SpecError, never crash, hang or touch memory they do not own.
 // Built and run by scripts/fuzz.sh.
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
-// libFuzzer target for the SDF readers (libsdformat, then ours), of worlds and of models to spawn: whatever the
-// bytes, each must return or throw SpecError, never crash, hang or touch memory it does not own. They read in
-// this process (parseWorldHere, readSdfModelHere), where the fuzzer sees what they cover; the simulator reads
-// in a child process. Built and run by scripts/fuzz.sh.
+// libFuzzer target for the SDF readers (libsdformat, then ours), of worlds and of models to spawn: whatever
+// the bytes, each must return or throw SpecError, never crash, hang or touch memory it does not own. They
+// read in this process (parseWorldHere, readSdfModelHere), where the fuzzer sees what they cover; the
+// simulator reads in a child process. Built and run by scripts/fuzz.sh.
 #include <cstddef>
 #include <cstdint>
 #include <string>

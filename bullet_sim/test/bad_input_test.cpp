@@ -292,8 +292,8 @@ std::string sdfLink(const std::string& name, const std::string& pose = "0 0 0 0 
                     const std::string& extra = "") {
   return "<link name=\"" + name + "\"><pose>" + pose + "</pose><inertial><mass>" + mass +
          "</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia></inertial>" +
-         "<collision name=\"c\"><geometry><box><size>" + size + "</size></box></geometry></collision>" + extra +
-         "</link>";
+         "<collision name=\"c\"><geometry><box><size>" + size + "</size></box></geometry></collision>" +
+         extra + "</link>";
 }
 
 TEST(BadInput, SdfModelsToSpawnAreBoundedAsUrdfsAre) {
@@ -317,7 +317,8 @@ TEST(BadInput, SdfModelsToSpawnAreBoundedAsUrdfsAre) {
   const std::string three = sdfLink("a") + sdfLink("b") + sdfLink("c") +
                             R"(<joint name="ab" type="fixed"><parent>a</parent><child>b</child></joint>
                                <joint name="bc" type="fixed"><parent>b</parent><child>c</child></joint>)";
-  EXPECT_THAT(sdfModelError(three, two_links), HasSubstr("the robot has 3 links, above the limit of 2 (max_links)"));
+  EXPECT_THAT(sdfModelError(three, two_links),
+              HasSubstr("the robot has 3 links, above the limit of 2 (max_links)"));
   EXPECT_EQ(sdfModelError(three), "");
   // Counted in the text, before libsdformat reads it: with no time left to read it, the count still refuses.
   Limits two_links_no_time = two_links;
@@ -370,13 +371,14 @@ TEST(Footprint, TheMemoryOfADeletedRobotIsGivenBack) {
 }
 
 /// Inputs the fuzzers found that crash, hang or exhaust a library we cannot patch, in
-/// bullet_sim/fuzz/crashes/<target>/library: the simulator's own readers, which run those libraries in a child
-/// process, report each as a load error naming the file.
-/// The files in `folder`; none when there is no such folder.
+/// bullet_sim/fuzz/crashes/<target>/library: the simulator's own readers, which run those libraries in a
+/// child process, report each as a load error naming the file. The files in `folder`; none when there is no
+/// such folder.
 std::vector<fs::path> filesIn(const fs::path& folder) {
   std::vector<fs::path> files;
   std::error_code ec;
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) files.push_back(it->path());
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+    files.push_back(it->path());
   return files;
 }
 
@@ -400,9 +402,9 @@ TEST(BadInput, FilesThatBreakALibraryAreLoadErrorsNamingTheFile) {
     ++replayed;
   }
   for (const fs::path& found : filesIn(crashes / "fuzz_world" / "library")) {
-    EXPECT_THROW(
-        parseWorld(test::readFile(found.string()), found.string(), PackageResolver::fromEnvironment(), nullptr),
-        SpecError)
+    EXPECT_THROW(parseWorld(test::readFile(found.string()), found.string(),
+                            PackageResolver::fromEnvironment(), nullptr),
+                 SpecError)
         << found;
     ++replayed;
   }

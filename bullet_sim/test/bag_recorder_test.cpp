@@ -1,5 +1,6 @@
-// The bag recorder in-process (src/ros/bag_recorder.h): what a bag of the wheelchair's run holds, checked against
-// the simulation it recorded, and how the recorder meets a path it cannot write, a full disk and a reset.
+// The bag recorder in-process (src/ros/bag_recorder.h): what a bag of the wheelchair's run holds, checked
+// against the simulation it recorded, and how the recorder meets a path it cannot write, a full disk and a
+// reset.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <rosbag/view.h>
@@ -151,8 +152,8 @@ Truth* ChairBag::truth_ = nullptr;
 
 TEST_F(ChairBag, HoldsTheRobotsTopicsButNotTheClock) {
   EXPECT_THAT(topicsOf(settings_->path),
-              ::testing::UnorderedElementsAre("/ground_truth", "/tf", "/tf_static", "/odom", "/joint_states", "/scan",
-                                              "/cmd_vel"));
+              ::testing::UnorderedElementsAre("/ground_truth", "/tf", "/tf_static", "/odom", "/joint_states",
+                                              "/scan", "/cmd_vel"));
 }
 
 TEST_F(ChairBag, GroundTruthIsTheRootLinkInTheWorldAt50Hz) {
@@ -167,7 +168,8 @@ TEST_F(ChairBag, GroundTruthIsTheRootLinkInTheWorldAt50Hz) {
     const size_t step = stepAt(time) - 1;
     Eigen::Isometry3d pose;
     tf2::fromMsg(message.pose.pose, pose);
-    expectSameTransform(pose, truth_->links[step].at("base_footprint"), 1e-9, "ground truth at " + std::to_string(time));
+    expectSameTransform(pose, truth_->links[step].at("base_footprint"), 1e-9,
+                        "ground truth at " + std::to_string(time));
     Eigen::Vector3d linear, angular;
     tf2::fromMsg(message.twist.twist.linear, linear);
     tf2::fromMsg(message.twist.twist.angular, angular);
@@ -195,8 +197,9 @@ TEST_F(ChairBag, FixedLinksAreOnALatchedTfStaticAsRobotStatePublisherPutsThem) {
     EXPECT_FALSE(joint->moves());
     EXPECT_EQ(transform.header.frame_id, joint->parent);
     const auto& links = truth_->links.front();  // a rigid joint: the simulated links agree
-    expectSameTransform(tf2::transformToEigen(transform), links.at(joint->parent).inverse() * links.at(joint->child),
-                        1e-6, transform.child_frame_id);
+    expectSameTransform(tf2::transformToEigen(transform),
+                        links.at(joint->parent).inverse() * links.at(joint->child), 1e-6,
+                        transform.child_frame_id);
   }
   size_t fixed = 0;
   for (const auto& joint : model.joints) fixed += !joint.moves();
@@ -208,7 +211,8 @@ TEST_F(ChairBag, MovingLinksComeWithEveryJointStatesAtItsStamp) {
   const auto states = messages<sensor_msgs::JointState>(settings_->path, "/joint_states");
   EXPECT_EQ(states.size(), truth_->samples.at("joint_states"));
   EXPECT_EQ(states.size(), 100u);  // 50 Hz
-  std::map<double, std::vector<geometry_msgs::TransformStamped>> links_at;  // robot_state_publisher's, by stamp
+  std::map<double, std::vector<geometry_msgs::TransformStamped>>
+      links_at;  // robot_state_publisher's, by stamp
   size_t odometry = 0;
   for (const auto& [time, message] : messages<tf2_msgs::TFMessage>(settings_->path, "/tf")) {
     for (const auto& transform : message.transforms) {
@@ -229,8 +233,9 @@ TEST_F(ChairBag, MovingLinksComeWithEveryJointStatesAtItsStamp) {
       EXPECT_EQ(links[i].header.frame_id, joint->parent);
       EXPECT_EQ(links[i].child_frame_id, joint->child);
       const auto& pose = truth_->links[stepAt(time) - 1];
-      expectSameTransform(tf2::transformToEigen(links[i]), pose.at(joint->parent).inverse() * pose.at(joint->child),
-                          1e-6, message.name[i] + " at " + std::to_string(time));
+      expectSameTransform(tf2::transformToEigen(links[i]),
+                          pose.at(joint->parent).inverse() * pose.at(joint->child), 1e-6,
+                          message.name[i] + " at " + std::to_string(time));
     }
   }
 }
@@ -288,7 +293,8 @@ TEST(BagRecorder, TopicPatternsChooseWhatIsRecorded) {
   settings.path = (scratch("patterns") / "some").string();  // .bag is added
   settings.topics = {"/scan", "/tf.*"};
   recordChair(settings, 0.5);
-  EXPECT_THAT(topicsOf(settings.path + ".bag"), ::testing::UnorderedElementsAre("/scan", "/tf", "/tf_static"));
+  EXPECT_THAT(topicsOf(settings.path + ".bag"),
+              ::testing::UnorderedElementsAre("/scan", "/tf", "/tf_static"));
 }
 
 TEST(BagRecorder, TheDefaultLeavesOutImagesAndPointClouds) {
@@ -299,7 +305,8 @@ TEST(BagRecorder, TheDefaultLeavesOutImagesAndPointClouds) {
   EXPECT_FALSE(all.records("/velodyne_points", "sensor_msgs/PointCloud2"));
   EXPECT_FALSE(all.records("/block_laser", "sensor_msgs/PointCloud"));
   EXPECT_TRUE(TopicFilter({"/camera/.*"}).records("/camera/image_raw", "sensor_msgs/Image"));
-  EXPECT_FALSE(TopicFilter({"/camera"}).records("/camera/image_raw", "sensor_msgs/Image")) << "the whole name";
+  EXPECT_FALSE(TopicFilter({"/camera"}).records("/camera/image_raw", "sensor_msgs/Image"))
+      << "the whole name";
 }
 
 TEST(BagRecorder, BadSettingsAreNamed) {
@@ -313,7 +320,8 @@ TEST(BagRecorder, BadSettingsAreNamed) {
     return std::string("accepted");
   };
   EXPECT_THAT(refused({.topics = {"/scan("}}), ::testing::HasSubstr("[/scan(]"));
-  EXPECT_THAT(refused({.compression = "zip"}), ::testing::HasSubstr("compression [zip]: use none, lz4 or bz2"));
+  EXPECT_THAT(refused({.compression = "zip"}),
+              ::testing::HasSubstr("compression [zip]: use none, lz4 or bz2"));
   EXPECT_THAT(refused({.chunk_size = 0}), ::testing::HasSubstr("chunk size 0"));
   EXPECT_THAT(refused({.ground_truth_rate = -1}), ::testing::HasSubstr("ground truth rate [-1"));
 }
@@ -322,7 +330,8 @@ TEST(BagRecorder, TheBagIsActiveUntilClosedThenRenamed) {
   const fs::path dir = scratch("active");
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& chair = simulation.spawn("chair", test::wheelchair(), {});
-  BagRecorder recorder({.path = (dir / "run.bag").string()}, [](const std::string& e) { ADD_FAILURE() << e; });
+  BagRecorder recorder({.path = (dir / "run.bag").string()},
+                       [](const std::string& e) { ADD_FAILURE() << e; });
   recorder.addRobot(chair, "", "");
   for (int i = 0; i < 100; ++i) {
     simulation.step();
@@ -339,7 +348,8 @@ TEST(BagRecorder, AResetClosesTheBagAndGoesOnInTheNext) {
   const fs::path dir = scratch("reset");
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& chair = simulation.spawn("chair", test::wheelchair(), {});
-  BagRecorder recorder({.path = (dir / "run.bag").string()}, [](const std::string& e) { ADD_FAILURE() << e; });
+  BagRecorder recorder({.path = (dir / "run.bag").string()},
+                       [](const std::string& e) { ADD_FAILURE() << e; });
   recorder.addRobot(chair, "", "");
   const auto run = [&](int steps) {
     for (int i = 0; i < steps; ++i) {
@@ -353,7 +363,8 @@ TEST(BagRecorder, AResetClosesTheBagAndGoesOnInTheNext) {
   EXPECT_TRUE(fs::exists(dir / "run.bag")) << "closed at the reset";
   EXPECT_EQ(recorder.path(), (dir / "run_1.bag").string());
   run(100);
-  EXPECT_THAT(recorder.close(), ::testing::ElementsAre((dir / "run.bag").string(), (dir / "run_1.bag").string()));
+  EXPECT_THAT(recorder.close(),
+              ::testing::ElementsAre((dir / "run.bag").string(), (dir / "run_1.bag").string()));
   const auto before = messages<nav_msgs::Odometry>((dir / "run.bag").string(), "/ground_truth");
   const auto after = messages<nav_msgs::Odometry>((dir / "run_1.bag").string(), "/ground_truth");
   ASSERT_EQ(before.size(), 15u);
@@ -437,9 +448,11 @@ TEST(BagWriter, NeverDropsAMessageWhenTheWriterFallsBehind) {
 TEST(BagRecorder, SeveralRobotsEachInTheirNamespaceAndPrefix) {
   const fs::path dir = scratch("several");
   Simulation simulation(test::shippedWorld("empty.world"));
-  BagRecorder recorder({.path = (dir / "run.bag").string()}, [](const std::string& e) { ADD_FAILURE() << e; });
+  BagRecorder recorder({.path = (dir / "run.bag").string()},
+                       [](const std::string& e) { ADD_FAILURE() << e; });
   for (const std::string name : {"chair_1", "chair_2"}) {
-    recorder.addRobot(simulation.spawn(name, test::wheelchair(), {.x = name == "chair_1" ? 0.0 : 3.0}), name, name);
+    recorder.addRobot(simulation.spawn(name, test::wheelchair(), {.x = name == "chair_1" ? 0.0 : 3.0}), name,
+                      name);
   }
   for (int i = 0; i < 300; ++i) {
     simulation.step();
@@ -447,8 +460,9 @@ TEST(BagRecorder, SeveralRobotsEachInTheirNamespaceAndPrefix) {
   }
   recorder.close();
   const std::string bag = (dir / "run.bag").string();
-  EXPECT_THAT(topicsOf(bag), ::testing::IsSupersetOf({"/chair_1/ground_truth", "/chair_2/ground_truth",
-                                                      "/chair_1/scan", "/chair_2/odom", "/tf", "/tf_static"}));
+  EXPECT_THAT(topicsOf(bag),
+              ::testing::IsSupersetOf({"/chair_1/ground_truth", "/chair_2/ground_truth", "/chair_1/scan",
+                                       "/chair_2/odom", "/tf", "/tf_static"}));
   const auto truth = messages<nav_msgs::Odometry>(bag, "/chair_2/ground_truth");
   ASSERT_FALSE(truth.empty());
   EXPECT_EQ(truth[0].second.child_frame_id, "chair_2/base_footprint");

@@ -99,8 +99,8 @@ TEST(Bench, ACameraRendersAtItsRateAndAnUnwantedOneRendersNothing) {
 TEST(Bench, AWatchedRunHasItsPageTakeInFrames) {
   const test::CommandResult result = test::run(bench(scenario() + " --web-viewer --duration 0.5 --repeat 1"));
   ASSERT_EQ(result.status, 0) << result.errors;
-  const auto numbers = numbersIn(result.output, {"rtf_web_viewer", "web_viewer_cost_pct", "web_viewer_cpu_cost_pct",
-                                                 "web_viewer_frames_per_run"});
+  const auto numbers = numbersIn(result.output, {"rtf_web_viewer", "web_viewer_cost_pct",
+                                                 "web_viewer_cpu_cost_pct", "web_viewer_frames_per_run"});
   EXPECT_GT(numbers.at("rtf_web_viewer"), 0);
   EXPECT_GE(numbers.at("web_viewer_frames_per_run"), 1);
 }
@@ -138,8 +138,9 @@ TEST(Bench, StrikePicturesMakeTheirFolder) {
   char scratch[] = "/tmp/bullet_sim_bench_strikes_XXXXXX";
   ASSERT_NE(mkdtemp(scratch), nullptr);
   const std::string folder = std::string(scratch) + "/pictures/strikes";
-  const std::string cell = "--strikes --strike-filter caster_two_wheeler --strike-filter raycast --strike-filter 10ms "
-                           "--strike-filter 2m/s --strike-filter panel --strike-render ";
+  const std::string cell =
+      "--strikes --strike-filter caster_two_wheeler --strike-filter raycast --strike-filter 10ms "
+      "--strike-filter 2m/s --strike-filter panel --strike-render ";
   const test::CommandResult result = test::run(bench(cell + folder));
   EXPECT_EQ(result.status, 0) << result.errors;
   const std::string stem = folder + "/caster_two_wheeler_raycast_10ms_2m_s_0deg_panel";

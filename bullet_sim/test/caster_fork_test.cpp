@@ -1,8 +1,9 @@
-// A base on four swivel casters whose forks are collision meshes (issue 30, B2: MiR 100 stood on its forks, its
-// drive wheels 7 mm off the floor, and did not move). A moving mesh that collides by its hull must be the
-// mesh's hull: Bullet's btShapeHull, fed a hull with its default 4 cm margin, grew the forks by 4 cm all round,
-// and their bottoms, 3.4 cm above the floor, carried the robot. Forks as hulls (max_convex_parts 1, as without
-// CoACD): every wheel rests on the floor, and the base drives at the commanded speed on either wheel model.
+// A base on four swivel casters whose forks are collision meshes (issue 30, B2: MiR 100 stood on its forks,
+// its drive wheels 7 mm off the floor, and did not move). A moving mesh that collides by its hull must be the
+// mesh's hull: Bullet's btShapeHull, fed a hull with its default 4 cm margin, grew the forks by 4 cm all
+// round, and their bottoms, 3.4 cm above the floor, carried the robot. Forks as hulls (max_convex_parts 1, as
+// without CoACD): every wheel rests on the floor, and the base drives at the commanded speed on either wheel
+// model.
 #include <gtest/gtest.h>
 
 #include <cmath>

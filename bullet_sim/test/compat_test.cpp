@@ -137,7 +137,8 @@ TEST(ControllerManagerMsgs, MessagesAndServicesHaveTheOriginalsMd5Sums) {
   EXPECT_EQ(serviceMd5<controller_manager_msgs::ListControllerTypes>(), "c1d4cd11aefa9f97ba4aeb5b33987f4e");
   EXPECT_EQ(serviceMd5<controller_manager_msgs::ListControllers>(), "1341feb2e63fa791f855565d0da950d8");
   EXPECT_EQ(serviceMd5<controller_manager_msgs::LoadController>(), "647e5c54b8d6468952d8d31f1efe96c0");
-  EXPECT_EQ(serviceMd5<controller_manager_msgs::ReloadControllerLibraries>(), "40e8c411fd1797d2e2c486018f846040");
+  EXPECT_EQ(serviceMd5<controller_manager_msgs::ReloadControllerLibraries>(),
+            "40e8c411fd1797d2e2c486018f846040");
   EXPECT_EQ(serviceMd5<controller_manager_msgs::SwitchController>(), "b29a7abc673b2c54c14b54e50f8d06a5");
   EXPECT_EQ(serviceMd5<controller_manager_msgs::UnloadController>(), "647e5c54b8d6468952d8d31f1efe96c0");
   EXPECT_EQ(controller_manager_msgs::SwitchController::Request::BEST_EFFORT, 1);
@@ -187,7 +188,8 @@ class CompatPackagesScript : public ::testing::Test {
              ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::remove_all(root_);
     std::filesystem::create_directories(root_ / "real");
-    std::filesystem::copy(std::string(COMPAT_DIR), root_ / "compat", std::filesystem::copy_options::recursive);
+    std::filesystem::copy(std::string(COMPAT_DIR), root_ / "compat",
+                          std::filesystem::copy_options::recursive);
     for (const auto& package : std::filesystem::directory_iterator(root_ / "compat")) {
       std::ofstream(package.path() / "CATKIN_IGNORE") << "committed\n";
     }
@@ -224,8 +226,8 @@ std::vector<std::string> compatPackages() {
 
 TEST(CompatPackages, AreTheOnesTheDesignNames) {
   EXPECT_THAT(compatPackages(),
-              ::testing::IsSupersetOf({"control_msgs", "controller_manager", "controller_manager_msgs", "gazebo_msgs",
-                                       "joint_state_controller"}));
+              ::testing::IsSupersetOf({"control_msgs", "controller_manager", "controller_manager_msgs",
+                                       "gazebo_msgs", "joint_state_controller"}));
 }
 
 TEST_F(CompatPackagesScript, BuildsOursWhereTheSystemLacksTheRealPackage) {

@@ -1,7 +1,7 @@
-// A compound meets a plane with Bullet's own contacts, point for point, each child's in Bullet's order, while it
-// sinks, tilts and has children moved, whichever of the two comes first in the pair; a small child far from
-// the ground and one lowered to it are met as soon as they come within reach. A rigid body's child that cannot
-// reach the plane within the substep has no points, nor a manifold for them.
+// A compound meets a plane with Bullet's own contacts, point for point, each child's in Bullet's order, while
+// it sinks, tilts and has children moved, whichever of the two comes first in the pair; a small child far
+// from the ground and one lowered to it are met as soon as they come within reach. A rigid body's child that
+// cannot reach the plane within the substep has no points, nor a manifold for them.
 #include <gtest/gtest.h>
 
 #include <BulletDynamics/Dynamics/btRigidBody.h>
@@ -46,13 +46,14 @@ struct World {
     return *objects.back();
   }
 
-  /// A box, a cylinder, a sphere and a hull, side by side under a chassis box; a bolt's head, small enough that
-  /// its bounding sphere clears the ground while it is within reach; and a lidar held 0.3 m up.
+  /// A box, a cylinder, a sphere and a hull, side by side under a chassis box; a bolt's head, small enough
+  /// that its bounding sphere clears the ground while it is within reach; and a lidar held 0.3 m up.
   btCompoundShape* robot() {
     auto* compound = new btCompoundShape();
     shapes.emplace_back(compound);
     shapes.emplace_back(new btBoxShape(btVector3(0.3, 0.2, 0.1)));
-    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.3)), shapes.back().get());
+    compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.3)),
+                            shapes.back().get());
     shapes.emplace_back(new btCylinderShape(btVector3(0.1, 0.03, 0.1)));  // along y: a wheel
     compound->addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0.2, 0.25, 0.1)),
                             shapes.back().get());
@@ -89,12 +90,14 @@ struct World {
     objects[2]->setWorldTransform(btTransform(tilt.inverse(), btVector3(3, 0, height)));
     auto* compound = static_cast<btCompoundShape*>(objects[0]->getCollisionShape());
     if (frame == 25) {  // steering: the wheel turns on the first robot, as a raycast robot's rims do
-      compound->updateChildTransform(1, btTransform(btQuaternion(btVector3(0, 0, 1), 0.3), btVector3(0.2, 0.25, 0.1)));
+      compound->updateChildTransform(
+          1, btTransform(btQuaternion(btVector3(0, 0, 1), 0.3), btVector3(0.2, 0.25, 0.1)));
     }
     // A kinematic joint lowers the lidar to the ground over frames 10 to 30, without a new revision.
     const btScalar lowered = frame < 10 ? 0 : std::min<btScalar>(1, (frame - 10) / 20.0);
     compound->updateChildTransform(
-        kLidar, btTransform(btQuaternion::getIdentity(), btVector3(0, -0.1, kLidarHeight * (1 - lowered) + 0.01)));
+        kLidar,
+        btTransform(btQuaternion::getIdentity(), btVector3(0, -0.1, kLidarHeight * (1 - lowered) + 0.01)));
   }
 };
 
@@ -113,8 +116,8 @@ Touches touches(const World& world) {
     const btPersistentManifold& manifold = *world.dispatcher.getManifoldByIndexInternal(m);
     for (int p = 0; p < manifold.getNumContacts(); ++p) {
       const btManifoldPoint& point = manifold.getContactPoint(p);
-      found[{index(manifold.getBody0()), index(manifold.getBody1()), point.m_index0, point.m_index1}].push_back(
-          &point);
+      found[{index(manifold.getBody0()), index(manifold.getBody1()), point.m_index0, point.m_index1}]
+          .push_back(&point);
     }
   }
   return found;
@@ -154,7 +157,8 @@ TEST(CompoundPlane, IsWhatTheDispatcherPicksForACompoundOnAPlane) {
   ours.world.performDiscreteCollisionDetection();
   btBroadphasePairArray& pairs = ours.broadphase.getOverlappingPairCache()->getOverlappingPairArray();
   ASSERT_EQ(pairs.size(), 2);  // each robot with the ground; the robots are 3 m apart
-  for (int k = 0; k < pairs.size(); ++k) EXPECT_NE(dynamic_cast<CompoundPlaneAlgorithm*>(pairs[k].m_algorithm), nullptr);
+  for (int k = 0; k < pairs.size(); ++k)
+    EXPECT_NE(dynamic_cast<CompoundPlaneAlgorithm*>(pairs[k].m_algorithm), nullptr);
 
   World bullets(false);
   bullets.populate().pose(0);
@@ -171,7 +175,8 @@ btRigidBody& hoveringWheel(World& world, btScalar gap) {
   auto* compound = new btCompoundShape();
   world.shapes.emplace_back(compound);
   world.shapes.emplace_back(new btCylinderShapeZ(btVector3(0.1, 0.1, 0.03)));
-  compound->addChildShape(btTransform(btQuaternion(btVector3(1, 0, 0), SIMD_HALF_PI)), world.shapes.back().get());
+  compound->addChildShape(btTransform(btQuaternion(btVector3(1, 0, 0), SIMD_HALF_PI)),
+                          world.shapes.back().get());
   auto* body = new btRigidBody(1.0, nullptr, compound, btVector3(0.01, 0.01, 0.01));
   world.objects.emplace_back(body);
   body->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.1 + gap)));

@@ -38,7 +38,8 @@ EnergyRise watchEnergy(Simulation& simulation, const std::string& name) {
   const Robot& robot = *simulation.robot(name);
   const double start = robotEnergy(robot, simulation.world().gravity);
   EnergyRise energy;
-  energy.allowance = 0.5 * robotMass(robot.body().spec()) * kPushOutSpeed * kPushOutSpeed + 0.01 * std::abs(start);
+  energy.allowance =
+      0.5 * robotMass(robot.body().spec()) * kPushOutSpeed * kPushOutSpeed + 0.01 * std::abs(start);
   double resting = 0;  // [s] since it last moved
   while (simulation.time() < kLongest && resting < 0.5) {
     simulation.step();
@@ -61,10 +62,13 @@ TEST(ContactEnergy, ADroppedRobotGainsNone) {
     for (const std::string& model : test::kWheelModels) {
       for (double step : {0.001, 0.01}) {
         for (double drop : {0.05, 0.2, 0.5}) {
-          SCOPED_TRACE(robot.name + " " + model + " " + std::to_string(step) + " s from " + std::to_string(drop) + " m");
+          SCOPED_TRACE(robot.name + " " + model + " " + std::to_string(step) + " s from " +
+                       std::to_string(drop) + " m");
           Simulation simulation(test::emptyWorld(), stepOf(step));
           WorldApi world(simulation);
-          simulation.spawn("robot", test::parseQuietly(withMotorsOff(withStrikeWheelModel(robot.urdf, model)), robot.name), {});
+          simulation.spawn(
+              "robot", test::parseQuietly(withMotorsOff(withStrikeWheelModel(robot.urdf, model)), robot.name),
+              {});
           EntityState lifted = world.modelState("robot");
           lifted.pose.translation().z() += drop;
           world.setModelState("robot", lifted);
@@ -91,7 +95,8 @@ TEST(ContactEnergy, ARobotCoastingIntoAWallOrAnEdgeGainsNone) {
   }
 }
 
-/// A pose of `model` turned by `orientation` whose lowest collision point is `clearance` [m] above the ground.
+/// A pose of `model` turned by `orientation` whose lowest collision point is `clearance` [m] above the
+/// ground.
 SpawnPose clearPose(const ModelSpec& model, const Eigen::Quaterniond& orientation, double clearance) {
   Eigen::Isometry3d turned = Eigen::Isometry3d::Identity();
   turned.linear() = orientation.toRotationMatrix();
@@ -99,14 +104,15 @@ SpawnPose clearPose(const ModelSpec& model, const Eigen::Quaterniond& orientatio
   const auto links = linkPosesAtZero(model);
   for (const auto& link : model.links) {
     for (const auto& collision : link.collisions)
-      lowest = std::min(lowest, lowestPoint(collision.shape, turned * links.at(link.name) * collision.origin));
+      lowest =
+          std::min(lowest, lowestPoint(collision.shape, turned * links.at(link.name) * collision.origin));
   }
   Diagnostics diagnostics("random pose");
   return spawnPoseFrom(Eigen::Vector3d(0, 0, clearance - lowest), orientation, false, diagnostics);
 }
 
-// 200 poses, each a robot, a wheel model, a step, a uniformly random attitude and a height of 0 to 0.3 m above
-// the ground, seeded: each robot tumbles onto the ground with its motors off and comes to rest.
+// 200 poses, each a robot, a wheel model, a step, a uniformly random attitude and a height of 0 to 0.3 m
+// above the ground, seeded: each robot tumbles onto the ground with its motors off and comes to rest.
 TEST(ContactEnergy, TwoHundredRandomPosesGainNone) {
   const std::vector<StrikeRobot> robots = switchableRobots();
   std::mt19937_64 generator(28);
@@ -121,12 +127,13 @@ TEST(ContactEnergy, TwoHundredRandomPosesGainNone) {
     const double u1 = uniform(0, 1), u2 = uniform(0, 2 * M_PI), u3 = uniform(0, 2 * M_PI);
     const Eigen::Quaterniond orientation(std::sqrt(u1) * std::cos(u3), std::sqrt(1 - u1) * std::sin(u2),
                                          std::sqrt(1 - u1) * std::cos(u2), std::sqrt(u1) * std::sin(u3));
-    const ModelSpec spec = test::parseQuietly(withMotorsOff(withStrikeWheelModel(robot.urdf, model)), robot.name);
+    const ModelSpec spec =
+        test::parseQuietly(withMotorsOff(withStrikeWheelModel(robot.urdf, model)), robot.name);
     Simulation simulation(test::emptyWorld(), stepOf(step));
     simulation.spawn("robot", spec, clearPose(spec, orientation, uniform(0.0, 0.3)));
     const EnergyRise energy = watchEnergy(simulation, "robot");
-    EXPECT_LE(energy.rise, energy.allowance) << "pose " << i << ": " << robot.name << " " << model << " " << step
-                                             << " s, attitude " << orientation.coeffs().transpose();
+    EXPECT_LE(energy.rise, energy.allowance) << "pose " << i << ": " << robot.name << " " << model << " "
+                                             << step << " s, attitude " << orientation.coeffs().transpose();
   }
 }
 

@@ -15,7 +15,8 @@ using ::testing::HasSubstr;
 /// `urdf` without its plugins and sensors: nothing drives it, and it gets the contact wheel model.
 std::string withoutPlugins(const std::string& urdf) {
   return test::editUrdf(urdf, [](tinyxml2::XMLElement& robot) {
-    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo; gazebo = gazebo->NextSiblingElement("gazebo")) {
+    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo")) {
       while (auto* plugin = gazebo->FirstChildElement("plugin")) gazebo->DeleteChild(plugin);
       while (auto* sensor = gazebo->FirstChildElement("sensor")) gazebo->DeleteChild(sensor);
     }
@@ -29,7 +30,8 @@ double smallestWheel(const ModelSpec& model) {
     const LinkSpec* link = model.link(joint.child);
     if (joint.type != JointSpec::Type::kContinuous || !link || link->collisions.empty()) continue;
     const Shape& shape = link->collisions.front().shape;
-    if (shape.type == Shape::Type::kCylinder || shape.type == Shape::Type::kSphere) smallest = std::min(smallest, shape.radius);
+    if (shape.type == Shape::Type::kCylinder || shape.type == Shape::Type::kSphere)
+      smallest = std::min(smallest, shape.radius);
   }
   return smallest;
 }
@@ -98,7 +100,8 @@ TEST(Substeps, ATenMillisecondWorldSubstepsForTheStiffestSpringAndTimeKeepsTheWo
   Simulation simulation(test::emptyWorld(), stepOf(0.01));
   simulation.spawn("robot", test::modelOf(test::lookAlike("light_skid_steer"), "raycast"), {});
   EXPECT_THAT(simulation.substepNote("robot"), HasSubstr("physics substep 1.25 ms (8 per 10 ms step)"));
-  EXPECT_THAT(simulation.substepNote("robot"), HasSubstr("the raycast suspension's 140 rad/s allows 1.43 ms"));
+  EXPECT_THAT(simulation.substepNote("robot"),
+              HasSubstr("the raycast suspension's 140 rad/s allows 1.43 ms"));
   simulation.step();
   EXPECT_DOUBLE_EQ(simulation.time(), 0.01);
 
@@ -119,7 +122,8 @@ TEST(Substeps, TheLightestLinkSetsTheContactModelsSubstep) {
   Simulation casters(test::emptyWorld(), stepOf(0.01));
   casters.spawn("robot", test::modelOf(test::lookAlike("caster_two_wheeler"), "contact"), {});
   EXPECT_THAT(casters.substepNote("robot"), HasSubstr("(6 per 10 ms step)"));
-  EXPECT_THAT(casters.substepNote("robot"), HasSubstr("caster] of 0.01 kg on a robot of 1.1 kg allows 1.91 ms"));
+  EXPECT_THAT(casters.substepNote("robot"),
+              HasSubstr("caster] of 0.01 kg on a robot of 1.1 kg allows 1.91 ms"));
 
   Simulation fine(test::emptyWorld(), stepOf(0.001));
   fine.spawn("robot", test::modelOf(test::lookAlike("caster_two_wheeler"), "contact"), {});

@@ -15,7 +15,8 @@ class ShippedStrike : public ::testing::TestWithParam<test::StrikeCase> {};
 
 TEST_P(ShippedStrike, StaysWithinItsBounds) { test::expectWithinBounds(GetParam().robot, GetParam().cell); }
 
-INSTANTIATE_TEST_SUITE_P(Matrix, ShippedStrike, ::testing::ValuesIn(test::representativeCells(test::shippedRobots())),
+INSTANTIATE_TEST_SUITE_P(Matrix, ShippedStrike,
+                         ::testing::ValuesIn(test::representativeCells(test::shippedRobots())),
                          test::caseName);
 
 // The Yahboom car's front wheels reach 1 mm past its body and all four are driven, friction-limited: the
@@ -33,9 +34,10 @@ TEST(ShippedStrike, TheYahboomCarsDrivenFrontWheelsClimbTheWall) {
   }
 }
 
-// At 2 m/s into a door's edge, on `contact` at 10 ms, the Yahboom car's front wheel climbs the post (climb ratio
-// about 4), the car turns over and falls back onto its roof. Its root's path is longer than the command's by
-// part of that fall, which gravity gives it: the matrix allows the root's rise for it where climbing is physical.
+// At 2 m/s into a door's edge, on `contact` at 10 ms, the Yahboom car's front wheel climbs the post (climb
+// ratio about 4), the car turns over and falls back onto its roof. Its root's path is longer than the
+// command's by part of that fall, which gravity gives it: the matrix allows the root's rise for it where
+// climbing is physical.
 TEST(ShippedStrike, TheYahboomCarsFallAfterItClimbsIsNotAFling) {
   const StrikeRobot yahboom = test::shippedRobots()[2];
   const StrikeOutcome outcome =

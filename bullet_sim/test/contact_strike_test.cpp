@@ -21,7 +21,8 @@ namespace {
 TEST(StrikeBounds, FollowTheFormulasForTheLightSkidSteerRobot) {
   for (const std::string& model : test::kWheelModels) {
     SCOPED_TRACE(model);
-    const StrikeOutcome outcome = runStrike(test::lookAlike("light_skid_steer"), {model, 0.001, 0.5}, test::emptyWorld());
+    const StrikeOutcome outcome =
+        runStrike(test::lookAlike("light_skid_steer"), {model, 0.001, 0.5}, test::emptyWorld());
     const StrikeBounds& b = outcome.bounds;
     const double m = 2.8, h = 0.0714, z_c = 0.08, d = 0.1, i_p = 0.0721, g = 9.81;
     EXPECT_NEAR(b.mass, m, 1e-9);
@@ -59,7 +60,8 @@ INSTANTIATE_TEST_SUITE_P(Matrix, LookAlikeStrike,
 TEST(StrikeBounds, ARobotWhoseBaseReachesTheWallLeansOnItInsteadOfTipping) {
   for (const std::string& model : test::kWheelModels) {
     SCOPED_TRACE(model);
-    const StrikeOutcome outcome = runStrike(test::lookAlike("tall_base"), {model, 0.001, 2.0}, test::emptyWorld());
+    const StrikeOutcome outcome =
+        runStrike(test::lookAlike("tall_base"), {model, 0.001, 2.0}, test::emptyWorld());
     const StrikeBounds& b = outcome.bounds;
     EXPECT_GT(b.contact_height, b.com_height + 0.8);
     EXPECT_GT(b.impact_energy, b.barrier) << "with room to turn, the impact would tip it";
@@ -71,8 +73,8 @@ TEST(StrikeBounds, ARobotWhoseBaseReachesTheWallLeansOnItInsteadOfTipping) {
 
 // The caster two-wheeler meets a door frame's edge square. Its centre of mass is 3 cm behind its axle: with
 // springs alike it rested 4.2 mrad nose-up on `raycast`, met the post with its body's lower edge first and
-// vaulted on it (0.44 rad at 2 m/s); and Bullet's box-box detector, which keeps only touching points, held its
-// face at one edge on `contact` at 10 ms (0.108 rad at 0.5 m/s). The bounds say upright in all three.
+// vaulted on it (0.44 rad at 2 m/s); and Bullet's box-box detector, which keeps only touching points, held
+// its face at one edge on `contact` at 10 ms (0.108 rad at 0.5 m/s). The bounds say upright in all three.
 TEST(StrikeBounds, ARobotMeetsADoorEdgeWithItsWholeFace) {
   const StrikeRobot robot = test::lookAlike("caster_two_wheeler");
   const StrikeCell cells[] = {{"raycast", 0.001, 2.0, 0, StrikeTarget::kDoorEdge},

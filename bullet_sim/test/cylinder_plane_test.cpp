@@ -1,5 +1,5 @@
-// A cylinder on the ground plane touches it as a cylinder does (issue 29): lying down, on its tread, level and
-// still; standing, on the rim of its lower end.
+// A cylinder on the ground plane touches it as a cylinder does (issue 29): lying down, on its tread, level
+// and still; standing, on the rim of its lower end.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,7 +20,8 @@ std::string cylinderUrdf(bool lying) {
   return "<robot name='can'><link name='can'><inertial><origin xyz='0 0 " + z + "'/><mass value='" +
          std::to_string(kMass) + "'/><inertia ixx='1e-3' iyy='1e-3' izz='1e-3' ixy='0' ixz='0' iyz='0'/>" +
          "</inertial><collision><origin xyz='0 0 " + z + "' rpy='" + rpy + "'/><geometry><cylinder radius='" +
-         std::to_string(kRadius) + "' length='" + std::to_string(kLength) + "'/></geometry></collision></link></robot>";
+         std::to_string(kRadius) + "' length='" + std::to_string(kLength) +
+         "'/></geometry></collision></link></robot>";
 }
 
 struct Resting {

@@ -1,6 +1,6 @@
 // urdf_doctor calls each plugin's own check through the registry (PluginType::check): the diff drive's check
-// finds its reversed wheel and a zero limit on a wheel, a registry without that check finds neither, and what a
-// registered check returns is reported as the doctor's own, once per element.
+// finds its reversed wheel and a zero limit on a wheel, a registry without that check finds neither, and what
+// a registered check returns is reported as the doctor's own, once per element.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -30,8 +30,9 @@ std::string withJoint(const std::string& name, Edit edit) {
 }
 
 std::string reversedRightWheel() {
-  return withJoint("right_wheel_joint",
-                   [](tinyxml2::XMLElement& joint) { joint.FirstChildElement("axis")->SetAttribute("xyz", "0 -1 0"); });
+  return withJoint("right_wheel_joint", [](tinyxml2::XMLElement& joint) {
+    joint.FirstChildElement("axis")->SetAttribute("xyz", "0 -1 0");
+  });
 }
 
 std::string zeroEffortOnLeftWheel() {
@@ -56,12 +57,14 @@ DoctorReport examine(const std::string& urdf, const PluginRegistry& registry = P
 }
 
 size_t saying(const DoctorReport& report, const std::string& part) {
-  return std::count_if(report.findings.begin(), report.findings.end(),
-                       [&](const DoctorFinding& finding) { return finding.message.find(part) != std::string::npos; });
+  return std::count_if(report.findings.begin(), report.findings.end(), [&](const DoctorFinding& finding) {
+    return finding.message.find(part) != std::string::npos;
+  });
 }
 
 const std::string kReversed =
-    "joint [right_wheel_joint]: turns about 0 -1 0, backwards (-y) in [base_link], while joint [left_wheel_joint] "
+    "joint [right_wheel_joint]: turns about 0 -1 0, backwards (-y) in [base_link], while joint "
+    "[left_wheel_joint] "
     "turns about 0 1 0: plugin [drive] then turns them against each other";
 const std::string kZeroEffort = "joint [left_wheel_joint] <limit>: its effort is 0, yet a plugin drives it";
 
@@ -77,7 +80,8 @@ TEST(DoctorPluginChecks, TheDiffDrivesCheckFindsAZeroEffortOnItsWheel) {
 }
 
 TEST(DoctorPluginChecks, WithoutTheDiffDrivesCheckNeitherIsFound) {
-  // The doctor's own mirrored-wheel check leaves a drive's wheels to the drive: both findings were its check's.
+  // The doctor's own mirrored-wheel check leaves a drive's wheels to the drive: both findings were its
+  // check's.
   const PluginRegistry registry = withDiffDriveCheck(nullptr);
   const DoctorReport reversed = examine(reversedRightWheel(), registry);
   EXPECT_EQ(reversed.errors(), 0u) << reversed.text();  // the parser's warning that it compensates remains

@@ -126,7 +126,8 @@ TEST(Entities, AStaticWorldModelMovesForTheLidarAndResetWorldPutsItBack) {
 }
 
 TEST(Entities, AMovedStaticWorldModelCarriesWhatFallsOnIt) {
-  // The crate shares a compound with the static primitives of its cell of the floor: moving it moves its child.
+  // The crate shares a compound with the static primitives of its cell of the floor: moving it moves its
+  // child.
   Simulation simulation(crateWorld());
   WorldApi world(simulation);
   EXPECT_EQ(world.setModelState("crate", at(0, 0, 0.5, 0)), "");
@@ -282,8 +283,9 @@ TEST(Entities, AModelConfigurationSetsTheNamedJointsOnly) {
   EXPECT_NEAR(world.jointProperties("right_wheel_joint").position, 0.0, 1e-12);
   EXPECT_TRUE(robot.body().linkPose("base_footprint").isApprox(root, 1e-12));
   // As Gazebo, an unknown joint is skipped, the others set; the note names it.
-  EXPECT_THAT(world.setModelConfiguration("robot", {{"left_wheel_jiont", 2.0}, {"right_wheel_joint", 0.5}}),
-              HasSubstr("[left_wheel_jiont] is not a moving joint of [robot] (did you mean [left_wheel_joint]?)"));
+  EXPECT_THAT(
+      world.setModelConfiguration("robot", {{"left_wheel_jiont", 2.0}, {"right_wheel_joint", 0.5}}),
+      HasSubstr("[left_wheel_jiont] is not a moving joint of [robot] (did you mean [left_wheel_joint]?)"));
   EXPECT_NEAR(world.jointProperties("robot::left_wheel_joint").position, 1.0, 1e-12);
   EXPECT_NEAR(world.jointProperties("right_wheel_joint").position, 0.5, 1e-12);
   EXPECT_EQ(world.setModelConfiguration("robot", {{"left_wheel_joint", 0.0}}), "");
@@ -357,9 +359,9 @@ TEST(Entities, RequestsBeyondWhatCanBeSimulatedAreRefusedAndChangeNothing) {
   simulation.spawn("box", fixtureRobot("minimal.urdf"), {.z = 1});
   const Eigen::Isometry3d before = world.modelState("box").pose;
   EntityState far = at(1e300, 0, 0, 0);
-  EXPECT_THAT(
-      [&] { world.setModelState("box", far); },
-      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("model [box]: pose.position.x [1e+300] m is beyond")));
+  EXPECT_THAT([&] { world.setModelState("box", far); },
+              ::testing::ThrowsMessage<std::invalid_argument>(
+                  HasSubstr("model [box]: pose.position.x [1e+300] m is beyond")));
   EXPECT_THAT([&] { world.setModelState("crate", at(0, 2e4, 0, 0)); },
               ::testing::ThrowsMessage<std::invalid_argument>(
                   HasSubstr("[20000] m is beyond the limit of 10000 m (max_length)")));
@@ -371,7 +373,8 @@ TEST(Entities, RequestsBeyondWhatCanBeSimulatedAreRefusedAndChangeNothing) {
       [&] {
         world.applyBodyWrench({"box", "", {}, Eigen::Vector3d(1e300, 0, 0), {}, {0, 1}});
       },
-      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("the wrench on [box]: wrench.force.x [1e+300 N] is beyond")));
+      ::testing::ThrowsMessage<std::invalid_argument>(
+          HasSubstr("the wrench on [box]: wrench.force.x [1e+300 N] is beyond")));
   EXPECT_THAT(
       [&] {
         world.setPhysicsProperties({10, 1000, Eigen::Vector3d(0, 0, -9.81)});

@@ -13,7 +13,8 @@ namespace {
 
 const btVector3 kHalfBox(0.6, 0.35, 0.25);  ///< [m] a chassis 1.2 m long, 0.7 m wide, 0.5 m high
 
-/// The chassis's frame in the compound's: turned 35 degrees about x, then 40 about z, as principal axes may be.
+/// The chassis's frame in the compound's: turned 35 degrees about x, then 40 about z, as principal axes may
+/// be.
 btTransform leaningChassis() {
   btQuaternion turn;
   turn.setEulerZYX(0.7, 0.0, 0.6);

@@ -138,14 +138,14 @@ TEST(GazeboPaths, ResourcePathFindsWorldsBeforeOurs) {
   EXPECT_EQ(*empty, test::packageFile("bullet_sim", "worlds/empty.world"));
 }
 
-// Gazebo's media folder leads the packages' gazebo_media_path exports: worlds/empty.world is Gazebo's own (ours
-// stands in for it) even where a package exports its own worlds/empty.world.
+// Gazebo's media folder leads the packages' gazebo_media_path exports: worlds/empty.world is Gazebo's own
+// (ours stands in for it) even where a package exports its own worlds/empty.world.
 TEST(GazeboPaths, OurWorldsComeBeforeThePackagesExportsAndAfterTheEnvironment) {
   GazeboEnvironment environment;
   environment.home = fixtures() + "/home";
   const std::string ours = test::packageFile("bullet_sim", "");
-  const PackageResolver resolver({fixtures() + "/packages", fs::path(ours).parent_path().parent_path().string()},
-                                 environment);
+  const PackageResolver resolver(
+      {fixtures() + "/packages", fs::path(ours).parent_path().parent_path().string()}, environment);
   std::string error;
   const auto empty = findWorldFile("worlds/empty.world", resolver, &error);
   ASSERT_TRUE(empty) << error;

@@ -1,8 +1,8 @@
 // Hostile requests at run time, in-process: one row per request to the world API (gazebo_msgs' services as
 // WorldApi serves them), the controllers' command inputs, follow_joint_trajectory goals, the controller
 // manager's services and spawn poses, each with the refusal it must get. After every row the world must still
-// step, the diff-drive robot must still drive, and no pose, twist, joint or published state may be non-finite.
-// Three robots: a diff-drive two-wheeler, the ros_control rover and a ros_control arm.
+// step, the diff-drive robot must still drive, and no pose, twist, joint or published state may be
+// non-finite. Three robots: a diff-drive two-wheeler, the ros_control rover and a ros_control arm.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -55,10 +55,11 @@ class Scene {
         world_(simulation_) {
     simulation_.spawn("diff", test::parseQuietly(test::twoWheelerWithDiffDrive(), "two_wheeler.urdf"),
                       {.x = kDiffX, .y = kDiffY});
-    simulation_.spawn("rover",
-                      test::parseQuietly(test::expandXacro("rover_description", "urdf/rover.urdf.xacro"), "rover"),
-                      {.x = 0, .y = 4});
-    simulation_.spawn("arm", test::parseQuietly(test::readFile(test::fixture("robots/trajectory_arm.urdf")), "arm"),
+    simulation_.spawn(
+        "rover", test::parseQuietly(test::expandXacro("rover_description", "urdf/rover.urdf.xacro"), "rover"),
+        {.x = 0, .y = 4});
+    simulation_.spawn("arm",
+                      test::parseQuietly(test::readFile(test::fixture("robots/trajectory_arm.urdf")), "arm"),
                       {.x = 0, .y = -4});
     test::startControllers(manager("rover"), {"rover_joint_publisher", "rover_velocity_controller"}, 0);
     for (const char* name : {"arm_controller", "group_controller", "shoulder_controller"})
@@ -76,12 +77,13 @@ class Scene {
     return test::pluginsOf<RosControl>(*simulation_.robot(robot)).at(0)->controllerManager();
   }
 
-  /// `input` on the robot's input whose topic ends with `topic`, as a subscription hands it over; what it said.
+  /// `input` on the robot's input whose topic ends with `topic`, as a subscription hands it over; what it
+  /// said.
   template <class Input>
   std::string send(const std::string& robot, const std::string& topic, const Input& input) {
     for (const RobotInput<Input>& port : simulation_.robot(robot)->inputs<Input>()) {
-      if (port.topic.size() >= topic.size() && port.topic.compare(port.topic.size() - topic.size(), topic.size(),
-                                                                  topic) == 0)
+      if (port.topic.size() >= topic.size() &&
+          port.topic.compare(port.topic.size() - topic.size(), topic.size(), topic) == 0)
         return (*port.handler)(input, simulation_.time());
     }
     ADD_FAILURE() << "robot [" << robot << "] has no input on [" << topic << "]";
@@ -153,7 +155,8 @@ void Scene::expectFinite() const {
     }
     for (const auto& output : robot.outputs<JointStateSample>()) {
       const JointStateSample& sample = output.stream->latest();
-      EXPECT_TRUE(finite(sample.positions) && finite(sample.velocities) && finite(sample.efforts)) << output.topic;
+      EXPECT_TRUE(finite(sample.positions) && finite(sample.velocities) && finite(sample.efforts))
+          << output.topic;
     }
     for (const auto& output : robot.outputs<Odometry>()) {
       const Odometry& odometry = output.stream->latest();
@@ -210,7 +213,9 @@ std::vector<Row> setModelStateRows() {
     return [=](Scene& scene) { return scene.world().setModelState(model, state, reference); };
   };
   const auto turned = [](double qx, double qy, double qz, double qw) {
-    return [=](Scene& scene) { return scene.world().setModelState("diff", stateFrom(0, 0, 0.1, qx, qy, qz, qw)); };
+    return [=](Scene& scene) {
+      return scene.world().setModelState("diff", stateFrom(0, 0, 0.1, qx, qy, qz, qw));
+    };
   };
   EntityState tilted = at(0, 0, 0.1);
   tilted.pose.linear()(0, 1) = kNaN;
@@ -224,7 +229,8 @@ std::vector<Row> setModelStateRows() {
       {"twist.linear.z inf", set(moving({0, 0, kInf}, {0, 0, 0})), "twist.linear.z [inf] is not finite"},
       {"twist.linear.x 1e7", set(moving({1e7, 0, 0}, {0, 0, 0})), "twist.linear.x [1e+07 m/s] is beyond"},
       {"twist.angular.z NaN", set(moving({0, 0, 0}, {0, 0, kNaN})), "twist.angular.z [nan] is not finite"},
-      {"twist.angular.y -1e9", set(moving({0, 0, 0}, {0, -1e9, 0})), "twist.angular.y [-1e+09 rad/s] is beyond"},
+      {"twist.angular.y -1e9", set(moving({0, 0, 0}, {0, -1e9, 0})),
+       "twist.angular.y [-1e+09 rad/s] is beyond"},
       {"orientation NaN", turned(kNaN, 0, 0, 1), "pose.orientation (x y z w) [nan 0 0 1] is not finite"},
       {"orientation w inf", turned(0, 0, 0, kInf), "pose.orientation (x y z w) [0 0 0 inf] is not finite"},
       {"orientation 1e200", turned(1e200, 1e200, 1e200, 1e200), "is no rotation: its norm [2e+200]"},
@@ -245,8 +251,10 @@ std::vector<Row> setLinkStateRows() {
   return {
       {"link position.x NaN", set(at(kNaN, 0, 0)), "link [diff::base_footprint]: pose.position.x [nan]"},
       {"link position.z 1e300", set(at(0, 0, 1e300)), "pose.position.z [1e+300] m is beyond the limit"},
-      {"link twist.angular.y NaN", set(moving({0, 0, 0}, {0, kNaN, 0})), "twist.angular.y [nan] is not finite"},
-      {"link twist.linear.z -inf", set(moving({0, 0, -kInf}, {0, 0, 0})), "twist.linear.z [-inf] is not finite"},
+      {"link twist.angular.y NaN", set(moving({0, 0, 0}, {0, kNaN, 0})),
+       "twist.angular.y [nan] is not finite"},
+      {"link twist.linear.z -inf", set(moving({0, 0, -kInf}, {0, 0, 0})),
+       "twist.linear.z [-inf] is not finite"},
       {"link orientation 1e200",
        [](Scene& scene) {
          return scene.world().setLinkState("diff::base_footprint", stateFrom(0, 0, 1, 0, 1e200, 0, 1e200));
@@ -261,7 +269,9 @@ std::vector<Row> setLinkStateRows() {
 std::vector<Row> applyBodyWrenchRows() {
   const auto wrench = [](Eigen::Vector3d force, Eigen::Vector3d torque, Eigen::Vector3d point = {0, 0, 0},
                          Schedule schedule = {0, 0.1}, std::string body = "diff::base_footprint") {
-    return [=](Scene& scene) { return scene.world().applyBodyWrench({body, "", point, force, torque, schedule}); };
+    return [=](Scene& scene) {
+      return scene.world().applyBodyWrench({body, "", point, force, torque, schedule});
+    };
   };
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
   return {
@@ -313,10 +323,12 @@ std::vector<Row> jointRows() {
       {"fmax -1", drive(1, -1), "fmax [-1] must be >= 0"},
       {"fmax 1e13", drive(1, 1e13), "fmax [1e+13 N m or N] is beyond"},
       {"vel on an unknown joint", drive(1, 1, "ghost"), "no moving joint [ghost]"},
-      {"configuration NaN", configure({{"shoulder", kNaN}}), "the position of [shoulder] [nan] is not a finite"},
+      {"configuration NaN", configure({{"shoulder", kNaN}}),
+       "the position of [shoulder] [nan] is not a finite"},
       {"configuration inf", configure({{"wrist", kInf}}), "the position of [wrist] [inf] is not a finite"},
       {"configuration 1e5", configure({{"wrist", 1e5}}), "[100000] is beyond the limit of 10000"},
-      {"configuration of an unknown joint", configure({{"elbow", 0}}), "skipped, as Gazebo skips them: [elbow]"},
+      {"configuration of an unknown joint", configure({{"elbow", 0}}),
+       "skipped, as Gazebo skips them: [elbow]"},
       {"configuration of the ground", configure({{"x", 0}}, "ground_plane"), "is the world's"},
       {"configuration of an unknown model", configure({{"x", 0}}, "ghost"), "no model [ghost]"},
   };
@@ -339,9 +351,11 @@ std::vector<Row> physicsRows() {
       {"max_update_rate NaN", physics(0.001, kNaN), "max_update_rate [nan] is not finite"},
       {"max_update_rate inf", physics(0.001, kInf), "max_update_rate [inf] is not finite"},
       {"max_update_rate -1", physics(0.001, -1), "max_update_rate [-1] must be 0 (as fast as possible)"},
-      {"max_update_rate 1e-10", physics(0.001, 1e-10), "max_update_rate [1e-10] must be 0 (as fast as possible)"},
+      {"max_update_rate 1e-10", physics(0.001, 1e-10),
+       "max_update_rate [1e-10] must be 0 (as fast as possible)"},
       {"gravity.x NaN", physics(0.001, 1000, {kNaN, 0, -9.81}), "gravity.x [nan] is not finite"},
-      {"gravity.y NaN after a finite x", physics(0.001, 1000, {0, kNaN, -9.81}), "gravity.y [nan] is not finite"},
+      {"gravity.y NaN after a finite x", physics(0.001, 1000, {0, kNaN, -9.81}),
+       "gravity.y [nan] is not finite"},
       {"gravity.z -inf", physics(0.001, 1000, {0, 0, -kInf}), "gravity.z [-inf] is not finite"},
       {"gravity.z -1e7", physics(0.001, 1000, {0, 0, -1e7}), "gravity.z [-1e+07 m/s^2] is beyond"},
   };
@@ -349,18 +363,47 @@ std::vector<Row> physicsRows() {
 
 std::vector<Row> queryRows() {
   return {
-      {"get_model_state of no model", [](Scene& s) { s.world().modelState("ghost"); return ""; },
+      {"get_model_state of no model",
+       [](Scene& s) {
+         s.world().modelState("ghost");
+         return "";
+       },
        "no model [ghost]"},
-      {"get_model_state in no frame", [](Scene& s) { s.world().modelState("diff", "nowhere"); return ""; },
+      {"get_model_state in no frame",
+       [](Scene& s) {
+         s.world().modelState("diff", "nowhere");
+         return "";
+       },
        "reference frame [nowhere] names no model or link"},
-      {"get_link_state of a model", [](Scene& s) { s.world().linkState("diff"); return ""; }, "is a model, not a link"},
-      {"get_link_properties of no link", [](Scene& s) { s.world().linkProperties("diff::ghost"); return ""; },
+      {"get_link_state of a model",
+       [](Scene& s) {
+         s.world().linkState("diff");
+         return "";
+       },
+       "is a model, not a link"},
+      {"get_link_properties of no link",
+       [](Scene& s) {
+         s.world().linkProperties("diff::ghost");
+         return "";
+       },
        "names no model or link"},
-      {"get_link_properties of the ground", [](Scene& s) { s.world().linkProperties("ground_plane::link"); return ""; },
+      {"get_link_properties of the ground",
+       [](Scene& s) {
+         s.world().linkProperties("ground_plane::link");
+         return "";
+       },
        "without mass"},
-      {"get_joint_properties of no joint", [](Scene& s) { s.world().jointProperties("ghost"); return ""; },
+      {"get_joint_properties of no joint",
+       [](Scene& s) {
+         s.world().jointProperties("ghost");
+         return "";
+       },
        "no moving joint [ghost]"},
-      {"get_model_properties of no model", [](Scene& s) { s.world().modelProperties("ghost"); return ""; },
+      {"get_model_properties of no model",
+       [](Scene& s) {
+         s.world().modelProperties("ghost");
+         return "";
+       },
        "no model [ghost]"},
   };
 }
@@ -394,26 +437,41 @@ std::vector<Row> trajectoryRows() {
   return {
       {"command positions NaN", command(point([](auto& p) { p.positions[1] = kNaN; })),
        "a message whose points[0].positions[1] [nan] is not finite"},
-      {"command positions 1e308", command(point([](auto& p) { p.positions = {1e308, -1e308}; })),
+      {"command positions 1e308", command(point([](auto& p) {
+         p.positions = {1e308, -1e308};
+       })),
        "points[0].positions[0] [1e+308] is beyond the 1e+06"},
-      {"command velocities inf", command(point([](auto& p) { p.velocities = {0, kInf}; })),
+      {"command velocities inf", command(point([](auto& p) {
+         p.velocities = {0, kInf};
+       })),
        "points[0].velocities[1] [inf] is not finite"},
-      {"command accelerations NaN", command(point([](auto& p) { p.accelerations = {kNaN, 0}; })),
+      {"command accelerations NaN", command(point([](auto& p) {
+         p.accelerations = {kNaN, 0};
+       })),
        "points[0].accelerations[0] [nan] is not finite"},
-      {"command effort NaN", command(point([](auto& p) { p.effort = {0, kNaN}; })),
+      {"command effort NaN", command(point([](auto& p) {
+         p.effort = {0, kNaN};
+       })),
        "points[0].effort[1] [nan] is not finite"},
       {"command time_from_start NaN", command(point([](auto& p) { p.time_from_start = kNaN; })),
        "points[0].time_from_start [nan] is not finite"},
-      {"command stamp NaN", command(trajectory([](auto& t) { t.stamp = kNaN; })), "header.stamp [nan] is not finite"},
+      {"command stamp NaN", command(trajectory([](auto& t) { t.stamp = kNaN; })),
+       "header.stamp [nan] is not finite"},
       {"goal positions NaN", goal([](auto& g) { g.trajectory.points[0].positions[0] = kNaN; }),
        "a goal whose points[0].positions[0] [nan] is not finite"},
       {"goal positions -1e308", goal([](auto& g) { g.trajectory.points[0].positions[1] = -1e308; }),
        "points[0].positions[1] [-1e+308] is beyond"},
-      {"goal velocities NaN", goal([](auto& g) { g.trajectory.points[0].velocities = {kNaN, kNaN}; }),
+      {"goal velocities NaN", goal([](auto& g) {
+         g.trajectory.points[0].velocities = {kNaN, kNaN};
+       }),
        "points[0].velocities[0] [nan] is not finite"},
-      {"goal path_tolerance NaN", goal([](auto& g) { g.path_tolerance = {{"shoulder", kNaN, 0, 0}}; }),
+      {"goal path_tolerance NaN", goal([](auto& g) {
+         g.path_tolerance = {{"shoulder", kNaN, 0, 0}};
+       }),
        "path_tolerance[0].position [nan] is not finite"},
-      {"goal goal_tolerance inf", goal([](auto& g) { g.goal_tolerance = {{"wrist", 0, kInf, 0}}; }),
+      {"goal goal_tolerance inf", goal([](auto& g) {
+         g.goal_tolerance = {{"wrist", 0, kInf, 0}};
+       }),
        "goal_tolerance[0].velocity [inf] is not finite"},
       {"goal goal_time_tolerance NaN", goal([](auto& g) { g.goal_time_tolerance = kNaN; }),
        "goal_time_tolerance [nan] is not finite"},
@@ -423,12 +481,16 @@ std::vector<Row> trajectoryRows() {
 
 std::vector<Row> commandRows() {
   const auto group = [](std::vector<double> data) {
-    return [=](Scene& scene) { return scene.send("arm", "group_controller/command", Float64ArrayCommand{data}); };
+    return [=](Scene& scene) {
+      return scene.send("arm", "group_controller/command", Float64ArrayCommand{data});
+    };
   };
   const auto single = [](double data) {
-    return [=](Scene& scene) { return scene.send("arm", "shoulder_controller/command", Float64Command{data}); };
+    return
+        [=](Scene& scene) { return scene.send("arm", "shoulder_controller/command", Float64Command{data}); };
   };
-  const auto twist = [](std::string robot, std::string topic, Eigen::Vector3d linear, Eigen::Vector3d angular) {
+  const auto twist = [](std::string robot, std::string topic, Eigen::Vector3d linear,
+                        Eigen::Vector3d angular) {
     return [=](Scene& scene) { return scene.send(robot, topic, Twist{linear, angular}); };
   };
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
@@ -440,13 +502,17 @@ std::vector<Row> commandRows() {
       {"group command of one value", group({0}), "a command of 1 values for controller [group_controller]"},
       {"single command NaN", single(kNaN), "a message whose data [nan] is not finite"},
       {"single command -1e308", single(-1e308), "data [-1e+308] is beyond"},
-      {"diff cmd_vel linear.x NaN", twist("diff", "cmd_vel", {kNaN, 0, 0}, zero), "linear.x [nan] is not finite"},
-      {"diff cmd_vel linear.y NaN", twist("diff", "cmd_vel", {0, kNaN, 0}, zero), "linear.y [nan] is not finite"},
-      {"diff cmd_vel angular.z inf", twist("diff", "cmd_vel", zero, {0, 0, kInf}), "angular.z [inf] is not finite"},
+      {"diff cmd_vel linear.x NaN", twist("diff", "cmd_vel", {kNaN, 0, 0}, zero),
+       "linear.x [nan] is not finite"},
+      {"diff cmd_vel linear.y NaN", twist("diff", "cmd_vel", {0, kNaN, 0}, zero),
+       "linear.y [nan] is not finite"},
+      {"diff cmd_vel angular.z inf", twist("diff", "cmd_vel", zero, {0, 0, kInf}),
+       "angular.z [inf] is not finite"},
       {"diff cmd_vel linear.x 1e300", twist("diff", "cmd_vel", {1e300, 0, 0}, zero), "linear.x [1e+300 m/s]"},
       {"rover cmd_vel linear.x NaN", twist("rover", "rover_velocity_controller/cmd_vel", {kNaN, 0, 0}, zero),
        "linear.x [nan] is not finite"},
-      {"rover cmd_vel angular.z -1e300", twist("rover", "rover_velocity_controller/cmd_vel", zero, {0, 0, -1e300}),
+      {"rover cmd_vel angular.z -1e300",
+       twist("rover", "rover_velocity_controller/cmd_vel", zero, {0, 0, -1e300}),
        "angular.z [-1e+300 rad/s] is beyond"},
   };
 }
@@ -455,7 +521,8 @@ std::vector<Row> controllerManagerRows() {
   const auto load = [](std::string name) {
     return [=](Scene& scene) { return scene.manager("arm").load(name, nullptr); };
   };
-  const auto switching = [](std::vector<std::string> start, std::vector<std::string> stop, int strictness = 2) {
+  const auto switching = [](std::vector<std::string> start, std::vector<std::string> stop,
+                            int strictness = 2) {
     return [=](Scene& scene) {
       SwitchControllerRequest request;
       request.start = start;
@@ -474,7 +541,8 @@ std::vector<Row> controllerManagerRows() {
       {"unload what is not loaded", [](Scene& s) { return s.manager("arm").unload("ghost"); },
        "no controller of that name is loaded"},
       {"start what is not loaded", switching({"ghost"}, {}), "could not start controller [ghost]"},
-      {"start and stop one controller", switching({"group_controller"}, {"group_controller"}, 1), "asked both to start and to stop"},
+      {"start and stop one controller", switching({"group_controller"}, {"group_controller"}, 1),
+       "asked both to start and to stop"},
       {"start two on the same joints", switching({"arm_controller"}, {}), "would be claimed by"},
       {"stop what is not running", switching({}, {"arm_controller"}), "is not running, so it cannot stop"},
       {"reload libraries with controllers loaded",
@@ -489,8 +557,8 @@ std::vector<Row> spawnRows() {
       Diagnostics problems("spawn");
       const SpawnPose pose = spawnPoseFrom(position, orientation, false, problems);
       problems.throwIfErrors();
-      scene.simulation().spawn("box", test::parseQuietly(test::readFile(test::fixture("robots/minimal.urdf")), "box"),
-                               pose);
+      scene.simulation().spawn(
+          "box", test::parseQuietly(test::readFile(test::fixture("robots/minimal.urdf")), "box"), pose);
       return std::string();
     };
   };
@@ -498,12 +566,14 @@ std::vector<Row> spawnRows() {
   return {
       {"spawn at x NaN", spawn({kNaN, 0, 1}, upright), "spawn position [nan"},
       {"spawn at z 1e300", spawn({0, 0, 1e300}, upright), "spawn pose z [1e+300] m is beyond the limit"},
-      {"spawn turned by NaN", spawn({0, 5, 1}, Eigen::Quaterniond(1, kNaN, 0, 0)), "spawn orientation (x y z w)"},
+      {"spawn turned by NaN", spawn({0, 5, 1}, Eigen::Quaterniond(1, kNaN, 0, 0)),
+       "spawn orientation (x y z w)"},
       {"spawn turned by 1e200", spawn({0, 5, 1}, Eigen::Quaterniond(1e200, 0, 0, 1e200)), "is no rotation"},
       {"spawn turned by 1e-200", spawn({0, 5, 1}, Eigen::Quaterniond(1e-200, 0, 0, 0)), "is no rotation"},
-      {"spawn a name taken", [](Scene& s) {
-         s.simulation().spawn("diff", test::parseQuietly(test::readFile(test::fixture("robots/minimal.urdf")), "b"),
-                              {.x = 5});
+      {"spawn a name taken",
+       [](Scene& s) {
+         s.simulation().spawn(
+             "diff", test::parseQuietly(test::readFile(test::fixture("robots/minimal.urdf")), "b"), {.x = 5});
          return "";
        },
        "a robot named [diff] already exists"},
@@ -530,8 +600,10 @@ TEST(HostileWorldApi, CommandsThatAreNotFiniteAreDroppedBeforeTheirControllers) 
 
 TEST(HostileWorldApi, AfterCommandsThatAreNotFiniteTheArmSwitchesBackAndFollowsATrajectory) {
   Scene scene("group_controller");
-  for (const std::vector<double>& data : std::vector<std::vector<double>>{{kNaN, 0}, {1e308, -1e308}, {0, kInf}}) {
-    EXPECT_THAT(scene.send("arm", "group_controller/command", Float64ArrayCommand{data}), HasSubstr("a message whose"));
+  for (const std::vector<double>& data :
+       std::vector<std::vector<double>>{{kNaN, 0}, {1e308, -1e308}, {0, kInf}}) {
+    EXPECT_THAT(scene.send("arm", "group_controller/command", Float64ArrayCommand{data}),
+                HasSubstr("a message whose"));
     for (int i = 0; i < 100; ++i) scene.simulation().step();
   }
   SwitchControllerRequest back;

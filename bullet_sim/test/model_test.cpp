@@ -111,7 +111,8 @@ TEST(ModelSpec, ANegativeVelocityLimitIsNoLimit) {
 TEST(ModelSpec, GazeboReferenceToMissingLinkIsSkippedWithTheNearMiss) {
   const std::string urdf = readFile(fixture("robots/sensor_missing_link.urdf"));
   const std::string message =
-      "<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?): the block is skipped";
+      "<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?): the block is "
+      "skipped";
   std::vector<std::string> warnings;
   const ModelSpec model =
       parseModel(urdf, "sensor_missing_link.urdf", PackageResolver::fromEnvironment(), &warnings);
@@ -181,7 +182,8 @@ TEST(ModelSpec, ReadsTransmissionsAsRosControlDoes) {
               ::testing::ElementsAre("hardware_interface/VelocityJointInterface"));
   ASSERT_EQ(left.actuators.size(), 1u);
   EXPECT_EQ(left.actuators[0].name, "left_wheel_motor");
-  EXPECT_THAT(model.transmissions[1].joints[0].hardware_interfaces, ::testing::ElementsAre("EffortJointInterface"));
+  EXPECT_THAT(model.transmissions[1].joints[0].hardware_interfaces,
+              ::testing::ElementsAre("EffortJointInterface"));
   EXPECT_DOUBLE_EQ(model.transmissions[1].actuators[0].mechanical_reduction, 30);
   EXPECT_EQ(model.transmissions[2].name, "odd_trans");
   EXPECT_DOUBLE_EQ(model.transmissions[2].actuators[0].mechanical_reduction, 1);

@@ -101,8 +101,8 @@ TEST_F(PluginFolderBuild, ARobotCarryingItSpawnsStepsAndIsHeardThroughItsTypedOu
   const Scratch scratch;
   const fs::path fixture = scratch.source / "test/fixtures/throwaway_plugin";
   const fs::path out = scratch.root / "scenario_out";
-  const test::CommandResult run = test::run(quoted(tool("scenario")) + " " +
-                                            quoted(fixture / "throwaway_scenario.yaml") + " --out " + quoted(out));
+  const test::CommandResult run = test::run(
+      quoted(tool("scenario")) + " " + quoted(fixture / "throwaway_scenario.yaml") + " --out " + quoted(out));
   ASSERT_EQ(run.status, 0) << run.output << run.errors;
   const nlohmann::json result = nlohmann::json::parse(test::readFile((out / "result.json").string()));
   // The plugin publishes three beams of 1.25 m: the lidar check read them.

@@ -37,8 +37,9 @@ TEST(PluginFolders, EveryGazeboFilenameWeAcceptIsRegisteredOnce) {
     for (const auto& sensor : type.sensor_types) key += " " + sensor;
     EXPECT_TRUE(keys.insert(key).second) << key << " is registered twice";
   }
-  for (const char* filename : {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so",
-                               "libgazebo_ros_p3d.so", "libgazebo_ros_control.so", "libgazebo_ros_planar_move.so"})
+  for (const char* filename :
+       {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so", "libgazebo_ros_p3d.so",
+        "libgazebo_ros_control.so", "libgazebo_ros_planar_move.so"})
     EXPECT_NE(PluginRegistry::builtin().find(filename, nullptr), nullptr) << filename;
   const std::string ray = "ray";
   EXPECT_NE(PluginRegistry::builtin().find("libgazebo_ros_laser.so", &ray), nullptr);

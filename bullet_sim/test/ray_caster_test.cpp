@@ -325,7 +325,8 @@ TEST(RayCasterTest, BuildsItsScenesOnTheCallingThreadAlone) {
   floor.shape.mesh = grid;
   RayCaster caster;
   caster.addBody({floor}, Eigen::Isometry3d::Identity(), true);
-  const BodyId moving = caster.addBody({sphere(0.1, Eigen::Isometry3d::Identity())}, translation(0.5, 0.5, 1), false);
+  const BodyId moving =
+      caster.addBody({sphere(0.1, Eigen::Isometry3d::Identity())}, translation(0.5, 0.5, 1), false);
   caster.commit();
   for (int step = 0; step < 50; ++step) {
     caster.setPose(moving, translation(0.5, 0.5, 1 + 0.01 * step));
@@ -387,18 +388,20 @@ TEST(RayCasterTest, IgnoringOneMovingBodyHidesNoOther) {
     SCOPED_TRACE(k);
     const Eigen::Vector3d inside(k, 0, 0);
     if (k + 1 < 40) {
-      EXPECT_NEAR(castOne(caster, inside, Eigen::Vector3d::UnitX(), kMaxRange, plates[k]), 0.95, kBoxTolerance);
+      EXPECT_NEAR(castOne(caster, inside, Eigen::Vector3d::UnitX(), kMaxRange, plates[k]), 0.95,
+                  kBoxTolerance);
     }
     if (k > 0) {
-      EXPECT_NEAR(castOne(caster, inside, -Eigen::Vector3d::UnitX(), kMaxRange, plates[k]), 0.95, kBoxTolerance);
+      EXPECT_NEAR(castOne(caster, inside, -Eigen::Vector3d::UnitX(), kMaxRange, plates[k]), 0.95,
+                  kBoxTolerance);
     }
   }
   // A body added where a plate was removed (it takes the freed mask) is ignored alone as well.
   caster.removeBody(plates[5]);
   const BodyId replacement = caster.addBody(plate, translation(5, 0, 0), false);
   caster.commit();
-  EXPECT_NEAR(castOne(caster, Eigen::Vector3d(5, 0, 0), Eigen::Vector3d::UnitX(), kMaxRange, replacement), 0.95,
-              kBoxTolerance);
+  EXPECT_NEAR(castOne(caster, Eigen::Vector3d(5, 0, 0), Eigen::Vector3d::UnitX(), kMaxRange, replacement),
+              0.95, kBoxTolerance);
   EXPECT_NEAR(castOne(caster, Eigen::Vector3d(4, 0, 0), Eigen::Vector3d::UnitX(), kMaxRange, plates[4]), 0.95,
               kBoxTolerance);
 }

@@ -522,7 +522,8 @@ TEST(RenderModel, WritesAPngOfTheRequestedSize) {
 
 TEST(RenderModel, CameraViewsAreTheCamerasOwnImageAtItsSize) {
   const std::string out = temporaryPath(".png");
-  const std::string robot = "--urdf '" + test::fixture("robots/depth_camera_box.urdf") + "' --world home.world";
+  const std::string robot =
+      "--urdf '" + test::fixture("robots/depth_camera_box.urdf") + "' --world home.world";
   test::CommandResult result = test::run(std::string(RENDER_MODEL) + " " + robot +
                                          " --pose -2,0,0 --view depth:depth_camera --out " + out);
   ASSERT_EQ(result.status, 0) << result.errors;

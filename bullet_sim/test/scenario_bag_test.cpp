@@ -1,5 +1,6 @@
-// `scenario --bag` as a user runs it: a timeline run's bag is the same bytes on a rerun, compressed or not, and
-// a run killed while it writes leaves a bag that `rosbag reindex` repairs, losing at most the chunk it had open.
+// `scenario --bag` as a user runs it: a timeline run's bag is the same bytes on a rerun, compressed or not,
+// and a run killed while it writes leaves a bag that `rosbag reindex` repairs, losing at most the chunk it
+// had open.
 #include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -64,8 +65,9 @@ TEST(ScenarioBag, ATimelineRunsBagIsTheSameBytesOnARerun) {
     std::vector<std::string> bags;
     for (const std::string seed : {"3", "3", "4"}) {
       const fs::path out = dir / (compression + "_" + std::to_string(bags.size()));
-      const auto run = runScenario(scenarioFile("reach_region.yaml") + " --seed " + seed + " --out " + out.string() +
-                                   " --bag --bag-compression " + compression + " --bag-chunk-size 100000");
+      const auto run =
+          runScenario(scenarioFile("reach_region.yaml") + " --seed " + seed + " --out " + out.string() +
+                      " --bag --bag-compression " + compression + " --bag-chunk-size 100000");
       ASSERT_EQ(run.status, 0) << run.output;
       ASSERT_TRUE(fs::exists(out / "run.bag")) << run.output;
       EXPECT_FALSE(fs::exists(out / "run.bag.active"));
@@ -148,8 +150,10 @@ TEST(ScenarioBag, AKilledRunLeavesABagThatReindexRepairsLosingAtMostTheOpenChunk
 
   // The same run, five minutes long, killed once its bag holds a dozen chunks.
   const fs::path active = dir / "killed" / "run.bag.active";
-  std::vector<std::string> words = {SCENARIO, scenarioFile("circle_long.yaml"), "--out", (dir / "killed").string(),
-                                    "--bag", "--bag-chunk-size", chunk};
+  std::vector<std::string> words = {SCENARIO, scenarioFile("circle_long.yaml"),
+                                    "--out",  (dir / "killed").string(),
+                                    "--bag",  "--bag-chunk-size",
+                                    chunk};
   std::vector<char*> argv;
   for (auto& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
@@ -187,8 +191,9 @@ TEST(ScenarioBag, AKilledRunLeavesABagThatReindexRepairsLosingAtMostTheOpenChunk
   const auto at_last = [last](const Recorded& m) { return m.time == last; };
   std::vector<Recorded> expected_at_last;
   std::copy_if(expected.begin(), expected.end(), std::back_inserter(expected_at_last), at_last);
-  expected.erase(std::remove_if(expected.begin(), expected.end(), [last](const Recorded& m) { return m.time >= last; }),
-                 expected.end());
+  expected.erase(
+      std::remove_if(expected.begin(), expected.end(), [last](const Recorded& m) { return m.time >= last; }),
+      expected.end());
   std::vector<Recorded> repaired_at_last;
   std::copy_if(repaired.begin(), repaired.end(), std::back_inserter(repaired_at_last), at_last);
   repaired.erase(std::remove_if(repaired.begin(), repaired.end(), at_last), repaired.end());
@@ -200,8 +205,8 @@ TEST(ScenarioBag, AKilledRunLeavesABagThatReindexRepairsLosingAtMostTheOpenChunk
     EXPECT_NE(std::find(expected_at_last.begin(), expected_at_last.end(), message), expected_at_last.end())
         << message.topic << " at " << last;
   }
-  // The messages of the chunks surely closed when the run was killed: rosbag rewrites a chunk's header after its
-  // data, so its data on disk is not enough; once the next chunk is whole on disk, it was closed.
+  // The messages of the chunks surely closed when the run was killed: rosbag rewrites a chunk's header after
+  // its data, so its data on disk is not enough; once the next chunk is whole on disk, it was closed.
   uint64_t closed = 0;
   const std::vector<ChunkLayout> chunks = chunksOf(bytesOf(whole));
   for (size_t k = 0; k + 1 < chunks.size(); ++k) {

@@ -66,7 +66,8 @@ checks:
   - final_pose: {x: 1, y: 2, position_tolerance: 0.1}
 video: {fps: 10, size: 320x240}
 )";
-  const ScenarioSpec spec = parseScenario(yaml, scenarioFile("inline.yaml"), PackageResolver::fromEnvironment());
+  const ScenarioSpec spec =
+      parseScenario(yaml, scenarioFile("inline.yaml"), PackageResolver::fromEnvironment());
   EXPECT_EQ(spec.name, "every_field");
   EXPECT_EQ(spec.description, scenarioFile("reach_region.yaml"));
   EXPECT_THAT(spec.xacro_args, ::testing::ElementsAre("with_lidar:=false"));
@@ -120,8 +121,9 @@ TEST(ScenarioMatrix, CrossesItsAxesTheLastFastest) {
   EXPECT_EQ(matrix.name, "drive_matrix");
   EXPECT_EQ(matrix.count, 8);
   const MatrixCell cell = matrix.cell(5);
-  EXPECT_THAT(cell.values, ::testing::ElementsAre(std::make_pair(std::string("drive.timeline.1.v"), std::string("0.5")),
-                                                 std::make_pair(std::string("seed"), std::string("2"))));
+  EXPECT_THAT(cell.values,
+              ::testing::ElementsAre(std::make_pair(std::string("drive.timeline.1.v"), std::string("0.5")),
+                                     std::make_pair(std::string("seed"), std::string("2"))));
   const ScenarioSpec spec = cellScenario(matrix, 5, PackageResolver::fromEnvironment());
   EXPECT_EQ(spec.name, "reach_region_5");
   EXPECT_EQ(spec.seed, 2u);
@@ -194,12 +196,13 @@ TEST(Clearance, IsTheDistanceToTheNearestWall) {
 TEST(XacroCache, ServesItsEntryUntilAnIncludedFileChanges) {
   TemporaryFolder folder;
   const auto write = [&](const std::string& link) {
-    std::ofstream(folder / "part.xacro") << "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\"><link name=\""
-                                         << link << "\"/></robot>\n";
+    std::ofstream(folder / "part.xacro")
+        << "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\"><link name=\"" << link << "\"/></robot>\n";
   };
   write("first");
-  std::ofstream(folder / "top.urdf.xacro") << "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">"
-                                              "<xacro:include filename=\"part.xacro\"/></robot>\n";
+  std::ofstream(folder / "top.urdf.xacro")
+      << "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">"
+         "<xacro:include filename=\"part.xacro\"/></robot>\n";
   const std::string cache = folder / "cache";
   EXPECT_THAT(cachedXacro(folder / "top.urdf.xacro", {}, cache), HasSubstr("first"));
   // The entry is what the next call returns: mark it, and the mark comes back.
@@ -212,7 +215,8 @@ TEST(XacroCache, ServesItsEntryUntilAnIncludedFileChanges) {
   // Another argument is another entry; a changed included file is expanded again.
   EXPECT_THAT(cachedXacro(folder / "top.urdf.xacro", {"unused:=1"}, cache), HasSubstr("first"));
   write("second");
-  fs::last_write_time(folder / "part.xacro", fs::last_write_time(folder / "part.xacro") + std::chrono::seconds(2));
+  fs::last_write_time(folder / "part.xacro",
+                      fs::last_write_time(folder / "part.xacro") + std::chrono::seconds(2));
   EXPECT_THAT(cachedXacro(folder / "top.urdf.xacro", {}, cache), HasSubstr("second"));
 }
 
@@ -248,7 +252,8 @@ TEST(ScenarioTool, ADriveIntoAWallFails) {
   const Json result = resultOf(out.path());
   EXPECT_EQ(result["verdict"], "fail");
   EXPECT_EQ(checkOf(result, "no_collision")["passed"], false);
-  EXPECT_THAT(checkOf(result, "no_collision")["detail"].get<std::string>(), HasSubstr("[room::wall_east::collision]"));
+  EXPECT_THAT(checkOf(result, "no_collision")["detail"].get<std::string>(),
+              HasSubstr("[room::wall_east::collision]"));
   EXPECT_EQ(checkOf(result, "clearance")["value"], 0.0);
   EXPECT_EQ(checkOf(result, "upright")["passed"], true);
   // Stopped by the wall's inner face at x = 3: the root link stays behind it.
@@ -259,7 +264,8 @@ TEST(ScenarioTool, ABadPathCannotRun) {
   TemporaryFolder out;
   const auto run = runScenario(scenarioFile("bad_path.yaml") + " --out " + out.path().string());
   EXPECT_EQ(run.status, 2) << run.output;
-  EXPECT_THAT(run.output, AllOf(HasSubstr("could not run"), HasSubstr("robot.description: [no_such_robot.urdf.xacro] is not a file")));
+  EXPECT_THAT(run.output, AllOf(HasSubstr("could not run"),
+                                HasSubstr("robot.description: [no_such_robot.urdf.xacro] is not a file")));
   EXPECT_EQ(resultOf(out.path())["verdict"], "error");
   EXPECT_EQ(runScenario("").status, 2);
   EXPECT_EQ(runScenario(scenarioFile("reach_region.yaml") + " --seed x").status, 2);
@@ -271,7 +277,8 @@ TEST(ScenarioTool, AnswersEveryBadArgumentInOneLine) {
   std::ofstream(folder / "a_file") << "x\n";
   std::ofstream(folder / "two_problems.yaml") << "seed: -1\nduration: -2\nrobot: {description: nope.xacro}\n";
   const auto matrixFile = [&](const std::string& name, const std::string& axes) {
-    std::ofstream(folder / name) << "scenario: " << scenarioFile("reach_region.yaml") << "\naxes: " << axes << "\n";
+    std::ofstream(folder / name) << "scenario: " << scenarioFile("reach_region.yaml") << "\naxes: " << axes
+                                 << "\n";
     return folder / name;
   };
   const std::string scenario = scenarioFile("reach_region.yaml"), matrix = scenarioFile("drive_matrix.yaml");
@@ -287,18 +294,22 @@ TEST(ScenarioTool, AnswersEveryBadArgumentInOneLine) {
       {scenario + " --seed -1", "--seed [-1]: give a whole number from 0"},
       {scenario + " --seed 1e300", "--seed [1e300]: give a whole number from 0"},
       {scenario + " --seed nan", "--seed: [nan] is not a number"},
-      {scenario + " --out " + (folder / "a_file"), "--out [" + (folder / "a_file") + "] is a file, not a folder"},
-      {scenario + " --out " + (folder / "a_file/sub"), "cannot make the run's folder [" + (folder / "a_file/sub")},
+      {scenario + " --out " + (folder / "a_file"),
+       "--out [" + (folder / "a_file") + "] is a file, not a folder"},
+      {scenario + " --out " + (folder / "a_file/sub"),
+       "cannot make the run's folder [" + (folder / "a_file/sub")},
       {scenario + " --bag-chunk-size 0.5", "--bag-chunk-size [0.5]: give a whole number from 0"},
       {scenario + " --index 1", "--index goes with --matrix"},
       {"--matrix " + matrix, "--matrix needs --index N (the cell to run), or --list"},
       {"--matrix " + matrix + " --index 1 " + scenario, "give a scenario FILE, or --matrix M.yaml --index N"},
       {"--matrix " + matrix + " --index 8", "no cell [8]: it has 8, numbered 0 to 7"},
       {"--matrix " + matrix + " --index -1", "--index [-1]: give a whole number from 0"},
-      {"--matrix " + (folder / "nope.yaml") + " --list", "matrix [" + (folder / "nope.yaml") + "] is not a file"},
+      {"--matrix " + (folder / "nope.yaml") + " --list",
+       "matrix [" + (folder / "nope.yaml") + "] is not a file"},
       {"--matrix " + matrixFile("wraps.yaml", "{seed: {from: 9223372036854775807, count: 2}}") + " --list",
        "{from: 9223372036854775807, count: 2} goes past the largest whole number"},
-      {"--matrix " + matrixFile("huge.yaml", "{seed: {from: 1, count: 1e400}}") + " --list", "count 1 to 100000"},
+      {"--matrix " + matrixFile("huge.yaml", "{seed: {from: 1, count: 1e400}}") + " --list",
+       "count 1 to 100000"},
       {"--matrix " + matrixFile("outside.yaml", "{drive.timeline.5.v: [1, 2]}") + " --list",
        "[5] is not an index of the list at [drive.timeline.5.v]"},
       {"--matrix " + matrixFile("negative.yaml", "{seed: {from: -5, count: 2}}") + " --list",
@@ -319,8 +330,9 @@ TEST(ScenarioTool, AnswersEveryBadArgumentInOneLine) {
 /// 100 s); the scenario is built for the first and the last.
 TEST(ScenarioTool, ListsCellsWithoutBuildingEach) {
   TemporaryFolder folder;
-  std::ofstream(folder / "m.yaml") << "scenario: " << scenarioFile("reach_region.yaml")
-                                   << "\naxes: {seed: {from: 1, count: 1000}, drive.timeline.0.v: {from: 1, count: 100}}\n";
+  std::ofstream(folder / "m.yaml")
+      << "scenario: " << scenarioFile("reach_region.yaml")
+      << "\naxes: {seed: {from: 1, count: 1000}, drive.timeline.0.v: {from: 1, count: 100}}\n";
   const auto listing = test::run(std::string(SCENARIO) + " --matrix " + (folder / "m.yaml") + " --list");
   ASSERT_EQ(listing.status, 0) << listing.errors;
   const Json json = Json::parse(listing.output);
@@ -343,17 +355,20 @@ TEST(ScenarioTool, TheSameFileAndSeedGiveTheSameResult) {
 
 TEST(ScenarioTool, RunsAMatrixCell) {
   TemporaryFolder out;
-  const auto listing = test::run(std::string(SCENARIO) + " --matrix " + scenarioFile("drive_matrix.yaml") + " --list");
+  const auto listing =
+      test::run(std::string(SCENARIO) + " --matrix " + scenarioFile("drive_matrix.yaml") + " --list");
   ASSERT_EQ(listing.status, 0) << listing.errors;
   EXPECT_EQ(Json::parse(listing.output)["count"], 8);
-  const auto run = runScenario("--matrix " + scenarioFile("drive_matrix.yaml") + " --index 6 --out " + out.path().string());
+  const auto run = runScenario("--matrix " + scenarioFile("drive_matrix.yaml") + " --index 6 --out " +
+                               out.path().string());
   EXPECT_EQ(run.status, 0) << run.output;
   const Json result = resultOf(out.path());
   EXPECT_EQ(result["scenario"], "reach_region_6");
   EXPECT_EQ(result["matrix"]["index"], 6);
   EXPECT_EQ(result["matrix"]["values"]["seed"], "3");
   EXPECT_EQ(result["seed"], 3);
-  const auto outside = runScenario("--matrix " + scenarioFile("drive_matrix.yaml") + " --index 8 --out " + (out / "8"));
+  const auto outside =
+      runScenario("--matrix " + scenarioFile("drive_matrix.yaml") + " --index 8 --out " + (out / "8"));
   EXPECT_EQ(outside.status, 2);
   EXPECT_THAT(outside.output, HasSubstr("no cell [8]: it has 8, numbered 0 to 7"));
   EXPECT_EQ(resultOf(out / "8")["verdict"], "error");
@@ -385,8 +400,8 @@ TEST(ScenarioTool, WritesTheChaseViewAsAVideo) {
   EXPECT_EQ(resultOf(out.path())["outputs"]["video"], "video.mp4");
 }
 
-/// The processes that belong to a launch run writing into `folder`: each has the folder in its command line or
-/// in its environment (ROS_LOG_DIR).
+/// The processes that belong to a launch run writing into `folder`: each has the folder in its command line
+/// or in its environment (ROS_LOG_DIR).
 std::vector<std::string> processesOf(const fs::path& folder) {
   std::vector<std::string> found;
   std::error_code ec;
@@ -398,7 +413,8 @@ std::vector<std::string> processesOf(const fs::path& folder) {
     std::string cmdline((std::istreambuf_iterator<char>(cmdline_file)), {});
     std::ifstream environ_file(entry.path() / "environ", std::ios::binary);
     const std::string environment((std::istreambuf_iterator<char>(environ_file)), {});
-    if (cmdline.find(folder.string()) != std::string::npos || environment.find(folder.string()) != std::string::npos) {
+    if (cmdline.find(folder.string()) != std::string::npos ||
+        environment.find(folder.string()) != std::string::npos) {
       std::replace(cmdline.begin(), cmdline.end(), '\0', ' ');
       found.push_back(pid + ": " + cmdline);
     }

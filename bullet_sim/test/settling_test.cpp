@@ -20,8 +20,8 @@ constexpr double kWheelRadius = 0.1;  // [m]
 
 std::string inertial(double mass, double moment, const std::string& com = "0 0 0") {
   std::ostringstream text;
-  text << "<inertial><origin xyz='" << com << "'/><mass value='" << mass << "'/><inertia ixx='" << moment << "' iyy='" << moment
-       << "' izz='" << moment << "' ixy='0' ixz='0' iyz='0'/></inertial>";
+  text << "<inertial><origin xyz='" << com << "'/><mass value='" << mass << "'/><inertia ixx='" << moment
+       << "' iyy='" << moment << "' izz='" << moment << "' ixy='0' ixz='0' iyz='0'/></inertial>";
   return text.str();
 }
 
@@ -169,7 +169,8 @@ TEST(Settling, ARootLinkNamedWorldIsFixedToTheWorldAtTheSpawnPose) {
     swing = std::max(swing, std::abs(body.jointPosition(body.jointIndex("shoulder"))));
   }
   const Eigen::Isometry3d base = body.linkPose("base");
-  EXPECT_TRUE(base.translation().isApprox(Eigen::Vector3d(1, -1, 0.5), 1e-6)) << base.translation().transpose();
+  EXPECT_TRUE(base.translation().isApprox(Eigen::Vector3d(1, -1, 0.5), 1e-6))
+      << base.translation().transpose();
   EXPECT_NEAR(base.linear()(1, 0), 1.0, 1e-6) << "turned by the spawn yaw";
   // The arm swings down under gravity about its shoulder, which stays put.
   EXPECT_GT(swing, M_PI / 2);

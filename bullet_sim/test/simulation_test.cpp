@@ -1,6 +1,6 @@
 // The simulator core: robots at rest where they spawn; bit-identical reruns, resets, spawn joint positions,
-// several robots in one world. Stepped in-process, no roscore. The drives' and the pan/tilt's own tests are in
-// their plugin folders.
+// several robots in one world. Stepped in-process, no roscore. The drives' and the pan/tilt's own tests are
+// in their plugin folders.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -102,14 +102,17 @@ RunResult runFleet(uint64_t seed, const std::string& wheel_model, int threads) {
   }
   test::stepSending(simulation, 1.0, [&] {
     for (size_t k = 0; k < robots.size(); ++k) {
-      if (!test::pluginsOf<WheeledDrive>(*robots[k]).at(0)->setCommand(0.2 + 0.02 * k, 0.3, simulation.time()))
+      if (!test::pluginsOf<WheeledDrive>(*robots[k])
+               .at(0)
+               ->setCommand(0.2 + 0.02 * k, 0.3, simulation.time()))
         return false;
     }
     return true;
   });
   RunResult result;
   for (const Robot* robot : robots) {
-    for (const auto& link : robot->body().spec().links) result.poses.push_back(robot->body().linkPose(link.name));
+    for (const auto& link : robot->body().spec().links)
+      result.poses.push_back(robot->body().linkPose(link.name));
   }
   for (const Robot* robot : robots) {
     const auto& ranges = robot->outputs<LaserScan>().at(0).stream->latest().ranges;
@@ -126,17 +129,20 @@ TEST(Simulation, TenRobotsRerunBitIdenticallyWhateverThreadsCastTheirRays) {
       SCOPED_TRACE(std::to_string(threads) + " threads");
       const RunResult again = runFleet(7, wheel_model, threads);
       ASSERT_EQ(first.poses.size(), again.poses.size());
-      for (size_t i = 0; i < first.poses.size(); ++i) EXPECT_EQ(first.poses[i].matrix(), again.poses[i].matrix());
+      for (size_t i = 0; i < first.poses.size(); ++i)
+        EXPECT_EQ(first.poses[i].matrix(), again.poses[i].matrix());
       EXPECT_EQ(first.ranges, again.ranges);
     }
     // The robots saw each other: in the empty world, only they return a finite range.
-    EXPECT_GT(std::count_if(first.ranges.begin(), first.ranges.end(), [](float r) { return std::isfinite(r); }),
-              100);
+    EXPECT_GT(
+        std::count_if(first.ranges.begin(), first.ranges.end(), [](float r) { return std::isfinite(r); }),
+        100);
     EXPECT_NE(runFleet(8, wheel_model, 2).ranges, first.ranges) << "the seed drives the lidar noise";
   }
 }
 
-/// Every scan of a fleet as it appears: its robot, its stamp, its ranges and the step after which it appeared.
+/// Every scan of a fleet as it appears: its robot, its stamp, its ranges and the step after which it
+/// appeared.
 struct SeenScan {
   size_t robot = 0;
   double stamp = 0;
@@ -147,9 +153,9 @@ struct SeenScan {
   }
 };
 
-/// Four wheelchairs driving circles for 2 s, their lidars seeing each other, with the rays cast in lockstep or
-/// behind physics: every scan in the order they appeared, and every link's pose at the end. Robot k is spawned
-/// at step k * `stagger`, so that with a stagger the lidars are due in different steps.
+/// Four wheelchairs driving circles for 2 s, their lidars seeing each other, with the rays cast in lockstep
+/// or behind physics: every scan in the order they appeared, and every link's pose at the end. Robot k is
+/// spawned at step k * `stagger`, so that with a stagger the lidars are due in different steps.
 std::pair<std::vector<SeenScan>, std::vector<Eigen::Isometry3d>> scansOfFleet(bool lockstep, int stagger) {
   Simulation simulation(test::shippedWorld("empty.world"), {.seed = 3, .lockstep = lockstep});
   std::vector<Robot*> robots;
@@ -204,7 +210,8 @@ void expectBehindAsInLockstep(int stagger) {
   for (size_t i = 0; i < in_step.size() && i < sorted.size(); ++i) {
     const double step = 0.001;
     const double lag = static_cast<double>(sorted[i].seen_after) * step - sorted[i].stamp;
-    EXPECT_NEAR(static_cast<double>(in_step[i].seen_after) * step, in_step[i].stamp, 1e-9) << "seen at its step";
+    EXPECT_NEAR(static_cast<double>(in_step[i].seen_after) * step, in_step[i].stamp, 1e-9)
+        << "seen at its step";
     EXPECT_GE(lag, -1e-9);
     EXPECT_LE(lag, 1 / 5.5 + step + 1e-9) << "seen by the step the lidar is due again in";
     later += lag > 1e-9;
@@ -213,7 +220,9 @@ void expectBehindAsInLockstep(int stagger) {
                                   static_cast<int>(later));
 }
 
-TEST(Simulation, ScansCastBehindPhysicsAreTheLockstepScansSeenByTheNextDueStep) { expectBehindAsInLockstep(0); }
+TEST(Simulation, ScansCastBehindPhysicsAreTheLockstepScansSeenByTheNextDueStep) {
+  expectBehindAsInLockstep(0);
+}
 
 TEST(Simulation, ScansDueInDifferentStepsQueueBehindPhysicsAndAreTheLockstepScans) {
   // Spawned a step more than the 5.5 Hz lidars' period apart, each is due a step after the one before: a
@@ -233,7 +242,8 @@ TEST(Simulation, ALidarDueEveryStepBehindPhysicsDeliversEveryScanInAStepOfItsOwn
     if (scans.count() == seen) continue;
     ASSERT_EQ(scans.count(), seen + 1) << "a scan was overwritten before the step ended, at step " << i + 1;
     ++seen;
-    EXPECT_NEAR(scans.latest().stamp, 0.001 * static_cast<double>(seen), 1e-9) << "scans in order, none skipped";
+    EXPECT_NEAR(scans.latest().stamp, 0.001 * static_cast<double>(seen), 1e-9)
+        << "scans in order, none skipped";
   }
   EXPECT_GE(seen, 499u) << "at most one step behind";
 }

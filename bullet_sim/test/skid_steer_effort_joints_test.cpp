@@ -1,7 +1,8 @@
-// A skid-steer drive on wheels that also have effort transmissions under gazebo_ros_control, with no controller
-// claiming them (issue 30, B6: ROSbot 2 crept unbidden and ignored cmd_vel). In Gazebo, DefaultRobotHWSim
-// writes effort 0 to an unclaimed effort joint, SetForce(0), which adds nothing to the skid-steer plugin's
-// velocity motor on the same joint: the robot stands still with no command and drives at the commanded speed.
+// A skid-steer drive on wheels that also have effort transmissions under gazebo_ros_control, with no
+// controller claiming them (issue 30, B6: ROSbot 2 crept unbidden and ignored cmd_vel). In Gazebo,
+// DefaultRobotHWSim writes effort 0 to an unclaimed effort joint, SetForce(0), which adds nothing to the
+// skid-steer plugin's velocity motor on the same joint: the robot stands still with no command and drives at
+// the commanded speed.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,9 +29,14 @@ std::string skidSteerWithEffortJoints() {
   std::string more = "<gazebo><plugin name=\"gazebo_ros_control\" filename=\"libgazebo_ros_control.so\">"
                      "<robotNamespace>/</robotNamespace></plugin></gazebo>";
   for (const char* joint : kWheels) {
-    more += std::string("<transmission name=\"") + joint + "_trans\"><type>transmission_interface/SimpleTransmission"
-            "</type><joint name=\"" + joint + "\"><hardwareInterface>hardware_interface/EffortJointInterface"
-            "</hardwareInterface></joint><actuator name=\"" + joint + "_motor\"><mechanicalReduction>1"
+    more += std::string("<transmission name=\"") + joint +
+            "_trans\"><type>transmission_interface/SimpleTransmission"
+            "</type><joint name=\"" +
+            joint +
+            "\"><hardwareInterface>hardware_interface/EffortJointInterface"
+            "</hardwareInterface></joint><actuator name=\"" +
+            joint +
+            "_motor\"><mechanicalReduction>1"
             "</mechanicalReduction></actuator></transmission>";
   }
   return test::replaceAfter(urdf, "</gazebo>", "</robot>", more + "</robot>");
@@ -40,7 +46,8 @@ class SkidSteerEffortJoints : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SkidSteerEffortJoints, StandStillUnbiddenAndDriveAtTheCommandedSpeed) {
   TreeParameters parameters(ParameterTree::fromYaml(
-      "joint_state_controller: {type: joint_state_controller/JointStateController, publish_rate: 50}", "yaml"));
+      "joint_state_controller: {type: joint_state_controller/JointStateController, publish_rate: 50}",
+      "yaml"));
   SimulationOptions options;
   options.parameters = &parameters;
   Simulation simulation(test::emptyWorld(), options);
@@ -48,8 +55,8 @@ TEST_P(SkidSteerEffortJoints, StandStillUnbiddenAndDriveAtTheCommandedSpeed) {
       test::parseQuietly(test::withWheelModel(skidSteerWithEffortJoints(), GetParam()), "skid steer");
   Robot& robot = simulation.spawn("robot", model, {});
   ASSERT_EQ(robot.wheelModel(), GetParam());
-  test::startControllers(test::pluginsOf<RosControl>(robot).at(0)->controllerManager(), {"joint_state_controller"},
-                         simulation.time());
+  test::startControllers(test::pluginsOf<RosControl>(robot).at(0)->controllerManager(),
+                         {"joint_state_controller"}, simulation.time());
   const auto x = [&] { return robot.body().linkPose("base_footprint").translation().x(); };
   const long second = std::lround(1.0 / simulation.stepSize());
 

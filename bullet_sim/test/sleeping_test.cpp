@@ -78,7 +78,8 @@ double groundImpulse(Simulation& simulation) {
   double impulse = 0;
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
     const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
-    for (int p = 0; p < manifold.getNumContacts(); ++p) impulse += manifold.getContactPoint(p).m_appliedImpulse;
+    for (int p = 0; p < manifold.getNumContacts(); ++p)
+      impulse += manifold.getContactPoint(p).m_appliedImpulse;
   }
   return impulse;
 }
@@ -87,8 +88,8 @@ TEST(Sleeping, ACrateAtRestCostsTheSolverOneIterationAStepUntilItSleeps) {
   Simulation simulation(test::emptyWorld());
   spawnCrate(simulation, "crate", 0, kSide / 2);
   stepFor(simulation, 0.3);  // settled: it was spawned touching the ground
-  const auto& solver =
-      dynamic_cast<const btSequentialImpulseConstraintSolver&>(*simulation.physics().bullet().getConstraintSolver());
+  const auto& solver = dynamic_cast<const btSequentialImpulseConstraintSolver&>(
+      *simulation.physics().bullet().getConstraintSolver());
   while (simulation.time() < 0.9) {  // Gazebo waits 1 s at rest
     simulation.step();
     SCOPED_TRACE(simulation.time());
@@ -126,7 +127,8 @@ TEST(Sleeping, ATeleportWakesASleeperThatThenFallsFreely) {
   ASSERT_EQ(world.setModelState("crate", lifted), "");
   const double seconds = 0.3;
   stepFor(simulation, seconds);
-  EXPECT_NEAR(lifted.pose.translation().z() - heightOf(world, "crate"), kGravity * seconds * seconds / 2, 0.01);
+  EXPECT_NEAR(lifted.pose.translation().z() - heightOf(world, "crate"), kGravity * seconds * seconds / 2,
+              0.01);
 }
 
 TEST(Sleeping, ACrateSlidingIntoASleeperWakesAndPushesIt) {

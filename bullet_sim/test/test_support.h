@@ -59,8 +59,9 @@ std::vector<T*> pluginsOf(const Robot& robot) {
   return found;
 }
 
-/// The stream of `plugin`'s output of `Sample`s on `topic` (relative to its namespace), or of its first output
-/// of that type when `topic` is "" (a camera's colour image before its depth image); throws when there is none.
+/// The stream of `plugin`'s output of `Sample`s on `topic` (relative to its namespace), or of its first
+/// output of that type when `topic` is "" (a camera's colour image before its depth image); throws when there
+/// is none.
 template <class Sample>
 const Stream<Sample>& streamOf(const Plugin& plugin, const std::string& topic = "") {
   for (const OutputPort& port : plugin.ports().outputs) {
@@ -279,8 +280,8 @@ bool stepUntil(Simulation& simulation, Done done, double max_seconds, const std:
   return true;
 }
 
-/// Loads `names` on `manager` and starts them at `time` [s] in one STRICT switch, as controller_manager's spawner
-/// does; fails the test when either is refused.
+/// Loads `names` on `manager` and starts them at `time` [s] in one STRICT switch, as controller_manager's
+/// spawner does; fails the test when either is refused.
 inline void startControllers(ControllerManager& manager, const std::vector<std::string>& names, double time) {
   for (const auto& name : names) ASSERT_EQ(manager.load(name, nullptr), "") << name;
   SwitchControllerRequest start;

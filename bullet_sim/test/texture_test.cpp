@@ -487,7 +487,8 @@ TEST(GazeboMaterials, AnUnknownNameIsWarnedAboutOnceNamingIt) {
 
 // <material value="..."/> reads as <material>...</material>, as sdformat reads every such element (mu1 too).
 TEST(GazeboMaterials, TheValueAttributeFormNamesTheMaterial) {
-  const std::string urdf = R"(<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1"
+  const std::string urdf =
+      R"(<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1"
     izz="1" ixy="0" ixz="0" iyz="0"/></inertial><visual><geometry><box size="1 1 1"/></geometry></visual></link>
     <gazebo reference="a"><material value="Gazebo/DarkYellow"/></gazebo></robot>)";
   std::vector<std::string> warnings;

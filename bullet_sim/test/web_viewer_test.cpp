@@ -47,7 +47,8 @@ TEST(WebViewerRules, OnlyItsOwnPageOrAListedOriginMayOpenTheSocket) {
   // A DNS name could be another site's, rebound to this address: its page must be listed to connect.
   EXPECT_FALSE(originAllowed("http://rebound.example:8080", "rebound.example:8080", {}));
   EXPECT_TRUE(originAllowed("http://robots.lab:8080", "robots.lab:8080", {"http://robots.lab:8080"}));
-  EXPECT_TRUE(originAllowed("https://dash.lab", "localhost:8080", {"http://robots.lab:8080", "https://dash.lab"}));
+  EXPECT_TRUE(
+      originAllowed("https://dash.lab", "localhost:8080", {"http://robots.lab:8080", "https://dash.lab"}));
 }
 
 TEST(WebViewerRules, OnlyPagesOnThisMachineMayControlUnlessAllowed) {
@@ -68,7 +69,8 @@ TEST(WebViewerRules, PageMessagesAreCheckedBeforeTheyBecomeCommands) {
   EXPECT_EQ(parseClientMessage(R"({"type": "resume"})").command->kind, ViewerCommand::Kind::kResume);
   EXPECT_EQ(parseClientMessage(R"({"type": "reset"})").command->kind, ViewerCommand::Kind::kReset);
   EXPECT_TRUE(parseClientMessage(R"({"type": "ack"})").ack);
-  const ClientMessage teleop = parseClientMessage(R"({"type": "teleop", "robot": "r", "linear": 0.5, "angular": -1})");
+  const ClientMessage teleop =
+      parseClientMessage(R"({"type": "teleop", "robot": "r", "linear": 0.5, "angular": -1})");
   ASSERT_TRUE(teleop.command);
   EXPECT_EQ(teleop.command->robot, "r");
   EXPECT_DOUBLE_EQ(teleop.command->linear, 0.5);
@@ -85,7 +87,8 @@ TEST(WebViewerRules, PageMessagesAreCheckedBeforeTheyBecomeCommands) {
     EXPECT_FALSE(message.camera) << bad;
     EXPECT_FALSE(message.error.empty()) << bad;
   }
-  EXPECT_THAT(parseClientMessage(R"({"type": "explode"})").error, HasSubstr("unknown message type [explode]"));
+  EXPECT_THAT(parseClientMessage(R"({"type": "explode"})").error,
+              HasSubstr("unknown message type [explode]"));
 }
 
 // ---- meshes ----
@@ -96,8 +99,9 @@ TriangleMesh unweldedGrid(int n, double side) {
   const auto corner = [&](int i, int j) { return Eigen::Vector3d(side * i / n, side * j / n, 0); };
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      for (const auto& triangle : {std::array<std::pair<int, int>, 3>{{{i, j}, {i + 1, j}, {i + 1, j + 1}}},
-                                   std::array<std::pair<int, int>, 3>{{{i, j}, {i + 1, j + 1}, {i, j + 1}}}}) {
+      for (const auto& triangle :
+           {std::array<std::pair<int, int>, 3>{{{i, j}, {i + 1, j}, {i + 1, j + 1}}},
+            std::array<std::pair<int, int>, 3>{{{i, j}, {i + 1, j + 1}, {i, j + 1}}}}) {
         const int first = static_cast<int>(mesh.vertices.size());
         for (const auto& [a, b] : triangle) mesh.vertices.push_back(corner(a, b));
         mesh.triangles.push_back({first, first + 1, first + 2});
@@ -153,7 +157,8 @@ class PageClient {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kReadTimeoutSeconds);
     while (!result) {
       io_.restart();
-      io_.run_for(idle ? std::chrono::milliseconds(1) : std::chrono::milliseconds(1000 * kReadTimeoutSeconds));
+      io_.run_for(idle ? std::chrono::milliseconds(1)
+                       : std::chrono::milliseconds(1000 * kReadTimeoutSeconds));
       if (result) break;
       if (std::chrono::steady_clock::now() > deadline) {
         ws_.next_layer().close();
@@ -226,7 +231,8 @@ class CommandLog {
   /// Waits (at most 10 s) for the `count`-th command.
   std::optional<ViewerCommand> waitFor(size_t count) {
     std::unique_lock<std::mutex> lock(mutex_);
-    if (!changed_.wait_for(lock, std::chrono::seconds(10), [&] { return commands_.size() >= count; })) return std::nullopt;
+    if (!changed_.wait_for(lock, std::chrono::seconds(10), [&] { return commands_.size() >= count; }))
+      return std::nullopt;
     return commands_[count - 1];
   }
 
@@ -246,7 +252,8 @@ WebViewerOptions testOptions() {
 std::string ownOrigin(const WebViewer& viewer) { return "http://127.0.0.1:" + std::to_string(viewer.port()); }
 
 /// Steps and updates until `done` holds, at most `max_steps` steps.
-bool stepUntil(Simulation& simulation, WebViewer& viewer, const std::function<bool()>& done, int max_steps = 5000) {
+bool stepUntil(Simulation& simulation, WebViewer& viewer, const std::function<bool()>& done,
+               int max_steps = 5000) {
   for (int i = 0; i < max_steps; ++i) {
     if (done()) return true;
     simulation.step();
@@ -332,7 +339,8 @@ TEST(WebViewerServer, AnotherOriginCannotOpenTheSocket) {
   EXPECT_EQ(refusal.result(), http::status::forbidden);
   EXPECT_THAT(refusal.body(), HasSubstr("origin [http://evil.example] may not open this viewer"));
   EXPECT_EQ(viewer.viewers(), 0u);
-  EXPECT_EQ(get(viewer.port(), "/ws", http::verb::get, ownOrigin(viewer)).result(), http::status::switching_protocols);
+  EXPECT_EQ(get(viewer.port(), "/ws", http::verb::get, ownOrigin(viewer)).result(),
+            http::status::switching_protocols);
   PageClient own(viewer.port(), ownOrigin(viewer));
   ASSERT_TRUE(own.open());
   EXPECT_EQ(own.readUntil("hello")["control"], true);  // from this machine
@@ -380,7 +388,8 @@ TEST(WebViewerServer, APageGetsTheSceneThenFramesWithTheRobotsPoseAndLidarHits) 
   ASSERT_EQ(hits.size(), 3 * ranges.size());
   ASSERT_FALSE(ranges.empty());
   for (size_t i = 0; i < ranges.size(); ++i) {
-    const Eigen::Vector3d hit(hits[3 * i].get<double>(), hits[3 * i + 1].get<double>(), hits[3 * i + 2].get<double>());
+    const Eigen::Vector3d hit(hits[3 * i].get<double>(), hits[3 * i + 1].get<double>(),
+                              hits[3 * i + 2].get<double>());
     EXPECT_NEAR((hit - scan.sensor_pose.translation()).norm(), ranges[i], 2e-3);
   }
 }
@@ -441,7 +450,8 @@ TEST(WebViewerServer, APageWatchingACameraGetsItsLatestImage) {
   SimulationOptions options;
   options.images = imagesFrom([&renderer]() -> SceneRenderer& { return renderer; });
   Simulation simulation(test::shippedWorld("empty.world"), options);
-  simulation.spawn("box", test::parseQuietly(test::readFile(test::fixture("robots/depth_camera_box.urdf")), "box"),
+  simulation.spawn("box",
+                   test::parseQuietly(test::readFile(test::fixture("robots/depth_camera_box.urdf")), "box"),
                    SpawnPose{});
   CommandLog log;
   WebViewer viewer(testOptions(), log.sink());
@@ -459,7 +469,8 @@ TEST(WebViewerServer, APageWatchingACameraGetsItsLatestImage) {
     if (!binary) continue;
     ASSERT_GT(message.size(), 4u);
     const uint32_t length = static_cast<uint8_t>(message[0]) | static_cast<uint8_t>(message[1]) << 8 |
-                            static_cast<uint8_t>(message[2]) << 16 | static_cast<uint32_t>(static_cast<uint8_t>(message[3])) << 24;
+                            static_cast<uint8_t>(message[2]) << 16 |
+                            static_cast<uint32_t>(static_cast<uint8_t>(message[3])) << 24;
     const Json header = Json::parse(message.substr(4, length));
     EXPECT_EQ(header["camera"], "box/depth_camera");
     EXPECT_EQ(header["width"], 640);
@@ -473,7 +484,8 @@ TEST(WebViewerRtf, IsSimSecondsPerWallSecondOverTheLastSecondAndRestartsAfterARe
   RtfMeter meter;
   const auto start = RtfMeter::Clock::time_point{};
   const auto at = [&](double seconds) {
-    return start + std::chrono::duration_cast<RtfMeter::Clock::duration>(std::chrono::duration<double>(seconds));
+    return start +
+           std::chrono::duration_cast<RtfMeter::Clock::duration>(std::chrono::duration<double>(seconds));
   };
   EXPECT_EQ(meter.add(at(0), 0), 0);
   EXPECT_EQ(meter.add(at(0.1), 0.2), 0);  // too short a span to tell

@@ -326,10 +326,11 @@ TEST(WorldSpec, OdeSettingsAreKeptAsWrittenAndNamedInOneWarning) {
   EXPECT_EQ(world.ode.max_contacts, 20);
   EXPECT_TRUE(warnings.empty());
   // TurtleBot3's worlds write these.
-  world = parse(withPhysics("<max_contacts>10</max_contacts><ode><solver><type>quick</type><iters>150</iters>"
-                            "<sor>1.4</sor></solver><constraints><cfm>0.00001</cfm>"
-                            "<contact_max_correcting_vel>2000</contact_max_correcting_vel></constraints></ode>"),
-                &warnings);
+  world =
+      parse(withPhysics("<max_contacts>10</max_contacts><ode><solver><type>quick</type><iters>150</iters>"
+                        "<sor>1.4</sor></solver><constraints><cfm>0.00001</cfm>"
+                        "<contact_max_correcting_vel>2000</contact_max_correcting_vel></constraints></ode>"),
+            &warnings);
   EXPECT_EQ(world.ode.iters, 150);
   EXPECT_EQ(world.ode.precon_iters, 0);
   EXPECT_DOUBLE_EQ(world.ode.sor, 1.4);
@@ -530,7 +531,8 @@ TEST(WorldSpec, ShapesWhoseMeshIsMissingAreSkippedWithOneWarningPerMeshAndTheRes
                                         "[model://mailbox/meshes/mailbox.dae] cannot be found"))
       << mailbox_warning;
   EXPECT_TRUE(contains(mailbox_warning, "unknown model [mailbox]")) << mailbox_warning;
-  EXPECT_TRUE(contains(mailbox_warning, packageDirectory("bullet_sim") + "/models")) << "the folders searched";
+  EXPECT_TRUE(contains(mailbox_warning, packageDirectory("bullet_sim") + "/models"))
+      << "the folders searched";
   EXPECT_TRUE(contains(mailbox_warning, "GAZEBO_MODEL_PATH")) << mailbox_warning;
   EXPECT_TRUE(contains(mailbox_warning, "gazebo_model_path=")) << mailbox_warning;
   EXPECT_TRUE(contains(warnings[1], "model [cafe_table] has no file [meshes/cafe_table.dae]")) << warnings[1];
@@ -541,7 +543,8 @@ TEST(WorldSpec, ShapesWhoseMeshIsMissingAreSkippedWithOneWarningPerMeshAndTheRes
     FAIL() << "a world with missing meshes loaded with strict_models";
   } catch (const SpecError& error) {
     ASSERT_EQ(error.problems().size(), 2u) << error.what();
-    EXPECT_TRUE(contains(error.what(), "[model://mailbox/meshes/mailbox.dae] cannot be found (~strict_models"))
+    EXPECT_TRUE(
+        contains(error.what(), "[model://mailbox/meshes/mailbox.dae] cannot be found (~strict_models"))
         << error.what();
   }
 }
@@ -565,7 +568,8 @@ TEST(WorldSpec, CopiesOfAnUnknownModelAreSkippedWithItNamed) {
                 std::to_string(i) + " 0 0 0 0 0</pose></include>";
   }
   std::vector<std::string> warnings;
-  const WorldSpec world = parse("<sdf version=\"1.6\"><world name=\"w\">" + includes + "</world></sdf>", &warnings);
+  const WorldSpec world =
+      parse("<sdf version=\"1.6\"><world name=\"w\">" + includes + "</world></sdf>", &warnings);
   EXPECT_TRUE(world.models.empty());
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_TRUE(contains(warnings[0], "unknown model [ground_plan]")) << warnings[0];

@@ -1,7 +1,7 @@
 // A bumper: <sensor type="contact"> with libgazebo_ros_bumper.so publishes gazebo_msgs/ContactsState, what
 // touches the sensor's collisions, at every sensor update (empty while nothing touches). Its plugin tags are
-// kBumperTags in bumper.cpp; README.md describes the sensor's <contact> block (collisions named as Gazebo names
-// them once it has lumped fixed joints, model/gazebo_names.h) and the states.
+// kBumperTags in bumper.cpp; README.md describes the sensor's <contact> block (collisions named as Gazebo
+// names them once it has lumped fixed joints, model/gazebo_names.h) and the states.
 #pragma once
 
 #include <string>

@@ -38,9 +38,12 @@ TagTable forceBasedMoveTags() {
            {"robotBaseFrame", TagType::kFrame, "base_footprint", "",
             "the link the force and torque act on, and the odometry's child_frame_id",
             "an error when it names no link"},
-           gain("x_velocity_p_gain", "10000", "N s/m", "the force along the base's x per m/s of velocity error"),
-           gain("y_velocity_p_gain", "10000", "N s/m", "the force along the base's y per m/s of velocity error"),
-           gain("yaw_velocity_p_gain", "100", "N m s", "the torque about the world's z per rad/s of turn error"),
+           gain("x_velocity_p_gain", "10000", "N s/m",
+                "the force along the base's x per m/s of velocity error"),
+           gain("y_velocity_p_gain", "10000", "N s/m",
+                "the force along the base's y per m/s of velocity error"),
+           gain("yaw_velocity_p_gain", "100", "N m s",
+                "the torque about the world's z per rad/s of turn error"),
            {"publishOdometryTf", TagType::kFlag, "true", "",
             "the odometry's tf (odometryFrame to robotBaseFrame)", ""},
        }) {
@@ -127,8 +130,8 @@ void ForceBasedMove::onReset() {
 
 // hector_gazebo_plugins' force-based move.
 BULLET_SIM_PLUGIN_FOLDER(force_based_move) {
-  registrar.add(
-      pluginType<ForceBasedMove>("libgazebo_ros_force_based_move.so", parseForceBasedMove, forceBasedMoveTags()));
+  registrar.add(pluginType<ForceBasedMove>("libgazebo_ros_force_based_move.so", parseForceBasedMove,
+                                           forceBasedMoveTags()));
 }
 
 }  // namespace bullet_sim

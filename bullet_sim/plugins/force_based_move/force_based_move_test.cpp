@@ -27,7 +27,8 @@ const SpawnPose kStart{.x = 0.5, .y = -0.3, .yaw = 0.4};
 TEST(ForceBasedMove, ReachesTheCommandedVelocitiesAndDeadReckonsItsOdometry) {
   Simulation simulation(test::shippedWorld("empty.world"));
   Robot& robot = simulation.spawn("robot", multiSensorRobot("force_based"), kStart);
-  ASSERT_TRUE(test::pluginsOf<PlanarMove>(robot).size() == 1 && test::pluginsOf<ForceBasedMove>(robot).size() == 1);
+  ASSERT_TRUE(test::pluginsOf<PlanarMove>(robot).size() == 1 &&
+              test::pluginsOf<ForceBasedMove>(robot).size() == 1);
   ForceBasedMove& force_based = *test::pluginsOf<ForceBasedMove>(robot).at(0);
   const Eigen::Isometry3d start = robot.body().linkPose("base_footprint");
   drivePlanar(simulation, force_based, twist(0.3, 0.2, 0.5), 3.0);

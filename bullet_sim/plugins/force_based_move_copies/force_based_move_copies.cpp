@@ -22,14 +22,18 @@ TagTable nexusTags() {
     return TagRow{tag, TagType::kPositive, fallback, unit, what, ours};
   };
   for (const TagRow& added : std::vector<TagRow>{
-           row("x_velocity_p_gain", "15", "N s/m", "the force along the base's x per m/s of velocity error", ""),
-           row("y_velocity_p_gain", "15", "N s/m", "the force along the base's y per m/s of velocity error", ""),
-           row("yaw_velocity_p_gain", "1", "N m s", "the torque about the world's z per rad/s of turn error", ""),
-           row("max_x_velocity", "0.6", "m/s", "the most of linear.x followed (a negative one is not capped)", ""),
+           row("x_velocity_p_gain", "15", "N s/m", "the force along the base's x per m/s of velocity error",
+               ""),
+           row("y_velocity_p_gain", "15", "N s/m", "the force along the base's y per m/s of velocity error",
+               ""),
+           row("yaw_velocity_p_gain", "1", "N m s", "the torque about the world's z per rad/s of turn error",
+               ""),
+           row("max_x_velocity", "0.6", "m/s", "the most of linear.x followed (a negative one is not capped)",
+               ""),
            row("max_y_velocity", "0.6", "m/s", "the most of linear.y followed (a negative one is not capped)",
                "nexus' plugin caps linear.y at max_x_velocity; we cap it at max_y_velocity"),
-           row("max_yaw_velocity", "0.5", "rad/s", "the most of angular.z followed (a negative one is not capped)",
-               ""),
+           row("max_yaw_velocity", "0.5", "rad/s",
+               "the most of angular.z followed (a negative one is not capped)", ""),
        }) {
     table.add(added);
   }
@@ -52,8 +56,8 @@ void parseNexusForceBasedMove(const DeclarationSource& source, ForceBasedMoveCon
 
 // The copies that Clearpath's Ridgeback and the Nexus 4WD mecanum robot load.
 BULLET_SIM_PLUGIN_FOLDER(force_based_move_copies) {
-  registrar.add(pluginType<ForceBasedMove>("libridgeback_ros_force_based_move.so", parseRidgebackForceBasedMove,
-                                           ridgebackTags()));
+  registrar.add(pluginType<ForceBasedMove>("libridgeback_ros_force_based_move.so",
+                                           parseRidgebackForceBasedMove, ridgebackTags()));
   registrar.add(
       pluginType<ForceBasedMove>("libnexus_ros_force_based_move.so", parseNexusForceBasedMove, nexusTags()));
 }

@@ -24,7 +24,8 @@ ModelSpec robotWith(const std::string& filename, const test::Tags& tags) {
 /// The base's velocity in its own frame: x, y [m/s] and yaw rate [rad/s].
 Eigen::Vector3d baseVelocity(const Robot& robot) {
   const Eigen::Isometry3d base = robot.body().linkPose("base_footprint");
-  const Eigen::Vector3d linear = base.linear().transpose() * robot.body().linkLinearVelocity("base_footprint");
+  const Eigen::Vector3d linear =
+      base.linear().transpose() * robot.body().linkLinearVelocity("base_footprint");
   return {linear.x(), linear.y(), robot.body().linkAngularVelocity("base_footprint").z()};
 }
 

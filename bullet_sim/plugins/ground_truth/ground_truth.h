@@ -1,5 +1,5 @@
-// libgazebo_ros_p3d.so: the true pose and velocity of a link, as nav_msgs/Odometry in the world frame. Its tags
-// are kGroundTruthTags in ground_truth.cpp.
+// libgazebo_ros_p3d.so: the true pose and velocity of a link, as nav_msgs/Odometry in the world frame. Its
+// tags are kGroundTruthTags in ground_truth.cpp.
 #pragma once
 
 #include <string>

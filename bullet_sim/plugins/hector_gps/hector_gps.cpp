@@ -15,7 +15,8 @@ constexpr double kEccentricity2 = 2 * kFlattening - kFlattening * kFlattening;
 constexpr double kDegree = M_PI / 180;
 
 TagTable hectorGpsTags() {
-  const std::string reference = "the world's origin; with useWorldSphericalCoordinates, it overrides the world's";
+  const std::string reference =
+      "the world's origin; with useWorldSphericalCoordinates, it overrides the world's";
   const std::vector<TagRow> own = {
       {"frameId", TagType::kFrame, "/world", "", "the messages' frame_id only", ""},
       {"topicName", TagType::kTopic, "fix", "", "the topic of the sensor_msgs/NavSatFix", ""},
@@ -27,12 +28,13 @@ TagTable hectorGpsTags() {
       {"referenceLatitude", TagType::kNumber, "49.9", "deg", "the latitude of " + reference, ""},
       {"referenceLongitude", TagType::kNumber, "8.9", "deg", "the longitude of " + reference, ""},
       {"referenceHeading", TagType::kNumber, "0", "deg",
-       "the world's x axis clockwise from north; with useWorldSphericalCoordinates, it overrides the world's", ""},
+       "the world's x axis clockwise from north; with useWorldSphericalCoordinates, it overrides the world's",
+       ""},
       {"referenceAltitude", TagType::kNumber, "0", "m", "the altitude of " + reference, ""},
       {"status", TagType::kNumber, "0", "", "the fix's status (-1 no fix, 0 fix, 1 SBAS, 2 GBAS)",
        "the same, with a warning for another number"},
-      {"service", TagType::kPositive, "0", "", "the fix's service bits (1 GPS, 2 GLONASS, 4 COMPASS, 8 GALILEO)",
-       ""},
+      {"service", TagType::kPositive, "0", "",
+       "the fix's service bits (1 GPS, 2 GLONASS, 4 COMPASS, 8 GALILEO)", ""},
       {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
   };
   TagTable table;

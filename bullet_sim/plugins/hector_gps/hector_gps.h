@@ -1,6 +1,7 @@
 // libhector_gazebo_ros_gps.so (hector_gazebo_plugins on Noetic): a GNSS receiver at the origin of a link,
-// publishing sensor_msgs/NavSatFix and its velocity as geometry_msgs/Vector3Stamped, with hector's error models
-// on both (hector_sensor_model.h). Its tags are the table in hector_gps.cpp; README.md gives the geodesy.
+// publishing sensor_msgs/NavSatFix and its velocity as geometry_msgs/Vector3Stamped, with hector's error
+// models on both (hector_sensor_model.h). Its tags are the table in hector_gps.cpp; README.md gives the
+// geodesy.
 #pragma once
 
 #include <optional>

@@ -29,9 +29,9 @@ TagTable hectorImuTags() {
       {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
   };
   TagTable table;
-  for (const auto& rows : {hectorBodyAndTimerRows("0"), own, sensorErrorRows("accel", /*vector=*/true, "m/s^2"),
-                           sensorErrorRows("rate", /*vector=*/true, "rad/s"),
-                           sensorErrorRows("yaw", /*vector=*/false, "rad")}) {
+  for (const auto& rows :
+       {hectorBodyAndTimerRows("0"), own, sensorErrorRows("accel", /*vector=*/true, "m/s^2"),
+        sensorErrorRows("rate", /*vector=*/true, "rad/s"), sensorErrorRows("yaw", /*vector=*/false, "rad")}) {
     for (const TagRow& row : rows) table.add(row);
   }
   return table;

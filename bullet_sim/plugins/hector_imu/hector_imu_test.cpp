@@ -138,7 +138,8 @@ TEST(HectorImu, TheSameSeedGivesTheSameReadings) {
       readings.push_back(sample.orientation.z());
     }
     simulation.resetSimulation();
-    const ImuSample after_reset = imuSamples(simulation, *test::pluginsOf<HectorImu>(robot).at(0), 0.5).back();
+    const ImuSample after_reset =
+        imuSamples(simulation, *test::pluginsOf<HectorImu>(robot).at(0), 0.5).back();
     EXPECT_EQ(after_reset.linear_acceleration.x(), readings[readings.size() - 2])
         << "a reset replays the run";
     return readings;

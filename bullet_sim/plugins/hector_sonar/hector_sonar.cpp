@@ -12,7 +12,8 @@ namespace {
 TagTable hectorSonarTags() {
   const std::vector<TagRow> own = {
       {"topicName", TagType::kTopic, "sonar", "", "the topic of the sensor_msgs/Range", ""},
-      {"frameId", TagType::kFrame, "/sonar_link", "", "the messages' frame_id only, as written (no tf_prefix)",
+      {"frameId", TagType::kFrame, "/sonar_link", "",
+       "the messages' frame_id only, as written (no tf_prefix)",
        "the leading / dropped, as on every frame (the default is sonar_link); a name that is no link is a "
        "warning, and is still the frame_id"},
       {"updateRate", TagType::kPositive, "10", "Hz",
@@ -68,7 +69,8 @@ void HectorSonar::onReset() {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(hector_sonar) {
-  PluginType type = pluginType<HectorSonar>("libhector_gazebo_ros_sonar.so", parseHectorSonar, hectorSonarTags());
+  PluginType type =
+      pluginType<HectorSonar>("libhector_gazebo_ros_sonar.so", parseHectorSonar, hectorSonarTags());
   type.sensor_types = {"ray"};
   type.needs = kNeedOwnRayBody;
   type.tf_prefix = TfPrefixRule::kNone;

@@ -18,7 +18,8 @@ void parseHectorSonar(const DeclarationSource& source, HectorSonarConfig& config
 
 class HectorSonar : public RangeSensor {
  public:
-  HectorSonar(const PluginDeclaration& declaration, const HectorSonarConfig& config, const PluginSetup& setup);
+  HectorSonar(const PluginDeclaration& declaration, const HectorSonarConfig& config,
+              const PluginSetup& setup);
 
  private:
   double measured(double nearest, double sim_time) override;

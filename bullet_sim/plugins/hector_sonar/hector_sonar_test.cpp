@@ -15,13 +15,16 @@ namespace {
 
 constexpr double kSonarAhead = 0.22;  // [m] of the sonar ahead of base_footprint
 
-/// The multi-sensor robot whose "sonar" sensor has hector's plugin with `tags`, and its range up to `max` [m].
+/// The multi-sensor robot whose "sonar" sensor has hector's plugin with `tags`, and its range up to `max`
+/// [m].
 ModelSpec robotWithHectorSonar(const test::Tags& tags, const std::string& max) {
   const std::string urdf = test::editUrdf(test::multiSensorUrdf(), [&](tinyxml2::XMLElement& robot) {
-    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo; gazebo = gazebo->NextSiblingElement("gazebo")) {
+    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo")) {
       auto* sensor = gazebo->FirstChildElement("sensor");
       if (!sensor || std::string(sensor->Attribute("name")) != "sonar") continue;
-      sensor->FirstChildElement("ray")->FirstChildElement("range")->FirstChildElement("max")->SetText(max.c_str());
+      sensor->FirstChildElement("ray")->FirstChildElement("range")->FirstChildElement("max")->SetText(
+          max.c_str());
       auto* plugin = sensor->FirstChildElement("plugin");
       plugin->DeleteChildren();
       plugin->SetAttribute("filename", "libhector_gazebo_ros_sonar.so");
@@ -33,7 +36,8 @@ ModelSpec robotWithHectorSonar(const test::Tags& tags, const std::string& max) {
 
 /// The ranges the sonar (reaching `max` [m]) of a robot at `x` (facing the east wall) publishes within
 /// `seconds`.
-std::vector<RangeSample> rangesAt(double x, const test::Tags& tags, double seconds, const std::string& max = "4.0") {
+std::vector<RangeSample> rangesAt(double x, const test::Tags& tags, double seconds,
+                                  const std::string& max = "4.0") {
   Simulation simulation(test::shippedWorld("test_room.world"), {.seed = 7});
   Robot& robot = simulation.spawn("robot", robotWithHectorSonar(tags, max), {.x = x, .y = 0.3});
   const HectorSonar& sonar = test::pluginNamed<HectorSonar>(robot, "sonar");
@@ -41,13 +45,15 @@ std::vector<RangeSample> rangesAt(double x, const test::Tags& tags, double secon
   const auto steps = std::lround(seconds / simulation.stepSize());
   for (long i = 0; i < steps; ++i) {
     simulation.step();
-    if (test::countOf<RangeSample>(sonar) > ranges.size()) ranges.push_back(test::latestOf<RangeSample>(sonar));
+    if (test::countOf<RangeSample>(sonar) > ranges.size())
+      ranges.push_back(test::latestOf<RangeSample>(sonar));
   }
   return ranges;
 }
 
 TEST(HectorSonar, ReadsTheWallAtHectorsRateWithHectorsFieldOfView) {
-  const std::vector<RangeSample> ranges = rangesAt(1.0, {{"topicName", "sonar"}, {"frameId", "sonar_link"}}, 1.0);
+  const std::vector<RangeSample> ranges =
+      rangesAt(1.0, {{"topicName", "sonar"}, {"frameId", "sonar_link"}}, 1.0);
   EXPECT_EQ(ranges.size(), 10u) << "hector's 10 Hz";
   ASSERT_FALSE(ranges.empty());
   const RangeSample& range = ranges.back();

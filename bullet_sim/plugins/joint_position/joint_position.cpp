@@ -16,7 +16,8 @@ const TagTable kJointPositionTags = {
      "the first point's positions become the targets the motors hold"},
     {"jointName", TagType::kList, "", "", "not read (bullet_sim's tag)",
      "the joints held, separated by commas or spaces, each where the robot spawned until commanded; each "
-     "must move and have an effort limit, the motor's strength; without the tag, a warning, and none is held"},
+     "must move and have an effort limit, the motor's strength; without the tag, a warning, and none is "
+     "held"},
     {"updateRate", TagType::kIgnored, "0", "Hz", "how often the trajectory advances; 0: every step",
      "the joints are held every step"},
     {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
@@ -77,8 +78,8 @@ std::string JointPosition::take(const JointTrajectory& trajectory) {
   std::ostringstream refused;
   for (size_t i = 0; i < names.size() && i < positions.size(); ++i) {
     if (!setTarget(names[i], positions[i])) {
-      refused << (refused.tellp() > 0 ? ", " : "a target it cannot hold: ") << "joint [" << names[i] << "] at "
-              << positions[i];
+      refused << (refused.tellp() > 0 ? ", " : "a target it cannot hold: ") << "joint [" << names[i]
+              << "] at " << positions[i];
     }
   }
   return refused.str();

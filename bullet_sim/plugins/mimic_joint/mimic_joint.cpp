@@ -50,10 +50,12 @@ void parseMimicJoint(const DeclarationSource& source, MimicJointConfig& config) 
 }
 
 BULLET_SIM_PLUGIN_FOLDER(mimic_joint) {
-  for (const char* filename : {"libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so",
-                               "libroboticsgroup_gazebo_mimic_joint_plugin.so", "libgazebo_mimic_joint_plugin.so"}) {
+  for (const char* filename :
+       {"libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so",
+        "libroboticsgroup_gazebo_mimic_joint_plugin.so", "libgazebo_mimic_joint_plugin.so"}) {
     PluginType type = pluginType<MimicJoint>(filename, parseMimicJoint, kMimicJointTags);
-    type.mimic = [](const PluginDeclaration& declaration) -> std::optional<std::pair<std::string, JointSpec::Mimic>> {
+    type.mimic =
+        [](const PluginDeclaration& declaration) -> std::optional<std::pair<std::string, JointSpec::Mimic>> {
       const auto* config = declaration.configAs<MimicJointConfig>();
       if (config->follower.empty()) return std::nullopt;
       return std::pair{config->follower, config->mimic};

@@ -1,5 +1,6 @@
-// Mimic joints: a look-alike two-finger gripper (test/fixtures/robots/two_finger_gripper.urdf) whose right finger
-// follows the left by URDF's <mimic> or by a mimic joint plugin, on each wheel model. Stepped in-process.
+// Mimic joints: a look-alike two-finger gripper (test/fixtures/robots/two_finger_gripper.urdf) whose right
+// finger follows the left by URDF's <mimic> or by a mimic joint plugin, on each wheel model. Stepped
+// in-process.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -53,7 +54,8 @@ TEST(MimicJoint, OneCommandClosesBothFingersByTheUrdfMimic) {
     close(simulation, robot, 0.03, 1.0);
     EXPECT_NEAR(position(robot, "left_finger_joint"), 0.03, 0.002);
     EXPECT_NEAR(position(robot, "right_finger_joint"), position(robot, "left_finger_joint"), 0.001);
-    const JointStateSample& states = test::latestOf<JointStateSample>(*test::pluginsOf<JointStates>(robot).at(0));
+    const JointStateSample& states =
+        test::latestOf<JointStateSample>(*test::pluginsOf<JointStates>(robot).at(0));
     EXPECT_THAT(states.names, ::testing::ElementsAre("left_finger_joint", "right_finger_joint"));
     EXPECT_NEAR(states.positions.at(1), 0.03, 0.002);
   }
@@ -103,12 +105,14 @@ TEST(MimicJoint, AFollowerNamedByBothIsCoupledOnceWithThePluginsEffort) {
 
 TEST(MimicJoint, CouplingsThatCannotBeSimulatedAreSkippedWithAWarning) {
   std::vector<std::string> warnings;
-  std::string urdf = test::replaceAfter(gripper("contact"), "<mimic joint=", "left_finger_joint", "left_fniger_joint");
+  std::string urdf =
+      test::replaceAfter(gripper("contact"), "<mimic joint=", "left_finger_joint", "left_fniger_joint");
   urdf = test::withPlugin(urdf, "ghost", kPlugin, {{"joint", "left_finger_joint"}, {"mimicJoint", "thumb"}});
   const ModelSpec model = parseModel(urdf, "gripper", PackageResolver::fromEnvironment(), &warnings);
   EXPECT_FALSE(model.joint("right_finger_joint")->mimic);
-  EXPECT_THAT(warnings, ::testing::Contains(HasSubstr("<mimic> of [left_fniger_joint]: [left_fniger_joint] is not a "
-                                                      "moving joint (did you mean [left_finger_joint]?)")));
+  EXPECT_THAT(warnings,
+              ::testing::Contains(HasSubstr("<mimic> of [left_fniger_joint]: [left_fniger_joint] is not a "
+                                            "moving joint (did you mean [left_finger_joint]?)")));
   EXPECT_THAT(warnings, ::testing::Contains(HasSubstr("<mimicJoint> [thumb] is not a moving joint")));
 }
 
@@ -120,7 +124,8 @@ TEST(MimicJoint, RosControlLeavesAFollowerToItsCoupling) {
       transmission->InsertNewChildElement("type")->SetText("transmission_interface/SimpleTransmission");
       auto* driven = transmission->InsertNewChildElement("joint");
       driven->SetAttribute("name", joint);
-      driven->InsertNewChildElement("hardwareInterface")->SetText("hardware_interface/PositionJointInterface");
+      driven->InsertNewChildElement("hardwareInterface")
+          ->SetText("hardware_interface/PositionJointInterface");
       auto* actuator = transmission->InsertNewChildElement("actuator");
       actuator->SetAttribute("name", (std::string(joint) + "_motor").c_str());
       actuator->InsertNewChildElement("mechanicalReduction")->SetText("1");
@@ -132,9 +137,10 @@ TEST(MimicJoint, RosControlLeavesAFollowerToItsCoupling) {
   std::vector<std::string> warnings;
   simulation.spawn("gripper", parseModel(urdf, "gripper", PackageResolver::fromEnvironment(), &warnings), {},
                    &warnings);
-  EXPECT_THAT(warnings, ::testing::Contains(HasSubstr(
-                            "joint [right_finger_joint] follows [left_finger_joint] by <mimic>: ros_control does "
-                            "not drive it")));
+  EXPECT_THAT(warnings,
+              ::testing::Contains(HasSubstr(
+                  "joint [right_finger_joint] follows [left_finger_joint] by <mimic>: ros_control does "
+                  "not drive it")));
   EXPECT_THAT(warnings, ::testing::Not(::testing::Contains(HasSubstr("joint [left_finger_joint] follows"))));
 }
 

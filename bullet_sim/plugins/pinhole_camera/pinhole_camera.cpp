@@ -58,7 +58,8 @@ void readImageTags(const TagNode* camera, const std::string& where, PinholeCamer
 }
 
 /// SDF's <distortion> coefficients, in camera_info's order (k1, k2, p1, p2, k3).
-std::array<double, 5> readDistortion(const TagNode* camera, const std::string& where, Diagnostics& diagnostics) {
+std::array<double, 5> readDistortion(const TagNode* camera, const std::string& where,
+                                     Diagnostics& diagnostics) {
   std::array<double, 5> coefficients{};
   const TagNode* node = camera ? camera->child("distortion") : nullptr;
   if (!node) return coefficients;
@@ -68,7 +69,8 @@ std::array<double, 5> readDistortion(const TagNode* camera, const std::string& w
   distortion.accept({"center"});
   distortion.finish();
   if (std::any_of(coefficients.begin(), coefficients.end(), [](double k) { return k != 0; })) {
-    diagnostics.warning(where + " <distortion> is not applied: bullet_sim renders an undistorted pinhole image");
+    diagnostics.warning(where +
+                        " <distortion> is not applied: bullet_sim renders an undistorted pinhole image");
   }
   return coefficients;
 }
@@ -127,8 +129,8 @@ void readCameraPluginTags(PluginTags& tags, const std::array<double, 5>& sdf_dis
 void checkCamera(const DeclarationSource& source, const PinholeCameraConfig& config) {
   const std::string where = source.declaration.where();
   if (config.update_rate == 0) {
-    source.diagnostics.warning(where +
-                               " has update_rate 0 (Gazebo renders it as often as it can): it renders every step");
+    source.diagnostics.warning(
+        where + " has update_rate 0 (Gazebo renders it as often as it can): it renders every step");
   }
   if (config.focal_length > 0 && std::abs(config.focal_length - config.renderedFocalLength()) > 1e-6) {
     source.diagnostics.warning(where + " <focalLength> [" + std::to_string(config.focal_length) +
@@ -354,7 +356,8 @@ void PinholeCamera::publishCloud(const RenderedImage& rendered, double stamp) {
 
 namespace {
 
-/// gazebo_ros_camera_utils' tags, which every camera plugin reads; a depth camera's image is its infrared one.
+/// gazebo_ros_camera_utils' tags, which every camera plugin reads; a depth camera's image is its infrared
+/// one.
 TagTable cameraTags(bool depth) {
   const std::string image = depth ? "ir/image_raw" : "image_raw";
   const std::string info = depth ? "ir/camera_info" : "camera_info";
@@ -385,13 +388,14 @@ TagTable cameraTags(bool depth) {
       {"borderCrop", TagType::kIgnored, "", "",
        "whether the distorted image is cropped to hide its black border; true when absent",
        "no distortion is rendered, so there is nothing to crop"},
-      {"triggerTopicName", TagType::kIgnored, "", "", "read; only the triggered camera plugins subscribe to it",
-       ""},
+      {"triggerTopicName", TagType::kIgnored, "", "",
+       "read; only the triggered camera plugins subscribe to it", ""},
       {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
   };
 }
 
-/// A depth camera plugin's tags: gazebo_ros_camera_utils' and the depth image's, the cloud's and their cut-offs.
+/// A depth camera plugin's tags: gazebo_ros_camera_utils' and the depth image's, the cloud's and their
+/// cut-offs.
 TagTable depthCameraTags(bool openni) {
   TagTable table = cameraTags(/*depth=*/true);
   const std::string not_read = "not read (libgazebo_ros_depth_camera.so's tag)";
@@ -410,7 +414,8 @@ TagTable depthCameraTags(bool openni) {
       {"useDepth16UC1Format", TagType::kFlag, "false", "",
        "true: the depth image in 16UC1 millimetres, else 32FC1 metres", ""},
       {"reflectanceTopicName", TagType::kIgnored, "", "",
-       openni ? not_read : "the topic of a reflectance cloud; reflectance when absent", openni ? "" : not_ours},
+       openni ? not_read : "the topic of a reflectance cloud; reflectance when absent",
+       openni ? "" : not_ours},
       {"normalsTopicName", TagType::kIgnored, "", "",
        openni ? not_read : "the topic of a cloud of normals; normals when absent", openni ? "" : not_ours},
       {"reduceNormals", TagType::kIgnored, "", "",

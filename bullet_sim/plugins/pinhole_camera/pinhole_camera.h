@@ -1,8 +1,8 @@
 // Cameras: <sensor type="camera"> with libgazebo_ros_camera.so, and <sensor type="depth"> with
-// libgazebo_ros_openni_kinect.so or libgazebo_ros_depth_camera.so, as gazebo_plugins has them on Noetic. Their
-// plugin tags are the tag tables in pinhole_camera.cpp; README.md describes the sensor's <camera> block, the
-// topics (<cameraName>/<topic> in the plugin's namespace) and what the images hold. A camera renders only when
-// someone wants one of its images, on its update timer in sim time, after the physics step.
+// libgazebo_ros_openni_kinect.so or libgazebo_ros_depth_camera.so, as gazebo_plugins has them on Noetic.
+// Their plugin tags are the tag tables in pinhole_camera.cpp; README.md describes the sensor's <camera>
+// block, the topics (<cameraName>/<topic> in the plugin's namespace) and what the images hold. A camera
+// renders only when someone wants one of its images, on its update timer in sim time, after the physics step.
 #pragma once
 
 #include <algorithm>
@@ -44,7 +44,8 @@ struct PinholeCameraConfig : PluginConfig {
   double cloud_cutoff_max = 0;  ///< [m]: depths at or above it are NaN
   bool depth_16uc1 = false;     ///< depth in 16UC1 millimetres instead of 32FC1 metres
 
-  /// Whether a depth [m] is inside (pointCloudCutoff, pointCloudCutoffMax): kept in the depth image and cloud.
+  /// Whether a depth [m] is inside (pointCloudCutoff, pointCloudCutoffMax): kept in the depth image and
+  /// cloud.
   bool withinCutoffs(double depth) const { return depth > cloud_cutoff && depth < cloud_cutoff_max; }
   /// The focal length [px] the image is rendered with: width / (2 tan(horizontal_fov / 2)).
   double renderedFocalLength() const;

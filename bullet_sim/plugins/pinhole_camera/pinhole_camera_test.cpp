@@ -254,7 +254,8 @@ TEST(Camera, TheSameSeedGivesTheSameNoisyImages) {
   first.frames(2);
   second.frames(2);
   other.frames(2);
-  EXPECT_EQ(test::latestOf<CameraImage>(*first.camera).data, test::latestOf<CameraImage>(*second.camera).data);
+  EXPECT_EQ(test::latestOf<CameraImage>(*first.camera).data,
+            test::latestOf<CameraImage>(*second.camera).data);
   EXPECT_NE(test::latestOf<CameraImage>(*first.camera).data, test::latestOf<CameraImage>(*other.camera).data);
 }
 
@@ -283,9 +284,10 @@ TEST(Camera, ColourFormatsMapToTheirRosEncodings) {
 
 TEST(Camera, WithoutARendererACameraRendersNothing) {
   Simulation simulation(test::shippedWorld("test_room.world"));
-  const auto* camera = test::pluginsOf<PinholeCamera>(
-                           simulation.spawn("camera_box", test::parseQuietly(cameraRobot({}), "camera_box"), {}))
-                           .at(0);
+  const auto* camera =
+      test::pluginsOf<PinholeCamera>(
+          simulation.spawn("camera_box", test::parseQuietly(cameraRobot({}), "camera_box"), {}))
+          .at(0);
   for (int step = 0; step < 200; ++step) simulation.step();
   EXPECT_EQ(test::countOf<CameraImage>(*camera), 0u);
 }

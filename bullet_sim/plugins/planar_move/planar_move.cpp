@@ -15,9 +15,10 @@ double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose.linear()(1,
 
 TagTable planarMoveTags() {
   TagTable table = holonomicTags();
-  table.add({"cmdTimeout", TagType::kNumber, "-1", "s",
-             "the robot stops once cmd_vel has been silent this long; below 0: the last command holds for ever",
-             ""});
+  table.add(
+      {"cmdTimeout", TagType::kNumber, "-1", "s",
+       "the robot stops once cmd_vel has been silent this long; below 0: the last command holds for ever",
+       ""});
   return table;
 }
 

@@ -1,5 +1,5 @@
-// Planar move against closed forms, on the multi-sensor test robot (whose frictionless casters let nothing but
-// the plugin move it). Stepped in-process, no roscore.
+// Planar move against closed forms, on the multi-sensor test robot (whose frictionless casters let nothing
+// but the plugin move it). Stepped in-process, no roscore.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -129,12 +129,13 @@ TEST(Range, LoadMessages) {
     }
   });
   const std::string urdf = withSensorPluginTags(noisy_rays, "sonar", {{"radiation", "sonic"}});
-  EXPECT_THAT(loadWarnings(urdf),
-              IsSupersetOf({HasSubstr("sensor [ir] on link [ir_link] <ray><noise> does not reach "
-                                      "libgazebo_ros_range.so's range (Gazebo's plugin reads the rays before the "
-                                      "sensor's noise): ignored; use the plugin's <gaussianNoise>"),
-                            HasSubstr("<radiation> must be ultrasound or infrared, not [sonic]: infrared is used, "
-                                      "as Gazebo does")}));
+  EXPECT_THAT(
+      loadWarnings(urdf),
+      IsSupersetOf({HasSubstr("sensor [ir] on link [ir_link] <ray><noise> does not reach "
+                              "libgazebo_ros_range.so's range (Gazebo's plugin reads the rays before the "
+                              "sensor's noise): ignored; use the plugin's <gaussianNoise>"),
+                    HasSubstr("<radiation> must be ultrasound or infrared, not [sonic]: infrared is used, "
+                              "as Gazebo does")}));
   // Gazebo stamps the ranges with a frameName that names no link: a warning.
   EXPECT_THAT(loadWarnings(withSensorPluginTags(multiSensorUrdf(), "ir", {{"frameName", "ir_lnk"}})),
               Contains(HasSubstr("<frameName> [ir_lnk] is not a link of the robot (did you mean [ir_link]?): "

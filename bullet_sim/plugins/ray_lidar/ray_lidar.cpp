@@ -274,8 +274,9 @@ void RayLidar::publishCloud(const StepTime& time) {
 }
 
 BULLET_SIM_PLUGIN_FOLDER(ray_lidar) {
-  for (const char* filename : {"libgazebo_ros_laser.so", "libgazebo_ros_gpu_laser.so", "libgazebo_ros_velodyne_laser.so",
-                               "libgazebo_ros_velodyne_gpu_laser.so", "libgazebo_ros_block_laser.so"}) {
+  for (const char* filename :
+       {"libgazebo_ros_laser.so", "libgazebo_ros_gpu_laser.so", "libgazebo_ros_velodyne_laser.so",
+        "libgazebo_ros_velodyne_gpu_laser.so", "libgazebo_ros_block_laser.so"}) {
     PluginType type = pluginType<RayLidar>(filename, parseRayLidar, lidarTags(outputOf(filename)));
     type.sensor_types = {"ray", "gpu_ray"};
     type.rate = {RateRule::From::kSensor, {"updateRate"}, 0};

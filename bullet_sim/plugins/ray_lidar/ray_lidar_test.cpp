@@ -94,8 +94,8 @@ TEST(Lidar, RangesBeyondMaxAreInfAndBelowMinAreMinusInf) {
 // A robot never stands exactly level: its scan's rays carry z components from a hair (1e-15, as settling
 // leaves it) to a slope's, of either sign. Every beam still meets the walls where the room's geometry says.
 TEST(Lidar, ATiltedLidarSeesTheWallsWhereTheyAre) {
-  const ModelSpec mast = parseModel(test::readFile(test::fixture("robots/lidar_mast.urdf")), "lidar_mast.urdf",
-                                    PackageResolver::fromEnvironment());
+  const ModelSpec mast = parseModel(test::readFile(test::fixture("robots/lidar_mast.urdf")),
+                                    "lidar_mast.urdf", PackageResolver::fromEnvironment());
   for (const double tilt : {1e-15, -1e-12, 1e-9, -1e-7, 3e-7, -1e-6, 1e-5, -1e-4, 1e-3, -1e-2}) {
     for (const double x : {0.0, 2.8}) {
       Simulation simulation(test::shippedWorld("test_room.world"));

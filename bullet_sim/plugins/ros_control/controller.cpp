@@ -62,7 +62,8 @@ HardwareJoint& Controller::claim(const std::string& joint, JointInterface interf
     why += found ? "is driven through " + interfaceName(found->interface) + " by its transmission"
                  : "has no transmission ros_control drives";
     throw std::invalid_argument(why + ", and this controller needs " + interfaceName(interface) +
-                                didYouMean(joint, names) + "; the joints driven through it: " + joinedNames(names, "none"));
+                                didYouMean(joint, names) +
+                                "; the joints driven through it: " + joinedNames(names, "none"));
   }
   if (std::count(claims_.resources.begin(), claims_.resources.end(), joint) == 0)
     claims_.resources.push_back(joint);

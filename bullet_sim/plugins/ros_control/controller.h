@@ -1,7 +1,7 @@
 // A ros_control controller inside the simulator, ROS-free. The controller manager builds it by type name when
-// it is loaded, from its parameters (the parameter server's <robot namespace>/<name>), then starts, updates at
-// the control period and stops it as ros_control's ControllerBase does. Its topics live under its name (a diff
-// drive controller's <name>/cmd_vel), except what it publishes for the whole robot (joint_states, /tf).
+// it is loaded, from its parameters (the parameter server's <robot namespace>/<name>), then starts, updates
+// at the control period and stops it as ros_control's ControllerBase does. Its topics live under its name (a
+// diff drive controller's <name>/cmd_vel), except what it publishes for the whole robot (joint_states, /tf).
 #pragma once
 
 #include <string>
@@ -29,7 +29,7 @@ struct ControllerSetup {
   const std::string& type;
   const ParameterTree& parameters;  ///< its own: <robot namespace>/<name>
   RobotHardware& hardware;
-  const ModelSpec& model;             ///< the robot's URDF, for what controllers read from it (wheel geometry)
+  const ModelSpec& model;  ///< the robot's URDF, for what controllers read from it (wheel geometry)
   std::vector<std::string>& warnings;  ///< about its parameters; the node logs them
 };
 

@@ -48,7 +48,8 @@ PluginPorts guardedPorts(const std::shared_ptr<Controller>& controller) {
     std::visit(
         [&](auto& handlers) {
           using Decision = decltype(handlers.goal(0, {}, 0));
-          handlers.goal = [alive, goal = handlers.goal, gone](GoalId id, const auto& request, double sim_time) {
+          handlers.goal = [alive, goal = handlers.goal, gone](GoalId id, const auto& request,
+                                                              double sim_time) {
             return alive.expired() ? Decision{false, {-1, gone}} : goal(id, request, sim_time);
           };
           handlers.cancel = [alive, cancel = handlers.cancel](GoalId id, double sim_time) {
@@ -85,14 +86,15 @@ std::string ControllerManager::load(const std::string& name, std::vector<std::st
   try {
     const ParameterTree parameters = parameters_ ? parameters_->fetch(ns) : ParameterTree();
     if (!parameters.has("type")) {
-      return head + "its type is not set: did you load the controller configuration onto the parameter server (" +
+      return head +
+             "its type is not set: did you load the controller configuration onto the parameter server (" +
              ns + "/type)?";
     }
     const std::string type = parameters.text("type", "");
     const ControllerType* found = types_.find(type);
     if (!found) {
-      return head + "type [" + type + "] is not a controller type bullet_sim has" + didYouMean(type, types_.names()) +
-             "; it has " + joinedNames(types_.names());
+      return head + "type [" + type + "] is not a controller type bullet_sim has" +
+             didYouMean(type, types_.names()) + "; it has " + joinedNames(types_.names());
     }
     std::vector<std::string> load_warnings;
     const ControllerSetup setup{name, type, parameters, hardware_, model_, load_warnings};
@@ -142,7 +144,8 @@ std::string ControllerManager::switchControllers(const SwitchControllerRequest& 
   for (Controller* controller : start) {
     try {
       controller->start(time);
-    } catch (const std::exception& e) {  // it stays as it was; those stopped above stay stopped, as in ros_control
+    } catch (
+        const std::exception& e) {  // it stays as it was; those stopped above stay stopped, as in ros_control
       return "could not start controller [" + controller->name() + "]: " + e.what();
     }
   }
@@ -150,19 +153,22 @@ std::string ControllerManager::switchControllers(const SwitchControllerRequest& 
 }
 
 std::string ControllerManager::resolveSwitch(const SwitchControllerRequest& request, int strictness,
-                                             std::vector<Controller*>* stop, std::vector<Controller*>* start) const {
+                                             std::vector<Controller*>* stop,
+                                             std::vector<Controller*>* start) const {
   const bool strict = strictness == SwitchControllerRequest::kStrict;
   for (const auto& [names, list, verb] : {std::make_tuple(&request.stop, stop, "stop"),
                                           std::make_tuple(&request.start, start, "start")}) {
     for (const auto& name : *names) {
       Controller* controller = find(name);
       if (!controller && strict)
-        return "could not " + std::string(verb) + " controller [" + name + "]: no controller of that name is loaded";
+        return "could not " + std::string(verb) + " controller [" + name +
+               "]: no controller of that name is loaded";
       if (controller) list->push_back(controller);
     }
   }
   // BEST_EFFORT leaves out what cannot be done; STRICT refuses it.
-  const auto refuse = [&](std::vector<Controller*>* list, bool running, const std::string& why) -> std::string {
+  const auto refuse = [&](std::vector<Controller*>* list, bool running,
+                          const std::string& why) -> std::string {
     for (auto it = list->begin(); it != list->end();) {
       if ((*it)->running() != running) {
         ++it;
@@ -174,10 +180,12 @@ std::string ControllerManager::resolveSwitch(const SwitchControllerRequest& requ
     }
     return "";
   };
-  if (std::string refused = refuse(stop, false, "is not running, so it cannot stop"); !refused.empty()) return refused;
+  if (std::string refused = refuse(stop, false, "is not running, so it cannot stop"); !refused.empty())
+    return refused;
   for (Controller* controller : *stop) {
     if (std::count(start->begin(), start->end(), controller))
-      return "could not switch controller [" + controller->name() + "]: it is asked both to start and to stop";
+      return "could not switch controller [" + controller->name() +
+             "]: it is asked both to start and to stop";
   }
   return refuse(start, true, "is running already");
 }
@@ -198,7 +206,8 @@ std::vector<ControllerStatus> ControllerManager::list() const {
   std::vector<ControllerStatus> statuses;
   for (const auto& loaded : controllers_) {
     const Controller& controller = *loaded.controller;
-    statuses.push_back({controller.name(), stateName(controller.state()), controller.type(), {controller.claims()}});
+    statuses.push_back(
+        {controller.name(), stateName(controller.state()), controller.type(), {controller.claims()}});
   }
   return statuses;
 }

@@ -1,7 +1,9 @@
-// ros_control's controller manager (Noetic), ROS-free: it loads controllers by type name from their parameters
-// (<robot namespace>/<name>/type, ...), starts and stops them as switch_controller asks (STRICT or BEST_EFFORT,
-// no two running controllers claiming one joint), updates the running ones at the control period and unloads
-// them. Requests are answered at once, between steps: a switch takes effect before the next update.
+// ros_control's controller manager (Noetic), ROS-free: it loads controllers by type name from their
+// parameters
+// (<robot namespace>/<name>/type, ...), starts and stops them as switch_controller asks (STRICT or
+// BEST_EFFORT, no two running controllers claiming one joint), updates the running ones at the control period
+// and unloads them. Requests are answered at once, between steps: a switch takes effect before the next
+// update.
 #pragma once
 
 #include <cstdint>
@@ -21,8 +23,8 @@ class ControllerRegistry;
 class ControllerManager {
  public:
   /// Controllers' parameters come from `parameters` (nullptr: none) under `robot_namespace`.
-  ControllerManager(RobotHardware& hardware, const ControllerRegistry& types, const ParameterSource* parameters,
-                    std::string robot_namespace, const ModelSpec& model);
+  ControllerManager(RobotHardware& hardware, const ControllerRegistry& types,
+                    const ParameterSource* parameters, std::string robot_namespace, const ModelSpec& model);
   ~ControllerManager();
 
   // The services, each answering "" when done, else why not.
@@ -60,8 +62,8 @@ class ControllerManager {
     PluginPorts ports;  ///< the controller's, with inputs that do nothing once it is unloaded
   };
   /// The switch's stop and start lists resolved to loaded controllers; "" or why the switch is refused.
-  std::string resolveSwitch(const SwitchControllerRequest& request, int strictness, std::vector<Controller*>* stop,
-                            std::vector<Controller*>* start) const;
+  std::string resolveSwitch(const SwitchControllerRequest& request, int strictness,
+                            std::vector<Controller*>* stop, std::vector<Controller*>* start) const;
   /// "" or the resource conflict among the controllers that would run.
   std::string conflict(const std::vector<Controller*>& running) const;
   std::string parameterNamespace(const std::string& name) const;

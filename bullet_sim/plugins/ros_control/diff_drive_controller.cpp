@@ -8,12 +8,14 @@ namespace bullet_sim {
 
 namespace {
 
-/// The radius of a wheel's link: its first collision, a cylinder or a sphere, as diff_drive_controller reads it.
+/// The radius of a wheel's link: its first collision, a cylinder or a sphere, as diff_drive_controller reads
+/// it.
 double collisionRadius(const ModelSpec& model, const JointSpec& joint) {
   const LinkSpec* link = model.link(joint.child);
   if (!link || link->collisions.empty()) {
-    throw std::invalid_argument("wheel link [" + joint.child +
-                                "] has no collision to read wheel_radius from: give it one, or set wheel_radius");
+    throw std::invalid_argument(
+        "wheel link [" + joint.child +
+        "] has no collision to read wheel_radius from: give it one, or set wheel_radius");
   }
   const Shape& shape = link->collisions.front().shape;
   if (shape.type != Shape::Type::kCylinder && shape.type != Shape::Type::kSphere) {
@@ -52,12 +54,28 @@ DiffDriveController::DiffDriveController(const ControllerSetup& setup)
     : Controller(setup, interfaceName(JointInterface::kVelocity)),
       odometry_(rollingWindow(setup.parameters)) {
   const ParameterTree& parameters = setup.parameters;
-  warnUnread(setup, {"left_wheel", "right_wheel", "wheel_separation", "wheel_radius", "wheel_separation_multiplier",
-                     "wheel_radius_multiplier", "left_wheel_radius_multiplier", "right_wheel_radius_multiplier",
-                     "publish_rate", "base_frame_id", "odom_frame_id", "enable_odom_tf", "open_loop",
-                     "velocity_rolling_window_size", "pose_covariance_diagonal", "twist_covariance_diagonal",
-                     "cmd_vel_timeout", "allow_multiple_cmd_vel_publishers", "publish_cmd",
-                     "publish_wheel_joint_controller_state", "linear", "angular"});
+  warnUnread(setup, {"left_wheel",
+                     "right_wheel",
+                     "wheel_separation",
+                     "wheel_radius",
+                     "wheel_separation_multiplier",
+                     "wheel_radius_multiplier",
+                     "left_wheel_radius_multiplier",
+                     "right_wheel_radius_multiplier",
+                     "publish_rate",
+                     "base_frame_id",
+                     "odom_frame_id",
+                     "enable_odom_tf",
+                     "open_loop",
+                     "velocity_rolling_window_size",
+                     "pose_covariance_diagonal",
+                     "twist_covariance_diagonal",
+                     "cmd_vel_timeout",
+                     "allow_multiple_cmd_vel_publishers",
+                     "publish_cmd",
+                     "publish_wheel_joint_controller_state",
+                     "linear",
+                     "angular"});
   readWheels(setup);
   readGeometry(setup);
   const double publish_rate = parameters.number("publish_rate", 50);
@@ -147,7 +165,8 @@ std::string DiffDriveController::takeCommand(const Twist& twist, double sim_time
   if (!running()) return "a cmd_vel for controller [" + name() + "], which is not running";
   if (!allow_multiple_publishers_ && command_publishers_.count > 1) {
     setWheels(0, 0);
-    return "a cmd_vel for controller [" + name() + "] from one of " + std::to_string(command_publishers_.count) +
+    return "a cmd_vel for controller [" + name() + "] from one of " +
+           std::to_string(command_publishers_.count) +
            " publishers, with allow_multiple_cmd_vel_publishers false: braking";
   }
   if (!std::isfinite(twist.linear.x()) || !std::isfinite(twist.angular.z())) {
@@ -200,7 +219,8 @@ void DiffDriveController::integrateOdometry(double time) {
     left += left_[i]->position;
     right += right_[i]->position;
   }
-  odometry_.update(left / static_cast<double>(left_.size()), right / static_cast<double>(right_.size()), time);
+  odometry_.update(left / static_cast<double>(left_.size()), right / static_cast<double>(right_.size()),
+                   time);
 }
 
 void DiffDriveController::publishOdometry(double time) {

@@ -1,6 +1,6 @@
-// diff_drive_controller/DiffDriveController (ros_controllers, Noetic), ROS-free. It follows geometry_msgs/Twist
-// on <name>/cmd_vel through the velocity joints of its wheels and publishes odometry on <name>/odom and, with
-// enable_odom_tf, on /tf. Parameters, with ros_controllers' defaults:
+// diff_drive_controller/DiffDriveController (ros_controllers, Noetic), ROS-free. It follows
+// geometry_msgs/Twist on <name>/cmd_vel through the velocity joints of its wheels and publishes odometry on
+// <name>/odom and, with enable_odom_tf, on /tf. Parameters, with ros_controllers' defaults:
 //   left_wheel, right_wheel      a joint name or a list (as many on each side); required
 //   wheel_separation [m], wheel_radius [m]   from the URDF when absent: the distance between the first left
 //                                and right wheels' joint origins, and the first left wheel's collision radius

@@ -183,8 +183,8 @@ class RoverController : public ::testing::Test {
     for (const auto& transmission : body_->spec().transmissions)
       joints.push_back({transmission.joints.front().name, JointInterface::kVelocity});
     hardware_ = std::make_unique<RobotHardware>(joints, *body_, ParameterTree(), nullptr);
-    manager_ = std::make_unique<ControllerManager>(*hardware_, ControllerRegistry::builtin(), parameters_.get(), "/",
-                                                   body_->spec());
+    manager_ = std::make_unique<ControllerManager>(*hardware_, ControllerRegistry::builtin(),
+                                                   parameters_.get(), "/", body_->spec());
     test::startControllers(*manager_, {kName}, 0);
     controller_ = dynamic_cast<DiffDriveController*>(manager_->find(kName));
     ASSERT_NE(controller_, nullptr);
@@ -262,7 +262,8 @@ TEST_F(RoverController, LimitsClipTheCommandAsRosControllersDo) {
   build("  publish_cmd: true\n");
   const auto& out = *std::get<const Stream<StampedTwist>*>(controller_->ports().outputs.back().stream);
   ASSERT_EQ(controller_->ports().outputs.back().topic, std::string(kName) + "/cmd_vel_out");
-  // A step to 2 m/s and 3 rad/s, above the 1 m/s and 2 rad/s limits: v_k = min(1, 3 k dt), w_k = min(2, 6 k dt).
+  // A step to 2 m/s and 3 rad/s, above the 1 m/s and 2 rad/s limits: v_k = min(1, 3 k dt), w_k = min(2, 6 k
+  // dt).
   for (int k = 1; k <= 50; ++k) {
     ASSERT_EQ(command(2.0, 3.0), "");
     update();
@@ -325,8 +326,10 @@ TEST_F(RoverController, RefusesParametersThatCannotDrive) {
       {"cmd_vel_timeout: .nan", "cmd_vel_timeout must be >= 0 [s], not [.nan]"},
       {"cmd_vel_timeout: -1", "cmd_vel_timeout must be >= 0 [s], not [-1]"},
       {"publish_rate: .inf", "publish_rate must be finite and > 0 [Hz], not [.inf]"},
-      {"velocity_rolling_window_size: 1e18", "velocity_rolling_window_size must be at most 1000000 samples, not [1e18]"},
-      {"velocity_rolling_window_size: .nan", "velocity_rolling_window_size must be at most 1000000 samples, not [.nan]"},
+      {"velocity_rolling_window_size: 1e18",
+       "velocity_rolling_window_size must be at most 1000000 samples, not [1e18]"},
+      {"velocity_rolling_window_size: .nan",
+       "velocity_rolling_window_size must be at most 1000000 samples, not [.nan]"},
   };
   std::string yaml =
       "nan_publisher:\n  type: joint_state_controller/JointStateController\n  publish_rate: .nan\n";

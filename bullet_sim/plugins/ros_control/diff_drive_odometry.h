@@ -1,4 +1,5 @@
-// diff_drive_controller's odometry and speed limiter (ros_controllers, Noetic), ROS-free: time is an argument.
+// diff_drive_controller's odometry and speed limiter (ros_controllers, Noetic), ROS-free: time is an
+// argument.
 #pragma once
 
 #include <cstddef>
@@ -9,8 +10,9 @@
 
 namespace bullet_sim {
 
-/// The limits of one command, linear/x or angular/z, under diff_drive_controller's names: has_velocity_limits,
-/// max_velocity, min_velocity (default -max_velocity), and the same for acceleration and jerk.
+/// The limits of one command, linear/x or angular/z, under diff_drive_controller's names:
+/// has_velocity_limits, max_velocity, min_velocity (default -max_velocity), and the same for acceleration and
+/// jerk.
 struct SpeedLimiter {
   bool has_velocity_limits = false;
   bool has_acceleration_limits = false;
@@ -32,7 +34,8 @@ struct SpeedLimiter {
 /// exactly along arcs; the velocities are rolling means over the last few updates.
 class DiffDriveOdometry {
  public:
-  explicit DiffDriveOdometry(size_t velocity_rolling_window_size = 10) : window_(velocity_rolling_window_size) {}
+  explicit DiffDriveOdometry(size_t velocity_rolling_window_size = 10)
+      : window_(velocity_rolling_window_size) {}
 
   /// [m]: the (multiplied) wheel separation and radii.
   void setWheelParams(double separation, double left_radius, double right_radius);

@@ -4,8 +4,8 @@
 
 namespace bullet_sim {
 
-JointGroupCommandController::JointGroupCommandController(const ControllerSetup& setup, JointInterface interface,
-                                                         bool single)
+JointGroupCommandController::JointGroupCommandController(const ControllerSetup& setup,
+                                                         JointInterface interface, bool single)
     : Controller(setup, interfaceName(interface)), interface_(interface) {
   const char* parameter = single ? "joint" : "joints";
   warnUnread(setup, {parameter});
@@ -24,7 +24,8 @@ JointGroupCommandController::JointGroupCommandController(const ControllerSetup& 
     });
     return;
   }
-  ownPorts().addInput<Float64ArrayCommand>(topic("command"), [this](const Float64ArrayCommand& command, double) {
+  ownPorts().addInput<Float64ArrayCommand>(topic("command"), [this](const Float64ArrayCommand& command,
+                                                                    double) {
     if (command.data.size() != commands_.size()) {
       return "a command of " + std::to_string(command.data.size()) + " values for controller [" + name() +
              "], which has " + std::to_string(commands_.size()) + " joints: not executed";

@@ -1,5 +1,5 @@
-// ros_controllers' forward command controllers (Noetic), ROS-free: they pass the last command straight to their
-// joints' command interface.
+// ros_controllers' forward command controllers (Noetic), ROS-free: they pass the last command straight to
+// their joints' command interface.
 //   velocity_controllers/JointVelocityController, position_controllers/JointPositionController,
 //   effort_controllers/JointEffortController: parameter `joint`; std_msgs/Float64 on <name>/command.
 //   velocity_controllers/JointGroupVelocityController, position_controllers/JointGroupPositionController,

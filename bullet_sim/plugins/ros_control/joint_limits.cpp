@@ -9,8 +9,8 @@ namespace {
 
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 
-/// Reads one has_<name>_limits flag and, when it is true, `value` beside it: unset when the flag is false, left
-/// as it was when the flag is absent, as joint_limits_rosparam.h does.
+/// Reads one has_<name>_limits flag and, when it is true, `value` beside it: unset when the flag is false,
+/// left as it was when the flag is absent, as joint_limits_rosparam.h does.
 void readLimit(const ParameterTree& parameters, const std::string& name, const std::string& value, bool* has,
                double* limit) {
   const std::string flag = "has_" + name + "_limits";
@@ -94,15 +94,17 @@ double saturate(double command, double low, double high, bool rate_limited, doub
 double JointSaturation::clipPosition(double command, double position, double dt) {
   if (std::isnan(last_)) last_ = position;
   const bool bounded = limits_.has_position_limits;
-  last_ = saturate(command, bounded ? limits_.min_position : -kUnbounded, bounded ? limits_.max_position : kUnbounded,
-                   limits_.has_velocity_limits, last_, limits_.max_velocity * dt);
+  last_ = saturate(command, bounded ? limits_.min_position : -kUnbounded,
+                   bounded ? limits_.max_position : kUnbounded, limits_.has_velocity_limits, last_,
+                   limits_.max_velocity * dt);
   return last_;
 }
 
 double JointSaturation::clipVelocity(double command, double dt) {
   const bool bounded = limits_.has_velocity_limits;
-  last_ = saturate(command, bounded ? -limits_.max_velocity : -kUnbounded, bounded ? limits_.max_velocity : kUnbounded,
-                   limits_.has_acceleration_limits, std::isnan(last_) ? 0.0 : last_, limits_.max_acceleration * dt);
+  last_ = saturate(command, bounded ? -limits_.max_velocity : -kUnbounded,
+                   bounded ? limits_.max_velocity : kUnbounded, limits_.has_acceleration_limits,
+                   std::isnan(last_) ? 0.0 : last_, limits_.max_acceleration * dt);
   return last_;
 }
 

@@ -1,6 +1,6 @@
 // A joint's limits as joint_limits_interface (Noetic) reads and enforces them for Gazebo's DefaultRobotHWSim:
-// the URDF's <limit> first, then the joint_limits/<joint> parameters over it; the saturation handles clip each
-// command before it reaches the joint.
+// the URDF's <limit> first, then the joint_limits/<joint> parameters over it; the saturation handles clip
+// each command before it reaches the joint.
 #pragma once
 
 #include <limits>
@@ -30,8 +30,8 @@ struct JointLimits {
   /// zero velocity or effort limit as none given).
   static bool fromUrdf(const JointSpec& joint, JointLimits* limits);
   /// Overrides `limits` with joint_limits/<joint> (`parameters` is that subtree): each has_* flag with its
-  /// value, as joint_limits_rosparam.h reads them. False when there is no such subtree. Throws SpecError for a
-  /// value of the wrong kind.
+  /// value, as joint_limits_rosparam.h reads them. False when there is no such subtree. Throws SpecError for
+  /// a value of the wrong kind.
   static bool fromParameters(const ParameterTree& parameters, JointLimits* limits);
 
   /// [N m] or [N]: max_effort, or no bound.
@@ -43,7 +43,8 @@ struct JointLimits {
 /// joint_limits_interface's saturation handle for one joint and interface: clips commands to the limits.
 class JointSaturation {
  public:
-  JointSaturation(JointInterface interface, const JointLimits& limits) : interface_(interface), limits_(limits) {}
+  JointSaturation(JointInterface interface, const JointLimits& limits)
+      : interface_(interface), limits_(limits) {}
 
   /// The command `command` clipped for a joint at `position` and `velocity`, `dt` [s] after the last one.
   double clip(double command, double position, double velocity, double dt);

@@ -31,7 +31,8 @@ JointStateController::JointStateController(const ControllerSetup& setup)
     if (!joint) {
       std::vector<std::string> known;
       for (const auto& driven : hardware().joints()) known.push_back(driven.name);
-      throw std::invalid_argument("joints names [" + name + "], which has no transmission ros_control drives" +
+      throw std::invalid_argument("joints names [" + name +
+                                  "], which has no transmission ros_control drives" +
                                   didYouMean(name, known));
     }
     joints_.push_back(joint);

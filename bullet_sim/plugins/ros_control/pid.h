@@ -1,6 +1,6 @@
-// control_toolbox's Pid (Noetic), which ros_control's effort controllers and Gazebo's pid_gains use: gains p, i,
-// d, i_clamp (or i_clamp_min and i_clamp_max) and antiwindup from the parameter server, the same integral clamp
-// and the same derivative of the error.
+// control_toolbox's Pid (Noetic), which ros_control's effort controllers and Gazebo's pid_gains use: gains p,
+// i, d, i_clamp (or i_clamp_min and i_clamp_max) and antiwindup from the parameter server, the same integral
+// clamp and the same derivative of the error.
 #pragma once
 
 #include <optional>
@@ -21,8 +21,8 @@ class Pid {
  public:
   explicit Pid(const PidGains& gains) : gains_(gains) {}
 
-  /// The gains under `parameters` (p required; i, d, i_clamp, i_clamp_min, i_clamp_max, antiwindup), or nullopt
-  /// when there is no p. Throws SpecError for a value of the wrong kind.
+  /// The gains under `parameters` (p required; i, d, i_clamp, i_clamp_min, i_clamp_max, antiwindup), or
+  /// nullopt when there is no p. Throws SpecError for a value of the wrong kind.
   static std::optional<PidGains> gainsFrom(const ParameterTree& parameters);
 
   /// The command for `error` after `dt` [s] since the last one; the error's derivative is estimated from the

@@ -45,13 +45,20 @@ class PidArm {
     options.parameters = &parameters_;
     return options;
   }
-  void start(const std::string& controller) { test::startControllers(*manager_, {controller}, simulation_.time()); }
+  void start(const std::string& controller) {
+    test::startControllers(*manager_, {controller}, simulation_.time());
+  }
   void command(const std::string& controller, double value) {
-    const auto& handler = std::get<InputHandler<Float64Command>>(manager_->find(controller)->ports().inputs.at(0).sink);
+    const auto& handler =
+        std::get<InputHandler<Float64Command>>(manager_->find(controller)->ports().inputs.at(0).sink);
     ASSERT_EQ(handler({value}, simulation_.time()), "");
   }
-  double position(const std::string& joint) { return robot_->body().jointPosition(robot_->body().jointIndex(joint)); }
-  double velocity(const std::string& joint) { return robot_->body().jointVelocity(robot_->body().jointIndex(joint)); }
+  double position(const std::string& joint) {
+    return robot_->body().jointPosition(robot_->body().jointIndex(joint));
+  }
+  double velocity(const std::string& joint) {
+    return robot_->body().jointVelocity(robot_->body().jointIndex(joint));
+  }
   void stepFor(double seconds) {
     for (long k = std::lround(seconds / simulation_.stepSize()); k > 0; --k) simulation_.step();
   }

@@ -11,7 +11,8 @@ namespace {
 /// The gains under the controller's pid/, which must give p.
 PidGains requiredGains(const ControllerSetup& setup) {
   const auto gains = Pid::gainsFrom(setup.parameters.at("pid"));
-  if (!gains) throw std::invalid_argument("pid/p is not set: give the PID gains p, i, d and i_clamp under pid/");
+  if (!gains)
+    throw std::invalid_argument("pid/p is not set: give the PID gains p, i, d and i_clamp under pid/");
   return *gains;
 }
 

@@ -70,9 +70,11 @@ void RobotHardware::read(const RobotBody& body) {
 }
 
 void RobotHardware::write(RobotBody& body, double dt, bool e_stop) {
-  if (!primed_) {  // position joints stay where they are until a controller moves them (Gazebo snaps them to 0)
+  if (!primed_) {  // position joints stay where they are until a controller moves them (Gazebo snaps them to
+                   // 0)
     for (size_t j = 0; j < joints_.size(); ++j) {
-      if (joints_[j].interface == JointInterface::kPosition) joints_[j].command = body.jointPosition(drives_[j].index);
+      if (joints_[j].interface == JointInterface::kPosition)
+        joints_[j].command = body.jointPosition(drives_[j].index);
     }
     primed_ = true;
   }
@@ -83,7 +85,8 @@ void RobotHardware::write(RobotBody& body, double dt, bool e_stop) {
     Drive& drive = drives_[j];
     if (e_stop_begins) drive.hold = joint.position;
     if (e_stop && joint.interface == JointInterface::kPosition) joint.command = drive.hold;
-    if (drive.saturation) joint.command = drive.saturation->clip(joint.command, joint.position, joint.velocity, dt);
+    if (drive.saturation)
+      joint.command = drive.saturation->clip(joint.command, joint.position, joint.velocity, dt);
     if (drive.pid) {
       body.setJointEffort(drive.index, pidEffort(joint, drive, dt, e_stop));
       continue;

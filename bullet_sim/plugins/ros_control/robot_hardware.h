@@ -1,12 +1,12 @@
-// Gazebo's DefaultRobotHWSim (gazebo_ros_control, Noetic), ROS-free: the joints ros_control drives, each through
-// the interface its transmission names. Their state is read each control period; their commands are written
-// every step, clipped to the joint's limits first (joint_limits_interface's saturation):
+// Gazebo's DefaultRobotHWSim (gazebo_ros_control, Noetic), ROS-free: the joints ros_control drives, each
+// through the interface its transmission names. Their state is read each control period; their commands are
+// written every step, clipped to the joint's limits first (joint_limits_interface's saturation):
 //   effort:   pushed with the command (0 during an e-stop);
 //   velocity: a velocity motor as strong as the effort limit (held at 0 during an e-stop);
 //   position: held at the command (where it was when an e-stop began; where it was spawned until the first
 //             command, where Gazebo snaps it to 0);
-//   with gazebo_ros_control/pid_gains/<joint> (p, i, d, i_clamp, ...) a velocity or position joint is pushed by
-//   a PID loop on its velocity or position instead, within the effort limit.
+//   with gazebo_ros_control/pid_gains/<joint> (p, i, d, i_clamp, ...) a velocity or position joint is pushed
+//   by a PID loop on its velocity or position instead, within the effort limit.
 #pragma once
 
 #include <optional>

@@ -27,7 +27,8 @@ TagTable rosControlTags() {
        "a std_msgs/Bool topic: true is an emergency stop that holds every joint; none when absent", ""},
       {"robotSimType", TagType::kText, kDefaultSimType, "", "the RobotHWSim plugin that drives the joints",
        "only its default is simulated: another is an error"},
-      {"legacyModeNS", TagType::kIgnored, "", "", "not read on Noetic; Kinetic's made DefaultRobotHWSim ignore robotNamespace",
+      {"legacyModeNS", TagType::kIgnored, "", "",
+       "not read on Noetic; Kinetic's made DefaultRobotHWSim ignore robotNamespace",
        "ignored with a warning"},
       {"wheelModel", TagType::kText, "", "", "not read (bullet_sim's tag)",
        "the robot's wheel-ground model, contact or raycast; when absent, chosen by the controllers and "
@@ -75,20 +76,24 @@ std::optional<DrivenJoint> drivenJoint(const TransmissionSpec& transmission, con
   }
   const std::string& name = joint.hardware_interfaces.front();
   if (joint.hardware_interfaces.size() > 1) {
-    diagnostics.warning(head + " joint [" + joint.name + "] names several hardware interfaces: DefaultRobotHWSim "
-                        "drives it through the first, [" + name + "]");
+    diagnostics.warning(head + " joint [" + joint.name +
+                        "] names several hardware interfaces: DefaultRobotHWSim "
+                        "drives it through the first, [" +
+                        name + "]");
   }
   bool deprecated = false;
   const auto interface = interfaceNamed(name, &deprecated);
   if (!interface) {
-    diagnostics.error(head + " joint [" + joint.name + "] <hardwareInterface> [" + name +
-                      "] is not one DefaultRobotHWSim drives: use hardware_interface/EffortJointInterface, "
-                      "hardware_interface/VelocityJointInterface or hardware_interface/PositionJointInterface");
+    diagnostics.error(
+        head + " joint [" + joint.name + "] <hardwareInterface> [" + name +
+        "] is not one DefaultRobotHWSim drives: use hardware_interface/EffortJointInterface, "
+        "hardware_interface/VelocityJointInterface or hardware_interface/PositionJointInterface");
     return std::nullopt;
   }
   if (deprecated) {
     diagnostics.warning(head + " joint [" + joint.name + "] <hardwareInterface> [" + name +
-                        "] is the deprecated spelling of [hardware_interface/" + name + "]: it is read as that");
+                        "] is the deprecated spelling of [hardware_interface/" + name +
+                        "]: it is read as that");
   }
   return DrivenJoint{joint.name, *interface};
 }
@@ -117,8 +122,8 @@ std::vector<DrivenJoint> withoutFollowers(const std::vector<DrivenJoint>& joints
   for (const DrivenJoint& joint : joints) {
     const JointSpec* spec = model.joint(joint.name);
     if (spec && spec->mimic) {
-      warnings.push_back("joint [" + joint.name + "] follows [" + spec->mimic->joint + "] by " + spec->mimic->source +
-                         ": ros_control does not drive it, its coupling does");
+      warnings.push_back("joint [" + joint.name + "] follows [" + spec->mimic->joint + "] by " +
+                         spec->mimic->source + ": ros_control does not drive it, its coupling does");
     } else {
       driven.push_back(joint);
     }
@@ -158,7 +163,8 @@ void parseRosControl(const DeclarationSource& source, RosControlConfig& config) 
                              " is simulated (leave the tag out to use it)");
   }
   if (tags.has("legacyModeNS")) {
-    source.diagnostics.warning(tags.where() + " <legacyModeNS> is gone from Noetic's gazebo_ros_control: ignored");
+    source.diagnostics.warning(tags.where() +
+                               " <legacyModeNS> is gone from Noetic's gazebo_ros_control: ignored");
   }
   config.wheel_model = tags.text("wheelModel");
   if (!config.wheel_model.empty() && config.wheel_model != "contact" && config.wheel_model != "raycast") {
@@ -188,7 +194,8 @@ std::string rosControlWheelModel(const RosControlConfig& config, const ModelSpec
   std::string pushed;  // a joint other than a wheel that is pushed by effort
   for (const auto& joint : config.joints) {
     if (wheels.count(joint.name) || !pushed.empty()) continue;
-    const bool pid = Pid::gainsFrom(robot_parameters.at("gazebo_ros_control/pid_gains/" + joint.name)).has_value();
+    const bool pid =
+        Pid::gainsFrom(robot_parameters.at("gazebo_ros_control/pid_gains/" + joint.name)).has_value();
     if (joint.interface == JointInterface::kEffort || pid) pushed = joint.name;
   }
   if (config.wheel_model == "raycast" && !pushed.empty()) {
@@ -213,8 +220,8 @@ RosControl::RosControl(const PluginDeclaration& declaration, const RosControlCon
   for (const auto& warning : warnings) {
     if (setup.diagnostics) setup.diagnostics->warning(where() + ": " + warning);
   }
-  manager_ = std::make_unique<ControllerManager>(*hardware_, ControllerRegistry::builtin(), setup.parameters, ns,
-                                                 setup.body.spec());
+  manager_ = std::make_unique<ControllerManager>(*hardware_, ControllerRegistry::builtin(), setup.parameters,
+                                                 ns, setup.body.spec());
   if (!config.e_stop_topic.empty()) {
     addInput<BoolCommand>(config.e_stop_topic, [this](const BoolCommand& command, double) {
       e_stop_ = command.data;
@@ -225,10 +232,11 @@ RosControl::RosControl(const PluginDeclaration& declaration, const RosControlCon
 }
 
 void RosControl::serveControllerManager() {
-  addService<LoadControllerRequest>("controller_manager/load_controller",
-                                    [this](const LoadControllerRequest& request, LoadControllerRequest::Reply& reply) {
-                                      return manager_->load(request.name, &reply.warnings);
-                                    });
+  addService<LoadControllerRequest>(
+      "controller_manager/load_controller",
+      [this](const LoadControllerRequest& request, LoadControllerRequest::Reply& reply) {
+        return manager_->load(request.name, &reply.warnings);
+      });
   addService<UnloadControllerRequest>("controller_manager/unload_controller",
                                       [this](const UnloadControllerRequest& request) {
                                         return manager_->unload(request.name);
@@ -238,11 +246,12 @@ void RosControl::serveControllerManager() {
       [this](const SwitchControllerRequest& request, SwitchControllerRequest::Reply& reply) {
         return switchControllers(request, &reply.warnings);
       });
-  addService<ListControllersRequest>("controller_manager/list_controllers",
-                                     [this](const ListControllersRequest&, ListControllersRequest::Reply& reply) {
-                                       reply.controllers = manager_->list();
-                                       return std::string();
-                                     });
+  addService<ListControllersRequest>(
+      "controller_manager/list_controllers",
+      [this](const ListControllersRequest&, ListControllersRequest::Reply& reply) {
+        reply.controllers = manager_->list();
+        return std::string();
+      });
   addService<ListControllerTypesRequest>(
       "controller_manager/list_controller_types",
       [this](const ListControllerTypesRequest&, ListControllerTypesRequest::Reply& reply) {
@@ -297,7 +306,8 @@ BULLET_SIM_PLUGIN_FOLDER(ros_control) {
   type.tf_prefix = TfPrefixRule::kNone;  // its controllers name their frames as their parameters say
   type.check = [](const PluginCheckInput& input) {  // urdf_doctor's: zero limits on the joints it drives
     std::vector<std::string> motors;
-    for (const DrivenJoint& joint : input.declaration.configAs<RosControlConfig>()->joints) motors.push_back(joint.name);
+    for (const DrivenJoint& joint : input.declaration.configAs<RosControlConfig>()->joints)
+      motors.push_back(joint.name);
     return checks::zeroLimitsOnMotors(
         input, motors,
         "ros_control drives it through a <transmission>, and Gazebo freezes such a joint too "
@@ -307,7 +317,8 @@ BULLET_SIM_PLUGIN_FOLDER(ros_control) {
     const auto& config = *declaration.configAs<RosControlConfig>();
     const std::string ns = rosControlNamespace(config, query.robot_name, query.robot_namespace);
     const ParameterTree parameters = query.parameters ? query.parameters->fetch("/" + ns) : ParameterTree();
-    return std::optional<std::string>(rosControlWheelModel(config, query.model, parameters, query.diagnostics));
+    return std::optional<std::string>(
+        rosControlWheelModel(config, query.model, parameters, query.diagnostics));
   };
   registrar.add(std::move(type));
 }

@@ -1,6 +1,6 @@
-// libgazebo_ros_control.so (gazebo_ros_control, Noetic), ROS-free: ros_control inside the simulator. It drives
-// the joints of the URDF's <transmission>s as Gazebo's DefaultRobotHWSim does (robot_hardware.h), and serves a
-// controller manager under <robotNamespace>/controller_manager/: load_controller, unload_controller,
+// libgazebo_ros_control.so (gazebo_ros_control, Noetic), ROS-free: ros_control inside the simulator. It
+// drives the joints of the URDF's <transmission>s as Gazebo's DefaultRobotHWSim does (robot_hardware.h), and
+// serves a controller manager under <robotNamespace>/controller_manager/: load_controller, unload_controller,
 // switch_controller, list_controllers, list_controller_types and reload_controller_libraries. Its controllers
 // read their parameters from the parameter server and update at the control period, in sim time.
 //
@@ -37,9 +37,9 @@ std::string rosControlNamespace(const RosControlConfig& config, const std::strin
                                 const std::optional<std::string>& spawn_namespace);
 
 /// The wheel model of a robot driven through ros_control. Its wheels are the joints a
-/// diff_drive_controller/DiffDriveController in its parameters (`robot_parameters`, its namespace's) names, or
-/// else its continuous joints with a velocity or effort transmission. With wheels it gets <wheelModel>, else
-/// the drive plugins' default (raycast); without, contact. Raycast moves joints other than wheels
+/// diff_drive_controller/DiffDriveController in its parameters (`robot_parameters`, its namespace's) names,
+/// or else its continuous joints with a velocity or effort transmission. With wheels it gets <wheelModel>,
+/// else the drive plugins' default (raycast); without, contact. Raycast moves joints other than wheels
 /// kinematically, so a robot that pushes such a joint by effort (an effort transmission, or pid_gains) gets
 /// contact, and asking for raycast then is an error in `diagnostics`.
 std::string rosControlWheelModel(const RosControlConfig& config, const ModelSpec& model,

@@ -206,7 +206,8 @@ Eigen::Vector3d bicycle(const Eigen::Vector3d& from, double v, double w, double 
 
 /// Where (x, y, heading) pose `to` is seen from pose `from`.
 Eigen::Vector3d travelled(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
-  const Eigen::Vector2d step = Eigen::Rotation2Dd(-from.z()) * Eigen::Vector2d(to.x() - from.x(), to.y() - from.y());
+  const Eigen::Vector2d step =
+      Eigen::Rotation2Dd(-from.z()) * Eigen::Vector2d(to.x() - from.x(), to.y() - from.y());
   return {step.x(), step.y(), to.z() - from.z()};
 }
 

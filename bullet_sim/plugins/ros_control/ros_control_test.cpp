@@ -21,7 +21,9 @@ using ::testing::IsEmpty;
 
 std::string roverUrdf() { return test::expandXacro("rover_description", "urdf/rover.urdf.xacro"); }
 
-std::string controlYaml() { return test::readFile(test::packageFile("rover_description", "config/control.yaml")); }
+std::string controlYaml() {
+  return test::readFile(test::packageFile("rover_description", "config/control.yaml"));
+}
 
 double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)); }
 
@@ -91,7 +93,8 @@ TEST(RosControl, ReadsTheRoversTransmissionsAndTags) {
   EXPECT_EQ(config->robot_namespace, "/");
   EXPECT_EQ(config->control_period, 0);
   ASSERT_EQ(config->joints.size(), 4u);
-  for (const auto& joint : config->joints) EXPECT_EQ(joint.interface, JointInterface::kVelocity) << joint.name;
+  for (const auto& joint : config->joints)
+    EXPECT_EQ(joint.interface, JointInterface::kVelocity) << joint.name;
   EXPECT_EQ(config->joints[0].name, "front_left_wheel");
 }
 
@@ -109,10 +112,12 @@ TEST(RosControl, DrivesTheRoverOnTheUnicyclesArc) {
                                  y0 - radius * (std::cos(yaw) - std::cos(yaw0)));
   const Eigen::Isometry3d end = rover.groundTruth();
   EXPECT_LT((end.translation().head<2>() - expected).norm(), 0.05)
-      << "ended at " << end.translation().head<2>().transpose() << ", the unicycle at " << expected.transpose();
+      << "ended at " << end.translation().head<2>().transpose() << ", the unicycle at "
+      << expected.transpose();
   EXPECT_NEAR(std::remainder(yawOf(end) - yaw, 2 * M_PI), 0, 0.05);
 
-  // The controller's odometry (from the wheels) agrees with the ground truth: the odom frame is the spawn pose.
+  // The controller's odometry (from the wheels) agrees with the ground truth: the odom frame is the spawn
+  // pose.
   const DiffDriveOdometry& odometry = rover.driveController().odometry();
   EXPECT_NEAR(odometry.x(), end.translation().x(), 0.05);
   EXPECT_NEAR(odometry.y(), end.translation().y(), 0.05);
@@ -124,9 +129,11 @@ TEST(RosControl, DrivesTheRoverOnTheUnicyclesArc) {
 template <class Edit>
 Diagnostics parseEdited(Edit edit) {
   const std::string urdf = test::editUrdf(roverUrdf(), [&](tinyxml2::XMLElement& robot) {
-    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo; gazebo = gazebo->NextSiblingElement("gazebo")) {
+    for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo")) {
       auto* plugin = gazebo->FirstChildElement("plugin");
-      if (plugin && std::string(plugin->Attribute("filename")) == "libgazebo_ros_control.so") edit(robot, *plugin);
+      if (plugin && std::string(plugin->Attribute("filename")) == "libgazebo_ros_control.so")
+        edit(robot, *plugin);
     }
   });
   Diagnostics diagnostics("rover");
@@ -154,13 +161,15 @@ TEST(RosControl, RefusesWhatDefaultRobotHwSimCannotDo) {
         "EffortJointInterface");
   });
   const std::string errors = all(diagnostics.errors());
-  EXPECT_THAT(errors, HasSubstr("<robotSimType> [my_robot/MyRobotHWSim] is a RobotHWSim bullet_sim does not have: "
-                                "only gazebo_ros_control/DefaultRobotHWSim is simulated"));
+  EXPECT_THAT(errors,
+              HasSubstr("<robotSimType> [my_robot/MyRobotHWSim] is a RobotHWSim bullet_sim does not have: "
+                        "only gazebo_ros_control/DefaultRobotHWSim is simulated"));
   EXPECT_THAT(errors, HasSubstr("transmission [front_left_wheel_trans] (line"));
   EXPECT_THAT(errors, HasSubstr("names joint [front_left_whel], which the robot does not have (did you mean "
                                 "[front_left_wheel]?)"));
-  EXPECT_THAT(errors, HasSubstr("joint [front_right_wheel] <hardwareInterface> "
-                                "[hardware_interface/PosVelJointInterface] is not one DefaultRobotHWSim drives"));
+  EXPECT_THAT(errors,
+              HasSubstr("joint [front_right_wheel] <hardwareInterface> "
+                        "[hardware_interface/PosVelJointInterface] is not one DefaultRobotHWSim drives"));
   EXPECT_EQ(diagnostics.errors().size(), 3u) << errors;
   const std::string warnings = all(diagnostics.warnings());
   EXPECT_THAT(warnings, HasSubstr("<legacyModeNS> is gone from Noetic's gazebo_ros_control: ignored"));
@@ -209,8 +218,10 @@ TEST(RosControl, RaycastCannotPushOtherJointsByEffort) {
   EXPECT_EQ(roverWheelModel(yaml, [](tinyxml2::XMLElement&) {}, &diagnostics), "contact");
   EXPECT_THAT(diagnostics.errors(), IsEmpty());
   const auto raycast = [](tinyxml2::XMLElement& robot) {
-    robot.FirstChildElement("gazebo")->FirstChildElement("plugin")->InsertNewChildElement("wheelModel")->SetText(
-        "raycast");
+    robot.FirstChildElement("gazebo")
+        ->FirstChildElement("plugin")
+        ->InsertNewChildElement("wheelModel")
+        ->SetText("raycast");
   };
   EXPECT_EQ(roverWheelModel(yaml, raycast, &diagnostics), "raycast");
   ASSERT_EQ(diagnostics.errors().size(), 1u);
@@ -247,8 +258,9 @@ TEST(RosControl, ControllerManagerLoadsSwitchesListsAndUnloads) {
   SwitchControllerRequest request;
   request.strictness = SwitchControllerRequest::kStrict;
   request.start = {"rover_velocity_controller", "no_such_controller"};
-  EXPECT_THAT(manager.switchControllers(request, 0, nullptr),
-              HasSubstr("could not start controller [no_such_controller]: no controller of that name is loaded"));
+  EXPECT_THAT(
+      manager.switchControllers(request, 0, nullptr),
+      HasSubstr("could not start controller [no_such_controller]: no controller of that name is loaded"));
   EXPECT_EQ(manager.list()[0].state, "initialized");  // STRICT: nothing happened
   request.strictness = SwitchControllerRequest::kBestEffort;
   EXPECT_EQ(manager.switchControllers(request, 0, nullptr), "");
@@ -287,18 +299,20 @@ TEST(RosControl, TwoControllersCannotClaimOneJoint) {
   ASSERT_EQ(rover.manager().load("second_drive", nullptr), "");
   SwitchControllerRequest request;
   request.start = {"second_drive"};
-  EXPECT_THAT(rover.manager().switchControllers(request, 0, nullptr),
-              HasSubstr("joint [front_left_wheel] would be claimed by rover_velocity_controller, second_drive"));
+  EXPECT_THAT(
+      rover.manager().switchControllers(request, 0, nullptr),
+      HasSubstr("joint [front_left_wheel] would be claimed by rover_velocity_controller, second_drive"));
   request.stop = {"rover_velocity_controller"};
   EXPECT_EQ(rover.manager().switchControllers(request, 0, nullptr), "");  // a handover is no conflict
 }
 
 TEST(RosControl, LoadControllerSaysWhatIsWrong) {
-  Rover rover(controlYaml() + "mystery:\n  type: diff_drive_controller/DiffDriveControler\n"
-                              "broken_drive:\n  type: diff_drive_controller/DiffDriveController\n"
-                              "  left_wheel: front_left_wheel\n  right_wheel: [front_right_wheel, rear_right_wheel]\n"
-                              "odd_publisher:\n  type: joint_state_controller/JointStateController\n"
-                              "  publish_rate: 10\n  publish_rat: 20\n");
+  Rover rover(controlYaml() +
+              "mystery:\n  type: diff_drive_controller/DiffDriveControler\n"
+              "broken_drive:\n  type: diff_drive_controller/DiffDriveController\n"
+              "  left_wheel: front_left_wheel\n  right_wheel: [front_right_wheel, rear_right_wheel]\n"
+              "odd_publisher:\n  type: joint_state_controller/JointStateController\n"
+              "  publish_rate: 10\n  publish_rat: 20\n");
   ControllerManager& manager = rover.manager();
   const std::string unknown = manager.load("mystery", nullptr);
   EXPECT_THAT(unknown, HasSubstr("could not load controller [mystery]: type [diff_drive_controller/"
@@ -314,9 +328,10 @@ TEST(RosControl, LoadControllerSaysWhatIsWrong) {
   EXPECT_THAT(manager.load("bad name", nullptr), HasSubstr("its name must be a ROS name"));
   std::vector<std::string> warnings;
   EXPECT_EQ(manager.load("odd_publisher", &warnings), "");
-  EXPECT_THAT(warnings, ElementsAre(HasSubstr("parameter [publish_rat] is not one "
-                                              "joint_state_controller/JointStateController reads (did you mean "
-                                              "[publish_rate]?): ignored")));
+  EXPECT_THAT(warnings,
+              ElementsAre(HasSubstr("parameter [publish_rat] is not one "
+                                    "joint_state_controller/JointStateController reads (did you mean "
+                                    "[publish_rate]?): ignored")));
   EXPECT_THAT(manager.list(), ::testing::SizeIs(1));
 }
 
@@ -326,7 +341,8 @@ TEST(RosControl, JointStatesHaveEveryWheelAtThePublishRate) {
   const auto& states = *std::get<const Stream<JointStateSample>*>(
       rover.manager().find("rover_joint_publisher")->ports().outputs.at(0).stream);
   for (int k = 0; k < 1000; ++k) rover.simulation().step();
-  // At the first update (ros_controllers starts 1.001 periods back), then every 20 ms: 0.001, 0.02, ..., 1.0 s.
+  // At the first update (ros_controllers starts 1.001 periods back), then every 20 ms: 0.001, 0.02, ..., 1.0
+  // s.
   EXPECT_EQ(states.count(), 51u);
   EXPECT_THAT(states.latest().names,
               ElementsAre("front_left_wheel", "front_right_wheel", "rear_left_wheel", "rear_right_wheel"));
@@ -334,7 +350,8 @@ TEST(RosControl, JointStatesHaveEveryWheelAtThePublishRate) {
 }
 
 TEST(RosControl, EStopHoldsTheWheelsAndResetZeroesTheOdometry) {
-  const std::string urdf = test::withPluginTags(roverUrdf(), "libgazebo_ros_control.so", {{"eStopTopic", "e_stop"}});
+  const std::string urdf =
+      test::withPluginTags(roverUrdf(), "libgazebo_ros_control.so", {{"eStopTopic", "e_stop"}});
   TreeParameters parameters(ParameterTree::fromYaml(controlYaml(), "control.yaml"));
   SimulationOptions options;
   options.parameters = &parameters;
@@ -344,7 +361,8 @@ TEST(RosControl, EStopHoldsTheWheelsAndResetZeroesTheOdometry) {
   ASSERT_EQ(plugin.ports().inputs.at(0).topic, "e_stop");
   test::startControllers(plugin.controllerManager(), {"rover_velocity_controller"}, 0);
   const auto e_stop = std::get<InputHandler<BoolCommand>>(plugin.ports().inputs.at(0).sink);
-  auto& drive = dynamic_cast<DiffDriveController&>(*plugin.controllerManager().find("rover_velocity_controller"));
+  auto& drive =
+      dynamic_cast<DiffDriveController&>(*plugin.controllerManager().find("rover_velocity_controller"));
   const auto cmd_vel = std::get<InputHandler<Twist>>(drive.ports().inputs.at(0).sink);
   Twist forward;
   forward.linear.x() = 0.5;
@@ -425,7 +443,8 @@ TEST(JointLimits, SaturationClipsEachInterfaceAsRosControlDoes) {
 TEST(RosControl, JointLimitsParametersCapTheWheels) {
   // joint_limits/<joint> in the robot's namespace overrides the URDF's 20 rad/s: a wheel commanded at
   // 1 m/s / 0.165 m = 6.1 rad/s turns at 2 rad/s, the others as commanded.
-  Rover rover(controlYaml() + "joint_limits: {front_left_wheel: {has_velocity_limits: true, max_velocity: 2.0}}\n");
+  Rover rover(controlYaml() +
+              "joint_limits: {front_left_wheel: {has_velocity_limits: true, max_velocity: 2.0}}\n");
   rover.spawnControllers({"rover_velocity_controller"});
   rover.drive(1.0, 0.0, 1.0);
   const RobotBody& body = rover.robot().body();

@@ -32,8 +32,8 @@ std::vector<PluginFinding> backwardWheels(const PluginCheckInput& input, const D
     const std::string subject = "joint [" + joint->name + "]";
     found.push_back({true, subject,
                      checks::message(subject,
-                                     "turns about " + checks::vectorText(joint->axis) + ", backwards (-y) in [" +
-                                         config.robot_base_frame + "], " + against,
+                                     "turns about " + checks::vectorText(joint->axis) +
+                                         ", backwards (-y) in [" + config.robot_base_frame + "], " + against,
                                      "write <axis xyz=\"" + checks::vectorText(-joint->axis) + "\"/>")});
   }
   return found;

@@ -386,7 +386,8 @@ BULLET_SIM_PLUGIN_FOLDER(wheeled_drive) {
   const auto driven = [](const PluginDeclaration& declaration) {
     const DriveConfig& config = *declaration.configAs<DriveConfig>();
     DrivenJoints joints{true, config.left_joints, config.right_joints, config.robot_base_frame};
-    joints.traction = Traction{driveWheels(config), config.torque, config.wheel_diameter / 2, config.acceleration};
+    joints.traction =
+        Traction{driveWheels(config), config.torque, config.wheel_diameter / 2, config.acceleration};
     return joints;
   };
   using Parser = void (*)(const DeclarationSource&, DriveConfig&);

@@ -1,7 +1,7 @@
-// The diff drive and the skid steer against closed forms: the wheelchair's drive axle follows the unicycle the
-// ramped command integrates, straight, in place and on arcs; a reversed wheel axis is compensated; the cars go
-// straight and turn the right way (at Coulomb's rate on raycast wheels); the wheels' tf. Stepped in-process,
-// no roscore.
+// The diff drive and the skid steer against closed forms: the wheelchair's drive axle follows the unicycle
+// the ramped command integrates, straight, in place and on arcs; a reversed wheel axis is compensated; the
+// cars go straight and turn the right way (at Coulomb's rate on raycast wheels); the wheels' tf. Stepped
+// in-process, no roscore.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -204,7 +204,8 @@ void checkSkidSteer(ModelSpec (*load)(const std::string&), double v, double w) {
         continue;
       }
       EXPECT_GT(actual.yaw, 0.05) << "+angular.z turns counter-clockwise";
-      if (wheel_model != "raycast") continue;  // Bullet's contact friction is no friction circle (docs/known_limitations.md)
+      if (wheel_model != "raycast")
+        continue;  // Bullet's contact friction is no friction circle (docs/known_limitations.md)
       // Turning in place, four wheels at (+-a, +-b) slide sideways: Coulomb friction balances the yaw moments
       // at w * b^2 / (a^2 + b^2). Within 15 %: the wheels need a moment to spin up.
       const auto poses = linkPosesAtZero(model);

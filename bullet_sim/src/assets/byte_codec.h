@@ -1,7 +1,8 @@
-// Values as bytes through a child process's pipe (child_process.h), and back: numbers, enums, strings, Eigen's
-// fixed-size matrices and poses, std::optional, std::vector, std::array and std::map of them, shared objects
-// (each sent once, shared again on arrival), and any struct with a `fields(archive, value)` function in
-// namespace bullet_sim that lists its members: one list serves both ways, so writer and reader cannot disagree.
+// Values as bytes through a child process's pipe (child_process.h), and back: numbers, enums, strings,
+// Eigen's fixed-size matrices and poses, std::optional, std::vector, std::array and std::map of them, shared
+// objects (each sent once, shared again on arrival), and any struct with a `fields(archive, value)` function
+// in namespace bullet_sim that lists its members: one list serves both ways, so writer and reader cannot
+// disagree.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -130,7 +131,8 @@ class ByteReader {
   void get(std::vector<T, A>& values) {
     values.resize(count(kPlainBytes<T> ? sizeof(T) : 1));
     if constexpr (kPlainBytes<T>) {
-      std::memcpy(static_cast<void*>(values.data()), take(sizeof(T) * values.size()), sizeof(T) * values.size());
+      std::memcpy(static_cast<void*>(values.data()), take(sizeof(T) * values.size()),
+                  sizeof(T) * values.size());
     } else {
       for (T& value : values) get(value);
     }

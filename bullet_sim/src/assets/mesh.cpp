@@ -165,11 +165,13 @@ TextureRef diffuseTexture(const aiScene& scene, const aiMaterial& material, cons
       ref.source = found->lexically_normal().string();
     } else {
       problem = "texture [" + std::string(name.C_Str()) + "] not found; looked for";
-      for (const fs::path& candidate : candidates) problem += " [" + candidate.lexically_normal().string() + "]";
+      for (const fs::path& candidate : candidates)
+        problem += " [" + candidate.lexically_normal().string() + "]";
     }
   }
   if (!problem.empty())
-    warnings.push_back("mesh [" + mesh_path + "]: " + problem + "; that part is drawn in its material colour");
+    warnings.push_back("mesh [" + mesh_path + "]: " + problem +
+                       "; that part is drawn in its material colour");
   return ref;
 }
 
@@ -239,7 +241,8 @@ void appendMesh(const aiMesh& sub, const aiMatrix4x4& transform, const Eigen::Ve
   const int count = static_cast<int>(mesh.triangles.size()) - first;
   if (mesh.materials.empty() || count == 0) return;
   const int material = static_cast<int>(sub.mMaterialIndex);
-  if (material >= static_cast<int>(mesh.materials.size())) throw std::runtime_error("a mesh names a material it lacks");
+  if (material >= static_cast<int>(mesh.materials.size()))
+    throw std::runtime_error("a mesh names a material it lacks");
   if (!mesh.parts.empty() && mesh.parts.back().material == material) {
     mesh.parts.back().triangle_count += count;
   } else {
@@ -253,8 +256,9 @@ ImportedMesh collectTriangles(const aiScene& scene, const std::string& path, con
                               bool with_textures, const Limits& limits) {
   ImportedMesh imported;
   readMaterials(scene, path, with_textures, imported);
-  const bool with_uvs = std::any_of(imported.textures.begin(), imported.textures.end(),
-                                    [](const TextureRef& ref) { return ref.kind != TextureRef::Kind::kNone; });
+  const bool with_uvs =
+      std::any_of(imported.textures.begin(), imported.textures.end(),
+                  [](const TextureRef& ref) { return ref.kind != TextureRef::Kind::kNone; });
   // Iterative: a file may nest nodes deeper than any stack. Node transforms place each sub-mesh (DAE and OBJ
   // files nest them); STL has just the root.
   std::vector<std::pair<const aiNode*, aiMatrix4x4>> todo{{scene.mRootNode, aiMatrix4x4()}};
@@ -301,7 +305,8 @@ std::optional<ImportedMesh> importTriangles(const std::string& path, const Eigen
       // assimp catches what it throws, running out of memory too, and says only its name.
       if (said.find("bad_alloc") != std::string::npos) {
         throw std::runtime_error(
-            "the importer (assimp) ran out of the memory it may use on it: the file is corrupt or not a mesh; "
+            "the importer (assimp) ran out of the memory it may use on it: the file is corrupt or not a "
+            "mesh; "
             "re-export it as STL, DAE or OBJ");
       }
       throw std::runtime_error(said);
@@ -333,9 +338,10 @@ TriangleMesh attachTextures(ImportedMesh imported, const std::string& path, Text
                                    ref.source, &error);
         break;
       case TextureRef::Kind::kTexels:
-        texture = textures->adopt(
-            Texture{ref.width, ref.height, std::vector<uint8_t>(ref.bytes.begin(), ref.bytes.end()), ref.source},
-            &error);
+        texture =
+            textures->adopt(Texture{ref.width, ref.height,
+                                    std::vector<uint8_t>(ref.bytes.begin(), ref.bytes.end()), ref.source},
+                            &error);
         break;
     }
     imported.mesh.materials[m].texture = texture;
@@ -385,7 +391,8 @@ std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vecto
   const ChildOutcome outcome = runInChild(
       [&] {
         std::string why;
-        const std::optional<ImportedMesh> imported = importTriangles(path, scale, textures != nullptr, limits, &why);
+        const std::optional<ImportedMesh> imported =
+            importTriangles(path, scale, textures != nullptr, limits, &why);
         if (!imported) throw std::runtime_error(why);
         return encode(*imported);
       },
@@ -393,7 +400,8 @@ std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vecto
   const auto fail = [&](const std::string& why) { return meshError(path, why, error); };
   switch (outcome.ending) {
     case ChildOutcome::Ending::kReturned:
-      if (auto imported = decode(outcome.output)) return attachTextures(std::move(*imported), path, textures, warnings);
+      if (auto imported = decode(outcome.output))
+        return attachTextures(std::move(*imported), path, textures, warnings);
       return fail("the importer's answer was garbled");
     case ChildOutcome::Ending::kThrew:
       return fail(outcome.why);

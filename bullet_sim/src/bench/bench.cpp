@@ -394,9 +394,10 @@ std::string applyRobotOptions(const std::string& description, const Options& opt
   const std::string urdf =
       options.wheel_model ? withWheelModel(description, *options.wheel_model, &drives) : description;
   if (options.wheel_model && drives == 0) {
-    throw Failure("--wheel-model: " + options.robot +
-                  " has no libgazebo_ros_diff_drive.so, libgazebo_ros_skid_steer_drive.so or "
-                  "libgazebo_ros_ackermann_drive.so plugin to set <wheelModel> in; bench drives robots through one");
+    throw Failure(
+        "--wheel-model: " + options.robot +
+        " has no libgazebo_ros_diff_drive.so, libgazebo_ros_skid_steer_drive.so or "
+        "libgazebo_ros_ackermann_drive.so plugin to set <wheelModel> in; bench drives robots through one");
   }
   if (!lidar) return urdf;
   tinyxml2::XMLDocument document;
@@ -598,7 +599,8 @@ DriveRun driveOnce(const WorldSpec& world, const ModelSpec& model, const Options
 DriveRun driveWatched(const WorldSpec& world, const ModelSpec& model, const Options& options,
                       std::vector<std::string>& warnings) {
   WebViewerOptions viewer_options;
-  viewer_options.page_dir = PackageResolver::fromEnvironment().packageDirectory("bullet_sim").value_or(".") + "/web";
+  viewer_options.page_dir =
+      PackageResolver::fromEnvironment().packageDirectory("bullet_sim").value_or(".") + "/web";
   WebViewer viewer(viewer_options, [](const ViewerCommand&) {});
   const ViewerProbe page(viewer.port());
   DriveRun run = driveOnce(world, model, options, warnings, true,
@@ -717,7 +719,9 @@ Figures drive(const Options& options, const ModelSpec& model, const WorldSpec& w
   const auto camera_run = [&]() {
     figures.camera_runs.push_back(driveOnce(world, withCamera(model, *options.camera), options, warnings));
   };
-  const auto viewer_run = [&]() { figures.viewer_runs.push_back(driveWatched(world, model, options, warnings)); };
+  const auto viewer_run = [&]() {
+    figures.viewer_runs.push_back(driveWatched(world, model, options, warnings));
+  };
   for (int i = 0; i < options.repeat; ++i) {
     if (has_lidars) figures.lidar_runs.push_back(driveOnce(world, model, options, warnings));
     if (has_lidars && options.camera) camera_run();
@@ -757,7 +761,8 @@ Figures measure(const Options& options) {
   Simulation settled(world, simulation_options);
   const Robot& robot = settled.spawn(model.name, model, options.pose);
   for (long i = 0; i < std::lround(kSettleTime / options.step); ++i) settled.step();
-  for (const auto& [plugin, sensor] : robot.sensors<RaySensor>()) figures.lidars.push_back(sensor->rayPattern(robot.body()));
+  for (const auto& [plugin, sensor] : robot.sensors<RaySensor>())
+    figures.lidars.push_back(sensor->rayPattern(robot.body()));
   if (!figures.lidars.empty()) figures.rays_per_s = measureRays(world, robot, figures.lidars, options.repeat);
   figures.peak_rss_before_render_mb = peakRssMb();
   figures.render = measureRender(settled, robot.name(), options);

@@ -68,7 +68,8 @@ void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
     }
     pushed = std::max(pushed, pushed_in_run);
     const auto sleeper = [](const LooseBodyTrack& body) { return body.asleep; };
-    asleep = std::min(asleep, static_cast<size_t>(std::count_if(run.loose.begin(), run.loose.end(), sleeper)));
+    asleep =
+        std::min(asleep, static_cast<size_t>(std::count_if(run.loose.begin(), run.loose.end(), sleeper)));
     for (const RobotTrack& robot : run.robots) {
       robot_rise = std::max(robot_rise, robot.rise_max);
       tilt = std::max(tilt, robot.tiltMax());

@@ -34,7 +34,8 @@ std::vector<StrikeRobot> strikeRobots() {
       {"smartcar_description", "urdf/smartcar.urdf.xacro"},
       {"yahboomcar_description", "urdf/yahboomcar.urdf.xacro"},
       {"tianracer_description", "urdf/tianracer.urdf.xacro"}};
-  for (const auto& [package, xacro] : shipped) robots.push_back({package, runXacro(file(package, xacro), {}), ""});
+  for (const auto& [package, xacro] : shipped)
+    robots.push_back({package, runXacro(file(package, xacro), {}), ""});
   robots.push_back({"rover_description", runXacro(file("rover_description", "urdf/rover.urdf.xacro"), {}),
                     readUrdfFile(file("rover_description", "config/control.yaml"))});
   for (const std::string name : {"caster_two_wheeler", "light_skid_steer", "tall_base"})
@@ -50,7 +51,8 @@ std::vector<StrikeCell> strikeCells() {
     for (double step : {0.001, 0.01}) {
       for (StrikeTarget target : {StrikeTarget::kWall, StrikeTarget::kDoorEdge}) {
         for (double degrees : {0.0, 30.0, 60.0}) {
-          for (double speed : {0.1, 0.5, 1.0, 2.0}) cells.push_back({model, step, speed, degrees * M_PI / 180, target});
+          for (double speed : {0.1, 0.5, 1.0, 2.0})
+            cells.push_back({model, step, speed, degrees * M_PI / 180, target});
         }
       }
       cells.push_back({model, step, 2.0, 0, StrikeTarget::kPanel});
@@ -84,12 +86,18 @@ Json cellJson(const std::string& name, const StrikeCell& cell, const StrikeOutco
   json["command_path_m"] = outcome.command_path;
   json["given_speed"] = outcome.given_speed;
   if (cell.coast) json["energy_gain_j"] = outcome.energy_gain;
-  json["bounds"] = {{"mass_kg", b.mass},           {"com_height_m", b.com_height},
-                    {"contact_height_m", b.contact_height}, {"front_m", b.front},
-                    {"rear_m", b.rear},           {"impact_energy_j", b.impact_energy},
-                    {"barrier_j", b.barrier},      {"tip_speed_mps", std::isfinite(b.tip_speed) ? Json(b.tip_speed) : Json()},
-                    {"push_n", b.push},            {"wheel_first", b.wheel_first},
-                    {"impact_tips", b.impact_tips}, {"stall_tips", b.stall_tips},
+  json["bounds"] = {{"mass_kg", b.mass},
+                    {"com_height_m", b.com_height},
+                    {"contact_height_m", b.contact_height},
+                    {"front_m", b.front},
+                    {"rear_m", b.rear},
+                    {"impact_energy_j", b.impact_energy},
+                    {"barrier_j", b.barrier},
+                    {"tip_speed_mps", std::isfinite(b.tip_speed) ? Json(b.tip_speed) : Json()},
+                    {"push_n", b.push},
+                    {"wheel_first", b.wheel_first},
+                    {"impact_tips", b.impact_tips},
+                    {"stall_tips", b.stall_tips},
                     {"climb_ratio", b.climb_ratio}};
   return json;
 }
@@ -128,7 +136,8 @@ StrikeSnapshot strikePictures(const std::string& dir, const std::string& cell) {
     std::string error;
     writePng(dir + "/" + stem + "_" + moment + "_chase.png", renderer.render(scene, 640, 480), &error);
     const double distance = (target - eye).norm();
-    scene.camera.eye = target + distance * Eigen::Vector3d::UnitZ().cross(heading) + 0.1 * distance * Eigen::Vector3d::UnitZ();
+    scene.camera.eye = target + distance * Eigen::Vector3d::UnitZ().cross(heading) +
+                       0.1 * distance * Eigen::Vector3d::UnitZ();
     if (!writePng(dir + "/" + stem + "_" + moment + "_side.png", renderer.render(scene, 640, 480), &error))
       std::cerr << "bench: " << error << "\n";
   };
@@ -154,8 +163,9 @@ Json strikeMatrixReport(const StrikeMatrixOptions& options) {
     for (const StrikeCell& cell : strikeCells()) {
       const std::string name = cellName(robot, cell);
       if (!matches(name, options.filter)) continue;
-      const StrikeOutcome outcome = runStrike(
-          robot, cell, world, options.render_dir.empty() ? StrikeSnapshot() : strikePictures(options.render_dir, name));
+      const StrikeOutcome outcome =
+          runStrike(robot, cell, world,
+                    options.render_dir.empty() ? StrikeSnapshot() : strikePictures(options.render_dir, name));
       if (!options.render_dir.empty()) writeTrail(options.render_dir, name, outcome.trail);
       ++cells;
       passed += outcome.passed();
@@ -176,7 +186,8 @@ Json strikeMatrixReport(const StrikeMatrixOptions& options) {
   report["max_tilt_rad"] = tilt;
   report["max_rise_m"] = rise;
   report["max_energy_gain_j"] = energy;
-  for (const auto& [step, times] : timing) report["rtf_" + std::to_string(std::lround(step * 1000)) + "ms"] = times.first / times.second;
+  for (const auto& [step, times] : timing)
+    report["rtf_" + std::to_string(std::lround(step * 1000)) + "ms"] = times.first / times.second;
   report["failed"] = failed;
   if (options.list_cells) report["all"] = all;
   return report;

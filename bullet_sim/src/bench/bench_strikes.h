@@ -13,7 +13,7 @@ struct StrikeMatrixOptions {
   /// Every word must appear in a cell's name ("robot model 1ms 0.5m/s 30deg wall [coast]") for it to run.
   std::vector<std::string> filter;
   bool list_cells = false;  ///< every cell's figures, not only the summary and the failed cells
-  std::string render_dir;   ///< "": no pictures; else a side and a chase view of each cell, at contact and end
+  std::string render_dir;  ///< "": no pictures; else a side and a chase view of each cell, at contact and end
 };
 
 /// Runs the matrix and reports: cells run and passed, the largest tilt, rise and energy gain, the RTF at each

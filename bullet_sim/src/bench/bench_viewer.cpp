@@ -31,8 +31,9 @@ struct ViewerProbe::Impl {
   void read() {
     ws.async_read(buffer, [this](beast::error_code ec, size_t) {
       if (ec) return;
-      const bool frame = ws.got_binary() ||
-                         beast::buffers_to_string(buffer.data()).find(R"("type":"frame")") != std::string::npos;
+      const bool frame =
+          ws.got_binary() ||
+          beast::buffers_to_string(buffer.data()).find(R"("type":"frame")") != std::string::npos;
       buffer.consume(buffer.size());
       if (frame) {
         {
@@ -73,7 +74,8 @@ uint64_t ViewerProbe::frames() const {
 
 bool ViewerProbe::waitForFrames(uint64_t count, double seconds) const {
   std::unique_lock<std::mutex> lock(impl_->mutex);
-  return impl_->more.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return impl_->frames >= count; });
+  return impl_->more.wait_for(lock, std::chrono::duration<double>(seconds),
+                              [&] { return impl_->frames >= count; });
 }
 
 }  // namespace bullet_sim

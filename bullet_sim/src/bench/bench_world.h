@@ -33,8 +33,8 @@ struct WorldLoad {
   double first_step_s = 0;  ///< and then building the simulation and stepping it once
   double rss_mb = 0;        ///< this process's resident memory after that step
 };
-/// Reads `world_file` into `world` (as loadWorld does, with its `warnings` and `options`) and measures it: the
-/// world is read once, so a bench's startup_s carries one reading, as the node's does.
+/// Reads `world_file` into `world` (as loadWorld does, with its `warnings` and `options`) and measures it:
+/// the world is read once, so a bench's startup_s carries one reading, as the node's does.
 WorldLoad measureWorldLoad(const std::string& world_file, const PackageResolver& resolver, WorldSpec& world,
                            std::vector<std::string>* warnings, const WorldOptions& options);
 

@@ -76,7 +76,8 @@ void FleetWatch::sample() {
   for (size_t k = 0; k < robots_.size(); ++k) {
     RobotTrack& track = robot_tracks_[k];
     const RobotBody& body = robots_[k]->body();
-    const Eigen::Isometry3d root = root_parts_[k] >= 0 ? body.partPose(root_parts_[k]) : rootPose(*robots_[k]);
+    const Eigen::Isometry3d root =
+        root_parts_[k] >= 0 ? body.partPose(root_parts_[k]) : rootPose(*robots_[k]);
     track.rise_max = std::max(track.rise_max, root.translation().z() - track.z_start);
     track.up_min = std::min(track.up_min, root.linear()(2, 2));
   }

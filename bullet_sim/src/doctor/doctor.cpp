@@ -14,8 +14,8 @@
 #include <set>
 #include <sstream>
 
-// The doctor reads the plugins with the simulator's own config parsers, so that their checks see the same tags
-// and defaults that a spawn would.
+// The doctor reads the plugins with the simulator's own config parsers, so that their checks see the same
+// tags and defaults that a spawn would.
 #include "bullet_sim/common/diagnostics.h"
 #include "bullet_sim/model/model_geometry.h"
 #include "bullet_sim/model/model.h"
@@ -245,7 +245,8 @@ class Examination {
     }
     reportLookAlikes(look_alikes);
 
-    Diagnostics diagnostics(report_.source, /*strict=*/true);  // what Gazebo forgives silently is an error here
+    Diagnostics diagnostics(report_.source,
+                            /*strict=*/true);  // what Gazebo forgives silently is an error here
     const std::optional<ModelSpec> model =
         readModel(xml_, resolver_, registry_, diagnostics, limits_);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);
@@ -719,7 +720,8 @@ DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
 }
 
 DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
-                         const PackageResolver& resolver, const Limits& limits, const PluginRegistry& registry) {
+                         const PackageResolver& resolver, const Limits& limits,
+                         const PluginRegistry& registry) {
   return Examination(urdf_xml, source, resolver, limits, registry).run();
 }
 

@@ -64,8 +64,8 @@ void fields(A& a, OdeSettings& o) {
 }
 template <class A>
 void fields(A& a, WorldSpec& w) {
-  a(w.source, w.name, w.gravity, w.max_step_size, w.real_time_factor, w.real_time_update_rate, w.ode, w.models,
-    w.spherical_coordinates);
+  a(w.source, w.name, w.gravity, w.max_step_size, w.real_time_factor, w.real_time_update_rate, w.ode,
+    w.models, w.spherical_coordinates);
 }
 
 }  // namespace bullet_sim

@@ -455,7 +455,8 @@ class ModelParser {
         if (value && std::isfinite(*value) && *value >= 0) {
           *out = *value;
         } else {
-          diagnostics_.error(where + "<" + name + "> must be a number >= 0, not [" + (text ? text : "") + "]");
+          diagnostics_.error(where + "<" + name + "> must be a number >= 0, not [" + (text ? text : "") +
+                             "]");
         }
       };
       const auto flag = [&](bool* out) {

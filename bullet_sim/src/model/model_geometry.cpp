@@ -195,7 +195,8 @@ LinkSpec& linkNamed(ModelSpec& model, const std::string& name) {
 
 }  // namespace
 
-void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics, const std::set<std::string>& refused_links) {
+void repairBodyInertias(ModelSpec& model, Diagnostics& diagnostics,
+                        const std::set<std::string>& refused_links) {
   std::set<std::string> faulty = refused_links;  // links whose body is refused: nothing to mend
   for (const LinkSpec& link : model.links) {
     if (!link.inertial || !(link.inertial->mass < 0)) continue;

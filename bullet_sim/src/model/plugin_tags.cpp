@@ -58,12 +58,14 @@ const char* tagTypeName(TagType type) {
 }
 
 const TagRow* TagTable::row(const std::string& name) const {
-  const auto found = std::find_if(rows_.begin(), rows_.end(), [&](const TagRow& row) { return row.name == name; });
+  const auto found =
+      std::find_if(rows_.begin(), rows_.end(), [&](const TagRow& row) { return row.name == name; });
   return found == rows_.end() ? nullptr : &*found;
 }
 
 void TagTable::add(TagRow row) {
-  const auto same = std::find_if(rows_.begin(), rows_.end(), [&](const TagRow& known) { return known.name == row.name; });
+  const auto same =
+      std::find_if(rows_.begin(), rows_.end(), [&](const TagRow& known) { return known.name == row.name; });
   if (same != rows_.end()) {
     *same = std::move(row);
   } else {
@@ -167,7 +169,9 @@ double PluginTags::number(const std::string& tag, double fallback) {
   return rawNumber(tag, fallback);
 }
 
-double PluginTags::number(const std::string& tag) { return rawNumber(tag, rowNumber(tag, {TagType::kNumber})); }
+double PluginTags::number(const std::string& tag) {
+  return rawNumber(tag, rowNumber(tag, {TagType::kNumber}));
+}
 
 double PluginTags::rawNumber(const std::string& tag, double fallback) {
   const TagNode* node = find(tag);

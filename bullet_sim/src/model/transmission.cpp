@@ -54,7 +54,8 @@ class TransmissionReader {
       return true;
     }
     for (const auto& child : element.children) {
-      if (child.name == "hardwareInterface" && !child.text.empty()) joint.hardware_interfaces.push_back(child.text);
+      if (child.name == "hardwareInterface" && !child.text.empty())
+        joint.hardware_interfaces.push_back(child.text);
     }
     warnUnknown(element, kJointTags, "<joint name=\"" + joint.name + "\"> ");
     if (joint.hardware_interfaces.empty()) {
@@ -82,7 +83,8 @@ class TransmissionReader {
     }
     warnUnknown(element, kActuatorTags, "<actuator name=\"" + actuator.name + "\"> ");
     if (actuator.name.empty()) {
-      diagnostics_.warning(transmission_.where() + " <actuator name=\"\">: an actuator needs a name; skipped");
+      diagnostics_.warning(transmission_.where() +
+                           " <actuator name=\"\">: an actuator needs a name; skipped");
       return true;
     }
     transmission_.actuators.push_back(std::move(actuator));
@@ -109,7 +111,8 @@ std::string TransmissionSpec::where() const {
   return "transmission [" + name + "] (line " + std::to_string(line) + ")";
 }
 
-std::vector<TransmissionSpec> readTransmissions(const std::vector<TagNode>& elements, Diagnostics& diagnostics) {
+std::vector<TransmissionSpec> readTransmissions(const std::vector<TagNode>& elements,
+                                                Diagnostics& diagnostics) {
   std::vector<TransmissionSpec> transmissions;
   for (const auto& element : elements) {
     TransmissionSpec transmission;

@@ -229,8 +229,8 @@ struct ModelCounts {
   size_t links = 0, moving_joints = 0, shapes = 0;
 };
 
-/// Counts the links, moving joints and shapes of the <model>s at or under `element`, through <sdf>, <world> and
-/// nested <model>s only (a plugin's own XML may have a <link> of its own).
+/// Counts the links, moving joints and shapes of the <model>s at or under `element`, through <sdf>, <world>
+/// and nested <model>s only (a plugin's own XML may have a <link> of its own).
 void countModels(const tinyxml2::XMLElement& element, ModelCounts& counts) {
   for (auto* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
     const std::string name = child->Name();

@@ -742,8 +742,9 @@ class WorldConverter {
   /// the rest), with one warning per mesh URI; an error when the load is strict (~strict_models).
   void skipMissingMesh(const std::string& uri, const std::string& at, const std::string& why) {
     // model:///x and model://x are one mesh (see PackageResolver::resolve).
-    const size_t slashes = hasScheme(uri, "model") ? uri.find_first_not_of('/', std::string("model://").size())
-                                                : std::string::npos;
+    const size_t slashes = hasScheme(uri, "model")
+                               ? uri.find_first_not_of('/', std::string("model://").size())
+                               : std::string::npos;
     const std::string key = slashes == std::string::npos ? uri : "model://" + uri.substr(slashes);
     if (!missing_meshes_.insert(key).second) return;
     if (diagnostics_.strict()) {
@@ -876,8 +877,8 @@ using Load = std::function<sdf::Errors(sdf::Root&, const sdf::ParserConfig&)>;
 /// <include>, then converts the world, or with `model_to_spawn` the one model of a model's SDF.
 /// `base_directory` is where relative include and mesh paths start.
 Reading readWorld(const WorldCopies* copies, const Load& load, const std::string& source,
-                  const fs::path& base_directory, const PackageResolver& resolver, const WorldOptions& options,
-                  bool model_to_spawn) {
+                  const fs::path& base_directory, const PackageResolver& resolver,
+                  const WorldOptions& options, bool model_to_spawn) {
   Reading reading{WorldSpec(), Diagnostics(source, options.strict_models)};
   Diagnostics& diagnostics = reading.diagnostics;
   IncludeFinder finder(resolver, base_directory);

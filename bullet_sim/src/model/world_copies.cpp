@@ -131,7 +131,8 @@ void addCopies(const WorldCopies& copies, const Limits& limits, WorldSpec& world
     WorldModelSpec model = world.models[original->second];
     const std::string scope = model.name + "::";  // of its collisions' Gazebo names
     for (Collision& collision : model.collisions) {
-      if (collision.name.rfind(scope, 0) == 0) collision.name = copy.name + "::" + collision.name.substr(scope.size());
+      if (collision.name.rfind(scope, 0) == 0)
+        collision.name = copy.name + "::" + collision.name.substr(scope.size());
     }
     model.name = copy.name;
     model.pose = copy.pose;
@@ -140,7 +141,8 @@ void addCopies(const WorldCopies& copies, const Limits& limits, WorldSpec& world
   for (const auto& [original, names] : left_out) {
     std::string list;
     for (const auto& name : names) list += (list.empty() ? "[" : ", [") + name + "]";
-    diagnostics.warning("models " + list + " repeat [" + original + "], which is skipped: they are skipped too");
+    diagnostics.warning("models " + list + " repeat [" + original +
+                        "], which is skipped: they are skipped too");
   }
   size_t shapes = 0, triangles = 0;
   for (const WorldModelSpec& model : world.models) {

@@ -35,8 +35,8 @@ struct WorldCopies {
 std::optional<WorldCopies> findCopies(tinyxml2::XMLDocument& document);
 
 /// Adds each copy to `world`, after the models sdformat read: the model it repeats, renamed and placed. Poses
-/// beyond limits.max_length are errors, and so are more shapes or triangles than the limits allow. The copies of
-/// a model that is not loaded (an unknown include, skipped) are skipped too, with one warning naming them.
+/// beyond limits.max_length are errors, and so are more shapes or triangles than the limits allow. The copies
+/// of a model that is not loaded (an unknown include, skipped) are skipped too, with one warning naming them.
 void addCopies(const WorldCopies& copies, const Limits& limits, WorldSpec& world, Diagnostics& diagnostics);
 
 }  // namespace bullet_sim

@@ -33,7 +33,8 @@ btCollisionShape* BulletShapes::make(const Shape& shape, bool moving) {
         btConvexHullShape full;
         for (const auto& v : shape.mesh->vertices) full.addPoint(toBullet(v), false);
         // btShapeHull samples the shape's support points margin included: Bullet's default 4 cm margin would
-        // grow the hull by 4 cm all round (a MiR's caster forks then held its drive wheels 7 mm off the floor).
+        // grow the hull by 4 cm all round (a MiR's caster forks then held its drive wheels 7 mm off the
+        // floor).
         full.setMargin(0);
         full.recalcLocalAabb();
         btShapeHull simplified(&full);

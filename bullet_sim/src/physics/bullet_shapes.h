@@ -23,8 +23,9 @@ inline btTransform toBullet(const Eigen::Isometry3d& pose) {
 /// The pose's rotation matrix as it is (no round trip through a quaternion).
 inline btTransform toBulletExactly(const Eigen::Isometry3d& pose) {
   const Eigen::Matrix3d& r = pose.linear();
-  return btTransform(btMatrix3x3(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)),
-                     toBullet(pose.translation()));
+  return btTransform(
+      btMatrix3x3(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)),
+      toBullet(pose.translation()));
 }
 
 /// Bullet's own rotation matrix, as it is (no round trip through a quaternion).
@@ -37,9 +38,9 @@ inline Eigen::Isometry3d fromBullet(const btTransform& pose) {
   return result;
 }
 
-/// A compound whose world bounds are taken about a frame of its owner's choice (a robot's root link) instead of
-/// its own axes. A moving body's compound lies in its principal axes of inertia, which may lean far from the
-/// robot's: the wheelchair, 1.2 m long, had bounds over 1.5 m wide in the world, which overlapped every
+/// A compound whose world bounds are taken about a frame of its owner's choice (a robot's root link) instead
+/// of its own axes. A moving body's compound lies in its principal axes of inertia, which may lean far from
+/// the robot's: the wheelchair, 1.2 m long, had bounds over 1.5 m wide in the world, which overlapped every
 /// neighbour's on a grid 1.5 m apart, diagonals too, and those pairs cost ten of them 7 % of each step. The
 /// children's bounds are taken again whenever Bullet recalculates the compound's; a compound given children
 /// since keeps Bullet's bounds until then.

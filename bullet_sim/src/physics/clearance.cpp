@@ -15,7 +15,9 @@ namespace {
 /// The smallest distance of the points Bullet reports for a pair (negative when they overlap).
 struct NearestPoint : btCollisionWorld::ContactResultCallback {
   double distance;
-  explicit NearestPoint(double cap) : distance(cap) { m_closestDistanceThreshold = static_cast<btScalar>(cap); }
+  explicit NearestPoint(double cap) : distance(cap) {
+    m_closestDistanceThreshold = static_cast<btScalar>(cap);
+  }
   btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper*, int, int,
                            const btCollisionObjectWrapper*, int, int) override {
     distance = std::min(distance, static_cast<double>(point.getDistance()));

@@ -108,8 +108,9 @@ struct CompoundPlaneAlgorithm::Meeting {
 };
 
 CompoundPlaneAlgorithm::Meeting::Meeting(const btCollisionObjectWrapper& compound_in,
-                                         const btCollisionObjectWrapper& plane_in, const btDispatcherInfo& info_in,
-                                         btManifoldResult& result_in, const btRigidBody* body_in)
+                                         const btCollisionObjectWrapper& plane_in,
+                                         const btDispatcherInfo& info_in, btManifoldResult& result_in,
+                                         const btRigidBody* body_in)
     : compound(compound_in), plane(plane_in), info(info_in), result(result_in), body(body_in) {
   const WorldPlane surface = worldPlane(plane);
   const btTransform& pose = compound.getWorldTransform();
@@ -118,7 +119,8 @@ CompoundPlaneAlgorithm::Meeting::Meeting(const btCollisionObjectWrapper& compoun
   if (!body) return;
   turning = body->getAngularVelocity().length();
   gravity = body->getGravity().length();
-  linear = body->getVelocityInLocalPoint(pose.getOrigin() - body->getCenterOfMassPosition()) * pose.getBasis();
+  linear =
+      body->getVelocityInLocalPoint(pose.getOrigin() - body->getCenterOfMassPosition()) * pose.getBasis();
   angular = body->getAngularVelocity() * pose.getBasis();
 }
 
@@ -132,8 +134,8 @@ void CompoundPlaneAlgorithm::refreshManifolds(btManifoldResult& result) {
 }
 
 void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
-                                              const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
-                                              btManifoldResult* result) {
+                                              const btCollisionObjectWrapper* body1,
+                                              const btDispatcherInfo& info, btManifoldResult* result) {
   const btCollisionObjectWrapper& compound = *(swapped_ ? body1 : body0);
   const btCollisionObjectWrapper& plane = *(swapped_ ? body0 : body1);
   if (compoundOf(compound).getUpdateRevision() != revision_) restart(compoundOf(compound));
@@ -147,7 +149,8 @@ void CompoundPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* bo
       refreshManifolds(*result);
     }
   }
-  const btRigidBody* body = skips_far_children_ ? btRigidBody::upcast(compound.getCollisionObject()) : nullptr;
+  const btRigidBody* body =
+      skips_far_children_ ? btRigidBody::upcast(compound.getCollisionObject()) : nullptr;
   const Meeting meeting(compound, plane, info, *result, body);
   for (const Child& child : order_) processChild(child, meeting);
   // Bullet would now free the algorithms of children outside the plane's bounds: there are none.
@@ -220,7 +223,8 @@ void CompoundPlaneAlgorithm::processChild(const Child& child, const Meeting& mee
   btManifoldResult& result = meeting.result;
   const btCompoundShape& shape = compoundOf(compound);
   const btCollisionShape* child_shape = shape.getChildShape(child.index);
-  if (gCompoundChildShapePairCallback && !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
+  if (gCompoundChildShapePairCallback &&
+      !gCompoundChildShapePairCallback(plane.getCollisionShape(), child_shape))
     return;
   btCollisionAlgorithm* algorithm = children_[child.index];
   if (algorithm ? !readyToMeet(child, *algorithm, meeting) : staysAway(child, meeting)) return;

@@ -1,4 +1,5 @@
-// A compound shape against a plane: Bullet's compound algorithm's contacts, without its per-child bounds tests.
+// A compound shape against a plane: Bullet's compound algorithm's contacts, without its per-child bounds
+// tests.
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
@@ -23,14 +24,15 @@ struct WorldPlane;  // physics/cylinder_plane.h
 /// substep (a raycast wheel's rim, 0.5 mm over the ground while its spring holds it), which the solver would
 /// leave without impulse (contacts.h's reachableGap), and drops those it had. Such a rigid body's child
 /// skipped either way keeps no algorithm and no manifold until it comes near: the solver, the islands and the
-/// contact weighing walk every manifold in the world each step, empty or not. Every other contact is Bullet's,
-/// point for point (a rigid body's in manifolds made and freed as its children come and go: in another order).
-/// A compound without a tree keeps Bullet's own algorithm, and so do closest-point queries: this is
-/// registered for contacts only.
+/// contact weighing walk every manifold in the world each step, empty or not. Every other contact is
+/// Bullet's, point for point (a rigid body's in manifolds made and freed as its children come and go: in
+/// another order). A compound without a tree keeps Bullet's own algorithm, and so do closest-point queries:
+/// this is registered for contacts only.
 class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
  public:
-  CompoundPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& info, const btCollisionObjectWrapper* body0,
-                         const btCollisionObjectWrapper* body1, bool swapped, bool skips_far_children);
+  CompoundPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& info,
+                         const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
+                         bool swapped, bool skips_far_children);
   ~CompoundPlaneAlgorithm() override;
 
   void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
@@ -61,7 +63,7 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
   /// A child of the compound, as this meets it.
   struct Child {
     int index;         ///< in the compound
-    bool convex;       ///< met by Bullet's convex-plane algorithm or ours for cylinders: one manifold, no state
+    bool convex;  ///< met by Bullet's convex-plane algorithm or ours for cylinders: one manifold, no state
     btVector3 centre;  ///< of a sphere about it, margin included, in its own frame
     btScalar radius;   ///< taken when the pair is made: a child's shape must not grow after
     /// Its sphere reached the plane when last tested (staysAway): it tests whether it is out of reach first.
@@ -86,7 +88,8 @@ class CompoundPlaneAlgorithm : public btActivatingCollisionAlgorithm {
   /// when a rigid body's child's algorithm and manifold (and the points outOfReach drops) go. A shared
   /// manifold is always met.
   bool readyToMeet(const Child& child, btCollisionAlgorithm& algorithm, const Meeting& meeting);
-  /// Whether a rigid body's child without an algorithm is beyond or out of reach: one made now would go unmet.
+  /// Whether a rigid body's child without an algorithm is beyond or out of reach: one made now would go
+  /// unmet.
   bool staysAway(const Child& child, const Meeting& meeting) const;
   /// Frees the algorithm of the child at `index`, and its manifold.
   void release(int index);

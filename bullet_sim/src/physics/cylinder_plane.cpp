@@ -60,7 +60,8 @@ Points lowestPoints(const btCylinderShape& cylinder, const btTransform& pose, co
 WorldPlane worldPlane(const btCollisionObjectWrapper& plane) {
   const auto& shape = *static_cast<const btStaticPlaneShape*>(plane.getCollisionShape());
   const btTransform& pose = plane.getWorldTransform();
-  return {pose.getBasis() * shape.getPlaneNormal(), pose * (shape.getPlaneNormal() * shape.getPlaneConstant())};
+  return {pose.getBasis() * shape.getPlaneNormal(),
+          pose * (shape.getPlaneNormal() * shape.getPlaneConstant())};
 }
 
 CylinderPlaneAlgorithm::CylinderPlaneAlgorithm(btPersistentManifold* manifold,

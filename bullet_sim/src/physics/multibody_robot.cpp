@@ -240,8 +240,10 @@ btMultiBodyJointMotor* MultiBodyRobot::motorFor(Joint& joint) {
 
 void MultiBodyRobot::beforeSubstep(double) {
   for (const auto& joint : joints_) {
-    const double damping = joint.spec->damping > 0 ? joint.spec->damping * body_->getJointVel(joint.bullet_link) : 0.0;
-    if (joint.step_effort != 0 || damping != 0) body_->addJointTorque(joint.bullet_link, joint.step_effort - damping);
+    const double damping =
+        joint.spec->damping > 0 ? joint.spec->damping * body_->getJointVel(joint.bullet_link) : 0.0;
+    if (joint.step_effort != 0 || damping != 0)
+      body_->addJointTorque(joint.bullet_link, joint.step_effort - damping);
   }
   for (size_t k = 0; k < parts_.size(); ++k) {
     const auto& [force, torque] = part_wrenches_[k];
@@ -301,7 +303,8 @@ SubstepLimit MultiBodyRobot::substepLimit() const {
     const double seconds = kLightLinkTime * std::sqrt(frames_[k].mass / total);
     if (seconds >= limit.seconds) continue;
     std::ostringstream reason;
-    reason << "link [" << parts_[k].root_link << "] of " << frames_[k].mass << " kg on a robot of " << total << " kg";
+    reason << "link [" << parts_[k].root_link << "] of " << frames_[k].mass << " kg on a robot of " << total
+           << " kg";
     limit = {seconds, reason.str()};
   }
   return limit;

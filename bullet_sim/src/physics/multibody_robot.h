@@ -81,7 +81,8 @@ class MultiBodyRobot : public PhysicsRobot {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
-    btMultiBodyGearConstraint* coupling = nullptr;  ///< to the joint it mimics, if any; owned by `constraints_`
+    btMultiBodyGearConstraint* coupling =
+        nullptr;                             ///< to the joint it mimics, if any; owned by `constraints_`
     double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step (setJointEffort)
     double applied_effort = 0;               ///< and in the last one
     double step_effort = 0;  ///< [N m] or [N] pushed with through the coming step, applyJointEffort's too

@@ -25,11 +25,11 @@ constexpr int kMaxSubsteps = 1000;  // per step: a limit so short it would stall
 }  // namespace
 
 namespace {
-/// Two boxes meet by clipping one's face against the other's (Bullet's convex-convex algorithm over the boxes'
-/// faces), keeping the points within reach as well as the touching ones: Bullet's box-box detector keeps only
-/// the touching ones, so a robot body a hair off square took a whole strike on its lower edge (and tipped
-/// back) before its upper edge touched. A box gets its faces when it first meets another, not at load: 10,000
-/// static boxes took a second more to load.
+/// Two boxes meet by clipping one's face against the other's (Bullet's convex-convex algorithm over the
+/// boxes' faces), keeping the points within reach as well as the touching ones: Bullet's box-box detector
+/// keeps only the touching ones, so a robot body a hair off square took a whole strike on its lower edge (and
+/// tipped back) before its upper edge touched. A box gets its faces when it first meets another, not at load:
+/// 10,000 static boxes took a second more to load.
 struct BoxBoxCreateFunc : public btCollisionAlgorithmCreateFunc {
   btCollisionAlgorithmCreateFunc* convex = nullptr;
   btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& info,
@@ -49,8 +49,8 @@ struct PhysicsWorld::Engine {
   Engine() {
     CylinderPlaneAlgorithm::registerWith(dispatcher, cylinder_plane, plane_cylinder);
     CompoundPlaneAlgorithm::registerWith(dispatcher, configuration, compound_plane, plane_compound);
-    box_box.convex =
-        configuration.getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE);
+    box_box.convex = configuration.getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE,
+                                                                   CONVEX_HULL_SHAPE_PROXYTYPE);
     dispatcher.registerCollisionCreateFunc(BOX_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE, &box_box);
   }
   btDefaultCollisionConfiguration configuration;
@@ -112,8 +112,8 @@ class FreeIslandsDirect : public MultiBodyInplaceSolverIslandCallback {
  public:
   using MultiBodyInplaceSolverIslandCallback::MultiBodyInplaceSolverIslandCallback;
 
-  void processIsland(btCollisionObject** bodies, int count, btPersistentManifold** manifolds, int manifold_count,
-                     int island) override {
+  void processIsland(btCollisionObject** bodies, int count, btPersistentManifold** manifolds,
+                     int manifold_count, int island) override {
     if (island < 0 || manifold_count > 0 || m_numConstraints > 0 || !allFree(bodies, count)) {
       MultiBodyInplaceSolverIslandCallback::processIsland(bodies, count, manifolds, manifold_count, island);
       return;
@@ -134,7 +134,8 @@ class FreeIslandsDirect : public MultiBodyInplaceSolverIslandCallback {
   /// Rigid bodies with mass whose gyroscopic term is the default one: no multibody link, which the
   /// multibody solver steps, and so no multibody constraint either.
   static bool allFree(btCollisionObject** bodies, int count) {
-    constexpr int kOtherGyroscopic = BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD;
+    constexpr int kOtherGyroscopic =
+        BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD;
     for (int k = 0; k < count; ++k) {
       const btRigidBody* body = btRigidBody::upcast(bodies[k]);
       if (!body || body->getInvMass() == 0 || (body->getFlags() & kOtherGyroscopic)) return false;
@@ -375,7 +376,8 @@ void PhysicsWorld::fitSubsteps() {
 
 void PhysicsWorld::forgetContacts() {
   btDispatcher& dispatcher = *world_->getDispatcher();
-  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) dispatcher.getManifoldByIndexInternal(m)->clearManifold();
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
+    dispatcher.getManifoldByIndexInternal(m)->clearManifold();
 }
 
 void PhysicsWorld::setStepSize(double step_size) {
@@ -398,13 +400,14 @@ void PhysicsWorld::setModelPose(size_t model, const Eigen::Isometry3d& pose) {
     if (placement.child < 0) {
       object.setWorldTransform(transform);
     } else {  // its cell's bounds are recomputed once below
-      static_cast<btCompoundShape*>(object.getCollisionShape())->updateChildTransform(placement.child, transform,
-                                                                                     false);
+      static_cast<btCompoundShape*>(object.getCollisionShape())
+          ->updateChildTransform(placement.child, transform, false);
     }
     if (std::find(moved.begin(), moved.end(), &object) == moved.end()) moved.push_back(&object);
   }
   for (btCollisionObject* object : moved) {
-    if (auto* compound = dynamic_cast<btCompoundShape*>(object->getCollisionShape())) compound->recalculateLocalAabb();
+    if (auto* compound = dynamic_cast<btCompoundShape*>(object->getCollisionShape()))
+      compound->recalculateLocalAabb();
     world_->updateSingleAabb(object);  // the broadphase refreshes only moving objects by itself
   }
   wakeTouching(*world_, {moved.begin(), moved.end()});  // what rested on the model's old place falls

@@ -27,15 +27,17 @@ constexpr double kVerticalAxis = 0.9;   // |axis . up| above which a continuous 
 // The suspension is integrated implicitly (stable at any substep); substeps of at most this fraction of its
 // period over 2 pi keep it as springy and damped as it is meant to be.
 constexpr double kSubstepsPerRadian = 5;
-// [m/s] at most, the speed at which a wheel's spring pushes the chassis off the ground, as the world's contacts
-// push penetrating bodies apart (PhysicsOptions::max_correcting_velocity): a wheel that finds the ground
-// above its rim (spawned under it, or a ray that steps onto a higher floor) rises onto it without a leap.
+// [m/s] at most, the speed at which a wheel's spring pushes the chassis off the ground, as the world's
+// contacts push penetrating bodies apart (PhysicsOptions::max_correcting_velocity): a wheel that finds the
+// ground above its rim (spawned under it, or a ray that steps onto a higher floor) rises onto it without a
+// leap.
 constexpr double kMaxSeparatingSpeed = 0.1;
-// A ray hit whose surface tilts more than this from the chassis's up is a wall, not ground: it carries nothing.
+// A ray hit whose surface tilts more than this from the chassis's up is a wall, not ground: it carries
+// nothing.
 constexpr double kSteepestGround = 0.7;  // [rad], 40 degrees
-// Each wheel also collides, with walls and obstacles, as a rim: its collision shape this much smaller, so that
-// it clears the ground while the spring holds the wheel (twice the sag at rest); pressed further, it meets
-// the ground as a rigid wheel would.
+// Each wheel also collides, with walls and obstacles, as a rim: its collision shape this much smaller, so
+// that it clears the ground while the spring holds the wheel (twice the sag at rest); pressed further, it
+// meets the ground as a rigid wheel would.
 constexpr double kRimInset = 2 * kSag;  // [m]
 constexpr double kRollingNormMin = 0.5;   // |axis x normal| below which a contact is on the rim's flat side
 constexpr double kOtherFriction = 1.0;    // mu of what a rim meets: static geometry's (Gazebo's default)
@@ -139,7 +141,8 @@ void RaycastRobot::buildWheels() {
         link.inertial ? joint.spec->axis.dot(link.inertial->inertia * joint.spec->axis) : 0.0;
     joint.wheel = static_cast<int>(wheels_.size());
     const double axle_inertia = std::max(inertia, 1e-6);
-    wheels_.push_back({static_cast<int>(j), *radius, axle_inertia, 1 / axle_inertia, link.surface.mu1, caster});
+    wheels_.push_back(
+        {static_cast<int>(j), *radius, axle_inertia, 1 / axle_inertia, link.surface.mu1, caster});
   }
   Diagnostics diagnostics(spec_.source);
   if (wheels_.empty()) {
@@ -250,7 +253,8 @@ void RaycastRobot::updateHubs() {
     hub_in_root_[w] = frames[link];
     // The rim follows kinematic joints (steering); a wheel's spin leaves its cylinder where it is.
     const Eigen::Isometry3d origin = spec_.links[link].collisions.front().origin;
-    compound.updateChildTransform(rim_children_[w], toBullet(body_to_root_ * hub_in_root_[w] * origin), false);
+    compound.updateChildTransform(rim_children_[w], toBullet(body_to_root_ * hub_in_root_[w] * origin),
+                                  false);
   }
   compound.recalculateLocalAabb();
   hubs_stale_ = false;
@@ -270,7 +274,8 @@ void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const
   const Eigen::Vector3d normal = (ours_is_a ? 1.0 : -1.0) * fromBullet(point.m_normalWorldOnB);  // towards us
   const Eigen::Vector3d rolling = axis.cross(normal);
   if (rolling.norm() < kRollingNormMin) return;  // the wheel's flat side: ordinary friction
-  const Eigen::Vector3d on_us = fromBullet(ours_is_a ? point.getPositionWorldOnA() : point.getPositionWorldOnB());
+  const Eigen::Vector3d on_us =
+      fromBullet(ours_is_a ? point.getPositionWorldOnA() : point.getPositionWorldOnB());
   // The rim's surface moves at spin x (point - hub) against the chassis; friction holds it to the other body.
   const Eigen::Vector3d surface = (axis * joint.velocity).cross(on_us - hub.translation());
   const Eigen::Vector3d direction = rolling.normalized();
@@ -344,7 +349,8 @@ void RaycastRobot::beforeSubstep(double substep) {
 }
 
 SubstepLimit RaycastRobot::substepLimit() const {
-  const double frequency = std::sqrt(std::abs(world_.getGravity().z()) / kSag);  // [rad/s] of each wheel's spring
+  const double frequency =
+      std::sqrt(std::abs(world_.getGravity().z()) / kSag);  // [rad/s] of each wheel's spring
   std::ostringstream reason;
   reason << "the raycast suspension's " << std::lround(frequency) << " rad/s";
   return {1 / (kSubstepsPerRadian * frequency), reason.str()};
@@ -426,12 +432,14 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     contact.forward = row(offset, forward);
     contact.lateral = row(offset, up.cross(forward));
     // One mass for both directions: with a mass each, the clamped impulse would settle along M * slip, not
-    // against the slip, and skid steering would turn off Coulomb's rate (issue 29). The smaller one is stable.
-    // A rim its motor holds passes the whole forward impulse to the chassis; a slipping one also spins.
+    // against the slip, and skid steering would turn off Coulomb's rate (issue 29). The smaller one is
+    // stable. A rim its motor holds passes the whole forward impulse to the chassis; a slipping one also
+    // spins.
     const double lateral_mass = 1 / contact.lateral.inverse_mass;
     contact.grip_mass_held = std::min(1 / contact.forward.inverse_mass, lateral_mass);
-    contact.grip_mass_free = std::min(
-        1 / (contact.forward.inverse_mass + wheel.radius * wheel.radius * wheel.inverse_inertia), lateral_mass);
+    contact.grip_mass_free =
+        std::min(1 / (contact.forward.inverse_mass + wheel.radius * wheel.radius * wheel.inverse_inertia),
+                 lateral_mass);
   }
 }
 
@@ -452,13 +460,15 @@ void RaycastRobot::warmStart() {
 double RaycastRobot::supportWheel(size_t w) {
   Contact& contact = contacts_[w];
   if (!contact.on_ground) return 0;
-  // How fast the wheel separates from the ground at the substep's end, gravity included (Bullet adds it next).
+  // How fast the wheel separates from the ground at the substep's end, gravity included (Bullet adds it
+  // next).
   const double separating = velocityAlong(contact.normal) + gravity_speed_;
   const double wanted =
       contact.normal_impulse +
       (contact.bias - separating - contact.softness * contact.normal_impulse) * contact.soft_mass;
-  // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed: at most the impulse that
-  // leaves it separating at that speed, less than the one it has when it separates faster (a warm start's).
+  // Never pulling, and never pushing the chassis off faster than kMaxSeparatingSpeed: at most the impulse
+  // that leaves it separating at that speed, less than the one it has when it separates faster (a warm
+  // start's).
   const double most = contact.normal_impulse + (kMaxSeparatingSpeed - separating) * contact.normal_mass;
   const double total = std::clamp(wanted, 0.0, std::max(most, 0.0));
   push(contact.normal, total - contact.normal_impulse);

@@ -83,7 +83,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     double position = 0;  ///< [rad] or [m]
     double velocity = 0;  ///< [rad/s] or [m/s]; a kinematic joint moves at it
     double effort = 0;    ///< applied by the motor and pushed with in the last step
-    double external_effort = 0;  ///< setJointEffort's and applyJointEffort's, through the coming step (wheels only)
+    double external_effort =
+        0;  ///< setJointEffort's and applyJointEffort's, through the coming step (wheels only)
   };
   struct Wheel {
     int joint;
@@ -100,10 +101,11 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   /// pass only takes dot products.
   struct Row {
     Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit, in the world frame
-    Eigen::Vector3d arm = Eigen::Vector3d::Zero();        ///< offset x direction: how spin moves the point along it
-    Eigen::Vector3d turn = Eigen::Vector3d::Zero();       ///< [rad/(s N s)] the spin a unit impulse along it gives
-    Eigen::Vector3d shift = Eigen::Vector3d::Zero();      ///< [m/(s N s)] the velocity a unit impulse along it gives
-    double inverse_mass = 0;                              ///< [1/kg] the chassis's, felt at the point along it
+    Eigen::Vector3d arm = Eigen::Vector3d::Zero();  ///< offset x direction: how spin moves the point along it
+    Eigen::Vector3d turn = Eigen::Vector3d::Zero();  ///< [rad/(s N s)] the spin a unit impulse along it gives
+    Eigen::Vector3d shift =
+        Eigen::Vector3d::Zero();  ///< [m/(s N s)] the velocity a unit impulse along it gives
+    double inverse_mass = 0;      ///< [1/kg] the chassis's, felt at the point along it
   };
   /// A wheel's contact with the ground in one substep, and the impulses solved for it. A caster, which does
   /// not grip, builds only its normal row.

@@ -74,15 +74,16 @@ SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, b
   if ((config.drift.head(axes).array() < 0).any() || (config.gaussian_noise.head(axes).array() < 0).any() ||
       (config.drift_frequency.head(axes).array() < 0).any()) {
     tags.diagnostics().error(tags.where() + " <" + modelTag(prefix, "Drift") + ">, <" +
-                             modelTag(prefix, "DriftFrequency") + "> and <" + modelTag(prefix, "GaussianNoise") +
-                             "> must not be negative");
+                             modelTag(prefix, "DriftFrequency") + "> and <" +
+                             modelTag(prefix, "GaussianNoise") + "> must not be negative");
   }
   return config;
 }
 
 std::vector<TagRow> hectorBodyAndTimerRows(const std::string& rate) {
   return {
-      {"bodyName", TagType::kFrame, "the root link", "", "the link measured; the model's canonical link when absent",
+      {"bodyName", TagType::kFrame, "the root link", "",
+       "the link measured; the model's canonical link when absent",
        "a name that is no link is a warning, and the root link is measured"},
       {"updateRate", TagType::kPositive, rate, "Hz", "how often it publishes; 0: every step", ""},
       {"updatePeriod", TagType::kPositive, "1 / updateRate", "s",

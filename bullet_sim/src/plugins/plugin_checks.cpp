@@ -22,7 +22,8 @@ std::string message(const std::string& element, const std::string& problem, cons
   return element + ": " + problem + ". Fix: " + fix + ".";
 }
 
-std::vector<PluginFinding> zeroLimitsOnMotors(const PluginCheckInput& input, const std::vector<std::string>& motors,
+std::vector<PluginFinding> zeroLimitsOnMotors(const PluginCheckInput& input,
+                                              const std::vector<std::string>& motors,
                                               const std::string& note) {
   std::vector<PluginFinding> found;
   for (const ZeroLimit& limit : input.zero_limits) {
@@ -30,14 +31,15 @@ std::vector<PluginFinding> zeroLimitsOnMotors(const PluginCheckInput& input, con
     const std::string which =
         limit.attributes.size() == 2 ? "effort and velocity are" : limit.attributes.front() + " is";
     const std::string subject = "joint [" + limit.joint + "] <limit>";
-    found.push_back({true, subject,
-                     message("line " + std::to_string(limit.line) + ": " + subject,
-                             "its " + which +
-                                 " 0, yet a plugin drives it: a motor that honours the URDF limits "
-                                 "(ros_control, Gazebo's SetForce, bullet_sim's joint holder) cannot move it" +
-                                 (note.empty() ? "" : "; " + note),
-                             "give the motor's real figures, e.g. effort=\"0.2\" [N m] velocity=\"5\" [rad/s] for a "
-                             "hobby servo")});
+    found.push_back(
+        {true, subject,
+         message("line " + std::to_string(limit.line) + ": " + subject,
+                 "its " + which +
+                     " 0, yet a plugin drives it: a motor that honours the URDF limits "
+                     "(ros_control, Gazebo's SetForce, bullet_sim's joint holder) cannot move it" +
+                     (note.empty() ? "" : "; " + note),
+                 "give the motor's real figures, e.g. effort=\"0.2\" [N m] velocity=\"5\" [rad/s] for a "
+                 "hobby servo")});
   }
   return found;
 }

@@ -42,7 +42,8 @@ ParseHead readHead(const PluginType& type, const DeclarationSource& source) {
   }
   std::optional<double> tag_rate;
   for (const std::string& tag : type.rate.tags) {
-    if (type.rate.from == RateRule::From::kSensor || !tags.has(tag)) continue;  // ignored rows: nothing to read
+    if (type.rate.from == RateRule::From::kSensor || !tags.has(tag))
+      continue;  // ignored rows: nothing to read
     const double value = tags.positive(tag, 0, /*allow_zero=*/true);
     if (!tag_rate) tag_rate = value;
   }
@@ -53,7 +54,8 @@ ParseHead readHead(const PluginType& type, const DeclarationSource& source) {
     case RateRule::From::kTagsOverSensor: head.update_rate = tag_rate.value_or(sensor_rate); break;
     case RateRule::From::kSlowerOfSensorAndTags:
       head.update_rate = sensor_rate;
-      if (tag_rate && *tag_rate > 0 && (sensor_rate == 0 || *tag_rate < sensor_rate)) head.update_rate = *tag_rate;
+      if (tag_rate && *tag_rate > 0 && (sensor_rate == 0 || *tag_rate < sensor_rate))
+        head.update_rate = *tag_rate;
       break;
   }
   return head;
@@ -164,12 +166,13 @@ void applyMimicPlugins(const PluginRegistry& registry, ModelSpec& model, Diagnos
       continue;
     }
     const JointSpec::Mimic& by_plugin = coupling->second;
-    // The usual pair (<mimic> for robot_state_publisher, the plugin for Gazebo) agree; say so when they do not.
+    // The usual pair (<mimic> for robot_state_publisher, the plugin for Gazebo) agree; say so when they do
+    // not.
     if (follower->mimic && (follower->mimic->joint != by_plugin.joint ||
                             follower->mimic->multiplier != by_plugin.multiplier ||
                             follower->mimic->offset != by_plugin.offset)) {
-      diagnostics.warning(plugin.where() + " makes joint [" + follower->name + "] follow [" + by_plugin.joint +
-                          "] otherwise than its <mimic> of [" + follower->mimic->joint +
+      diagnostics.warning(plugin.where() + " makes joint [" + follower->name + "] follow [" +
+                          by_plugin.joint + "] otherwise than its <mimic> of [" + follower->mimic->joint +
                           "] says: the plugin's coupling is the one simulated");
     }
     follower->mimic = by_plugin;

@@ -67,7 +67,8 @@ void BagRecorder::open() {
   fixed_transforms_due_ = !robots_.empty();
 }
 
-void BagRecorder::addRobot(const Robot& robot, const std::string& robot_namespace, const std::string& tf_prefix) {
+void BagRecorder::addRobot(const Robot& robot, const std::string& robot_namespace,
+                           const std::string& tf_prefix) {
   RobotNames names;
   names.robot_namespace = robot_namespace;
   names.plugin_frames = [tf_prefix](const Plugin& plugin) {
@@ -78,12 +79,14 @@ void BagRecorder::addRobot(const Robot& robot, const std::string& robot_namespac
 }
 
 void BagRecorder::addRobot(const Robot& robot, RobotNames names) {
-  robots_.push_back(std::make_unique<RobotRecording>(robot, std::move(names), filter_, settings_.ground_truth_rate));
+  robots_.push_back(
+      std::make_unique<RobotRecording>(robot, std::move(names), filter_, settings_.ground_truth_rate));
   fixed_transforms_due_ = true;
 }
 
 void BagRecorder::removeRobot(const std::string& name) {
-  const auto gone = std::remove_if(robots_.begin(), robots_.end(), [&](const auto& r) { return r->name() == name; });
+  const auto gone =
+      std::remove_if(robots_.begin(), robots_.end(), [&](const auto& r) { return r->name() == name; });
   if (gone == robots_.end()) return;
   robots_.erase(gone, robots_.end());
   fixed_transforms_due_ = !robots_.empty();
@@ -102,12 +105,14 @@ void BagRecorder::writeFixedTransforms(double sim_time) {
   if (!filter_.records("/tf_static", ros::message_traits::datatype<tf2_msgs::TFMessage>())) return;
   tf2_msgs::TFMessage message;
   for (const auto& robot : robots_) {
-    for (auto& transform : robot->fixedTransforms(sim_time)) message.transforms.push_back(std::move(transform));
+    for (auto& transform : robot->fixedTransforms(sim_time))
+      message.transforms.push_back(std::move(transform));
   }
   writer_->write("/tf_static", sim_time, std::move(message), latched_tf_static_);
 }
 
-void BagRecorder::command(const Robot& robot, const RobotInput<Twist>& input, const Twist& twist, double sim_time) {
+void BagRecorder::command(const Robot& robot, const RobotInput<Twist>& input, const Twist& twist,
+                          double sim_time) {
   if (!writer_ || !writer_->recording()) return;
   for (const auto& recording : robots_) {
     if (recording->name() != robot.name()) continue;

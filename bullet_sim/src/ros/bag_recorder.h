@@ -1,7 +1,8 @@
-// The bag recorder behind the node's ~record and scenario's --bag: a run's robots as ROS would see them, in one
-// rosbag whose time is sim time. Per robot: every plugin output as the node publishes it (sensors, odometry,
-// the odom -> base transforms on /tf), its commands, its links as robot_state_publisher publishes them (fixed
-// joints on a latched /tf_static, moving ones on /tf with each joint_states sample) and its ground truth
+// The bag recorder behind the node's ~record and scenario's --bag: a run's robots as ROS would see them, in
+// one rosbag whose time is sim time. Per robot: every plugin output as the node publishes it (sensors,
+// odometry, the odom -> base transforms on /tf), its commands, its links as robot_state_publisher publishes
+// them (fixed joints on a latched /tf_static, moving ones on /tf with each joint_states sample) and its
+// ground truth
 // (<ns>/ground_truth, nav_msgs/Odometry of its root link in `world`). /clock is not recorded: `rosbag play
 // --clock` makes it from the bag's time. The bag holds no wall time, caller id or host name, so a
 // deterministic run gives the same bytes.
@@ -24,12 +25,14 @@ class BagRecorder final : public RunRecorder {
   BagRecorder(BagSettings settings, RecorderErrors errors);
   ~BagRecorder() override;
 
-  void addRobot(const Robot& robot, const std::string& robot_namespace, const std::string& tf_prefix) override;
+  void addRobot(const Robot& robot, const std::string& robot_namespace,
+                const std::string& tf_prefix) override;
   /// Records `robot`, named as `names` say (the node's parameters).
   void addRobot(const Robot& robot, RobotNames names);
   void removeRobot(const std::string& name) override;
   void afterStep(const Simulation& simulation) override;
-  void command(const Robot& robot, const RobotInput<Twist>& input, const Twist& twist, double sim_time) override;
+  void command(const Robot& robot, const RobotInput<Twist>& input, const Twist& twist,
+               double sim_time) override;
   /// A command as the node received it on `topic`, at `sim_time` [s].
   void command(const std::string& topic, const topic_tools::ShapeShifter::ConstPtr& message, double sim_time);
   void restart() override;

@@ -85,10 +85,12 @@ class BagWriter {
   static size_t serializedLength(const Message& message) {
     return ros::serialization::serializationLength(message);
   }
-  static size_t serializedLength(const topic_tools::ShapeShifter::ConstPtr& message) { return message->size(); }
+  static size_t serializedLength(const topic_tools::ShapeShifter::ConstPtr& message) {
+    return message->size();
+  }
 
-  /// Messages handed to the writer thread at once: one lock and one wake-up for many (at RTF 1, a batch of the
-  /// wheelchair's topics is 0.2 s of sim time).
+  /// Messages handed to the writer thread at once: one lock and one wake-up for many (at RTF 1, a batch of
+  /// the wheelchair's topics is 0.2 s of sim time).
   static constexpr size_t kBatch = 64;
 
   /// The writer thread: writes the jobs in order until closed.

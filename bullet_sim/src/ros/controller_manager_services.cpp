@@ -26,7 +26,8 @@ template <class Service, class Request, class Convert>
 ros::ServiceServer serveOk(ros::NodeHandle& handle, const std::string& name, ServiceHandler<Request> handler,
                            const std::string& robot, Convert convert) {
   return handle.advertiseService<typename Service::Request, typename Service::Response>(
-      name, [handler, robot, convert, name](typename Service::Request& request, typename Service::Response& response) {
+      name, [handler, robot, convert, name](typename Service::Request& request,
+                                            typename Service::Response& response) {
         typename Request::Reply reply;
         std::string refused;
         try {
@@ -97,13 +98,13 @@ ros::ServiceServer serveControllerManager(ros::NodeHandle& handle, const std::st
       [&](const auto& typed) -> ros::ServiceServer {
         using Handler = std::decay_t<decltype(typed)>;
         if constexpr (std::is_same_v<Handler, ServiceHandler<LoadControllerRequest>>) {
-          return serveOk<LoadController>(handle, name, typed, robot, [](const LoadController::Request& request) {
-            return LoadControllerRequest{request.name};
-          });
+          return serveOk<LoadController>(
+              handle, name, typed, robot,
+              [](const LoadController::Request& request) { return LoadControllerRequest{request.name}; });
         } else if constexpr (std::is_same_v<Handler, ServiceHandler<UnloadControllerRequest>>) {
-          return serveOk<UnloadController>(handle, name, typed, robot, [](const UnloadController::Request& request) {
-            return UnloadControllerRequest{request.name};
-          });
+          return serveOk<UnloadController>(
+              handle, name, typed, robot,
+              [](const UnloadController::Request& request) { return UnloadControllerRequest{request.name}; });
         } else if constexpr (std::is_same_v<Handler, ServiceHandler<SwitchControllerRequest>>) {
           return serveOk<SwitchController>(handle, name, typed, robot, toSwitch);
         } else if constexpr (std::is_same_v<Handler, ServiceHandler<ReloadControllerLibrariesRequest>>) {

@@ -140,7 +140,11 @@ const char* const kNoLights =
 
 GazeboServices::GazeboServices(ros::NodeHandle private_node, Simulation& simulation, WorldApi& world,
                                SimulationHost& host)
-    : node_(private_node), simulation_(simulation), world_(world), host_(host), ode_(odePhysicsOf(simulation.world().ode)) {
+    : node_(private_node),
+      simulation_(simulation),
+      world_(world),
+      host_(host),
+      ode_(odePhysicsOf(simulation.world().ode)) {
   const double rate = numberParam(node_, "model_states_rate", kDefaultStatesRate);
   states_period_ = rate > 0 && std::isfinite(rate) ? 1.0 / rate : 0.0;
   // Subscribers are counted as they come and go, as Gazebo does, so a step without any costs nothing.

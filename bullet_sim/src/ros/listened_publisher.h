@@ -1,8 +1,8 @@
 // A publisher that knows whether anyone listens without asking roscpp. roscpp's publish() and
-// getNumSubscribers() take the lock its network thread holds while it writes to subscribers' sockets; with ten
-// robots driving, a fifth of the node thread's switches were waits on that lock, mostly to publish topics
-// nobody subscribed to. Here roscpp's connect and disconnect callbacks keep the count, and a message nobody would
-// receive is neither built nor handed to roscpp.
+// getNumSubscribers() take the lock its network thread holds while it writes to subscribers' sockets; with
+// ten robots driving, a fifth of the node thread's switches were waits on that lock, mostly to publish topics
+// nobody subscribed to. Here roscpp's connect and disconnect callbacks keep the count, and a message nobody
+// would receive is neither built nor handed to roscpp.
 #pragma once
 
 #include <ros/ros.h>

@@ -269,7 +269,8 @@ sensor_msgs::CameraInfo toMessage(const CameraInfo& info, const FramePrefix& fra
 tf2_msgs::TFMessage toMessage(const TransformSample& sample, const FramePrefix& frames) {
   tf2_msgs::TFMessage message;
   for (const auto& frame : sample.frames) {
-    geometry_msgs::TransformStamped& transform = message.transforms.emplace_back(tf2::eigenToTransform(frame.pose));
+    geometry_msgs::TransformStamped& transform =
+        message.transforms.emplace_back(tf2::eigenToTransform(frame.pose));
     transform.header = header(sample.stamp, frames(frame.parent));
     transform.child_frame_id = frames(frame.child);
   }

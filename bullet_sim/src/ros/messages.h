@@ -30,8 +30,9 @@
 
 namespace bullet_sim {
 
-/// Frame names as a plugin publishes them, tf::resolve(tf_prefix, frame) as Noetic's gazebo_plugins name them:
-/// without leading or trailing '/', and under the tf_prefix unless the frame was written global ("/odom").
+/// Frame names as a plugin publishes them, tf::resolve(tf_prefix, frame) as Noetic's gazebo_plugins name
+/// them: without leading or trailing '/', and under the tf_prefix unless the frame was written global
+/// ("/odom").
 class FramePrefix {
  public:
   explicit FramePrefix(std::string prefix = "", std::set<std::string> global_frames = {});
@@ -42,8 +43,8 @@ class FramePrefix {
   std::set<std::string> global_frames_;
 };
 
-/// The tf_prefix of `plugin`'s frames, read by its type's rule (TfPrefixRule) from the parameter server, where
-/// `handle` is the plugin's namespace.
+/// The tf_prefix of `plugin`'s frames, read by its type's rule (TfPrefixRule) from the parameter server,
+/// where `handle` is the plugin's namespace.
 FramePrefix framePrefixOf(const ros::NodeHandle& handle, const Plugin& plugin);
 
 /// A header stamped `stamp` [s of sim time].

@@ -31,7 +31,8 @@ BagSettings settingsFrom(const ros::NodeHandle& private_node, const std::string&
   settings.topics = topicPatterns(private_node);
   settings.compression = textParam(private_node, "record_compression", settings.compression);
   const int chunk_size = wholeParam(private_node, "record_chunk_size", static_cast<int>(settings.chunk_size));
-  if (chunk_size <= 0) throw std::runtime_error("~record_chunk_size [" + std::to_string(chunk_size) + "]: give bytes > 0");
+  if (chunk_size <= 0)
+    throw std::runtime_error("~record_chunk_size [" + std::to_string(chunk_size) + "]: give bytes > 0");
   settings.chunk_size = static_cast<uint32_t>(chunk_size);
   settings.ground_truth_rate =
       numberParam(private_node, "record_ground_truth_rate", settings.ground_truth_rate);
@@ -44,7 +45,8 @@ std::string recordPath(const std::string& file) {
   if (std::filesystem::path(file).is_absolute()) return file;
   const char* ros_home = std::getenv("ROS_HOME");
   const char* home = std::getenv("HOME");
-  const std::filesystem::path base = ros_home ? ros_home : std::filesystem::path(home ? home : "/tmp") / ".ros";
+  const std::filesystem::path base =
+      ros_home ? ros_home : std::filesystem::path(home ? home : "/tmp") / ".ros";
   return (base / file).string();
 }
 
@@ -69,11 +71,13 @@ void NodeRecording::addRobot(const Robot& robot, const std::string& robot_namesp
   RobotNames names;
   names.robot_namespace = robot_namespace;
   names.plugin_frames = [robot_namespace](const Plugin& plugin) {
-    return framePrefixOf(handleIn(robot_namespace.empty() ? plugin.robotNamespace() : robot_namespace), plugin);
+    return framePrefixOf(handleIn(robot_namespace.empty() ? plugin.robotNamespace() : robot_namespace),
+                         plugin);
   };
   // robot_state_publisher, in the robot's namespace, searches tf_prefix up from there.
-  const std::string ns =
-      robot_namespace.empty() && !robot.plugins().empty() ? robot.plugins()[0]->robotNamespace() : robot_namespace;
+  const std::string ns = robot_namespace.empty() && !robot.plugins().empty()
+                             ? robot.plugins()[0]->robotNamespace()
+                             : robot_namespace;
   const ros::NodeHandle handle = handleIn(ns);
   std::string key, prefix;
   if (handle.searchParam("tf_prefix", key)) handle.getParam(key, prefix);
@@ -103,7 +107,8 @@ void NodeRecording::afterStep(const Simulation& simulation) {
 
 void NodeRecording::subscribeCommands(Commands& commands) {
   commands.revisions.clear();
-  for (const auto& plugin : commands.robot->plugins()) commands.revisions.push_back(plugin->portGroupsRevision());
+  for (const auto& plugin : commands.robot->plugins())
+    commands.revisions.push_back(plugin->portGroupsRevision());
   std::map<std::string, ros::Subscriber> subscribers;
   for (const CommandTopic& command : recorder_.commandTopics(commands.robot->name())) {
     auto kept = commands.subscribers.find(command.topic);
@@ -115,7 +120,8 @@ void NodeRecording::subscribeCommands(Commands& commands) {
         [this, topic = command.topic](const topic_tools::ShapeShifter::ConstPtr& message) {
           recorder_.command(topic, message, sim_time_());
         };
-    subscribers[command.topic] = ros::NodeHandle().subscribe<topic_tools::ShapeShifter>(command.topic, 100, record);
+    subscribers[command.topic] =
+        ros::NodeHandle().subscribe<topic_tools::ShapeShifter>(command.topic, 100, record);
   }
   commands.subscribers = std::move(subscribers);
 }

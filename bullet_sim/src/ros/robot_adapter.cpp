@@ -40,7 +40,9 @@ std::optional<JointTrajectory> fromMessage(const trajectory_msgs::JointTrajector
   return toTrajectory(message);
 }
 
-std::optional<Float64Command> fromMessage(const std_msgs::Float64& message) { return Float64Command{message.data}; }
+std::optional<Float64Command> fromMessage(const std_msgs::Float64& message) {
+  return Float64Command{message.data};
+}
 
 std::optional<Float64ArrayCommand> fromMessage(const std_msgs::Float64MultiArray& message) {
   return Float64ArrayCommand{message.data};
@@ -111,8 +113,9 @@ void RobotAdapter::checkTypeElsewhere(const Connection& plugin, const std::strin
   }
   const auto found = published_types_->find(topic);
   if (found == published_types_->end() || found->second == type || found->second == "*") return;
-  cannotConnect(plugin.where + " cannot " + what + " " + type + " on [" + topic + "]: another node publishes " +
-                found->second + " there, and ROS joins only the same types: nothing passes between them");
+  cannotConnect(plugin.where + " cannot " + what + " " + type + " on [" + topic +
+                "]: another node publishes " + found->second +
+                " there, and ROS joins only the same types: nothing passes between them");
 }
 
 void RobotAdapter::refreshPorts() {
@@ -128,8 +131,9 @@ void RobotAdapter::reconnectGroups(const Plugin& plugin) {
   const std::vector<PortGroup> groups = plugin.portGroups();
   for (auto it = groups_.begin(); it != groups_.end();) {
     const auto& [owner, id] = it->first;
-    const bool gone = owner == &plugin && std::none_of(groups.begin(), groups.end(),
-                                                       [id = id](const PortGroup& group) { return group.id == id; });
+    const bool gone =
+        owner == &plugin && std::none_of(groups.begin(), groups.end(),
+                                         [id = id](const PortGroup& group) { return group.id == id; });
     it = gone ? groups_.erase(it) : std::next(it);
   }
   for (const auto& group : groups) {
@@ -145,7 +149,8 @@ void RobotAdapter::serve(const Connection& plugin, const ServicePort& port) {
   auto& services = plugin.into.services;
   if (const auto* handler = std::get_if<ServiceHandler<EmptyRequest>>(&port.handler)) {
     services.push_back(plugin.handle.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
-        port.name, [handler = *handler, name = robot_name_](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+        port.name,
+        [handler = *handler, name = robot_name_](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
           EmptyRequest::Reply reply;
           const std::string refused = handler(EmptyRequest{}, reply);
           if (!refused.empty()) ROS_WARN("[%s] %s", name.c_str(), refused.c_str());
@@ -280,10 +285,13 @@ void RobotAdapter::advertise(const Connection& plugin, const OutputPort& port) {
 }
 
 template <class Message, class Input>
-void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, const InputHandler<Input>& handler) {
+void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port,
+                               const InputHandler<Input>& handler) {
   const std::string topic = plugin.handle.resolveName(port.topic);
-  // Throttled per topic (not per line of code): a bad stream on one topic must not hide the warning of another.
-  const auto warn = [name = robot_name_, topic, last = std::make_shared<double>(-kIgnoredInputWarningPeriod)](const std::string& why) {
+  // Throttled per topic (not per line of code): a bad stream on one topic must not hide the warning of
+  // another.
+  const auto warn = [name = robot_name_, topic,
+                     last = std::make_shared<double>(-kIgnoredInputWarningPeriod)](const std::string& why) {
     if (why.empty()) return;
     const double now = ros::Time::now().toSec();
     if (now >= *last && now < *last + kIgnoredInputWarningPeriod) return;
@@ -302,7 +310,8 @@ void RobotAdapter::subscribeAs(const Connection& plugin, const InputPort& port, 
     const std::string type = ros::message_traits::DataType<Message>::value();
     return cannotConnect(refusal(plugin.where, "subscribe", type, topic));
   }
-  checkTypeElsewhere(plugin, "subscribe to", ros::message_traits::DataType<Message>::value(), subscriber.getTopic());
+  checkTypeElsewhere(plugin, "subscribe to", ros::message_traits::DataType<Message>::value(),
+                     subscriber.getTopic());
   plugin.into.subscribers.push_back(subscriber);
   topics_.push_back(subscriber.getTopic() + " (in)");
 }
@@ -339,10 +348,11 @@ FramePrefix RobotAdapter::framesOf(const Plugin& plugin) const {
 void RobotAdapter::claimFrame(const std::string& child) {
   const auto [owner, first] = owners_.robot_of.emplace(child, robot_name_);
   if (!first && owner->second != robot_name_ && owners_.warned.insert(child + " " + robot_name_).second) {
-    ROS_WARN("robots [%s] and [%s] both publish frame [%s] on /tf: set the tf_prefix parameter in each robot's "
-             "namespace (e.g. <param name=\"tf_prefix\" value=\"%s\"/> in its <group ns>), which its plugins "
-             "and robot_state_publisher read",
-             owner->second.c_str(), robot_name_.c_str(), child.c_str(), robot_name_.c_str());
+    ROS_WARN(
+        "robots [%s] and [%s] both publish frame [%s] on /tf: set the tf_prefix parameter in each robot's "
+        "namespace (e.g. <param name=\"tf_prefix\" value=\"%s\"/> in its <group ns>), which its plugins "
+        "and robot_state_publisher read",
+        owner->second.c_str(), robot_name_.c_str(), child.c_str(), robot_name_.c_str());
   }
 }
 

@@ -1,9 +1,9 @@
 // The ROS face of one spawned robot: for every plugin, a subscription per input, a publisher per output, a
-// server per service and an action server per action, in the robot's namespace and with its frame prefix. Each
-// output type maps to its message, each input type to its subscription, each request type to its service and
-// each action type to its action server, in one place. Ports that
-// appear while the robot runs (a ros_control controller's, from its load to its unload) are connected when they
-// appear and dropped when they go. Runs between steps, on the node's thread.
+// server per service and an action server per action, in the robot's namespace and with its frame prefix.
+// Each output type maps to its message, each input type to its subscription, each request type to its service
+// and each action type to its action server, in one place. Ports that appear while the robot runs (a
+// ros_control controller's, from its load to its unload) are connected when they appear and dropped when they
+// go. Runs between steps, on the node's thread.
 #pragma once
 
 #include <image_transport/publisher.h>
@@ -99,7 +99,8 @@ class RobotAdapter {
   /// Images go through image_transport (raw only: Debian has no compressed transport).
   void advertiseImages(const Connection& plugin, const OutputPort& port, const Stream<CameraImage>* stream);
   /// camera_info comes from the camera's camera_info_manager, which serves set_camera_info.
-  void advertiseCameraInfo(const Connection& plugin, const OutputPort& port, const Stream<CameraInfo>* stream);
+  void advertiseCameraInfo(const Connection& plugin, const OutputPort& port,
+                           const Stream<CameraInfo>* stream);
   void broadcast(const Connection& plugin, const Stream<TransformSample>* stream);
   ros::NodeHandle handleFor(const std::string& plugin_namespace) const;
   /// The tf_prefix of `plugin`'s frames, read from the parameter server by its rule.

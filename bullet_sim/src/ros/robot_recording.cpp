@@ -11,7 +11,8 @@ namespace bullet_sim {
 namespace {
 
 /// The types a bag leaves out unless ~record_topics names them: they are most of its bytes.
-const std::set<std::string> kBulkyTypes = {"sensor_msgs/Image", "sensor_msgs/PointCloud2", "sensor_msgs/PointCloud"};
+const std::set<std::string> kBulkyTypes = {"sensor_msgs/Image", "sensor_msgs/PointCloud2",
+                                           "sensor_msgs/PointCloud"};
 
 template <class Message>
 std::string typeOf() {
@@ -24,9 +25,11 @@ std::string commandType(const InputSink& sink) {
       [](const auto& handler) -> std::string {
         using Handler = std::decay_t<decltype(handler)>;
         if constexpr (std::is_same_v<Handler, InputHandler<Twist>>) return "geometry_msgs/Twist";
-        if constexpr (std::is_same_v<Handler, InputHandler<JointTrajectory>>) return "trajectory_msgs/JointTrajectory";
+        if constexpr (std::is_same_v<Handler, InputHandler<JointTrajectory>>)
+          return "trajectory_msgs/JointTrajectory";
         if constexpr (std::is_same_v<Handler, InputHandler<Float64Command>>) return "std_msgs/Float64";
-        if constexpr (std::is_same_v<Handler, InputHandler<Float64ArrayCommand>>) return "std_msgs/Float64MultiArray";
+        if constexpr (std::is_same_v<Handler, InputHandler<Float64ArrayCommand>>)
+          return "std_msgs/Float64MultiArray";
         if constexpr (std::is_same_v<Handler, InputHandler<BoolCommand>>) return "std_msgs/Bool";
       },
       sink);
@@ -43,8 +46,8 @@ Eigen::Isometry3d jointTransform(const JointSpec& joint, double q) {
   return joint.origin;
 }
 
-geometry_msgs::TransformStamped linkTransform(const Eigen::Isometry3d& pose, double stamp, const std::string& parent,
-                                              const std::string& child) {
+geometry_msgs::TransformStamped linkTransform(const Eigen::Isometry3d& pose, double stamp,
+                                              const std::string& parent, const std::string& child) {
   geometry_msgs::TransformStamped transform = tf2::eigenToTransform(pose);
   transform.header = header(stamp, parent);
   transform.child_frame_id = child;
@@ -53,7 +56,8 @@ geometry_msgs::TransformStamped linkTransform(const Eigen::Isometry3d& pose, dou
 
 bool isJointStatesTopic(const std::string& topic) {
   const std::string bare = withoutSlashes(topic);
-  return bare == "joint_states" || (bare.size() > 13 && bare.compare(bare.size() - 13, 13, "/joint_states") == 0);
+  return bare == "joint_states" ||
+         (bare.size() > 13 && bare.compare(bare.size() - 13, 13, "/joint_states") == 0);
 }
 
 }  // namespace
@@ -79,7 +83,8 @@ RobotRecording::RobotRecording(const Robot& robot, RobotNames names, const Topic
     : robot_(robot), name_(robot.name()), names_(std::move(names)), filter_(filter),
       ground_truth_timer_(ground_truth_rate) {
   namespace_ = withoutSlashes(names_.robot_namespace);
-  if (namespace_.empty() && !robot.plugins().empty()) namespace_ = withoutSlashes(robot.plugins()[0]->robotNamespace());
+  if (namespace_.empty() && !robot.plugins().empty())
+    namespace_ = withoutSlashes(robot.plugins()[0]->robotNamespace());
   for (const JointSpec& joint : robot.body().spec().joints) {
     if (joint.moves()) moving_joints_[joint.name] = &joint;
   }
@@ -105,16 +110,19 @@ std::string RobotRecording::commandTopic(const Plugin& plugin, const std::string
   return !name.empty() && filter_.records(name, type) ? name : "";
 }
 
-void RobotRecording::connect(const Plugin& plugin, const PluginPorts& ports, std::vector<Output>& into) const {
+void RobotRecording::connect(const Plugin& plugin, const PluginPorts& ports,
+                             std::vector<Output>& into) const {
   for (const OutputPort& port : ports.outputs) {
-    std::visit([&](const auto* stream) { connectStream(plugin, port.topic, stream, port.demand, into); }, port.stream);
+    std::visit([&](const auto* stream) { connectStream(plugin, port.topic, stream, port.demand, into); },
+               port.stream);
   }
 }
 
 namespace {
 
-/// When a sample is recorded in the bag: a ray sensor's at its stamp (cast behind physics, it is published some
-/// steps later, SimulationOptions::lockstep), every other one at the step it was published in, its stamp.
+/// When a sample is recorded in the bag: a ray sensor's at its stamp (cast behind physics, it is published
+/// some steps later, SimulationOptions::lockstep), every other one at the step it was published in, its
+/// stamp.
 template <class Sample>
 double recordedAt(const Sample& sample, double sim_time) {
   if constexpr (std::is_same_v<Sample, LaserScan> || std::is_base_of_v<PointCloud, Sample> ||
@@ -127,8 +135,9 @@ double recordedAt(const Sample& sample, double sim_time) {
 }  // namespace
 
 template <class Sample>
-void RobotRecording::connectStream(const Plugin& plugin, const std::string& topic, const Stream<Sample>* stream,
-                                   Demand* demand, std::vector<Output>& into) const {
+void RobotRecording::connectStream(const Plugin& plugin, const std::string& topic,
+                                   const Stream<Sample>* stream, Demand* demand,
+                                   std::vector<Output>& into) const {
   const FramePrefix frames = names_.plugin_frames(plugin);
   using Message = decltype(toMessage(stream->latest(), frames));
   const std::string name = std::is_same_v<Sample, TransformSample> ? "/tf" : topicOf(plugin, topic);
@@ -142,7 +151,8 @@ void RobotRecording::connectStream(const Plugin& plugin, const std::string& topi
   into.push_back({[stream] { return stream->count(); },
                   [this, stream, frames, name, recorded, links](BagWriter& writer, double sim_time) {
                     if (recorded)
-                      writer.write(name, recordedAt(stream->latest(), sim_time), toMessage(stream->latest(), frames));
+                      writer.write(name, recordedAt(stream->latest(), sim_time),
+                                   toMessage(stream->latest(), frames));
                     if constexpr (std::is_same_v<Sample, JointStateSample>) {
                       if (links) writer.write("/tf", sim_time, movingTransforms(stream->latest()));
                     }
@@ -158,8 +168,9 @@ void RobotRecording::refreshGroups() {
     const std::vector<PortGroup> groups = watched.plugin->portGroups();
     for (auto it = groups_.begin(); it != groups_.end();) {
       const auto& [owner, id] = it->first;
-      const bool gone = owner == watched.plugin &&
-                        std::none_of(groups.begin(), groups.end(), [id = id](const PortGroup& g) { return g.id == id; });
+      const bool gone =
+          owner == watched.plugin &&
+          std::none_of(groups.begin(), groups.end(), [id = id](const PortGroup& g) { return g.id == id; });
       it = gone ? groups_.erase(it) : std::next(it);
     }
     for (const PortGroup& group : groups) {
@@ -195,7 +206,8 @@ tf2_msgs::TFMessage RobotRecording::movingTransforms(const JointStateSample& sta
     if (joint == moving_joints_.end()) continue;
     const JointSpec& spec = *joint->second;
     message.transforms.push_back(linkTransform(jointTransform(spec, states.positions[i]), states.stamp,
-                                               names_.link_frames(spec.parent), names_.link_frames(spec.child)));
+                                               names_.link_frames(spec.parent),
+                                               names_.link_frames(spec.child)));
   }
   return message;
 }
@@ -204,8 +216,8 @@ std::vector<geometry_msgs::TransformStamped> RobotRecording::fixedTransforms(dou
   std::vector<geometry_msgs::TransformStamped> transforms;
   for (const JointSpec& joint : robot_.body().spec().joints) {
     if (joint.moves()) continue;
-    transforms.push_back(
-        linkTransform(joint.origin, stamp, names_.link_frames(joint.parent), names_.link_frames(joint.child)));
+    transforms.push_back(linkTransform(joint.origin, stamp, names_.link_frames(joint.parent),
+                                       names_.link_frames(joint.child)));
   }
   return transforms;
 }

@@ -32,7 +32,8 @@ class TopicFilter {
 
 /// How a robot's topics and frames are named, as the node names them.
 struct RobotNames {
-  std::string robot_namespace;  ///< replaces its plugins' namespaces when not empty (spawn's -robot_namespace)
+  std::string
+      robot_namespace;  ///< replaces its plugins' namespaces when not empty (spawn's -robot_namespace)
   std::function<FramePrefix(const Plugin& plugin)> plugin_frames;  ///< the tf_prefix of a plugin's frames
   FramePrefix link_frames;  ///< robot_state_publisher's tf_prefix
 };
@@ -45,7 +46,8 @@ struct CommandTopic {
 
 class RobotRecording {
  public:
-  /// Records `robot` (which must outlive this) through `filter`, its ground truth at `ground_truth_rate` [Hz].
+  /// Records `robot` (which must outlive this) through `filter`, its ground truth at `ground_truth_rate`
+  /// [Hz].
   RobotRecording(const Robot& robot, RobotNames names, const TopicFilter& filter, double ground_truth_rate);
 
   const std::string& name() const { return name_; }
@@ -78,8 +80,8 @@ class RobotRecording {
 
   void connect(const Plugin& plugin, const PluginPorts& ports, std::vector<Output>& into) const;
   template <class Sample>
-  void connectStream(const Plugin& plugin, const std::string& topic, const Stream<Sample>* stream, Demand* demand,
-                     std::vector<Output>& into) const;
+  void connectStream(const Plugin& plugin, const std::string& topic, const Stream<Sample>* stream,
+                     Demand* demand, std::vector<Output>& into) const;
   /// Connects the port groups that appeared since the last call and drops those that went.
   void refreshGroups();
   void writeOutputs(std::vector<Output>& outputs, BagWriter& writer, double sim_time);

@@ -1,7 +1,7 @@
 // scenario_host: the simulator node of a launch scenario, started by `scenario` through roslaunch (it is no
-// tool of its own). It is the `simulator` node, with the scenario's world, robots, seed and pace; it holds the
-// clock until the user's nodes publish what the scenario waits for, records the run as the in-process runner
-// does, stops after the scenario's duration and writes result.json. Exit status: that of `scenario`.
+// tool of its own). It is the `simulator` node, with the scenario's world, robots, seed and pace; it holds
+// the clock until the user's nodes publish what the scenario waits for, records the run as the in-process
+// runner does, stops after the scenario's duration and writes result.json. Exit status: that of `scenario`.
 #include <ros/ros.h>
 #include <topic_tools/shape_shifter.h>
 
@@ -61,7 +61,8 @@ class Readiness {
 
 /// Sets the node's parameters from the scenario: its world, step, seed and pace, paused until ready, in
 /// lockstep, and the bag --bag asks for.
-void setParameters(const ros::NodeHandle& node, const ScenarioSpec& spec, const std::optional<BagSettings>& bag) {
+void setParameters(const ros::NodeHandle& node, const ScenarioSpec& spec,
+                   const std::optional<BagSettings>& bag) {
   node.setParam("world", spec.world);
   node.setParam("step_size", spec.step);
   node.setParam("seed", static_cast<int>(spec.seed));
@@ -106,19 +107,21 @@ int host(const ScenarioCommand& command) {
     if (static_cast<long>(simulation.steps()) >= steps) ros::shutdown();
   });
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(spec.launch->ready_timeout);
-  ros::WallTimer ready = ros::NodeHandle().createWallTimer(ros::WallDuration(kReadyPoll), [&](const ros::WallTimerEvent&) {
-    const std::string silent = readiness.silentTopic();
-    if (silent.empty()) {
-      timing.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - timing.start).count();
-      stepping = std::chrono::steady_clock::now();
-      node.setPaused(false);
-      ready.stop();
-    } else if (ros::WallTime::now() > deadline) {
-      failure = "the launch's nodes were not ready after " + std::to_string(spec.launch->ready_timeout) +
-                " s: nobody publishes [" + silent + "] (drive.launch.wait_for)";
-      ros::shutdown();
-    }
-  });
+  ros::WallTimer ready =
+      ros::NodeHandle().createWallTimer(ros::WallDuration(kReadyPoll), [&](const ros::WallTimerEvent&) {
+        const std::string silent = readiness.silentTopic();
+        if (silent.empty()) {
+          timing.setup =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - timing.start).count();
+          stepping = std::chrono::steady_clock::now();
+          node.setPaused(false);
+          ready.stop();
+        } else if (ros::WallTime::now() > deadline) {
+          failure = "the launch's nodes were not ready after " + std::to_string(spec.launch->ready_timeout) +
+                    " s: nobody publishes [" + silent + "] (drive.launch.wait_for)";
+          ros::shutdown();
+        }
+      });
   node.run();
   if (!failure.empty()) {
     writeErrorResult(out, context, failure);

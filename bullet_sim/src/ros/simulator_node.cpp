@@ -221,8 +221,8 @@ void SimulatorNode::refreshPorts() {
 bool SimulatorNode::clockDue() const {
   if (ros::WallTime::now() - last_clock_ < kClockWallPeriod) return false;
   const double since = simulation_->time() - last_clock_sim_;
-  // Gazebo's rule: every step, or once ~pub_clock_frequency's period of sim time has passed. A reset that took
-  // the time back is told at once.
+  // Gazebo's rule: every step, or once ~pub_clock_frequency's period of sim time has passed. A reset that
+  // took the time back is told at once.
   return since < 0 || since >= clock_sim_period_ - 1e-9;
 }
 

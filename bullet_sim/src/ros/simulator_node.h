@@ -1,7 +1,8 @@
 // The ROS node `simulator` (registered as `gazebo`, as gzserver is): steps the core in sim time, publishes
 // /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
 //
-// Params: ~world [empty.world], ~world_fallback [empty.world: the world loaded, with a warning naming the file
+// Params: ~world [empty.world], ~world_fallback [empty.world: the world loaded, with a warning naming the
+// file
 //   and its problems, when ~world cannot be found or read, as gzserver falls back on worlds/empty.world; ""
 //   makes that an error, as ~strict_models does for a world found but refused], ~strict_models [false: an
 //   unknown model:// include is skipped with a warning; true: an error], ~step_size and ~real_time_factor
@@ -9,10 +10,11 @@
 //   ~pub_clock_frequency [every step; as Gazebo's, in Hz of sim time; at most 1000 wall Hz, and 10 while
 //   paused], ~gui (accepted: rendering is headless), ~snapshot_dir [$ROS_HOME/snapshots], ~snapshot_period
 //   [0 sim s = off] (numbered chase-view frames), ~model_states_rate (gazebo_services.h), ~limits/<name>
-//   (common/limits.h: what a model or world may ask for), ~record and ~record_* (node_recording.h: a rosbag of
-//   the run in sim time), ~web_port and the live viewer's others (web_view.h).
+//   (common/limits.h: what a model or world may ask for), ~record and ~record_* (node_recording.h: a rosbag
+//   of the run in sim time), ~web_port and the live viewer's others (web_view.h).
 // Services: ~spawn_urdf, ~reset_simulation, ~reset_world, ~pause_physics, ~unpause_physics, ~snapshot (a PNG
-//   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API (gazebo_services.h).
+//   under ~snapshot_dir; rendered between steps, never inside one), and Gazebo's world API
+//   (gazebo_services.h).
 #pragma once
 
 #include <ros/ros.h>
@@ -114,7 +116,8 @@ class SimulatorNode final : public SimulationHost {
 
   double real_time_factor_ = 1.0;  ///< the pace: the step size times the physics' max_update_rate
   bool paused_ = false;
-  double clock_sim_period_ = 0;  ///< [s] of sim time between /clock messages (~pub_clock_frequency); 0: each step
+  double clock_sim_period_ =
+      0;  ///< [s] of sim time between /clock messages (~pub_clock_frequency); 0: each step
   ros::WallTime last_clock_;
   double last_clock_sim_ = -std::numeric_limits<double>::infinity();  ///< the first step's time is sent
   ros::WallTime wall_anchor_;

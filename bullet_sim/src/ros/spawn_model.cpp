@@ -34,8 +34,19 @@ struct Arguments {
 };
 
 /// Gazebo's spawn_model's flags that take a value, and ours (-timeout).
-const std::set<std::string> kValueFlags = {"-file", "-param", "-model", "-reference_frame", "-gazebo_namespace",
-                                           "-robot_namespace", "-wait", "-x", "-y", "-z", "-R", "-P", "-Y",
+const std::set<std::string> kValueFlags = {"-file",
+                                           "-param",
+                                           "-model",
+                                           "-reference_frame",
+                                           "-gazebo_namespace",
+                                           "-robot_namespace",
+                                           "-wait",
+                                           "-x",
+                                           "-y",
+                                           "-z",
+                                           "-R",
+                                           "-P",
+                                           "-Y",
                                            "-timeout"};
 
 Arguments parseFlags(const std::vector<std::string>& args) {
@@ -52,7 +63,8 @@ Arguments parseFlags(const std::vector<std::string>& args) {
     } else if (flag == "-package_to_model" || flag == "-b") {
       ROS_WARN("spawn_model: %s is accepted and not honoured here", flag.c_str());
     } else if (flag == "-sdf" || flag == "-database" || flag == "-stdin") {
-      throw Refusal(flag + " is not supported here: this spawn_model takes -urdf with -file or -param; spawn " +
+      throw Refusal(flag +
+                    " is not supported here: this spawn_model takes -urdf with -file or -param; spawn " +
                     "SDF with gazebo_ros's spawn_model or the simulator's spawn_sdf_model service");
     } else if (kValueFlags.count(flag) && i + 1 < args.size()) {
       parsed.values[flag.substr(1)] = args[++i];
@@ -64,7 +76,8 @@ Arguments parseFlags(const std::vector<std::string>& args) {
   }
   const auto frame = parsed.values.find("reference_frame");
   if (frame != parsed.values.end() && !frame->second.empty() && frame->second != "world")
-    ROS_WARN("spawn_model: -reference_frame %s is not honoured: the pose is in the world", frame->second.c_str());
+    ROS_WARN("spawn_model: -reference_frame %s is not honoured: the pose is in the world",
+             frame->second.c_str());
   if (!parsed.urdf) throw Refusal("give -urdf: bullet_sim spawns URDF models");
   if (!parsed.values.count("model")) throw Refusal("give -model NAME");
   return parsed;
@@ -145,8 +158,8 @@ std::string seconds(double value) {
 void waitForModel(const std::string& gazebo, const std::string& model, double timeout) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
   const std::string service = gazebo + "/get_world_properties";
-  // One connection for all the asking (made again if it drops): a fleet's spawners would otherwise each ask the
-  // master where the service is, fifty times a second.
+  // One connection for all the asking (made again if it drops): a fleet's spawners would otherwise each ask
+  // the master where the service is, fifty times a second.
   ros::NodeHandle node;
   ros::ServiceClient world;
   ROS_INFO("Waiting for model %s before proceeding.", model.c_str());
@@ -160,7 +173,8 @@ void waitForModel(const std::string& gazebo, const std::string& model, double ti
     ros::WallDuration(0.02).sleep();  // the period of asking, within the deadline
   }
   if (!ros::ok()) throw Refusal("-wait " + model + ": stopped before that model was in the world");
-  throw Refusal("-wait " + model + ": no model of that name in the world after " + seconds(timeout) + " (-timeout)");
+  throw Refusal("-wait " + model + ": no model of that name in the world after " + seconds(timeout) +
+                " (-timeout)");
 }
 
 /// Asks the simulator's spawn service, and unpauses it when asked to.
@@ -169,7 +183,8 @@ void spawn(const Arguments& arguments, bullet_sim::SpawnModel& call) {
   const auto ns = arguments.values.find("gazebo_namespace");
   const std::string gazebo = ns == arguments.values.end() ? "/gazebo" : ns->second;
   if (!ros::service::waitForService(gazebo + "/spawn_urdf", ros::Duration(timeout))) {
-    throw Refusal("no service " + gazebo + "/spawn_urdf after " + seconds(timeout) + ": is the simulator running?");
+    throw Refusal("no service " + gazebo + "/spawn_urdf after " + seconds(timeout) +
+                  ": is the simulator running?");
   }
   const auto wait = arguments.values.find("wait");
   if (wait != arguments.values.end()) waitForModel(gazebo, wait->second, timeout);

@@ -52,11 +52,13 @@ uint64_t queueId(const NodeWebView* view) { return reinterpret_cast<uint64_t>(vi
 
 }  // namespace
 
-std::unique_ptr<NodeWebView> NodeWebView::fromParameters(const ros::NodeHandle& private_node, Actions actions) {
+std::unique_ptr<NodeWebView> NodeWebView::fromParameters(const ros::NodeHandle& private_node,
+                                                         Actions actions) {
   const int port = wholeParam(private_node, "web_port", 0);
   if (port == 0) return nullptr;
   if (port < 0 || port > 65535) {
-    throw std::runtime_error("~web_port must be a TCP port, 1 to 65535 (0: no viewer), not " + std::to_string(port));
+    throw std::runtime_error("~web_port must be a TCP port, 1 to 65535 (0: no viewer), not " +
+                             std::to_string(port));
   }
   WebViewerOptions options;
   options.port = static_cast<uint16_t>(port);
@@ -100,13 +102,16 @@ void NodeWebView::apply(const ViewerCommand& command) {
 void NodeWebView::teleop(const ViewerCommand& command) {
   const std::string topic = actions_.velocity_topic(command.robot);
   if (topic.empty()) {
-    ROS_WARN_THROTTLE(5, "web viewer: robot [%s] is gone or takes no velocity commands: its teleop is ignored",
+    ROS_WARN_THROTTLE(5,
+                      "web viewer: robot [%s] is gone or takes no velocity commands: its teleop is ignored",
                       command.robot.c_str());
     return;
   }
   auto publisher = velocity_publishers_.find(topic);
   if (publisher == velocity_publishers_.end()) {
-    publisher = velocity_publishers_.emplace(topic, ros::NodeHandle().advertise<geometry_msgs::Twist>(topic, 10)).first;
+    publisher =
+        velocity_publishers_.emplace(topic, ros::NodeHandle().advertise<geometry_msgs::Twist>(topic, 10))
+            .first;
   }
   geometry_msgs::Twist twist;
   twist.linear.x = command.linear;

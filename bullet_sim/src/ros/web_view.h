@@ -1,10 +1,11 @@
-// The live viewer in the simulator node (bullet_sim/web_viewer.h): started by ~web_port, fed after every step,
-// and its pages' commands queued into the node's callback queue, where service calls wait, so that they run
-// between steps. Teleop publishes a geometry_msgs/Twist on the chosen robot's velocity topic (its cmd_vel).
+// The live viewer in the simulator node (bullet_sim/web_viewer.h): started by ~web_port, fed after every
+// step, and its pages' commands queued into the node's callback queue, where service calls wait, so that they
+// run between steps. Teleop publishes a geometry_msgs/Twist on the chosen robot's velocity topic (its
+// cmd_vel).
 //
 // Params: ~web_port [0 = off], ~web_address [127.0.0.1], ~web_allowed_origins [none besides its own: a list,
-// or one string of origins separated by spaces or commas], ~web_control [false: pages from beyond this machine
-// may only watch].
+// or one string of origins separated by spaces or commas], ~web_control [false: pages from beyond this
+// machine may only watch].
 #pragma once
 
 #include <ros/ros.h>
@@ -29,9 +30,9 @@ class NodeWebView {
     std::function<std::string(const std::string& robot)> velocity_topic;
   };
 
-  /// The viewer ~web_port asks for, or nullptr when it is 0. When it cannot serve (the port is taken, three.js
-  /// is missing), logs one error saying why and returns nullptr: the simulation runs on without it. Throws
-  /// std::runtime_error for a parameter that is not valid.
+  /// The viewer ~web_port asks for, or nullptr when it is 0. When it cannot serve (the port is taken,
+  /// three.js is missing), logs one error saying why and returns nullptr: the simulation runs on without it.
+  /// Throws std::runtime_error for a parameter that is not valid.
   static std::unique_ptr<NodeWebView> fromParameters(const ros::NodeHandle& private_node, Actions actions);
   ~NodeWebView();
 

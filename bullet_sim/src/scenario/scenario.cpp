@@ -60,7 +60,8 @@ int listMatrix(const ScenarioCommand& command) {
   json["count"] = matrix.count;
   json["cells"] = nlohmann::ordered_json::array();
   // The first and the last cell, which take every axis's first and last value, are read as scenarios: a key
-  // or a value the scenario refuses there (a seed of -5) is said now; elsewhere, it is that cell's run's error.
+  // or a value the scenario refuses there (a seed of -5) is said now; elsewhere, it is that cell's run's
+  // error.
   const PackageResolver resolver = PackageResolver::fromEnvironment();
   cellScenario(matrix, 0, resolver);
   cellScenario(matrix, matrix.count - 1, resolver);
@@ -120,7 +121,8 @@ int run(const ScenarioCommand& command) {
 }  // namespace
 }  // namespace bullet_sim
 
-// Not toolMain: a bad argument is one line here (sweep reads it as a cell's reason), and every refusal exits 2.
+// Not toolMain: a bad argument is one line here (sweep reads it as a cell's reason), and every refusal
+// exits 2.
 int main(int argc, char** argv) {
   if (bullet_sim::listPlugins(argc, argv)) return EXIT_SUCCESS;
   bullet_sim::ScenarioCommand command;

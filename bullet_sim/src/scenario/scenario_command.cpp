@@ -24,7 +24,10 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv) {
   parseCommandLine(
       argc, argv,
       {{"--out", [&](Value value) { command.out = value; }},
-       {"--seed", [&](Value value) { command.seed = static_cast<uint64_t>(whole(value, "--seed", 9007199254740992.0)); }},
+       {"--seed",
+        [&](Value value) {
+          command.seed = static_cast<uint64_t>(whole(value, "--seed", 9007199254740992.0));
+        }},
        {"--matrix", [&](Value value) { command.matrix = value; }},
        {"--index", [&](Value value) { command.index = static_cast<int>(whole(value, "--index", 1e6)); }},
        {"--video", [&](Value) { command.video = true; }, false, /*flag=*/true},
@@ -32,16 +35,20 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv) {
        {"--bag-topics", [&](Value value) { bag().topics.push_back(value); }, /*repeatable=*/true},
        {"--bag-compression", [&](Value value) { bag().compression = value; }},
        {"--bag-chunk-size",
-        [&](Value value) { bag().chunk_size = static_cast<uint32_t>(whole(value, "--bag-chunk-size", 1 << 30)); }},
+        [&](Value value) {
+          bag().chunk_size = static_cast<uint32_t>(whole(value, "--bag-chunk-size", 1 << 30));
+        }},
        {"--list", [&](Value) { command.list = true; }, false, /*flag=*/true}},
       &command.help, &file);
   if (command.help) return command;
-  if (command.matrix.empty() == command.file.empty()) throw UsageError("give a scenario FILE, or --matrix M.yaml --index N");
+  if (command.matrix.empty() == command.file.empty())
+    throw UsageError("give a scenario FILE, or --matrix M.yaml --index N");
   if (!command.matrix.empty() && !command.index && !command.list)
     throw UsageError("--matrix needs --index N (the cell to run), or --list");
   if (command.index && command.matrix.empty()) throw UsageError("--index goes with --matrix");
   if (command.list && command.matrix.empty()) throw UsageError("--list goes with --matrix");
-  if (!command.out.empty() && std::filesystem::exists(command.out) && !std::filesystem::is_directory(command.out))
+  if (!command.out.empty() && std::filesystem::exists(command.out) &&
+      !std::filesystem::is_directory(command.out))
     throw UsageError("--out [" + command.out + "] is a file, not a folder");
   return command;
 }
@@ -69,7 +76,8 @@ std::optional<BagSettings> bagSettings(const ScenarioCommand& command, const std
   return settings;
 }
 
-ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver, RunContext* context) {
+ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver,
+                             RunContext* context) {
   ScenarioSpec spec;
   if (command.matrix.empty()) {
     spec = loadScenario(command.file, resolver);

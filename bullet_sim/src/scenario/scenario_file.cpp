@@ -24,9 +24,12 @@ constexpr int kMaxCells = 1000000;
 /// Reads YAML nodes into typed values, collecting every problem with the key path it is at.
 class Reader {
  public:
-  Reader(std::string source, const PackageResolver& resolver) : source_(std::move(source)), resolver_(resolver) {}
+  Reader(std::string source, const PackageResolver& resolver)
+      : source_(std::move(source)), resolver_(resolver) {}
 
-  void error(const std::string& path, const std::string& message) { errors_.push_back(path + ": " + message); }
+  void error(const std::string& path, const std::string& message) {
+    errors_.push_back(path + ": " + message);
+  }
   void throwIfErrors() const {
     if (errors_.empty()) return;
     std::string text = "scenario " + source_ + ":";
@@ -87,7 +90,8 @@ class Reader {
     std::error_code ec;
     if (resolved.empty()) return "";
     if (!fs::is_regular_file(resolved, ec)) {
-      error(path, "[" + name + "] is not a file" + (resolved != name ? " (" + resolved + ")" : std::string()));
+      error(path,
+            "[" + name + "] is not a file" + (resolved != name ? " (" + resolved + ")" : std::string()));
       return "";
     }
     return resolved;
@@ -97,10 +101,12 @@ class Reader {
     static const std::string find = "$(find ";
     if (name.rfind(find, 0) == 0) {
       const size_t close = name.find(')');
-      const std::string package = name.substr(find.size(), close == std::string::npos ? 0 : close - find.size());
+      const std::string package =
+          name.substr(find.size(), close == std::string::npos ? 0 : close - find.size());
       const auto directory = resolver_.packageDirectory(package);
       if (!directory) {
-        error(path, "[" + name + "]: no package [" + package + "] on ROS_PACKAGE_PATH (source devel/setup.bash)");
+        error(path,
+              "[" + name + "]: no package [" + package + "] on ROS_PACKAGE_PATH (source devel/setup.bash)");
         return "";
       }
       return *directory + name.substr(close + 1);
@@ -148,7 +154,8 @@ void readRobot(Reader& reader, const YAML::Node& robot, ScenarioSpec& spec) {
   if (const YAML::Node args = robot["args"]) {
     if (!args.IsMap()) reader.error("robot.args", "expected a mapping of xacro arguments, name: value");
     else
-      for (const auto& arg : args) spec.xacro_args.push_back(arg.first.as<std::string>() + ":=" + Reader::text(arg.second));
+      for (const auto& arg : args)
+        spec.xacro_args.push_back(arg.first.as<std::string>() + ":=" + Reader::text(arg.second));
   }
   spec.robot_name = reader.string(robot, "name", "robot");
   spec.count = static_cast<int>(reader.number(robot, "count", "robot", 1, 1, kMaxRobots));
@@ -173,7 +180,8 @@ SpawnPose readPose(Reader& reader, const YAML::Node& node, const std::string& pa
   if (const YAML::Node joints = node["joints"]) {
     if (!joints.IsMap()) return reader.error(path + ".joints", "expected joint: position"), pose;
     for (const auto& joint : joints)
-      pose.joints[joint.first.as<std::string>()] = reader.number(joints, joint.first.as<std::string>(), path + ".joints", 0);
+      pose.joints[joint.first.as<std::string>()] =
+          reader.number(joints, joint.first.as<std::string>(), path + ".joints", 0);
   }
   return pose;
 }
@@ -184,13 +192,15 @@ void readSpawn(Reader& reader, const YAML::Node& spawn, ScenarioSpec& spec) {
   } else if (spawn.IsMap()) {
     spec.spawn.push_back(readPose(reader, spawn, "spawn"));
   } else if (spawn.IsSequence()) {
-    for (size_t i = 0; i < spawn.size(); ++i) spec.spawn.push_back(readPose(reader, spawn[i], "spawn." + std::to_string(i)));
+    for (size_t i = 0; i < spawn.size(); ++i)
+      spec.spawn.push_back(readPose(reader, spawn[i], "spawn." + std::to_string(i)));
   } else {
     reader.error("spawn", "expected a pose {x, y, yaw} or a list of them, one per robot");
   }
   if (spec.spawn.size() == 1 && spec.count > 1) {
     reader.error("spawn", "robot.count is " + std::to_string(spec.count) + ": give a list of as many poses");
-  } else if (static_cast<int>(spec.spawn.size()) != spec.count && !spec.spawn.empty() && spawn && spawn.IsSequence()) {
+  } else if (static_cast<int>(spec.spawn.size()) != spec.count && !spec.spawn.empty() && spawn &&
+             spawn.IsSequence()) {
     reader.error("spawn", "has " + std::to_string(spec.spawn.size()) + " poses for robot.count " +
                               std::to_string(spec.count) + ": give one per robot");
   }
@@ -223,7 +233,8 @@ void readLaunch(Reader& reader, const YAML::Node& launch, ScenarioSpec& spec) {
   if (const YAML::Node args = launch["args"]) {
     if (!args.IsMap()) reader.error(path + ".args", "expected a mapping of launch arguments, name: value");
     else
-      for (const auto& arg : args) drive.args.emplace_back(arg.first.as<std::string>(), arg.second.as<std::string>());
+      for (const auto& arg : args)
+        drive.args.emplace_back(arg.first.as<std::string>(), arg.second.as<std::string>());
   }
   if (const YAML::Node topics = launch["wait_for"]) {
     if (!topics.IsSequence()) reader.error(path + ".wait_for", "expected a list of topics");
@@ -282,7 +293,8 @@ void readClearance(Reader& reader, const YAML::Node& node, const std::string& pa
   if (!node["min"]) reader.error(path, "missing min [m]");
   check.min = reader.number(node, "min", path, 0, 0, 1e3);
   const std::string from = reader.string(node, "from", path, "geometry");
-  if (from != "geometry" && from != "lidar") reader.error(path + ".from", "[" + from + "]: choose geometry or lidar");
+  if (from != "geometry" && from != "lidar")
+    reader.error(path + ".from", "[" + from + "]: choose geometry or lidar");
   check.from_lidar = from == "lidar";
 }
 
@@ -309,7 +321,8 @@ Check readCheck(Reader& reader, const YAML::Node& item, const std::string& path)
     return check;
   }
   const std::string type = item.begin()->first.as<std::string>();
-  const YAML::Node node = item.begin()->second.IsNull() ? YAML::Node(YAML::NodeType::Map) : item.begin()->second;
+  const YAML::Node node =
+      item.begin()->second.IsNull() ? YAML::Node(YAML::NodeType::Map) : item.begin()->second;
   const std::string at = path + "." + type;
   const auto found = std::find(kTypes.begin(), kTypes.end(), type);
   if (found == kTypes.end()) {
@@ -321,7 +334,8 @@ Check readCheck(Reader& reader, const YAML::Node& item, const std::string& path)
     case Check::Type::kReach: readReach(reader, node, at, check); break;
     case Check::Type::kClearance: readClearance(reader, node, at, check); break;
     case Check::Type::kUpright:
-      if (reader.keys(node, at, {"max_tilt", "robot"})) check.max_tilt = reader.number(node, "max_tilt", at, 0.2, 0, M_PI);
+      if (reader.keys(node, at, {"max_tilt", "robot"}))
+        check.max_tilt = reader.number(node, "max_tilt", at, 0.2, 0, M_PI);
       break;
     case Check::Type::kFinalPose: readFinalPose(reader, node, at, check); break;
     case Check::Type::kNoCollision:
@@ -338,8 +352,8 @@ void readVideo(Reader& reader, const YAML::Node& video, ScenarioSpec& spec) {
   int width = 0, height = 0;
   char x = 0;
   std::istringstream in(size);
-  if (!(in >> width >> x >> height) || x != 'x' || width < 16 || height < 16 || width > 4096 || height > 4096 ||
-      width % 2 || height % 2) {
+  if (!(in >> width >> x >> height) || x != 'x' || width < 16 || height < 16 || width > 4096 ||
+      height > 4096 || width % 2 || height % 2) {
     return reader.error("video.size", "[" + size + "]: write WxH, even numbers from 16 to 4096");
   }
   spec.video_width = width;
@@ -352,7 +366,8 @@ std::string readWorld(Reader& reader, const YAML::Node& root) {
   if (name.rfind("$(find ", 0) == 0 || name.rfind("package://", 0) == 0 || name.rfind("file://", 0) == 0)
     return reader.file(name, "world");
   const fs::path beside = reader.folder() / name;
-  if (!fs::path(name).is_absolute() && fs::is_regular_file(beside, ec)) return beside.lexically_normal().string();
+  if (!fs::path(name).is_absolute() && fs::is_regular_file(beside, ec))
+    return beside.lexically_normal().string();
   std::string error;
   const auto found = findWorldFile(name, reader.resolver(), &error);
   if (!found) reader.error("world", error);
@@ -371,7 +386,8 @@ double Region::distance(double px, double py) const {
 }
 
 std::string checkTypeName(Check::Type type) {
-  static const char* kNames[] = {"reach", "clearance", "no_collision", "upright", "final_pose", "no_load_warnings"};
+  static const char* kNames[] = {"reach",   "clearance",  "no_collision",
+                                 "upright", "final_pose", "no_load_warnings"};
   return kNames[static_cast<int>(type)];
 }
 
@@ -383,7 +399,8 @@ std::vector<std::string> ScenarioSpec::robotNames(const std::string& model_name)
   return names;
 }
 
-ScenarioSpec parseScenario(const std::string& yaml, const std::string& source, const PackageResolver& resolver) {
+ScenarioSpec parseScenario(const std::string& yaml, const std::string& source,
+                           const PackageResolver& resolver) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
@@ -394,8 +411,9 @@ ScenarioSpec parseScenario(const std::string& yaml, const std::string& source, c
   ScenarioSpec spec;
   spec.source = source;
   spec.name = fs::path(source).stem().string();
-  if (!reader.keys(root, "(top level)", {"name", "robot", "world", "spawn", "seed", "duration", "step", "record_period",
-                                         "drive", "checks", "video"})) {
+  if (!reader.keys(root, "(top level)",
+                   {"name", "robot", "world", "spawn", "seed", "duration", "step", "record_period", "drive",
+                    "checks", "video"})) {
     reader.throwIfErrors();
   }
   spec.name = reader.string(root, "name", "", spec.name);
@@ -410,7 +428,8 @@ ScenarioSpec parseScenario(const std::string& yaml, const std::string& source, c
   if (const YAML::Node checks = root["checks"]) {
     if (!checks.IsSequence()) reader.error("checks", "expected a list of checks");
     else
-      for (size_t i = 0; i < checks.size(); ++i) spec.checks.push_back(readCheck(reader, checks[i], "checks." + std::to_string(i)));
+      for (size_t i = 0; i < checks.size(); ++i)
+        spec.checks.push_back(readCheck(reader, checks[i], "checks." + std::to_string(i)));
   }
   readVideo(reader, root["video"], spec);
   reader.throwIfErrors();

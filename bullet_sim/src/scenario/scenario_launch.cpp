@@ -32,7 +32,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr double kStartAndStop = 30;  ///< [s] of wall time allowed for starting and stopping, on top of the run
+constexpr double kStartAndStop =
+    30;  ///< [s] of wall time allowed for starting and stopping, on top of the run
 constexpr double kInterruptGrace = 10;  ///< [s] roslaunch gets to stop its nodes after SIGINT
 constexpr double kTermGrace = 3;        ///< [s] a process gets after SIGTERM, before SIGKILL
 
@@ -46,7 +47,8 @@ int freePort() {
   if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
       getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
     if (fd >= 0) close(fd);
-    throw std::runtime_error(std::string("cannot find a free port for the ROS master: ") + std::strerror(errno));
+    throw std::runtime_error(std::string("cannot find a free port for the ROS master: ") +
+                             std::strerror(errno));
   }
   close(fd);
   return ntohs(address.sin_port);
@@ -54,8 +56,8 @@ int freePort() {
 
 /// The launch file that brings up the run: sim time, the simulator, each robot's description and
 /// robot_state_publisher (in the robot's namespace when there are several), and the user's launch file.
-std::string launchFile(const ScenarioSpec& spec, const std::vector<std::string>& robots, const std::string& urdf_file,
-                       const std::vector<std::string>& host_arguments) {
+std::string launchFile(const ScenarioSpec& spec, const std::vector<std::string>& robots,
+                       const std::string& urdf_file, const std::vector<std::string>& host_arguments) {
   tinyxml2::XMLDocument document;
   tinyxml2::XMLElement* launch = document.NewElement("launch");
   document.InsertEndChild(launch);
@@ -114,9 +116,10 @@ std::vector<std::string> runEnvironment(int port, const std::string& out) {
   return environment;
 }
 
-/// Starts `words` in a session of its own (so SIGINT reaches it as Ctrl-C would, and nothing else), its output
-/// appended to `log`.
-pid_t startInSession(std::vector<std::string> words, std::vector<std::string> environment, const std::string& log) {
+/// Starts `words` in a session of its own (so SIGINT reaches it as Ctrl-C would, and nothing else), its
+/// output appended to `log`.
+pid_t startInSession(std::vector<std::string> words, std::vector<std::string> environment,
+                     const std::string& log) {
   std::vector<char*> argv, envp;
   for (auto& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
@@ -128,7 +131,8 @@ pid_t startInSession(std::vector<std::string> words, std::vector<std::string> en
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   // Signals as a terminal gives them: a caller that blocks or ignores SIGINT (a Ray worker blocks it) would
-  // otherwise pass that on to roslaunch and every node, which then stop only at roslaunch's SIGTERM, 15 s late.
+  // otherwise pass that on to roslaunch and every node, which then stop only at roslaunch's SIGTERM, 15 s
+  // late.
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
   sigset_t none, defaults;
@@ -253,9 +257,10 @@ Verdict runLaunch(const ScenarioSpec& spec, const ScenarioCommand& command, cons
   }
   endDescendants();
   if (!finished && !fs::exists(fs::path(out) / "result.json")) {
-    throw std::runtime_error("the launch did not finish within " + std::to_string(static_cast<int>(limit)) +
-                             " s of wall time (ready_timeout + duration / real_time_factor + 30 s); stopped it; see " +
-                             out + "/launch.log");
+    throw std::runtime_error(
+        "the launch did not finish within " + std::to_string(static_cast<int>(limit)) +
+        " s of wall time (ready_timeout + duration / real_time_factor + 30 s); stopped it; see " + out +
+        "/launch.log");
   }
   return verdictOf(out);
 }

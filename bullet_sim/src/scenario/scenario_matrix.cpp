@@ -42,7 +42,8 @@ std::vector<std::string> axisValues(const YAML::Node& node, const std::string& w
     } catch (const YAML::Exception&) {
       count = 0;
     }
-    if (count < 1 || count > kMaxRange) throw ScenarioError(where + ": {from, count} takes whole numbers, count 1 to 100000");
+    if (count < 1 || count > kMaxRange)
+      throw ScenarioError(where + ": {from, count} takes whole numbers, count 1 to 100000");
     constexpr long kLargest = std::numeric_limits<long>::max();
     if (from > kLargest - (count - 1))
       throw ScenarioError(where + ": {from: " + std::to_string(from) + ", count: " + std::to_string(count) +
@@ -111,7 +112,8 @@ Matrix loadMatrix(const std::string& path) {
   }
   if (root["name"]) matrix.name = root["name"].as<std::string>();
   const fs::path scenario(root["scenario"].as<std::string>());
-  matrix.scenario = (scenario.is_absolute() ? scenario : fs::absolute(path).parent_path() / scenario).lexically_normal();
+  matrix.scenario =
+      (scenario.is_absolute() ? scenario : fs::absolute(path).parent_path() / scenario).lexically_normal();
   matrix.scenario_yaml = fileText(matrix.scenario, where + ": scenario");
   matrix.count = 1;
   for (const auto& axis : root["axes"]) {

@@ -39,7 +39,8 @@ ScenarioMonitor::ScenarioMonitor(const ScenarioSpec& spec, const Simulation& sim
     const Check& check = spec.checks[i];
     const std::string where = "checks." + std::to_string(i) + "." + checkTypeName(check.type);
     if (!check.robot.empty() && !records_.count(check.robot)) {
-      problems.push_back(where + ": no robot [" + check.robot + "] in this run" + didYouMean(check.robot, robots_));
+      problems.push_back(where + ": no robot [" + check.robot + "] in this run" +
+                         didYouMean(check.robot, robots_));
       continue;
     }
     if (check.type != Check::Type::kClearance) continue;
@@ -102,7 +103,8 @@ void ScenarioMonitor::recordPose(const Simulation& simulation, const Robot& robo
   const Eigen::Vector3d velocity = body.linkLinearVelocity(root);
   row.v = velocity.x() * std::cos(row.yaw) + velocity.y() * std::sin(row.yaw);
   row.w = body.linkAngularVelocity(root).z();
-  if (record.last.robot == robot.name()) record.distance += std::hypot(row.x - record.last.x, row.y - record.last.y);
+  if (record.last.robot == robot.name())
+    record.distance += std::hypot(row.x - record.last.x, row.y - record.last.y);
   record.last = row;
   record.max_tilt = std::max(record.max_tilt, tiltOf(pose));
   for (size_t i = 0; i < spec_.checks.size(); ++i) {
@@ -169,9 +171,9 @@ void ScenarioMonitor::recordContacts(const Simulation& simulation, const Robot& 
     for (const CollisionSource& source : part.sources) {
       for (const CollisionContact& contact : body.contacts(source)) {
         if (contact.other.rfind(robot.name() + "::", 0) == 0) continue;  // itself
-        const bool support = std::all_of(contact.points.begin(), contact.points.end(), [](const ContactPoint& point) {
-          return point.normal.z() > kSupportCosine;
-        });
+        const bool support =
+            std::all_of(contact.points.begin(), contact.points.end(),
+                        [](const ContactPoint& point) { return point.normal.z() > kSupportCosine; });
         if (support) continue;
         record.collision_time += simulation.stepSize();
         if (!record.first_collision) {
@@ -204,9 +206,10 @@ CheckResult ScenarioMonitor::evaluate(const Check& check, size_t index, const st
       result.unit = "s";
       result.limit = check.by;
       result.passed = record.reached[index] && *record.reached[index] <= check.by + kTimeEpsilon;
-      result.detail = record.reached[index] ? format("entered the region at t = %.3f s", *record.reached[index])
-                                            : format("never entered the region; nearest %.3f m from it",
-                                                     record.region_distance[index]);
+      result.detail =
+          record.reached[index]
+              ? format("entered the region at t = %.3f s", *record.reached[index])
+              : format("never entered the region; nearest %.3f m from it", record.region_distance[index]);
       break;
     case Check::Type::kClearance: {
       const bool lidar = check.from_lidar;
@@ -217,22 +220,24 @@ CheckResult ScenarioMonitor::evaluate(const Check& check, size_t index, const st
       result.limit = check.min;
       result.comparison = ">=";
       result.passed = !result.value || *result.value >= check.min;
-      result.detail = lidar ? (record.min_lidar_range ? format("nearest lidar range %.3f m at t = %.3f s",
-                                                               measured, record.lidar_time)
-                                                      : "the lidar saw nothing within its range")
-                            : (record.clearance_obstacle.empty()
-                                   ? format("nothing within %.3f m", clearance_cap_)
-                                   : format("nearest %.3f m at t = %.3f s, to ", measured, record.clearance_time) +
-                                         "[" + record.clearance_obstacle + "]");
+      result.detail =
+          lidar ? (record.min_lidar_range
+                       ? format("nearest lidar range %.3f m at t = %.3f s", measured, record.lidar_time)
+                       : "the lidar saw nothing within its range")
+                : (record.clearance_obstacle.empty()
+                       ? format("nothing within %.3f m", clearance_cap_)
+                       : format("nearest %.3f m at t = %.3f s, to ", measured, record.clearance_time) + "[" +
+                             record.clearance_obstacle + "]");
       break;
     }
     case Check::Type::kNoCollision:
       result.value = record.collision_time;
       result.unit = "s";
       result.passed = !record.first_collision;
-      result.detail = record.first_collision ? format("first touched at t = %.3f s: ", *record.first_collision) +
-                                                   "[" + record.first_collision_with + "]"
-                                             : "touched nothing but the ground";
+      result.detail = record.first_collision
+                          ? format("first touched at t = %.3f s: ", *record.first_collision) + "[" +
+                                record.first_collision_with + "]"
+                          : "touched nothing but the ground";
       break;
     case Check::Type::kUpright:
       result.value = record.max_tilt;
@@ -247,16 +252,19 @@ CheckResult ScenarioMonitor::evaluate(const Check& check, size_t index, const st
       result.value = error;
       result.unit = "m";
       result.limit = check.position_tolerance;
-      result.passed = error <= check.position_tolerance && (!check.check_yaw || yaw_error <= check.yaw_tolerance);
-      result.detail = format("ended at x %.3f, y %.3f, yaw %.3f", record.last.x, record.last.y, record.last.yaw) +
-                      format("; %.3f m and %.3f rad off", error, yaw_error);
+      result.passed =
+          error <= check.position_tolerance && (!check.check_yaw || yaw_error <= check.yaw_tolerance);
+      result.detail =
+          format("ended at x %.3f, y %.3f, yaw %.3f", record.last.x, record.last.y, record.last.yaw) +
+          format("; %.3f m and %.3f rad off", error, yaw_error);
       break;
     }
     case Check::Type::kNoLoadWarnings:
       result.value = static_cast<double>(load_warnings_.size());
       result.unit = "warnings";
       result.passed = load_warnings_.empty();
-      result.detail = load_warnings_.empty() ? "loaded without a warning" : "first: " + load_warnings_.front();
+      result.detail =
+          load_warnings_.empty() ? "loaded without a warning" : "first: " + load_warnings_.front();
       break;
   }
   return result;

@@ -71,8 +71,9 @@ Json metricsJson(const ScenarioMonitor& monitor) {
     robot["distance_m"] = record.distance;
     robot["max_tilt_rad"] = record.max_tilt;
     robot["collision_s"] = record.collision_time;
-    robot["min_clearance_m"] = monitor.clearanceCap() > 0 ? figure(std::min(record.min_clearance, monitor.clearanceCap()))
-                                                          : Json(nullptr);
+    robot["min_clearance_m"] = monitor.clearanceCap() > 0
+                                   ? figure(std::min(record.min_clearance, monitor.clearanceCap()))
+                                   : Json(nullptr);
     robot["min_lidar_range_m"] = figure(record.min_lidar_range);
     metrics[name] = robot;
   }
@@ -98,8 +99,8 @@ void writeTrajectory(const fs::path& path, const std::vector<TrajectoryRow>& row
   if (!file) throw std::runtime_error("cannot write " + path.string());
   std::fprintf(file, "time,robot,x,y,z,roll,pitch,yaw,v,w\n");
   for (const TrajectoryRow& row : rows) {
-    std::fprintf(file, "%.4f,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", row.time, row.robot.c_str(), row.x,
-                 row.y, row.z, row.roll, row.pitch, row.yaw, row.v, row.w);
+    std::fprintf(file, "%.4f,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", row.time, row.robot.c_str(),
+                 row.x, row.y, row.z, row.roll, row.pitch, row.yaw, row.v, row.w);
   }
   std::fclose(file);
 }

@@ -71,14 +71,15 @@ TimelineDriver::TimelineDriver(const ScenarioSpec& spec, const Simulation& simul
     start += segments_[i].duration;
     const std::string& robot = segments_[i].robot;
     if (!robot.empty() && !simulation.robot(robot)) {
-      throw ScenarioError("scenario " + spec.source + ": drive.timeline." + std::to_string(i) + ".robot: no robot [" +
-                          robot + "] in this run" + didYouMean(robot, robots_));
+      throw ScenarioError("scenario " + spec.source + ": drive.timeline." + std::to_string(i) +
+                          ".robot: no robot [" + robot + "] in this run" + didYouMean(robot, robots_));
     }
   }
   for (const auto& name : robots_) {
     if (!segments_.empty() && simulation.robot(name)->inputs<Twist>().empty()) {
-      throw ScenarioError("scenario " + spec.source + ": robot [" + name +
-                          "] takes no cmd_vel: its description declares no drive plugin for the timeline to drive");
+      throw ScenarioError(
+          "scenario " + spec.source + ": robot [" + name +
+          "] takes no cmd_vel: its description declares no drive plugin for the timeline to drive");
     }
   }
   steps_per_resend_ = std::max(1L, std::lround(kCommandPeriod / simulation.stepSize()));
@@ -92,7 +93,8 @@ void TimelineDriver::beforeStep(const Simulation& simulation, RunRecorder* recor
     for (size_t i = segments_.size(); i-- > 0;) {
       const TimelineSegment& segment = segments_[i];
       if ((!segment.robot.empty() && segment.robot != name) || now + 1e-9 < starts_[i]) continue;
-      if (now + 1e-9 < starts_[i] + segment.duration) command.linear = Eigen::Vector3d(segment.v, segment.vy, 0);
+      if (now + 1e-9 < starts_[i] + segment.duration)
+        command.linear = Eigen::Vector3d(segment.v, segment.vy, 0);
       if (now + 1e-9 < starts_[i] + segment.duration) command.angular.z() = segment.w;
       break;
     }
@@ -122,7 +124,8 @@ void ScenarioVideo::afterStep(const Simulation& simulation, const ScenarioMonito
 void ScenarioVideo::finish() { writer_->finish(); }
 
 std::unique_ptr<RunRecorder> recordRobots(const BagSettings& settings, const Simulation& simulation) {
-  auto recorder = loadBagRecorder(settings, [](const std::string& error) { std::cerr << "scenario: " << error << "\n"; });
+  auto recorder =
+      loadBagRecorder(settings, [](const std::string& error) { std::cerr << "scenario: " << error << "\n"; });
   const std::vector<std::string> robots = simulation.robotNames();
   for (const auto& name : robots) {
     const std::string own = robots.size() > 1 ? name : "";
@@ -149,7 +152,8 @@ Verdict runTimeline(const ScenarioSpec& spec, const RunContext& context, const s
   std::error_code ec;
   fs::create_directories(out, ec);
   std::unique_ptr<ScenarioVideo> scenario_video;
-  if (video) scenario_video = std::make_unique<ScenarioVideo>((fs::path(out) / "video.mp4").string(), spec, renderer);
+  if (video)
+    scenario_video = std::make_unique<ScenarioVideo>((fs::path(out) / "video.mp4").string(), spec, renderer);
   const std::unique_ptr<RunRecorder> bag_recorder = bag ? recordRobots(*bag, simulation) : nullptr;
   timing.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - timing.start).count();
 

@@ -63,17 +63,20 @@ struct VideoWriter::Codec {
   }
 };
 
-VideoWriter::VideoWriter(const std::string& path, int width, int height, int fps) : codec_(std::make_unique<Codec>()) {
+VideoWriter::VideoWriter(const std::string& path, int width, int height, int fps)
+    : codec_(std::make_unique<Codec>()) {
   Codec& c = *codec_;
   c.path = path;
   c.check(avformat_alloc_output_context2(&c.format, nullptr, "mp4", path.c_str()), "choosing the MP4 format");
   const AVCodec* encoder = videoEncoder();
-  if (!encoder) throw std::runtime_error("video " + path + ": FFmpeg has neither an H.264 nor an MPEG-4 encoder");
+  if (!encoder)
+    throw std::runtime_error("video " + path + ": FFmpeg has neither an H.264 nor an MPEG-4 encoder");
   c.stream = avformat_new_stream(c.format, nullptr);
   c.context = avcodec_alloc_context3(encoder);
   c.frame = av_frame_alloc();
   c.packet = av_packet_alloc();
-  if (!c.stream || !c.context || !c.frame || !c.packet) throw std::runtime_error("video " + path + ": out of memory");
+  if (!c.stream || !c.context || !c.frame || !c.packet)
+    throw std::runtime_error("video " + path + ": out of memory");
   c.context->width = width;
   c.context->height = height;
   c.context->time_base = AVRational{1, fps};

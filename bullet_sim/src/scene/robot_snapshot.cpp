@@ -39,7 +39,8 @@ struct ScanCounts {
 std::string noScanWarning(const Plugin& sensor) {
   std::ostringstream warning;
   warning << sensor.where() << " produced no scan within " << kSnapshotMaxSimTime
-          << " s of sim time (its update_rate is " << sensor.updateRate() << " Hz), so its hits are not drawn";
+          << " s of sim time (its update_rate is " << sensor.updateRate()
+          << " Hz), so its hits are not drawn";
   return warning.str();
 }
 
@@ -116,7 +117,8 @@ Scene simulationScene(const Simulation& simulation, View view, const std::string
 
 std::optional<CameraView> parseCameraView(const std::string& name) {
   for (const auto& [prefix, depth] : {std::pair<std::string, bool>{"camera:", false}, {"depth:", true}}) {
-    if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size()) return CameraView{name.substr(prefix.size()), depth};
+    if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size())
+      return CameraView{name.substr(prefix.size()), depth};
   }
   return std::nullopt;
 }
@@ -124,8 +126,8 @@ std::optional<CameraView> parseCameraView(const std::string& name) {
 namespace {
 
 /// The robot's camera of that sensor or camera name, and its body; nullptr and the names there are if none.
-std::pair<const CameraSensor*, const RobotBody*> findCamera(const Simulation& simulation, const std::string& name,
-                                                            std::string* names) {
+std::pair<const CameraSensor*, const RobotBody*> findCamera(const Simulation& simulation,
+                                                            const std::string& name, std::string* names) {
   for (const std::string& robot_name : simulation.robotNames()) {
     const Robot& robot = *simulation.robot(robot_name);
     for (const auto& [plugin, camera] : robot.sensors<CameraSensor>()) {
@@ -151,7 +153,8 @@ Image cameraImage(const Simulation& simulation, const CameraView& view, SceneRen
   std::string names;
   const auto [camera, body] = findCamera(simulation, view.camera, &names);
   if (!camera) {
-    throw std::invalid_argument("no robot has a camera [" + view.camera + "]; the cameras are: [" + names + "]");
+    throw std::invalid_argument("no robot has a camera [" + view.camera + "]; the cameras are: [" + names +
+                                "]");
   }
   if (view.depth && !camera->measuresDepth()) {
     throw std::invalid_argument("camera [" + view.camera + "] has no depth: it is not a depth sensor");
@@ -171,7 +174,8 @@ Image snapshotCamera(WorldSpec world, ModelSpec model, const SpawnPose& pose, co
   Simulation simulation(std::move(world));
   const std::string name = model.name;
   simulation.spawn(name, std::move(model), pose, warnings);
-  for (long step = 0; step < std::lround(kSnapshotMaxSimTime / simulation.stepSize()); ++step) simulation.step();
+  for (long step = 0; step < std::lround(kSnapshotMaxSimTime / simulation.stepSize()); ++step)
+    simulation.step();
   return cameraImage(simulation, view, renderer);
 }
 

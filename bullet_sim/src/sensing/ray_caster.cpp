@@ -175,9 +175,9 @@ Eigen::Vector3d facingRay(const Eigen::Vector3d& normal, const Eigen::Vector3d& 
 
 /// castStatic's rays against static planes alone, in double precision (a wheel's ray to the ground: Embree
 /// took 400 instructions a ray, and rounded the ray to float).
-void castAtPlanes(const std::vector<const AnalyticShape*>& planes, const std::vector<Eigen::Vector3d>& origins,
-                  const std::vector<Eigen::Vector3d>& directions, double max_range, std::vector<double>& ranges,
-                  std::vector<Eigen::Vector3d>* normals) {
+void castAtPlanes(const std::vector<const AnalyticShape*>& planes,
+                  const std::vector<Eigen::Vector3d>& origins, const std::vector<Eigen::Vector3d>& directions,
+                  double max_range, std::vector<double>& ranges, std::vector<Eigen::Vector3d>* normals) {
   ranges.assign(origins.size(), std::numeric_limits<double>::infinity());
   if (normals) normals->resize(origins.size());
   for (size_t i = 0; i < origins.size(); ++i) {
@@ -239,7 +239,8 @@ void intersectAnalytic(const RTCIntersectFunctionNArguments* args) {
   RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
   for (unsigned i = 0; i < n; ++i) {
     if (args->valid[i] != -1) continue;
-    const Eigen::Vector3d origin(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i));
+    const Eigen::Vector3d origin(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i),
+                                 RTCRayN_org_z(rays, n, i));
     const Eigen::Vector3d direction(RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i),
                                     RTCRayN_dir_z(rays, n, i));
     const std::optional<SurfaceHit> hit =
@@ -388,9 +389,10 @@ struct RayCaster::Impl {
   bool top_changed = false;
 };
 
-// One build thread. The top tree is rebuilt at every step that casts, and each build woke Embree's TBB workers,
-// which then spun on the other core for the next one, taking it from the pool and the node's other processes
-// (docs/performance.md). Static shapes are built once, at spawn or when the world loads, on the calling thread.
+// One build thread. The top tree is rebuilt at every step that casts, and each build woke Embree's TBB
+// workers, which then spun on the other core for the next one, taking it from the pool and the node's other
+// processes (docs/performance.md). Static shapes are built once, at spawn or when the world loads, on the
+// calling thread.
 RayCaster::Impl::Impl() : device(rtcNewDevice("threads=1")) {
   if (!device) throw std::runtime_error("RayCaster: cannot create an Embree device");
   rtcSetDeviceErrorFunction(
@@ -564,7 +566,8 @@ void RayCaster::commit() {
   }
   rtcCommitScene(impl.top.get());
   impl.throwOnError("RayCaster::commit");
-  // Written only when they change: a commit of moved bodies alone may run beside castStatic, which reads them.
+  // Written only when they change: a commit of moved bodies alone may run beside castStatic, which reads
+  // them.
   if (impl.statics_changed) impl.statics_changed = false;
   if (impl.bodies_added_or_removed) impl.bodies_added_or_removed = false;
   impl.top_changed = false;

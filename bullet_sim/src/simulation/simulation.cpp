@@ -23,7 +23,8 @@ namespace {
 /// A model of the `contact` wheel model, or one without wheels: one rigid body when nothing in it moves
 /// (its contacts cost less to solve), a multibody otherwise.
 std::unique_ptr<PhysicsRobot> makeContactBody(ModelSpec model, const std::string& name,
-                                              btMultiBodyDynamicsWorld& world, const Eigen::Isometry3d& root) {
+                                              btMultiBodyDynamicsWorld& world,
+                                              const Eigen::Isometry3d& root) {
   if (isOneRigidBody(model)) return std::make_unique<RigidBodyModel>(std::move(model), name, world, root);
   return std::make_unique<MultiBodyRobot>(std::move(model), name, world, root);
 }
@@ -521,7 +522,8 @@ void Simulation::rayBodyPoses(std::vector<std::pair<BodyId, Eigen::Isometry3d>>&
   poses.clear();
   for (Robot* robot : movingModels()) {
     for (size_t k = 0; k < robot->ray_bodies_.size(); ++k) {
-      if (robot->ray_bodies_[k] != kNoBody) poses.emplace_back(robot->ray_bodies_[k], robot->body_->partPose(k));
+      if (robot->ray_bodies_[k] != kNoBody)
+        poses.emplace_back(robot->ray_bodies_[k], robot->body_->partPose(k));
     }
   }
 }

@@ -30,7 +30,8 @@ void parseCommandLine(int argc, char** argv, const std::vector<ToolOption>& opti
       continue;
     }
     CLI::Option* option = app.add_option(options[i].name, values[i]);
-    if (!options[i].repeatable) option->expected(1)->allow_extra_args(false);  // a word after it is positional
+    if (!options[i].repeatable)
+      option->expected(1)->allow_extra_args(false);  // a word after it is positional
   }
   std::vector<std::string> words;
   if (positional) app.add_option(positional->name, words);

@@ -68,8 +68,9 @@ std::string findWorld(const std::string& name, const PackageResolver& resolver);
 /// "folder filename [sensor types]" line per plugin type) and returns true, for the tool to exit 0.
 bool listPlugins(int argc, char** argv);
 
-/// A tool's whole main: --list-plugins, `usage` on --help (exit 0) or after a UsageError (exit 2), then `run`,
-/// whose exceptions are reported on stderr (exit 1). A SpecError lists every problem of the file, one per line.
+/// A tool's whole main: --list-plugins, `usage` on --help (exit 0) or after a UsageError (exit 2), then
+/// `run`, whose exceptions are reported on stderr (exit 1). A SpecError lists every problem of the file, one
+/// per line.
 template <typename Options>
 int toolMain(const char* tool, const char* usage, int argc, char** argv, Options (*parse)(int, char**),
              int (*run)(const Options&)) {

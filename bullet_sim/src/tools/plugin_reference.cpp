@@ -1,7 +1,7 @@
-// plugin_reference PLUGINS_DIR OUT_DIR: the docs site's plugin reference. For every Gazebo plugin filename the
-// registry accepts it writes OUT_DIR/<filename without .so>.md: the prose of its folder's README.md, and the
-// table of the tags its parser reads, from the same tag table the parser reads through (so the page cannot
-// drift from the code); and OUT_DIR/index.md, the list of them. ROS-free; scripts/docs.sh runs it.
+// plugin_reference PLUGINS_DIR OUT_DIR: the docs site's plugin reference. For every Gazebo plugin filename
+// the registry accepts it writes OUT_DIR/<filename without .so>.md: the prose of its folder's README.md, and
+// the table of the tags its parser reads, from the same tag table the parser reads through (so the page
+// cannot drift from the code); and OUT_DIR/index.md, the list of them. ROS-free; scripts/docs.sh runs it.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -23,9 +23,12 @@ constexpr char kUsage[] =
     "usage: plugin_reference PLUGINS_DIR OUT_DIR\n"
     "\n"
     "Writes the docs site's plugin reference into OUT_DIR: one page per Gazebo plugin filename bullet_sim\n"
-    "accepts (OUT_DIR/<filename without .so>.md), made of the prose in PLUGINS_DIR/<folder>/README.md and the\n"
-    "table of its tags (name, type, default, unit, what Gazebo does, what bullet_sim does) generated from the\n"
-    "tag table its parser reads through; and OUT_DIR/index.md, which lists them. Pages of filenames no longer\n"
+    "accepts (OUT_DIR/<filename without .so>.md), made of the prose in PLUGINS_DIR/<folder>/README.md and "
+    "the\n"
+    "table of its tags (name, type, default, unit, what Gazebo does, what bullet_sim does) generated from "
+    "the\n"
+    "tag table its parser reads through; and OUT_DIR/index.md, which lists them. Pages of filenames no "
+    "longer\n"
     "registered are not removed.\n"
     "Exit status: 0 written, 1 a page could not be written, 2 usage.\n";
 
@@ -51,7 +54,8 @@ struct Prose {
 Prose readProse(const fs::path& readme) {
   std::ifstream file(readme);
   if (!file) {
-    return {"", "No prose yet: `" + readme.parent_path().filename().string() + "/README.md` is missing.\n", ""};
+    return {"", "No prose yet: `" + readme.parent_path().filename().string() + "/README.md` is missing.\n",
+            ""};
   }
   Prose prose;
   std::string line;
@@ -112,9 +116,9 @@ std::string tagTable(const PluginType& type) {
   std::ostringstream out;
   out << "| tag | type | default | unit | Gazebo | bullet_sim |\n|---|---|---|---|---|---|\n";
   for (const TagRow& row : type.tags.rows()) {
-    out << "| " << code(row.name) << " | " << tagTypeName(row.type) << " | " << cell(code(row.fallback)) << " | "
-        << cell(row.unit) << " | " << cell(row.gazebo) << " | " << (row.ours.empty() ? "the same" : cell(row.ours))
-        << " |\n";
+    out << "| " << code(row.name) << " | " << tagTypeName(row.type) << " | " << cell(code(row.fallback))
+        << " | " << cell(row.unit) << " | " << cell(row.gazebo) << " | "
+        << (row.ours.empty() ? "the same" : cell(row.ours)) << " |\n";
   }
   return out.str();
 }
@@ -132,14 +136,16 @@ std::string siblings(const PluginRegistry& registry, const PluginType& type) {
   return text.empty() ? "" : " It also serves " + text + ".";
 }
 
-std::string page(const PluginRegistry& registry, const std::vector<const PluginType*>& types, const Prose& prose) {
+std::string page(const PluginRegistry& registry, const std::vector<const PluginType*>& types,
+                 const Prose& prose) {
   const PluginType& first = *types.front();
   std::ostringstream out;
   out << "<!-- Written by scripts/docs.sh (plugin_reference) from bullet_sim/plugins/" << first.folder
       << "/README.md and the plugin's tag table: edit those, not this page. -->\n"
       << "# `" << first.filename << "`\n\n";
   if (!prose.title.empty()) out << "**" << prose.title << "**\n\n";
-  out << trimmed(prose.introduction) << "\nFolder `bullet_sim/plugins/" << first.folder << "/`." << siblings(registry, first) << "\n";
+  out << trimmed(prose.introduction) << "\nFolder `bullet_sim/plugins/" << first.folder << "/`."
+      << siblings(registry, first) << "\n";
   for (const PluginType* type : types) {
     out << "\n## Tags" << (types.size() > 1 ? " " + servedAs(*type) : "") << "\n";
     out << "Read " << servedAs(*type) << ", in this order:\n\n" << tagTable(*type);
@@ -157,11 +163,14 @@ void write(const fs::path& path, const std::string& text) {
 std::string index(const std::map<std::string, std::vector<const PluginType*>>& by_filename,
                   const std::map<std::string, Prose>& prose) {
   std::ostringstream out;
-  out << "<!-- Written by scripts/docs.sh (plugin_reference) from the plugin registry: edit the plugins' folders, "
+  out << "<!-- Written by scripts/docs.sh (plugin_reference) from the plugin registry: edit the plugins' "
+         "folders, "
          "not this page. -->\n"
       << "# Plugins\n\n"
-      << "Every Gazebo plugin filename bullet_sim accepts, with the tags it reads. A `<plugin>` of any other\n"
-      << "filename gets one warning naming it and saying it is ignored. Each page's table is generated from the\n"
+      << "Every Gazebo plugin filename bullet_sim accepts, with the tags it reads. A `<plugin>` of any "
+         "other\n"
+      << "filename gets one warning naming it and saying it is ignored. Each page's table is generated from "
+         "the\n"
       << "tag table the plugin's parser reads through (`rosrun bullet_sim urdf_doctor --list-plugins` lists\n"
       << "them too).\n\n"
       << "| filename | served | what |\n|---|---|---|\n";

@@ -36,7 +36,8 @@ constexpr double kPictureAfter = 0.3;    ///< [s] after the first contact: the s
 constexpr double kSamplePeriod = 0.05;   ///< [s] between path samples
 constexpr double kPointSpacing = 0.01;   ///< [m] between the sampled points of a small surface
 constexpr int kMostDivisions = 12;       ///< of a large surface's edge
-constexpr double kFirstTouch = 0.002;    ///< [m] points this much behind the first to meet the target meet it too
+constexpr double kFirstTouch =
+    0.002;  ///< [m] points this much behind the first to meet the target meet it too
 constexpr double kSupportBand = 0.001;   ///< [m] points this close to the lowest one rest on the ground
 constexpr double kMotorsOffTorque = 1e-9;  ///< [N m] the plugins refuse 0
 constexpr double kGravity = 9.81;        ///< [m/s^2]
@@ -99,18 +100,21 @@ std::vector<Eigen::Vector3d> surfacePoints(const Shape& shape) {
       for (int k = 0; k < around; ++k) {
         const double angle = 2 * M_PI * k / around;
         const Eigen::Vector2d rim = r * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-        for (int i = 0; i <= along; ++i) points.emplace_back(rim.x(), rim.y(), -half + shape.length * i / along);
+        for (int i = 0; i <= along; ++i)
+          points.emplace_back(rim.x(), rim.y(), -half + shape.length * i / along);
         for (double z : {-half, half}) points.emplace_back(rim.x() / 2, rim.y() / 2, z);
       }
       break;
     }
     case Shape::Type::kSphere: {
-      const int count = std::clamp(static_cast<int>(4 * M_PI * shape.radius * shape.radius /
-                                                    (kPointSpacing * kPointSpacing)), 64, 4 * kMostDivisions * kMostDivisions);
+      const int count = std::clamp(
+          static_cast<int>(4 * M_PI * shape.radius * shape.radius / (kPointSpacing * kPointSpacing)), 64,
+          4 * kMostDivisions * kMostDivisions);
       const double golden = M_PI * (3 - std::sqrt(5.0));
       for (int i = 0; i < count; ++i) {  // a Fibonacci sphere
         const double z = 1 - 2 * (i + 0.5) / count, ring = std::sqrt(1 - z * z);
-        points.push_back(shape.radius * Eigen::Vector3d(ring * std::cos(golden * i), ring * std::sin(golden * i), z));
+        points.push_back(shape.radius *
+                         Eigen::Vector3d(ring * std::cos(golden * i), ring * std::sin(golden * i), z));
       }
       break;
     }
@@ -211,7 +215,8 @@ Drive pluginDrive(const Robot& robot) {
     if (!drive.command) throw std::logic_error(declaration.where() + " takes no cmd_vel");
     return drive;
   }
-  throw std::runtime_error("the robot has no drive plugin with wheels of its own, nor ros_control, to drive it");
+  throw std::runtime_error(
+      "the robot has no drive plugin with wheels of its own, nor ros_control, to drive it");
 }
 
 Drive driveOf(const Robot& robot, const ParameterTree& parameters) {
@@ -284,7 +289,8 @@ struct TargetBox {
     return p.x() > -half.x() + margin && std::abs(p.y()) < half.y() && std::abs(p.z()) < half.z();
   }
   /// Which side of the box `point` is on, straight across its thickness: -1 before the near face, +1 past the
-  /// far face, 0 inside or off to a side (within a margin of its edges, which a robot sliding past may graze).
+  /// far face, 0 inside or off to a side (within a margin of its edges, which a robot sliding past may
+  /// graze).
   int side(const Eigen::Vector3d& point) const {
     constexpr double kGraze = 0.01;  // [m]
     const Eigen::Vector3d p = pose.inverse() * point;
@@ -320,9 +326,11 @@ TargetBox placeTarget(const StrikeCell& cell, const std::vector<Eigen::Vector3d>
   }
   const bool post = cell.target == StrikeTarget::kDoorEdge;
   // A point on the robot's path: the post's near edge, or the wall's middle.
-  const Eigen::Vector3d on_path = (post ? high - (high - low) / 4 : (low + high) / 2) * left + (ahead + 1) * heading;
+  const Eigen::Vector3d on_path =
+      (post ? high - (high - low) / 4 : (low + high) / 2) * left + (ahead + 1) * heading;
   const Eigen::Vector3d from_centre(-box.half.x(), post ? -box.half.y() : 0.0, 0.0);
-  box.pose.translation() = on_path - box.pose.linear() * from_centre + box.half.z() * Eigen::Vector3d::UnitZ();
+  box.pose.translation() =
+      on_path - box.pose.linear() * from_centre + box.half.z() * Eigen::Vector3d::UnitZ();
   double first = std::numeric_limits<double>::infinity();
   for (const auto& p : points) first = std::min(first, box.distanceAlong(p, heading));
   box.pose.translation() += (gap - first) * heading;
@@ -356,7 +364,8 @@ std::string targetName(StrikeTarget target) {
 std::string cellName(const StrikeRobot& robot, const StrikeCell& cell) {
   std::ostringstream name;
   name << robot.name << " " << cell.wheel_model << " " << cell.step * 1000 << "ms " << cell.speed << "m/s "
-       << std::lround(cell.angle * 180 / M_PI) << "deg " << targetName(cell.target) << (cell.coast ? " coast" : "");
+       << std::lround(cell.angle * 180 / M_PI) << "deg " << targetName(cell.target)
+       << (cell.coast ? " coast" : "");
   return name.str();
 }
 
@@ -374,10 +383,12 @@ double robotEnergy(const Robot& robot, const Eigen::Vector3d& gravity) {
     const Eigen::Isometry3d pose = body.linkPose(link.name);
     const Eigen::Vector3d omega = body.linkAngularVelocity(link.name);
     const Eigen::Vector3d com = pose * link.inertial->com;
-    const Eigen::Vector3d velocity = body.linkLinearVelocity(link.name) + omega.cross(com - pose.translation());
+    const Eigen::Vector3d velocity =
+        body.linkLinearVelocity(link.name) + omega.cross(com - pose.translation());
     const Eigen::Matrix3d inertia = pose.linear() * link.inertial->inertia * pose.linear().transpose();
     const double mass = link.inertial->mass;
-    energy += 0.5 * mass * velocity.squaredNorm() + 0.5 * omega.dot(inertia * omega) - mass * gravity.dot(com);
+    energy +=
+        0.5 * mass * velocity.squaredNorm() + 0.5 * omega.dot(inertia * omega) - mass * gravity.dot(com);
   }
   return energy;
 }
@@ -422,11 +433,13 @@ std::string withMotorsOff(const std::string& urdf, const std::string& control_ya
       control_yaml.empty() ? ParameterTree() : ParameterTree::fromYaml(control_yaml, "motors off");
   std::ostringstream torque;
   torque << kMotorsOffTorque;
-  return withPluginTag(withEffortLimit(urdf, tractionWheels(model, controllers), kMotorsOffTorque), {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so"},
-                       [](const std::string& filename) {
-                         return filename == "libgazebo_ros_diff_drive.so" ? "wheelTorque" : "torque";
-                       },
-                       torque.str());
+  return withPluginTag(
+      withEffortLimit(urdf, tractionWheels(model, controllers), kMotorsOffTorque),
+      {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so"},
+      [](const std::string& filename) {
+        return filename == "libgazebo_ros_diff_drive.so" ? "wheelTorque" : "torque";
+      },
+      torque.str());
 }
 
 namespace {
@@ -477,7 +490,8 @@ struct Supports {
   }
 };
 
-Supports supportsOf(const Settled& settled, const std::vector<SurfacePoint>& points, const Eigen::Vector3d& n) {
+Supports supportsOf(const Settled& settled, const std::vector<SurfacePoint>& points,
+                    const Eigen::Vector3d& n) {
   Supports supports;
   std::vector<int> counts;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -519,8 +533,9 @@ Supports supportsOf(const Settled& settled, const std::vector<SurfacePoint>& poi
 /// the rear one, its top going back) far enough to carry its centre of mass over it, before another of its
 /// points meets the target or the ground: a robot that leans on the wall with its base or lands on its tail
 /// does not tip over.
-bool roomToTip(const Settled& settled, const std::vector<Eigen::Vector3d>& at_contact, const TargetBox& target,
-               const std::vector<size_t>& struck, const StrikeBounds& bounds, bool backwards) {
+bool roomToTip(const Settled& settled, const std::vector<Eigen::Vector3d>& at_contact,
+               const TargetBox& target, const std::vector<size_t>& struck, const StrikeBounds& bounds,
+               bool backwards) {
   const Eigen::Vector3d n = target.normal(), com = settled.mass.com;
   const double d = backwards ? bounds.rear : bounds.front;
   const Eigen::Vector3d pivot(com.x(), com.y(), settled.ground);
@@ -573,7 +588,8 @@ StrikeBounds strikeBounds(const Settled& settled, const std::vector<SurfacePoint
     if (target.distanceAlong(settled.points[i], settled.heading) > first + kFirstTouch) continue;
     struck.push_back(i);
     height_sum += settled.points[i].z() - settled.ground;
-    if (points[i].driven && std::find(struck_wheels.begin(), struck_wheels.end(), points[i].part) == struck_wheels.end())
+    if (points[i].driven &&
+        std::find(struck_wheels.begin(), struck_wheels.end(), points[i].part) == struck_wheels.end())
       struck_wheels.push_back(points[i].part);
   }
   bounds.contact_height = height_sum / static_cast<double>(struck.size());
@@ -600,7 +616,8 @@ StrikeBounds strikeBounds(const Settled& settled, const std::vector<SurfacePoint
   if (bounds.wheel_first) {
     const double push = std::min(settled.friction * driven_load, wheels) * slant;
     double load = 0;
-    for (int part : struck_wheels) load = std::max(load, supports.find(part) ? supports.find(part)->load : 0.0);
+    for (int part : struck_wheels)
+      load = std::max(load, supports.find(part) ? supports.find(part)->load : 0.0);
     bounds.wheel_load = load;
     bounds.climb_ratio = load > 0 ? kWallFriction * push / struck_wheels.size() / load : 0.0;
   }
@@ -616,8 +633,13 @@ class StrikeWatch {
  public:
   StrikeWatch(const Robot& robot, const std::vector<SurfacePoint>& points, const Settled& settled,
               const TargetBox& target)
-      : robot_(robot), points_(points), settled_(settled), target_(target), last_sample_(settled.root.translation()),
-        measured_at_(settled.root), sides_(points.size(), -1) {
+      : robot_(robot),
+        points_(points),
+        settled_(settled),
+        target_(target),
+        last_sample_(settled.root.translation()),
+        measured_at_(settled.root),
+        sides_(points.size(), -1) {
     first_reach_ = measured_ = std::numeric_limits<double>::infinity();
     for (const auto& p : settled.points) {
       first_reach_ = std::min(first_reach_, target.distanceAlong(p, settled.heading));
@@ -637,10 +659,12 @@ class StrikeWatch {
   double clearance() {
     const Eigen::Isometry3d root = robot_.body().linkPose(robot_.body().spec().root);
     const double turned = Eigen::AngleAxisd(root.linear() * measured_at_.linear().transpose()).angle();
-    const double bound = measured_ - (root.translation() - measured_at_.translation()).norm() - turned * reach_;
+    const double bound =
+        measured_ - (root.translation() - measured_at_.translation()).norm() - turned * reach_;
     if (bound > kNearGap) return bound;
     measured_ = std::numeric_limits<double>::infinity();
-    for (const auto& p : worldPoints(robot_.body(), points_)) measured_ = std::min(measured_, target_.distance(p));
+    for (const auto& p : worldPoints(robot_.body(), points_))
+      measured_ = std::min(measured_, target_.distance(p));
     measured_at_ = root;
     return measured_;
   }
@@ -666,8 +690,8 @@ class StrikeWatch {
         if (side != 0 || target_.depth(points[i]) <= 0) sides_[i] = side;
       }
       outcome.rise = std::max(outcome.rise, lowest - settled_.ground);
-      // The middle of its surface points lies within the robot; its root frame may not (a base_footprint under
-      // the chassis, which a robot on its back leaning on the target holds inside it).
+      // The middle of its surface points lies within the robot; its root frame may not (a base_footprint
+      // under the chassis, which a robot on its back leaning on the target holds inside it).
       outcome.through |= !points.empty() && target_.depth(middle) > 0;
     }
     if (time + 1e-9 >= next_sample_) {
@@ -732,13 +756,16 @@ void judge(const StrikeCell& cell, double start_energy, StrikeOutcome& outcome) 
   };
   if (!outcome.reached) outcome.failures.push_back("never met the target");
   if (outcome.through) outcome.failures.push_back("passed through the target");
-  // A robot whose bounds let its wheel climb the wall may fall back down: that fall is gravity's, not a fling.
+  // A robot whose bounds let its wheel climb the wall may fall back down: that fall is gravity's, not a
+  // fling.
   const double fall = b.climbs() || b.mayClimb() ? outcome.root_rise : 0.0;
   const double path_limit = outcome.command_path + kFlingSlack + fall;
   if (outcome.path > path_limit) fail("flung: path [m]", outcome.path, path_limit);
   if (cell.coast) {
-    outcome.energy_allowance = 0.5 * b.mass * kCorrectingSpeed * kCorrectingSpeed + kEnergyFraction * std::abs(start_energy);
-    if (outcome.energy_gain > outcome.energy_allowance) fail("energy gained [J]", outcome.energy_gain, outcome.energy_allowance);
+    outcome.energy_allowance =
+        0.5 * b.mass * kCorrectingSpeed * kCorrectingSpeed + kEnergyFraction * std::abs(start_energy);
+    if (outcome.energy_gain > outcome.energy_allowance)
+      fail("energy gained [J]", outcome.energy_gain, outcome.energy_allowance);
   }
   if (cell.coast) return;  // a coasting robot is judged by its energy
   if (b.mayClimb()) {  // too close to the threshold to say: only no leap
@@ -754,14 +781,16 @@ void judge(const StrikeCell& cell, double start_energy, StrikeOutcome& outcome) 
   }
   if (b.climbs()) {  // climbing is physical: the struck wheel climbs, the robot keeps a wheel on the ground
     if (outcome.max_tilt < kSlowTilt && outcome.root_rise < kClimbed)
-      fail("did not climb, though the wall's friction can carry its wheel: tilt [rad]", outcome.max_tilt, kSlowTilt);
+      fail("did not climb, though the wall's friction can carry its wheel: tilt [rad]", outcome.max_tilt,
+           kSlowTilt);
     if (outcome.rise > kMaxRise) fail("leapt [m]", outcome.rise, kMaxRise);
     return;
   }
   if (b.tips()) {
     const double edge = b.impact_tips ? (b.com_height > b.contact_height ? b.front : b.rear) : b.rear;
     const double over = std::atan2(edge, b.com_height);
-    if (outcome.max_tilt < over) fail("did not tip over as the bounds say: tilt [rad]", outcome.max_tilt, over);
+    if (outcome.max_tilt < over)
+      fail("did not tip over as the bounds say: tilt [rad]", outcome.max_tilt, over);
     return;
   }
   const double tilt = cell.speed <= kSlowSpeed + 1e-9 ? kSlowTilt : kFastTilt;
@@ -779,15 +808,18 @@ class StrikeRun {
   /// With `given_at_start`, the target stands kGivenGap ahead and the robot gets its speed at once (it
   /// could not reach it by itself).
   StrikeRun(const StrikeRobot& robot, const StrikeCell& cell, const WorldSpec& world, bool given_at_start)
-      : robot_(robot), cell_(cell), parameters_(robot.control_yaml.empty()
-                                                    ? ParameterTree()
-                                                    : ParameterTree::fromYaml(robot.control_yaml, robot.name)),
-        source_(parameters_), simulation_(withTarget(world, cell), options(cell, source_)),
+      : robot_(robot),
+        cell_(cell),
+        parameters_(robot.control_yaml.empty() ? ParameterTree()
+                                               : ParameterTree::fromYaml(robot.control_yaml, robot.name)),
+        source_(parameters_),
+        simulation_(withTarget(world, cell), options(cell, source_)),
         given_at_start_(given_at_start) {
     std::string urdf = withStrikeWheelModel(robot.urdf, cell.wheel_model);
     if (cell.coast) urdf = withMotorsOff(urdf, robot.control_yaml);
     std::vector<std::string> warnings;
-    robot_body_ = &simulation_.spawn(robot.name, parseModel(urdf, robot.name, PackageResolver::fromEnvironment(), &warnings), SpawnPose{});
+    robot_body_ = &simulation_.spawn(
+        robot.name, parseModel(urdf, robot.name, PackageResolver::fromEnvironment(), &warnings), SpawnPose{});
     drive_ = driveOf(*robot_body_, parameters_);
     points_ = samplePoints(robot_body_->body(), drive_);
     for (long i = 0; i < std::lround(kSettleTime / cell.step); ++i) {
@@ -795,7 +827,9 @@ class StrikeRun {
       simulation_.step();
     }
     settled_ = settledState(*robot_body_, points_, drive_);
-    const double gap = cell.coast ? kCoastGap : given_at_start ? kGivenGap : kGivenGap + runUp(drive_, cell.speed);
+    const double gap = cell.coast       ? kCoastGap
+                       : given_at_start ? kGivenGap
+                                        : kGivenGap + runUp(drive_, cell.speed);
     target_ = placeTarget(cell, settled_.points, settled_.heading, gap);
     EntityState placed;
     placed.pose = target_.pose;
@@ -814,10 +848,12 @@ class StrikeRun {
     while (simulation_.time() < std::min(deadline, contact_time_ + kAfterContact + kWatchAfter)) {
       const bool driving = simulation_.time() < contact_time_ + kAfterContact;
       const double wanted = driving && !cell_.coast ? cell_.speed : 0.0;
-      if (std::lround((simulation_.time() - start) / dt) % resendSteps() == 0) drive_.command(wanted, simulation_.time());
+      if (std::lround((simulation_.time() - start) / dt) % resendSteps() == 0)
+        drive_.command(wanted, simulation_.time());
       if (!decided && (cell_.coast || given_at_start_ || watch.approach() <= kGivenGap)) {
         decided = true;
-        if (cell_.coast || given_at_start_ || speedAlongHeading() < kReachedFraction * cell_.speed) giveSpeed();
+        if (cell_.coast || given_at_start_ || speedAlongHeading() < kReachedFraction * cell_.speed)
+          giveSpeed();
       }
       if (!decided && outcome_.max_tilt > kFastTilt) return false;
       command = ramped(command, wanted, drive_, dt);
@@ -830,8 +866,10 @@ class StrikeRun {
         outcome_.reached = true;
         contact_time_ = simulation_.time();
       }
-      watch.observe(outcome_, simulation_.time() - start, clearance < StrikeWatch::kNearGap || outcome_.reached);
-      if (cell_.coast && outcome_.given_speed) energies_.push_back(robotEnergy(*robot_body_, simulation_.world().gravity));
+      watch.observe(outcome_, simulation_.time() - start,
+                    clearance < StrikeWatch::kNearGap || outcome_.reached);
+      if (cell_.coast && outcome_.given_speed)
+        energies_.push_back(robotEnergy(*robot_body_, simulation_.world().gravity));
       if (snapshot && !pictured && simulation_.time() >= contact_time_ + kPictureAfter) {
         pictured = true;
         snapshot(simulation_, robot_.name, "contact");
@@ -849,7 +887,8 @@ class StrikeRun {
     if (!energies_.empty()) {  // from 0.1 s before the first contact on
       const long size = static_cast<long>(energies_.size());
       const long contact = size - std::lround((simulation_.time() - contact_time_) / cell_.step);
-      const size_t from = static_cast<size_t>(std::clamp(contact - std::lround(0.1 / cell_.step), 0L, size - 1));
+      const size_t from =
+          static_cast<size_t>(std::clamp(contact - std::lround(0.1 / cell_.step), 0L, size - 1));
       start_energy = energies_[from];
       for (size_t i = from; i < energies_.size(); ++i)
         outcome_.energy_gain = std::max(outcome_.energy_gain, energies_[i] - start_energy);

@@ -11,10 +11,12 @@ std::string withPluginTag(const std::string& urdf, const std::vector<std::string
                           const std::string& text, int* plugins) {
   int found = 0;
   tinyxml2::XMLDocument document;
-  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
+  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement())
+    return urdf;
   for (auto* gazebo = document.RootElement()->FirstChildElement("gazebo"); gazebo;
        gazebo = gazebo->NextSiblingElement("gazebo")) {
-    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin; plugin = plugin->NextSiblingElement("plugin")) {
+    for (auto* plugin = gazebo->FirstChildElement("plugin"); plugin;
+         plugin = plugin->NextSiblingElement("plugin")) {
       const std::string filename = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
       if (std::find(filenames.begin(), filenames.end(), filename) == filenames.end()) continue;
       const std::string name = tag(filename);
@@ -32,7 +34,8 @@ std::string withPluginTag(const std::string& urdf, const std::vector<std::string
 
 std::string withEffortLimit(const std::string& urdf, const std::vector<std::string>& joints, double effort) {
   tinyxml2::XMLDocument document;
-  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement()) return urdf;
+  if (document.Parse(urdf.c_str(), urdf.size()) != tinyxml2::XML_SUCCESS || !document.RootElement())
+    return urdf;
   for (auto* joint = document.RootElement()->FirstChildElement("joint"); joint;
        joint = joint->NextSiblingElement("joint")) {
     const char* name = joint->Attribute("name");
@@ -51,7 +54,9 @@ std::string withEffortLimit(const std::string& urdf, const std::vector<std::stri
 
 std::string withWheelModel(const std::string& urdf, const std::string& wheel_model, int* drives) {
   return withPluginTag(
-      urdf, {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so", "libgazebo_ros_ackermann_drive.so"},
+      urdf,
+      {"libgazebo_ros_diff_drive.so", "libgazebo_ros_skid_steer_drive.so",
+       "libgazebo_ros_ackermann_drive.so"},
       [](const std::string&) { return "wheelModel"; }, wheel_model, drives);
 }
 

@@ -46,7 +46,8 @@ std::vector<std::string> stampedFiles(const std::string& text) {
 }
 
 /// The files xacro reads for `file` besides itself; `ok` is false when xacro cannot list them.
-std::vector<std::string> dependencies(const std::string& file, const std::vector<std::string>& args, bool* ok) {
+std::vector<std::string> dependencies(const std::string& file, const std::vector<std::string>& args,
+                                      bool* ok) {
   std::vector<std::string> command = {"xacro", "--deps", file};
   command.insert(command.end(), args.begin(), args.end());
   std::string error;
@@ -76,12 +77,14 @@ void writeAtomically(const fs::path& path, const std::string& text) {
 
 std::string xacroCacheDir() {
   if (const char* dir = std::getenv("BULLET_SIM_CACHE_DIR"); dir && *dir) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/bullet_sim/xacro";
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return std::string(xdg) + "/bullet_sim/xacro";
   const char* home = std::getenv("HOME");
   return std::string(home && *home ? home : "/tmp") + "/.cache/bullet_sim/xacro";
 }
 
-std::string cachedXacro(const std::string& file, const std::vector<std::string>& args, const std::string& cache_dir) {
+std::string cachedXacro(const std::string& file, const std::vector<std::string>& args,
+                        const std::string& cache_dir) {
   const std::string absolute = fs::absolute(file).lexically_normal().string();
   std::string key = absolute;
   for (const auto& arg : args) key += '\0' + arg;
@@ -96,7 +99,8 @@ std::string cachedXacro(const std::string& file, const std::vector<std::string>&
   if (split != std::string::npos) {
     const std::string recorded = cached.substr(0, split + 1);
     const auto files = stampedFiles(recorded);
-    if (!files.empty() && files.front() == absolute && stamps(files) == recorded) return cached.substr(split + 2);
+    if (!files.empty() && files.front() == absolute && stamps(files) == recorded)
+      return cached.substr(split + 2);
   }
   std::vector<std::string> files = {absolute};
   const std::string before = stamps(files);

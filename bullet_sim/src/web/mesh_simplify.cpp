@@ -73,7 +73,8 @@ SimplifiedMesh simplifyMesh(const TriangleMesh& mesh, size_t max_triangles) {
   Eigen::AlignedBox3d bounds;
   for (const auto& vertex : mesh.vertices) bounds.extend(vertex);
   const double diagonal = std::max(bounds.diagonal().norm(), kSameVertex);
-  double cell = diagonal / (kFirstCellDivisor * std::sqrt(static_cast<double>(std::max<size_t>(max_triangles, 1))));
+  double cell =
+      diagonal / (kFirstCellDivisor * std::sqrt(static_cast<double>(std::max<size_t>(max_triangles, 1))));
   for (;; cell *= kCellGrowth) {
     SimplifiedMesh coarse = cluster(mesh, cell);
     if (coarse.triangles.size() <= max_triangles || cell > 2 * diagonal) return coarse;

@@ -1,6 +1,6 @@
-// Meshes small enough to send to a browser: identical vertices merged, then, above a triangle budget, vertices
-// clustered on a grid as coarse as it takes (each cell's vertices become their mean, and triangles that
-// collapse are dropped). Coarse, but it keeps a mesh's outline and its parts' order.
+// Meshes small enough to send to a browser: identical vertices merged, then, above a triangle budget,
+// vertices clustered on a grid as coarse as it takes (each cell's vertices become their mean, and triangles
+// that collapse are dropped). Coarse, but it keeps a mesh's outline and its parts' order.
 #pragma once
 
 #include <Eigen/Geometry>

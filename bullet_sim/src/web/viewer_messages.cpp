@@ -51,9 +51,10 @@ Eigen::Vector4d meanColour(const Texture& texture) {
 /// The colour the renderer gives a part of a mesh (offscreen_renderer.cpp's lookOf), a texture as its mean.
 Eigen::Vector4d partColour(const ViewerMesh& mesh, const MeshMaterial* material) {
   if (!material || mesh.paint == MeshPaint::kUniform) return mesh.rgba;
-  Eigen::Vector4d colour = mesh.paint == MeshPaint::kTint
-                               ? mesh.rgba
-                               : material->rgba.value_or(material->texture ? Eigen::Vector4d::Ones() : mesh.rgba);
+  Eigen::Vector4d colour =
+      mesh.paint == MeshPaint::kTint
+          ? mesh.rgba
+          : material->rgba.value_or(material->texture ? Eigen::Vector4d::Ones() : mesh.rgba);
   if (material->texture) colour = colour.cwiseProduct(meanColour(*material->texture));
   return colour;
 }
@@ -67,7 +68,8 @@ struct GeometryRuns {
 /// The material of each of a mesh's triangles, from its parts; -1 where none covers it.
 int materialOf(const TriangleMesh& mesh, int triangle) {
   for (const MeshPart& part : mesh.parts) {
-    if (triangle >= part.first_triangle && triangle < part.first_triangle + part.triangle_count) return part.material;
+    if (triangle >= part.first_triangle && triangle < part.first_triangle + part.triangle_count)
+      return part.material;
   }
   return -1;
 }
@@ -140,7 +142,8 @@ ViewerLayout viewerLayout(const Simulation& simulation, uint64_t revision, size_
       body.visual = v;
       body.moves = !model.is_static;
       body.pose = simulation.worldVisualFrame(m, v);
-      layout.meshes.push_back({tessellate(visual.shape), layout.bodies.size(), visual.origin, visual.rgba, visual.paint});
+      layout.meshes.push_back(
+          {tessellate(visual.shape), layout.bodies.size(), visual.origin, visual.rgba, visual.paint});
       layout.bodies.push_back(std::move(body));
     }
   }
@@ -150,14 +153,17 @@ ViewerLayout viewerLayout(const Simulation& simulation, uint64_t revision, size_
 
 std::string sceneJson(const ViewerLayout& layout) {
   Json bodies = Json::array();
-  for (const ViewerBody& body : layout.bodies) bodies.push_back({{"name", body.name}, {"pose", poseJson(body.pose)}});
+  for (const ViewerBody& body : layout.bodies)
+    bodies.push_back({{"name", body.name}, {"pose", poseJson(body.pose)}});
   Json geometries = Json::array();
   Json meshes = Json::array();
   std::map<const TriangleMesh*, GeometryRuns> geometry_of;  // meshes that share a file share a geometry
   for (const ViewerMesh& mesh : layout.meshes) {
     auto geometry = geometry_of.find(mesh.mesh.get());
     if (geometry == geometry_of.end()) {
-      geometry = geometry_of.emplace(mesh.mesh.get(), addGeometry(*mesh.mesh, layout.max_mesh_triangles, geometries)).first;
+      geometry =
+          geometry_of.emplace(mesh.mesh.get(), addGeometry(*mesh.mesh, layout.max_mesh_triangles, geometries))
+              .first;
     }
     Json parts = Json::array();
     for (const auto& [first, count, material] : geometry->second.runs) {
@@ -165,7 +171,9 @@ std::string sceneJson(const ViewerLayout& layout) {
       parts.push_back({first, count, rounded(rgba[0], 1e-3), rounded(rgba[1], 1e-3), rounded(rgba[2], 1e-3),
                        rounded(rgba[3], 1e-3)});
     }
-    meshes.push_back({{"geometry", geometry->second.index}, {"body", mesh.body}, {"pose", poseJson(mesh.pose)},
+    meshes.push_back({{"geometry", geometry->second.index},
+                      {"body", mesh.body},
+                      {"pose", poseJson(mesh.pose)},
                       {"parts", std::move(parts)}});
   }
   Json robots = Json::array();
@@ -200,7 +208,8 @@ ViewerFrame viewerFrame(const Simulation& simulation, const ViewerLayout& layout
   for (size_t b = 0; b < layout.bodies.size(); ++b) {
     const ViewerBody& body = layout.bodies[b];
     if (body.robot.empty()) {
-      if (body.moves || moved[body.model]) frame.poses.emplace_back(b, simulation.worldVisualFrame(body.model, body.visual));
+      if (body.moves || moved[body.model])
+        frame.poses.emplace_back(b, simulation.worldVisualFrame(body.model, body.visual));
       continue;
     }
     if (body.robot != robot_name) robot = simulation.robot(robot_name = body.robot);
@@ -209,7 +218,9 @@ ViewerFrame viewerFrame(const Simulation& simulation, const ViewerLayout& layout
   const Eigen::Vector4d red(1, 0, 0, 1);
   for (const std::string& name : simulation.robotNames()) {
     const Robot& each = *simulation.robot(name);
-    const auto add = [&](const PointSet& set) { hits.insert(hits.end(), set.points.begin(), set.points.end()); };
+    const auto add = [&](const PointSet& set) {
+      hits.insert(hits.end(), set.points.begin(), set.points.end());
+    };
     for (const auto& scan : each.outputs<LaserScan>()) {
       if (scan.stream->count() > 0) add(lidarHits(scan.stream->latest(), red, 1));
     }
@@ -247,10 +258,10 @@ std::string frameJson(const ViewerFrame& frame) {
 }
 
 std::string imageMessage(const std::string& camera, const CameraImage& image) {
-  const std::string header = Json{{"type", "image"},       {"camera", camera},     {"width", image.width},
-                                  {"height", image.height}, {"encoding", image.encoding}, {"step", image.step},
-                                  {"stamp", image.stamp}}
-                                 .dump();
+  const std::string header = Json{
+      {"type", "image"},        {"camera", camera},           {"width", image.width},
+      {"height", image.height}, {"encoding", image.encoding}, {"step", image.step},
+      {"stamp", image.stamp}}.dump();
   std::string message;
   message.reserve(4 + header.size() + image.data.size());
   const auto length = static_cast<uint32_t>(header.size());
@@ -287,7 +298,8 @@ namespace {
 
 class SceneOutgoing final : public Outgoing {
  public:
-  explicit SceneOutgoing(std::shared_ptr<const ViewerLayout> layout) : Outgoing(false), layout_(std::move(layout)) {}
+  explicit SceneOutgoing(std::shared_ptr<const ViewerLayout> layout)
+      : Outgoing(false), layout_(std::move(layout)) {}
 
  private:
   std::string serialise() const override { return sceneJson(*layout_); }

@@ -1,6 +1,6 @@
-// What the live viewer's page is sent, built from a simulation on its thread and turned into JSON (or binary) on
-// the server's: the layout (geometry, colours, bodies; again whenever robots or world models come or go), frames
-// (the poses of what moves, lidar hits, sim time, RTF) and camera images.
+// What the live viewer's page is sent, built from a simulation on its thread and turned into JSON (or binary)
+// on the server's: the layout (geometry, colours, bodies; again whenever robots or world models come or go),
+// frames (the poses of what moves, lidar hits, sim time, RTF) and camera images.
 //
 // Units on the wire: metres and seconds; a pose is [x, y, z, qx, qy, qz, qw] in the world (z up); geometry
 // positions are integers in units of kPositionUnit.

@@ -47,7 +47,8 @@ std::string withoutPort(const std::string& host) {
 bool isIpAddressOrLocalhost(const std::string& name) {
   if (name == "localhost") return true;
   std::string literal = name;
-  if (literal.size() > 2 && literal.front() == '[' && literal.back() == ']') literal = literal.substr(1, literal.size() - 2);
+  if (literal.size() > 2 && literal.front() == '[' && literal.back() == ']')
+    literal = literal.substr(1, literal.size() - 2);
   beast::error_code ec;
   net::ip::make_address(literal, ec);
   return !ec;
@@ -89,7 +90,8 @@ ClientMessage parseClientMessage(const std::string& text) {
     ViewerCommand command{ViewerCommand::Kind::kTeleop, "", number("linear"), number("angular")};
     if (!json.contains("robot") || !json["robot"].is_string() || !std::isfinite(command.linear) ||
         !std::isfinite(command.angular)) {
-      message.error = "a teleop message needs \"robot\" (a string), \"linear\" and \"angular\" (finite numbers)";
+      message.error =
+          "a teleop message needs \"robot\" (a string), \"linear\" and \"angular\" (finite numbers)";
     } else {
       command.robot = json["robot"];
       message.command = command;
@@ -100,7 +102,8 @@ ClientMessage parseClientMessage(const std::string& text) {
   return message;
 }
 
-bool originAllowed(const std::string& origin, const std::string& host, const std::vector<std::string>& allowed) {
+bool originAllowed(const std::string& origin, const std::string& host,
+                   const std::vector<std::string>& allowed) {
   if (origin.empty()) return false;
   for (const auto& listed : allowed) {
     if (origin == listed) return true;
@@ -180,7 +183,8 @@ class WebServer::Impl::ViewerSession : public std::enable_shared_from_this<Viewe
   void accept(Request request) {
     request_ = std::move(request);
     beast::get_lowest_layer(ws_).expires_never();  // the WebSocket's own timeouts take over
-    websocket::stream_base::timeout timeouts = websocket::stream_base::timeout::suggested(beast::role_type::server);
+    websocket::stream_base::timeout timeouts =
+        websocket::stream_base::timeout::suggested(beast::role_type::server);
     timeouts.idle_timeout = kViewerIdleTimeout;
     ws_.set_option(timeouts);
     ws_.read_message_max(kMaxClientMessage);
@@ -222,7 +226,8 @@ class WebServer::Impl::ViewerSession : public std::enable_shared_from_this<Viewe
       scene_seen_ = server_.scene.sequence;
       return server_.scene.message;
     }
-    if (scene_seen_ == 0 || unacknowledged_ >= kMaxUnacknowledged) return nullptr;  // frames name the scene's bodies
+    if (scene_seen_ == 0 || unacknowledged_ >= kMaxUnacknowledged)
+      return nullptr;  // frames name the scene's bodies
     const auto image = camera_.empty() ? server_.images.end() : server_.images.find(camera_);
     const bool image_due = image != server_.images.end() && image->second.sequence != image_seen_;
     const bool frame_due = server_.frame.message && server_.frame.sequence != frame_seen_;
@@ -349,7 +354,8 @@ class WebServer::Impl::HttpSession : public std::enable_shared_from_this<HttpSes
 void WebServer::Impl::listen() {
   beast::error_code ec;
   const net::ip::address address = net::ip::make_address(options.address, ec);
-  if (ec) throw std::runtime_error("[" + options.address + "] is not an IP address (e.g. 127.0.0.1 or 0.0.0.0)");
+  if (ec)
+    throw std::runtime_error("[" + options.address + "] is not an IP address (e.g. 127.0.0.1 or 0.0.0.0)");
   const tcp::endpoint endpoint(address, options.port);
   const std::string where = options.address + ":" + std::to_string(options.port);
   acceptor.open(endpoint.protocol(), ec);
@@ -450,8 +456,9 @@ std::optional<Response> WebServer::Impl::refuseUpgrade(const Request& request) c
                    "listed in ~web_allowed_origins");
   }
   if (viewers >= options.max_viewers) {
-    return refusal(http::status::service_unavailable,
-                   std::to_string(options.max_viewers) + " pages are open already, the most this viewer serves");
+    return refusal(
+        http::status::service_unavailable,
+        std::to_string(options.max_viewers) + " pages are open already, the most this viewer serves");
   }
   return std::nullopt;
 }

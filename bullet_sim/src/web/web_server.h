@@ -1,9 +1,9 @@
-// The live viewer's server (Boost.Beast): serves the page's files over HTTP and, over a WebSocket at /ws, pushes
-// each page the latest messages the simulation published, one at a time: a page that reads slowly gets fewer
-// frames, never a queue, and the simulation never waits for it. The server asks the simulation for a frame
-// when a page is ready for one, at most frame_rate times a second (takeFrameRequest: one atomic load per step
-// otherwise). What pages ask (pause, teleop, ...) goes to a CommandSink, on the server's thread: the host queues
-// it for between steps. ROS-free.
+// The live viewer's server (Boost.Beast): serves the page's files over HTTP and, over a WebSocket at /ws,
+// pushes each page the latest messages the simulation published, one at a time: a page that reads slowly gets
+// fewer frames, never a queue, and the simulation never waits for it. The server asks the simulation for a
+// frame when a page is ready for one, at most frame_rate times a second (takeFrameRequest: one atomic load
+// per step otherwise). What pages ask (pause, teleop, ...) goes to a CommandSink, on the server's thread: the
+// host queues it for between steps. ROS-free.
 #pragma once
 
 #include <cstdint>
@@ -69,7 +69,8 @@ ClientMessage parseClientMessage(const std::string& text);
 /// Whether a WebSocket upgrade whose Origin header is `origin`, sent to `host` (its Host header), may open:
 /// `origin` is listed in `allowed`, or it is the page's own origin, "http://" + host, where host names the
 /// server by an IP address or as localhost (a DNS name could be another site's, rebound to this address).
-bool originAllowed(const std::string& origin, const std::string& host, const std::vector<std::string>& allowed);
+bool originAllowed(const std::string& origin, const std::string& host,
+                   const std::vector<std::string>& allowed);
 
 /// Whether a page connected from `remote_address` may pause, reset and drive: from this machine (loopback,
 /// which an SSH tunnel's connections come from) always; from elsewhere only with `control_beyond_localhost`.

@@ -80,7 +80,8 @@ void WebViewer::update(const Simulation& simulation, bool paused) {
 }
 
 void WebViewer::publishLayout(const Simulation& simulation) {
-  layout_ = std::make_shared<const ViewerLayout>(viewerLayout(simulation, ++revision_, options_.max_mesh_triangles));
+  layout_ = std::make_shared<const ViewerLayout>(
+      viewerLayout(simulation, ++revision_, options_.max_mesh_triangles));
   layout_stale_ = false;
   server_->publishScene(sceneMessage(layout_));
 }

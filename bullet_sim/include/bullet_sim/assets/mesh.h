@@ -1,5 +1,5 @@
-// Triangle meshes loaded with assimp (STL, DAE, OBJ, ...), with the colours and textures their files give, from
-// regular files only, within limits.
+// Triangle meshes loaded with assimp (STL, DAE, OBJ, ...), with the colours and textures their files give,
+// from regular files only, within limits.
 #pragma once
 
 #include <Eigen/Core>
@@ -69,7 +69,8 @@ std::optional<TriangleMesh> loadMesh(const std::string& path, const Eigen::Vecto
 /// What loadMesh does, done in this process, without a child or a time limit: for the fuzzer.
 std::optional<TriangleMesh> importMesh(const std::string& path, const Eigen::Vector3d& scale,
                                        std::string* error, TextureCache* textures = nullptr,
-                                       std::vector<std::string>* warnings = nullptr, const Limits& limits = {});
+                                       std::vector<std::string>* warnings = nullptr,
+                                       const Limits& limits = {});
 
 /// Loads each mesh file once: every visual or collision that names the same file at the same scale shares
 /// one TriangleMesh, and every mesh that names the same image shares one Texture.

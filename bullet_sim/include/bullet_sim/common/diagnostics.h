@@ -11,7 +11,8 @@ namespace bullet_sim {
 /// strict load (~strict_models, urdf_doctor) takes what Gazebo forgives silently for an error.
 class Diagnostics {
  public:
-  explicit Diagnostics(std::string source, bool strict = false) : source_(std::move(source)), strict_(strict) {}
+  explicit Diagnostics(std::string source, bool strict = false)
+      : source_(std::move(source)), strict_(strict) {}
 
   void error(const std::string& message) { errors_.push_back(message); }
   void warning(const std::string& message) { warnings_.push_back(message); }

@@ -6,7 +6,8 @@
 //   - a base_footprint root whose robot does not stand on z = 0 (it falls or sinks at spawn in Gazebo);
 //   - what each plugin's own check finds (PluginType::check, in the plugin's folder): drive wheels of a diff
 //     drive or skid steer that roll backwards, zero effort or velocity limits on a joint the plugin drives;
-//   - mirrored wheels, found from the geometry, whose axes disagree (a drive plugin's own wheels are its check's);
+//   - mirrored wheels, found from the geometry, whose axes disagree (a drive plugin's own wheels are its
+//   check's);
 //   - frameName, bodyName and robotBaseFrame tags naming no link;
 //   - revolute limits beyond 2 pi (degrees written where URDF wants radians), and revolute or prismatic
 //     limits that are equal (the joint cannot move) or inverted;
@@ -52,9 +53,11 @@ struct DoctorReport {
 /// in the text.
 DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
                          const PackageResolver& resolver, const Limits& limits = Limits());
-/// The same with the plugin types of `registry` (their parsers and their checks) instead of the built-in ones.
+/// The same with the plugin types of `registry` (their parsers and their checks) instead of the built-in
+/// ones.
 DoctorReport examineUrdf(const std::string& urdf_xml, const std::string& source,
-                         const PackageResolver& resolver, const Limits& limits, const PluginRegistry& registry);
+                         const PackageResolver& resolver, const Limits& limits,
+                         const PluginRegistry& registry);
 
 /// The report for a file that could not be read or expanded: `reason` is its one finding, exit code 2.
 DoctorReport unreadableReport(const std::string& source, const std::string& reason);

@@ -58,8 +58,8 @@ struct JointSpec {
   double velocity = 0;  ///< [rad/s] or [m/s]; 0 = no limit given
   double damping = 0;   ///< [N m s/rad]
   double friction = 0;  ///< [N m]
-  /// <disableFixedJointLumping> or <preserveFixedJoint>: Gazebo keeps a fixed joint's child link apart instead
-  /// of lumping it into the parent (which changes the names of its collisions, not its physics).
+  /// <disableFixedJointLumping> or <preserveFixedJoint>: Gazebo keeps a fixed joint's child link apart
+  /// instead of lumping it into the parent (which changes the names of its collisions, not its physics).
   bool lumping_disabled = false;
   /// URDF's <mimic>, or a mimic joint plugin's: this joint follows another, held at multiplier * its
   /// position + offset by a coupling as strong as `max_effort`.
@@ -119,7 +119,8 @@ struct PluginElement {
 
 /// Types each element with `plugins` into model.plugins, in order; one that bullet_sim does not simulate is
 /// left out after the parser's warning, and one without a filename is an error; then checks what the plugins
-/// ask together and what they add to its joints (PluginParsers::completeModel). The model's links and joints must be complete: plugins name them.
+/// ask together and what they add to its joints (PluginParsers::completeModel). The model's links and joints
+/// must be complete: plugins name them.
 void declarePlugins(const std::vector<PluginElement>& elements, const PluginParsers& plugins,
                     ModelSpec& model, Diagnostics& diagnostics, const Limits& limits);
 

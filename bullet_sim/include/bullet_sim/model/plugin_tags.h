@@ -38,7 +38,8 @@ const char* tagTypeName(TagType type);
 struct TagRow {
   std::string name;
   TagType type = TagType::kText;
-  std::string fallback;  ///< the default as the reference shows it ("" for none); parsed when the reader gives none
+  std::string
+      fallback;  ///< the default as the reference shows it ("" for none); parsed when the reader gives none
   std::string unit;      ///< "m", "Hz", ...; "" for none
   std::string gazebo;    ///< what Gazebo's plugin does with it
   std::string ours;      ///< what bullet_sim does where it differs; "" when it does the same
@@ -64,8 +65,8 @@ class TagTable {
 /// finish() warns once about each tag nothing read (Gazebo ignores unknown tags silently).
 ///
 /// With a tag table, the table is the list of what the parser may read: reading a tag it lacks, or through a
-/// reader of another type, is a std::logic_error (a plugin's tests find it); its ignored rows are accepted, and
-/// the readers without a fallback take the row's.
+/// reader of another type, is a std::logic_error (a plugin's tests find it); its ignored rows are accepted,
+/// and the readers without a fallback take the row's.
 class PluginTags {
  public:
   /// `element` may be nullptr: every tag is then absent.

@@ -34,8 +34,9 @@ struct TransmissionSpec {
   std::string where() const;
 };
 
-/// Reads a URDF's <transmission> elements. Every problem is a warning that names the transmission and says what
-/// is skipped.
-std::vector<TransmissionSpec> readTransmissions(const std::vector<TagNode>& elements, Diagnostics& diagnostics);
+/// Reads a URDF's <transmission> elements. Every problem is a warning that names the transmission and says
+/// what is skipped.
+std::vector<TransmissionSpec> readTransmissions(const std::vector<TagNode>& elements,
+                                                Diagnostics& diagnostics);
 
 }  // namespace bullet_sim

@@ -104,8 +104,8 @@ struct WorldSpec {
 
 struct WorldOptions {
   /// An <include> of a model that is on no folder of the model path, or a world's mesh that cannot be found,
-  /// is an error. By default it is skipped (a mesh: the shapes using it), as Gazebo skips it, with one warning
-  /// naming the model or mesh, the folders searched and how to add a model.
+  /// is an error. By default it is skipped (a mesh: the shapes using it), as Gazebo skips it, with one
+  /// warning naming the model or mesh, the folders searched and how to add a model.
   bool strict_models = false;
   Limits limits;  ///< sizes, poses and counts beyond them are errors
 };

@@ -73,10 +73,12 @@ class RobotBody {
   /// joints push with it, and a drive plugin's velocity motor on the same joint keeps driving).
   virtual void setJointEffort(int joint, double effort) = 0;
 
-  /// Sets the root link's world-frame velocity [m/s] and angular velocity [rad/s] (Gazebo's Model::SetLinearVel / SetAngularVel).
+  /// Sets the root link's world-frame velocity [m/s] and angular velocity [rad/s] (Gazebo's
+  /// Model::SetLinearVel / SetAngularVel).
   virtual void setRootVelocity(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) = 0;
   /// Adds a force [N] and a torque [N m], in world axes, at the origin of `link`, for the coming step only.
-  virtual void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) = 0;
+  virtual void applyLinkWrench(const std::string& link, const Eigen::Vector3d& force,
+                               const Eigen::Vector3d& torque) = 0;
   /// Whether applyJointEffort moves `joint`: not for a joint the wheel model moves kinematically (raycast:
   /// every joint but the wheels).
   virtual bool takesJointEffort(int joint) const = 0;

@@ -230,7 +230,8 @@ struct Float64Command {
   double data = 0;
 };
 
-/// std_msgs/Float64MultiArray, an input: one command per joint of a group controller (its layout is not read).
+/// std_msgs/Float64MultiArray, an input: one command per joint of a group controller (its layout is not
+/// read).
 struct Float64ArrayCommand {
   std::vector<double> data;
 };

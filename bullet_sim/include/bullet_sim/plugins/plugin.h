@@ -1,6 +1,7 @@
 // Plugins: Gazebo plugin and sensor behaviour, ROS-free. Each step runs in three phases: every plugin applies
-// its commands, physics steps, then every plugin senses the stepped world, which it may only read (ray sensors
-// aim their rays and cast them first, every robot's side by side or behind the next steps' physics: castRays).
+// its commands, physics steps, then every plugin senses the stepped world, which it may only read (ray
+// sensors aim their rays and cast them first, every robot's side by side or behind the next steps' physics:
+// castRays).
 #pragma once
 
 #include <Eigen/Core>
@@ -46,10 +47,10 @@ class UpdateTimer {
   double next_ = 0;
 };
 
-/// How a plugin's frames take a tf_prefix, as Noetic's gazebo_plugins do (tf::resolve(prefix, frame)); the node
-/// reads the prefix from the parameter server, and a frame written with a leading '/' takes none.
+/// How a plugin's frames take a tf_prefix, as Noetic's gazebo_plugins do (tf::resolve(prefix, frame)); the
+/// node reads the prefix from the parameter server, and a frame written with a leading '/' takes none.
 enum class TfPrefixRule {
-  kSearched,        ///< the tf_prefix parameter searched up from the plugin's namespace (drives, lasers, cameras)
+  kSearched,  ///< the tf_prefix parameter searched up from the plugin's namespace (drives, lasers, cameras)
   kNamespaceParam,  ///< <namespace>/tf_prefix only (p3d, range, bumper, block laser)
   kNone,            ///< no prefix (the IMU plugins; ros_control's controllers name their frames in full)
 };

@@ -1,7 +1,7 @@
-// A plugin's own checks for urdf_doctor: what in a URDF makes that plugin misbehave without saying so (a drive
-// wheel turning backwards, a zero limit on a joint it drives). A plugin type registers its check
-// (PluginType::check); the doctor calls the check of every plugin the robot declares and reports what it finds.
-// The doctor's own messages are written with the same helpers, so that all read alike. ROS-free.
+// A plugin's own checks for urdf_doctor: what in a URDF makes that plugin misbehave without saying so (a
+// drive wheel turning backwards, a zero limit on a joint it drives). A plugin type registers its check
+// (PluginType::check); the doctor calls the check of every plugin the robot declares and reports what it
+// finds. The doctor's own messages are written with the same helpers, so that all read alike. ROS-free.
 #pragma once
 
 #include <Eigen/Core>
@@ -50,7 +50,8 @@ std::string message(const std::string& element, const std::string& problem, cons
 
 /// Zero effort or velocity limits on the `motors` a plugin drives, which a motor honouring the URDF limits
 /// cannot move; `note` says what the plugin adds about them ("" for nothing).
-std::vector<PluginFinding> zeroLimitsOnMotors(const PluginCheckInput& input, const std::vector<std::string>& motors,
+std::vector<PluginFinding> zeroLimitsOnMotors(const PluginCheckInput& input,
+                                              const std::vector<std::string>& motors,
                                               const std::string& note = "");
 
 }  // namespace checks

@@ -1,7 +1,7 @@
-// How a plugin talks to the outside: typed, sequenced outputs, typed inputs, typed services and typed actions,
-// each under a name. The ROS node maps each output type to its message, each input type to its subscription,
-// each request type to its service and each action type to its action server, once; a plugin whose types
-// exist needs nothing new in the node.
+// How a plugin talks to the outside: typed, sequenced outputs, typed inputs, typed services and typed
+// actions, each under a name. The ROS node maps each output type to its message, each input type to its
+// subscription, each request type to its service and each action type to its action server, once; a plugin
+// whose types exist needs nothing new in the node.
 #pragma once
 
 #include <cstdint>
@@ -42,8 +42,9 @@ using OutputStream =
                  const Stream<LaserScan>*, const Stream<PointCloud>*, const Stream<LegacyPointCloud>*,
                  const Stream<ImuSample>*, const Stream<CameraImage>*, const Stream<CameraInfo>*,
                  const Stream<ColouredCloud>*, const Stream<RangeSample>*, const Stream<NavSatFixSample>*,
-                 const Stream<Vector3Sample>*, const Stream<ContactsSample>*, const Stream<JointControllerState>*,
-                 const Stream<StampedTwist>*, const Stream<JointTrajectoryControllerState>*>;
+                 const Stream<Vector3Sample>*, const Stream<ContactsSample>*,
+                 const Stream<JointControllerState>*, const Stream<StampedTwist>*,
+                 const Stream<JointTrajectoryControllerState>*>;
 
 /// Whether anyone listens to an output. The node sets it from the topic's subscribers before each step; a
 /// plugin skips work (a camera's rendering) that nobody wants. Without a node, everything is wanted.
@@ -75,8 +76,9 @@ InputHandler<Input> checkedInput(InputHandler<Input> handler) {
   };
 }
 
-using InputSink = std::variant<InputHandler<Twist>, InputHandler<JointTrajectory>, InputHandler<Float64Command>,
-                               InputHandler<Float64ArrayCommand>, InputHandler<BoolCommand>>;
+using InputSink =
+    std::variant<InputHandler<Twist>, InputHandler<JointTrajectory>, InputHandler<Float64Command>,
+                 InputHandler<Float64ArrayCommand>, InputHandler<BoolCommand>>;
 
 /// How many publish to an input. The node sets it from the subscription as each message comes in, before the
 /// input's handler runs (diff_drive_controller refuses commands from several publishers when asked to);
@@ -111,19 +113,21 @@ using ServiceSink =
     std::variant<ServiceHandler<EmptyRequest>, ServiceHandler<LoadControllerRequest>,
                  ServiceHandler<UnloadControllerRequest>, ServiceHandler<SwitchControllerRequest>,
                  ServiceHandler<ListControllersRequest>, ServiceHandler<ListControllerTypesRequest>,
-                 ServiceHandler<ReloadControllerLibrariesRequest>, ServiceHandler<QueryTrajectoryStateRequest>>;
+                 ServiceHandler<ReloadControllerLibrariesRequest>,
+                 ServiceHandler<QueryTrajectoryStateRequest>>;
 
 struct ServicePort {
   std::string name;  ///< relative to the plugin's namespace
   ServiceSink handler;
 };
 
-/// An action's goals as a plugin serves them (actionlib's ActionServer without ROS): the node hands it each goal
-/// and each cancel request, at `sim_time` [s], and sends what it reports.
+/// An action's goals as a plugin serves them (actionlib's ActionServer without ROS): the node hands it each
+/// goal and each cancel request, at `sim_time` [s], and sends what it reports.
 template <class Action>
 struct ActionHandlers {
   /// Accepts or rejects a goal at once.
-  std::function<GoalDecision<Action>(GoalId goal, const typename Action::Goal& request, double sim_time)> goal;
+  std::function<GoalDecision<Action>(GoalId goal, const typename Action::Goal& request, double sim_time)>
+      goal;
   /// A client asks to cancel `goal`; the plugin reports the goal's end if it ends it.
   std::function<void(GoalId goal, double sim_time)> cancel;
   /// Shared, so that what a controller reported before its unload still reaches the node.

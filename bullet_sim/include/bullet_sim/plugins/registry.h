@@ -1,7 +1,7 @@
 // The one table of what bullet_sim simulates. Each Gazebo plugin filename (for a sensor's plugin, with the
-// sensor types it serves) maps to its tag table, its config parser and its factory. A plugin is one folder under
-// plugins/ whose BULLET_SIM_PLUGIN_FOLDER function registers its types; the build finds the folders and calls
-// each once for the built-in registry. Tests and library users may add their own types to a copy.
+// sensor types it serves) maps to its tag table, its config parser and its factory. A plugin is one folder
+// under plugins/ whose BULLET_SIM_PLUGIN_FOLDER function registers its types; the build finds the folders and
+// calls each once for the built-in registry. Tests and library users may add their own types to a copy.
 #pragma once
 
 #include <functional>
@@ -30,7 +30,8 @@ struct RateRule {
   double fallback = 0;            ///< [Hz] when no tag gives it (kTags)
 };
 
-/// How a drive pushes its robot forward along its x, for tools that drive a robot at a speed (bench --strikes).
+/// How a drive pushes its robot forward along its x, for tools that drive a robot at a speed (bench
+/// --strikes).
 struct Traction {
   std::vector<std::string> wheels;  ///< the joints of the wheels that push
   double torque = 0;                ///< [N m] the most each of them gets
@@ -74,7 +75,8 @@ struct ParseHead {
   void applyTo(PluginConfig& config) const;
 };
 
-using ConfigParser = std::function<std::shared_ptr<PluginConfig>(const DeclarationSource& source, const ParseHead& head)>;
+using ConfigParser =
+    std::function<std::shared_ptr<PluginConfig>(const DeclarationSource& source, const ParseHead& head)>;
 using PluginFactory =
     std::function<std::unique_ptr<Plugin>(const PluginDeclaration& declaration, const PluginSetup& setup)>;
 
@@ -92,7 +94,8 @@ struct PluginType {
   /// What it drives (empty for most plugins).
   std::function<DrivenJoints(const PluginDeclaration& declaration)> driven;
   /// The wheel-ground model it asks for its robot, or nullopt when it has no say (most plugins).
-  std::function<std::optional<std::string>(const PluginDeclaration& declaration, const WheelModelQuery& query)>
+  std::function<std::optional<std::string>(const PluginDeclaration& declaration,
+                                           const WheelModelQuery& query)>
       wheel_model;
   /// urdf_doctor's check of a plugin of this type (empty for most plugins).
   PluginCheck check;
@@ -115,7 +118,8 @@ PluginType pluginType(std::string filename, void (*parse)(const DeclarationSourc
     parse(source, *config);
     return config;
   };
-  type.create = [](const PluginDeclaration& declaration, const PluginSetup& setup) -> std::unique_ptr<Plugin> {
+  type.create = [](const PluginDeclaration& declaration,
+                   const PluginSetup& setup) -> std::unique_ptr<Plugin> {
     return std::make_unique<Behaviour>(declaration, *declaration.configAs<Config>(), setup);
   };
   return type;
@@ -126,7 +130,8 @@ class PluginRegistry final : public PluginParsers {
   /// Every plugin bullet_sim ships: one type or more per folder under plugins/.
   static const PluginRegistry& builtin();
 
-  /// Adds a type (its tag table gains the head's rows); one of the same filename and sensor types is replaced.
+  /// Adds a type (its tag table gains the head's rows); one of the same filename and sensor types is
+  /// replaced.
   void add(PluginType type);
   /// The type for a model plugin (`sensor_type` nullptr) or a sensor's plugin, or nullptr.
   const PluginType* find(const std::string& filename, const std::string* sensor_type) const;
@@ -161,8 +166,8 @@ class PluginRegistrar {
   std::string folder_;
 };
 
-/// The registration function of the plugin folder plugins/<folder>: define it (inside namespace bullet_sim) in
-/// one of the folder's sources, with a body that adds its types to `registrar`.
+/// The registration function of the plugin folder plugins/<folder>: define it (inside namespace bullet_sim)
+/// in one of the folder's sources, with a body that adds its types to `registrar`.
 #define BULLET_SIM_PLUGIN_FOLDER(folder) void registerPluginFolder_##folder(PluginRegistrar& registrar)
 
 /// Caps a config's update rate at the limit (Gazebo takes any rate), with a warning naming both.

@@ -35,7 +35,8 @@ std::vector<std::string> scenarioArguments(const ScenarioCommand& command);
 std::optional<BagSettings> bagSettings(const ScenarioCommand& command, const std::string& out);
 
 /// The scenario the command names, its seed applied, and what result.json says about where it came from.
-ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver, RunContext* context);
+ScenarioSpec commandScenario(const ScenarioCommand& command, const PackageResolver& resolver,
+                             RunContext* context);
 
 /// The folder a run writes to: --out, else scenario_out/<name> (`spec` null: the scenario could not be read,
 /// and the folder is named after its file, or its matrix and cell).

@@ -101,7 +101,8 @@ struct ScenarioSpec {
 ScenarioSpec loadScenario(const std::string& path, const PackageResolver& resolver);
 
 /// The same for YAML text that came from `source` (its folder resolves relative paths).
-ScenarioSpec parseScenario(const std::string& yaml, const std::string& source, const PackageResolver& resolver);
+ScenarioSpec parseScenario(const std::string& yaml, const std::string& source,
+                           const PackageResolver& resolver);
 
 /// A matrix file: a scenario file and axes (dotted keys of the scenario, each with its values) whose cross
 /// product is the runs; the last axis varies fastest.
@@ -116,7 +117,7 @@ struct Matrix {
   std::string source;                            ///< the matrix file
   std::string scenario;                          ///< the base scenario file
   std::string scenario_yaml;                     ///< its text
-  std::vector<std::string> axes;                 ///< dotted keys: "world", "robot.args.with_lidar", "spawn.0.x"
+  std::vector<std::string> axes;  ///< dotted keys: "world", "robot.args.with_lidar", "spawn.0.x"
   std::vector<std::vector<std::string>> values;  ///< per axis, each value as YAML
   int count = 0;                                 ///< the product of the axes' sizes
 

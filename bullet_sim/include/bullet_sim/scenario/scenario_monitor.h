@@ -1,5 +1,6 @@
-// What a scenario run shows: each robot's path, and what each of the scenario's checks measures, watched after
-// every step of the simulation, whoever steps it (the timeline runner, or the simulator node under a launch).
+// What a scenario run shows: each robot's path, and what each of the scenario's checks measures, watched
+// after every step of the simulation, whoever steps it (the timeline runner, or the simulator node under a
+// launch).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -60,7 +61,8 @@ class ScenarioMonitor {
   /// Watches the robots now in `simulation`, named as `spec` names them. `load_warnings` are the run's
   /// (parsing, world, spawn). Throws ScenarioError when a check cannot be measured (a lidar check on a robot
   /// without a lidar, a check naming no robot of the run).
-  ScenarioMonitor(const ScenarioSpec& spec, const Simulation& simulation, std::vector<std::string> load_warnings);
+  ScenarioMonitor(const ScenarioSpec& spec, const Simulation& simulation,
+                  std::vector<std::string> load_warnings);
   ~ScenarioMonitor();
 
   /// Records the step the simulation has just taken.

@@ -100,8 +100,8 @@ Verdict writeOutputs(const std::string& out, const RunContext& context, const Sc
 /// Writes result.json for a run that could not happen, with `why`.
 void writeErrorResult(const std::string& out, const RunContext& context, const std::string& why);
 
-/// Records a run's robots into a bag (bagSettings), each in its own namespace and tf_prefix, of its name, when
-/// there are several (as a launch scenario has them). Errors writing it go to stderr; the run goes on.
+/// Records a run's robots into a bag (bagSettings), each in its own namespace and tf_prefix, of its name,
+/// when there are several (as a launch scenario has them). Errors writing it go to stderr; the run goes on.
 std::unique_ptr<RunRecorder> recordRobots(const BagSettings& settings, const Simulation& simulation);
 
 /// Runs a timeline scenario in-process into `out`; `video` adds video.mp4 of the chase view, `bag` a rosbag.

@@ -29,7 +29,8 @@ struct SpawnPose {
   std::optional<double> z;               ///< [m]
   double roll = 0, pitch = 0;            ///< [rad]
   std::map<std::string, double> joints;  ///< initial joint positions (spawn_model -J) [rad] or [m]; others 0
-  /// spawn_model -robot_namespace: when given (even "", the root), it replaces every plugin's <robotNamespace>.
+  /// spawn_model -robot_namespace: when given (even "", the root), it replaces every plugin's
+  /// <robotNamespace>.
   std::optional<std::string> robot_namespace;
 };
 
@@ -89,7 +90,8 @@ struct RobotInput {
   const InputHandler<Input>* handler = nullptr;
 };
 
-/// One of a robot's services that serves `Request`s (a controller manager's): the plugin, its name and its handler.
+/// One of a robot's services that serves `Request`s (a controller manager's): the plugin, its name and its
+/// handler.
 template <class Request>
 struct RobotService {
   const Plugin* plugin = nullptr;
@@ -126,7 +128,8 @@ class Robot {
   std::vector<std::pair<const Plugin*, const Interface*>> sensors() const {
     std::vector<std::pair<const Plugin*, const Interface*>> found;
     for (const auto& plugin : plugins_) {
-      if (const auto* typed = dynamic_cast<const Interface*>(plugin.get())) found.emplace_back(plugin.get(), typed);
+      if (const auto* typed = dynamic_cast<const Interface*>(plugin.get()))
+        found.emplace_back(plugin.get(), typed);
     }
     return found;
   }
@@ -175,7 +178,8 @@ class Robot {
   Eigen::Isometry3d spawn_pose_;
   JointPositions spawn_joints_;
   std::vector<std::unique_ptr<Plugin>> plugins_;
-  /// Per plugin, whether its rays are being cast behind physics (empty when none is): it senses once they are.
+  /// Per plugin, whether its rays are being cast behind physics (empty when none is): it senses once they
+  /// are.
   std::vector<bool> casting_;
   std::vector<BodyId> ray_bodies_;  ///< per part; kNoBody for a part without collisions
   std::string wheel_model_;
@@ -286,22 +290,24 @@ class Simulation {
   void addRayBodies(Robot& robot);
   /// Adds the robot's parts to the ray caster and builds its plugins; on an error, takes the parts back out.
   void equip(Robot& robot, const std::optional<std::string>& robot_namespace, Diagnostics& diagnostics);
-  /// Phase 3a: the ray plugins due this step aim their rays, and are marked as casting. Returns when the first
-  /// of them is due again.
+  /// Phase 3a: the ray plugins due this step aim their rays, and are marked as casting. Returns when the
+  /// first of them is due again.
   double aimRays(const StepTime& time);
   /// Phases 3a and 3b: the ray plugins due this step aim their rays; the ray caster's moving bodies are moved
-  /// where they are now, and the rays cast, each robot's on one of the pool's threads, or all on the lane (not
-  /// in lockstep).
+  /// where they are now, and the rays cast, each robot's on one of the pool's threads, or all on the lane
+  /// (not in lockstep).
   void castRays(const StepTime& time);
   /// The rays of `robot`'s plugins marked as casting.
   static void castEach(const Robot& robot, RayCaster& rays);
   /// The ray plugins due this step aim, and their rays are queued on the lane behind the casts before.
   void castBehind(const StepTime& time);
-  /// Delivers the readings of the first `count` casts behind physics: waits for them, then their plugins sense.
+  /// Delivers the readings of the first `count` casts behind physics: waits for them, then their plugins
+  /// sense.
   void deliverCasts(size_t count);
   /// How many casts at the front the lane has finished.
   size_t finishedCasts() const;
-  /// Delivers the casts up to the last one with a plugin due again at `time`, so that it senses before it aims.
+  /// Delivers the casts up to the last one with a plugin due again at `time`, so that it senses before it
+  /// aims.
   void deliverCastsDue(const StepTime& time);
   /// Where every moving model's ray-caster bodies are now, into `poses`.
   void rayBodyPoses(std::vector<std::pair<BodyId, Eigen::Isometry3d>>& poses);

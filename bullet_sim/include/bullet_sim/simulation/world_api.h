@@ -46,9 +46,9 @@ class WorldApi : private StepHooks {
   ModelProperties modelProperties(const std::string& model) const;
   LinkProperties linkProperties(const std::string& link) const;
   JointProperties jointProperties(const std::string& joint) const;
-  /// Sets a robot's joints (others keep theirs) at rest; the root stays. Resets do not keep them. As Gazebo, a
-  /// name that is no moving joint of the robot is skipped; the note returned names those skipped ("" if none).
-  /// Its plugins are told (Plugin::jointsPlaced), and what they warn of joins the note.
+  /// Sets a robot's joints (others keep theirs) at rest; the root stays. Resets do not keep them. As Gazebo,
+  /// a name that is no moving joint of the robot is skipped; the note returned names those skipped ("" if
+  /// none). Its plugins are told (Plugin::jointsPlaced), and what they warn of joins the note.
   std::string setModelConfiguration(const std::string& model, const std::map<std::string, double>& positions);
   /// Drives a moving joint towards `velocity` [rad/s or m/s] with at most `max_effort` [N m or N] until
   /// something else drives it (Gazebo's joint "vel" and "fmax").

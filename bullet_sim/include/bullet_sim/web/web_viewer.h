@@ -1,7 +1,7 @@
-// Watch a running simulation in a browser: a page (bullet_sim/web, drawn by three.js) that shows the world, every
-// robot's links, lidar hits, a chosen camera's latest image, sim time and RTF, live, and sends pause, resume,
-// reset and teleop back. ROS-free: the host (the simulator node, bench) calls update() after every step and
-// applies the commands between steps.
+// Watch a running simulation in a browser: a page (bullet_sim/web, drawn by three.js) that shows the world,
+// every robot's links, lidar hits, a chosen camera's latest image, sim time and RTF, live, and sends pause,
+// resume, reset and teleop back. ROS-free: the host (the simulator node, bench) calls update() after every
+// step and applies the commands between steps.
 //
 // Costs the simulation one atomic load per update, and, when a page is ready for a frame (at most frame_rate
 // times per wall second), a snapshot of the poses and hits; the server's thread turns it into JSON. A slow or
