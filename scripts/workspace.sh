@@ -145,6 +145,8 @@ PY
   "$REPO/scripts/docs.sh" --check || status=1
   log "repeated code (scripts/duplicates.sh)"
   "$REPO/scripts/duplicates.sh" || status=1
+  log "line length (scripts/line_length.py)"
+  /usr/bin/python3 "$REPO/scripts/line_length.py" || status=1
   # The fuzz targets replay their committed corpus and crashes, then fuzz briefly with a fixed seed.
   log "fuzz targets (scripts/fuzz.sh --ci)"
   "$REPO/scripts/fuzz.sh" --ci || status=1
