@@ -7,6 +7,7 @@
 #include <sstream>
 #include <utility>
 
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/model/model_geometry.h"
 
 namespace bullet_sim {
@@ -162,16 +163,16 @@ std::optional<double> optionalPositive(PluginTags& tags, const std::string& tag)
 /// we do not publish.
 void warnOfRos2Extras(PluginTags& tags) {
   // ROS 2's plugin pushes its joints with PID-controlled forces; ours are motors (see the header).
-  std::string gains;
+  std::vector<std::string> gains;
   for (const char* tag : {"left_steering_pid_gain", "left_steering_i_range", "right_steering_pid_gain",
                           "right_steering_i_range", "linear_velocity_pid_gain", "linear_velocity_i_range"}) {
     if (!tags.has(tag)) continue;
     tags.list(tag);
-    gains += std::string(gains.empty() ? "" : ", ") + "<" + tag + ">";
+    gains.push_back("<" + std::string(tag) + ">");
   }
   if (!gains.empty()) {
     tags.diagnostics().warning(
-        tags.where() + " " + gains +
+        tags.where() + " " + joinedNames(gains) +
         ": read and ignored: bullet_sim holds the steering joints with position motors "
         "and turns the rear wheels with velocity motors, each as strong as its joint's "
         "URDF effort limit");

@@ -4,14 +4,9 @@
 #include <stdexcept>
 
 #include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/common/names.h"
 
 namespace bullet_sim {
-
-std::string joinedNames(const std::vector<std::string>& names, const std::string& none) {
-  std::string text;
-  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text.empty() ? none : text;
-}
 
 std::string stateName(ControllerState state) {
   switch (state) {

@@ -20,9 +20,6 @@ enum class ControllerState { kInitialized, kRunning, kStopped };
 /// "initialized", "running" or "stopped".
 std::string stateName(ControllerState state);
 
-/// "a, b, c"; `none` when there are none.
-std::string joinedNames(const std::vector<std::string>& names, const std::string& none = "");
-
 /// What a controller is built with.
 struct ControllerSetup {
   const std::string& name;

@@ -5,6 +5,7 @@
 #include <regex>
 
 #include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/common/names.h"
 #include "plugins/ros_control/controller_registry.h"
 
 namespace bullet_sim {

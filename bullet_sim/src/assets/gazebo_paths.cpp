@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/common/names.h"
 
 namespace bullet_sim {
 namespace fs = std::filesystem;
@@ -31,12 +32,6 @@ void appendNew(std::vector<std::string>& to, const std::vector<std::string>& fro
   for (const auto& entry : from) {
     if (std::find(to.begin(), to.end(), entry) == to.end()) to.push_back(entry);
   }
-}
-
-std::string joined(const std::vector<std::string>& entries) {
-  std::string text;
-  for (const auto& entry : entries) text += (text.empty() ? "" : ", ") + entry;
-  return text.empty() ? "(none)" : text;
 }
 
 /// "1.6" -> {1, 6}; what is not a version sorts first.
@@ -109,7 +104,8 @@ std::optional<std::string> GazeboPaths::findModelFile(const std::string& relativ
     *error =
         (known ? "model [" + name + "] has no file [" + relative.substr(name.size() + 1) + "]"
                : "unknown model [" + name + "]" + didYouMean(name, modelNames())) +
-        "; the model path is " + joined(model_path_) + ". To add a model, put its folder (with its " +
+        "; the model path is " + joinedNames(model_path_, "(none)") +
+        ". To add a model, put its folder (with its " +
         "model.config) into one of them, or add the folder that holds it to GAZEBO_MODEL_PATH, or export " +
         "that folder from your package.xml: <export><gazebo_ros gazebo_model_path=\"${prefix}/models\"/>" +
         "</export>. Models are never downloaded";

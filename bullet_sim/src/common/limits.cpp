@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <variant>
 
+#include "bullet_sim/common/names.h"
+
 namespace bullet_sim {
 
 namespace {
@@ -55,9 +57,9 @@ std::string text(double value) {
 void Limits::set(const std::string& name, double value) {
   const NamedLimit* limit = find(name);
   if (!limit) {
-    std::string known;
-    for (const auto& each : kLimits) known += std::string(known.empty() ? "" : ", ") + each.name;
-    throw std::invalid_argument("no limit [" + name + "]; the limits are " + known);
+    std::vector<std::string> known;
+    for (const auto& each : kLimits) known.push_back(each.name);
+    throw std::invalid_argument("no limit [" + name + "]; the limits are " + joinedNames(known));
   }
   if (!std::isfinite(value) || value <= 0)
     throw std::invalid_argument("limit [" + name + "] must be a positive number, not " + text(value));

@@ -8,4 +8,10 @@ std::string withoutSlashes(std::string text) {
   return text;
 }
 
+std::string joinedNames(const std::vector<std::string>& names, const std::string& none) {
+  std::string text;
+  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text.empty() ? none : text;
+}
+
 }  // namespace bullet_sim

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "bullet_sim/common/diagnostics.h"
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/assets/gazebo_materials.h"
 #include "bullet_sim/model/model_geometry.h"
 #include "model/mimic_joints.h"
@@ -182,9 +183,9 @@ class ModelParser {
       }
     }
     for (const std::string& name : order) {
-      std::string lines;
-      for (int line : unknown[name]) lines += (lines.empty() ? "" : ", ") + std::to_string(line);
-      diagnostics_.forgiven((unknown[name].size() == 1 ? "line " : "lines ") + lines + ": <" + name +
+      std::vector<std::string> lines;
+      for (int line : unknown[name]) lines.push_back(std::to_string(line));
+      diagnostics_.forgiven((lines.size() == 1 ? "line " : "lines ") + joinedNames(lines) + ": <" + name +
                             "/> is not a URDF element: ignored, as urdfdom and Gazebo ignore it (an error "
                             "in urdf_doctor and under ~strict_models); if it is a xacro macro call, write "
                             "<xacro:" + name + "/>, which Noetic's xacro expands");

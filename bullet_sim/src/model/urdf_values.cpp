@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/common/names.h"
+
 namespace bullet_sim {
 
 namespace {
@@ -183,8 +185,7 @@ void warnNegativeVelocityLimits(const tinyxml2::XMLElement& robot, Diagnostics& 
     joints.push_back("[" + std::string(joint->Attribute("name") ? joint->Attribute("name") : "") + "]");
   }
   if (joints.empty()) return;
-  std::string names;
-  for (const auto& joint : joints) names += (names.empty() ? "" : ", ") + joint;
+  const std::string names = joinedNames(joints);
   const bool one = joints.size() == 1;
   diagnostics.warning(std::string(one ? "joint " : "joints ") + names + " <limit velocity> " +
                       (one ? "is" : "are") +

@@ -17,6 +17,7 @@
 #include <type_traits>
 
 #include "bullet_sim/common/files.h"
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/assets/gazebo_materials.h"
 #include "bullet_sim/assets/mesh.h"
 #include "bullet_sim/model/sdf_model.h"
@@ -249,9 +250,8 @@ class WorldConverter {
     read(constraints, "contact_surface_layer", ode.contact_surface_layer);
     read(element, "max_contacts", ode.max_contacts);
     if (written.empty()) return;
-    std::string list;
-    for (size_t i = 0; i < written.size(); ++i) list += (i == 0 ? "" : ", ") + written[i];
-    diagnostics_.warning(locate(element) + "physics [" + physics.Name() + "]: the ODE settings " + list +
+    diagnostics_.warning(locate(element) + "physics [" + physics.Name() + "]: the ODE settings " +
+                         joinedNames(written) +
                          " are reported by get_physics_properties, as Gazebo reports them, but not used: "
                          "bullet_sim's contacts are Bullet's");
   }

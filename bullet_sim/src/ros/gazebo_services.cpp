@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "bullet_sim/assets/package_resolver.h"
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/common/request_values.h"
 #include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/plugins/registry.h"
@@ -419,10 +420,9 @@ bool GazeboServices::setLinkProperties(gazebo_msgs::SetLinkProperties::Request& 
     }
     if (request.gravity_mode != now.gravity) changed.push_back("gravity_mode");
     if (changed.empty()) return std::string("SetLinkProperties: nothing to change");
-    std::string list;
-    for (const auto& name : changed) list += (list.empty() ? "" : ", ") + name;
-    throw std::invalid_argument("SetLinkProperties: bullet_sim fixes a link's " + list + " at spawn (link [" +
-                                request.link_name + "]): change them in the model and spawn it again");
+    throw std::invalid_argument("SetLinkProperties: bullet_sim fixes a link's " + joinedNames(changed) +
+                                " at spawn (link [" + request.link_name +
+                                "]): change them in the model and spawn it again");
   });
 }
 

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/scene/scene_builder.h"
 #include "bullet_sim/scene/simulation_images.h"
 
@@ -127,12 +128,13 @@ namespace {
 
 /// The robot's camera of that sensor or camera name, and its body; nullptr and the names there are if none.
 std::pair<const CameraSensor*, const RobotBody*> findCamera(const Simulation& simulation,
-                                                            const std::string& name, std::string* names) {
+                                                            const std::string& name,
+                                                            std::vector<std::string>* names) {
   for (const std::string& robot_name : simulation.robotNames()) {
     const Robot& robot = *simulation.robot(robot_name);
     for (const auto& [plugin, camera] : robot.sensors<CameraSensor>()) {
       if (plugin->name() == name || camera->cameraName() == name) return {camera, &robot.body()};
-      *names += (names->empty() ? "" : ", ") + plugin->name();
+      names->push_back(plugin->name());
     }
   }
   return {nullptr, nullptr};
@@ -150,11 +152,11 @@ void drawDepth(const std::vector<float>& depths, double near, double far, Image&
 }  // namespace
 
 Image cameraImage(const Simulation& simulation, const CameraView& view, SceneRenderer& renderer) {
-  std::string names;
+  std::vector<std::string> names;
   const auto [camera, body] = findCamera(simulation, view.camera, &names);
   if (!camera) {
-    throw std::invalid_argument("no robot has a camera [" + view.camera + "]; the cameras are: [" + names +
-                                "]");
+    throw std::invalid_argument("no robot has a camera [" + view.camera + "]; the cameras are: [" +
+                                joinedNames(names) + "]");
   }
   if (view.depth && !camera->measuresDepth()) {
     throw std::invalid_argument("camera [" + view.camera + "] has no depth: it is not a depth sensor");

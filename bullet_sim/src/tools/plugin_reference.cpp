@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bullet_sim/common/names.h"
 #include "bullet_sim/plugins/registry.h"
 #include "tools/command_line.h"
 
@@ -130,10 +131,8 @@ std::string siblings(const PluginRegistry& registry, const PluginType& type) {
     if (other.folder == type.folder && other.filename != type.filename) names.push_back(other.filename);
   std::sort(names.begin(), names.end());
   names.erase(std::unique(names.begin(), names.end()), names.end());
-  std::string text;
-  for (size_t i = 0; i < names.size(); ++i)
-    text += std::string(i ? ", " : "") + "[`" + names[i] + "`](" + pageName(names[i]) + ".md)";
-  return text.empty() ? "" : " It also serves " + text + ".";
+  for (std::string& name : names) name = "[`" + name + "`](" + pageName(name) + ".md)";
+  return names.empty() ? "" : " It also serves " + joinedNames(names) + ".";
 }
 
 std::string page(const PluginRegistry& registry, const std::vector<const PluginType*>& types,
