@@ -2,7 +2,8 @@
 // COLLADA, Gazebo's), the rest is the file. importMesh must return the mesh (its embedded images decoded) or
 // an error, never crash, hang or touch memory it does not own. It imports in this process, where the fuzzer
 // sees what it covers; the simulator imports in a child process (loadMesh), so that what crashes assimp here
-// is a load error there. Built and run by scripts/fuzz.sh.
+// is a load error there.
+// Built and run by scripts/fuzz.sh.
 #include <unistd.h>
 
 #include <cstddef>

@@ -372,8 +372,8 @@ TEST(Footprint, TheMemoryOfADeletedRobotIsGivenBack) {
 
 /// Inputs the fuzzers found that crash, hang or exhaust a library we cannot patch, in
 /// bullet_sim/fuzz/crashes/<target>/library: the simulator's own readers, which run those libraries in a
-/// child process, report each as a load error naming the file. The files in `folder`; none when there is no
-/// such folder.
+/// child process, report each as a load error naming the file.
+/// The files in `folder`; none when there is no such folder.
 std::vector<fs::path> filesIn(const fs::path& folder) {
   std::vector<fs::path> files;
   std::error_code ec;

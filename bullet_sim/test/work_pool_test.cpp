@@ -1,6 +1,6 @@
 // The step's pool of threads: every task runs once, whatever the threads; a task's failure reaches the
-// caller. The lane: a job runs on its own thread while the caller goes on, and its failure reaches whoever
-// waits.
+// caller.
+// The lane: a job runs on its own thread while the caller goes on, and its failure reaches whoever waits.
 #include <gtest/gtest.h>
 #include <sched.h>
 

@@ -5,8 +5,8 @@
 //
 // Its tags, hector's with their defaults, are the table forceBasedMoveTags() in force_based_move.cpp. A gain
 // k with k dt / m >= 2 makes the velocity oscillate (as in Gazebo): a robot lighter than k dt / 2 needs
-// smaller gains. There is no command timeout: the last command holds. Odometry is dead reckoning, as
-// hector's: from the start pose, the root link's velocities in its frame,
+// smaller gains. There is no command timeout: the last command holds.
+// Odometry is dead reckoning, as hector's: from the start pose, the root link's velocities in its frame,
 //   integrated over each odometry period along an arc; hector's covariances.
 #pragma once
 

@@ -1,9 +1,10 @@
 // joint_state_controller/JointStateController (ros_controllers, Noetic), ROS-free: the position, velocity and
 // effort of every joint ros_control drives on joint_states, in the robot's namespace. Parameters:
 //   publish_rate [Hz]  required, as in ros_controllers (0 publishes nothing)
-//   joints             which joints, in what order (default: every one, in name order, as ros_control lists
-//   them) extra_joints       a list of {name, position, velocity, effort}: joints published with those fixed
-//   values
+//   joints             which joints, in what order (default: every one, in name order, as ros_control
+//                      lists them)
+//   extra_joints       a list of {name, position, velocity, effort}: joints published with those fixed
+//                      values
 #pragma once
 
 #include <vector>

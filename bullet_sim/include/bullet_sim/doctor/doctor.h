@@ -7,7 +7,7 @@
 //   - what each plugin's own check finds (PluginType::check, in the plugin's folder): drive wheels of a diff
 //     drive or skid steer that roll backwards, zero effort or velocity limits on a joint the plugin drives;
 //   - mirrored wheels, found from the geometry, whose axes disagree (a drive plugin's own wheels are its
-//   check's);
+//     check's);
 //   - frameName, bodyName and robotBaseFrame tags naming no link;
 //   - revolute limits beyond 2 pi (degrees written where URDF wants radians), and revolute or prismatic
 //     limits that are equal (the joint cannot move) or inverted;
