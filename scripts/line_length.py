@@ -4,7 +4,8 @@
     scripts/line_length.py    lists each long line as path:line: length; exits 1 when there is one
 
 A line that holds part of a raw string literal (a test's XML or URDF) is data, which clang-format leaves as
-it is, and is not counted. `clang-format -i --lines=N:N FILE` wraps a line the check names.
+it is, and is not counted. `clang-format -i --lines=N:N FILE` wraps a line the check names
+(`apt-get install clang-format`).
 """
 import pathlib
 import re
@@ -37,9 +38,22 @@ def long_lines(path):
             yield number, len(line)
 
 
+def cpp_files():
+    """The repository's C++ files: git's list, or outside a git clone every one but the build's."""
+    listed = subprocess.run(["git", "-C", str(REPO), "ls-files", "*.cpp", "*.h"], capture_output=True,
+                            text=True)
+    if listed.returncode == 0:
+        return listed.stdout.split()
+    skipped = {"build", "devel", "install", ".git"}
+    return sorted(str(path.relative_to(REPO)) for path in REPO.rglob("*") if path.suffix in (".cpp", ".h")
+                  and not skipped.intersection(path.relative_to(REPO).parts))
+
+
 def main():
-    files = subprocess.run(["git", "-C", str(REPO), "ls-files", "*.cpp", "*.h"], check=True,
-                           capture_output=True, text=True).stdout.split()
+    files = cpp_files()
+    if not files:
+        print(f"line_length.py: no C++ file found under {REPO}", file=sys.stderr)
+        return 1
     found = 0
     for name in files:
         for number, length in long_lines(REPO / name):
