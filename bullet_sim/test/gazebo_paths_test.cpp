@@ -244,9 +244,8 @@ TEST(GazeboPaths, MaterialScriptsOnTheResourcePathColourUrdfAndSdfVisuals) {
   EXPECT_TRUE(robot.link("a")->visuals.at(0).rgba.isApprox(Eigen::Vector4d(0.1, 0.5, 0.1, 1)));
   EXPECT_EQ(robot.link("a")->visuals.at(0).paint, MeshPaint::kUniform);
   const WorldSpec world = parseWorld(
-      "<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'><visual "
-      "name='v'>"
-      "<geometry><box><size>1 1 1</size></box></geometry><material><script>"
+      "<sdf version='1.6'><world name='w'><model name='m'><static>true</static><link name='l'>"
+      "<visual name='v'><geometry><box><size>1 1 1</size></box></geometry><material><script>"
       "<uri>model://crate/materials/scripts</uri><name>Yard/Grass</name></script></material></visual>"
       "</link></model></world></sdf>",
       "inline.world", fixtureResolver(), &warnings);

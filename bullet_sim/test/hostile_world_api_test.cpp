@@ -362,48 +362,25 @@ std::vector<Row> physicsRows() {
 }
 
 std::vector<Row> queryRows() {
+  const auto query = [](std::function<void(WorldApi&)> ask) {  // its answer is not looked at
+    return [=](Scene& scene) {
+      ask(scene.world());
+      return std::string();
+    };
+  };
   return {
-      {"get_model_state of no model",
-       [](Scene& s) {
-         s.world().modelState("ghost");
-         return "";
-       },
-       "no model [ghost]"},
-      {"get_model_state in no frame",
-       [](Scene& s) {
-         s.world().modelState("diff", "nowhere");
-         return "";
-       },
+      {"get_model_state of no model", query([](WorldApi& w) { w.modelState("ghost"); }), "no model [ghost]"},
+      {"get_model_state in no frame", query([](WorldApi& w) { w.modelState("diff", "nowhere"); }),
        "reference frame [nowhere] names no model or link"},
-      {"get_link_state of a model",
-       [](Scene& s) {
-         s.world().linkState("diff");
-         return "";
-       },
+      {"get_link_state of a model", query([](WorldApi& w) { w.linkState("diff"); }),
        "is a model, not a link"},
-      {"get_link_properties of no link",
-       [](Scene& s) {
-         s.world().linkProperties("diff::ghost");
-         return "";
-       },
+      {"get_link_properties of no link", query([](WorldApi& w) { w.linkProperties("diff::ghost"); }),
        "names no model or link"},
       {"get_link_properties of the ground",
-       [](Scene& s) {
-         s.world().linkProperties("ground_plane::link");
-         return "";
-       },
-       "without mass"},
-      {"get_joint_properties of no joint",
-       [](Scene& s) {
-         s.world().jointProperties("ghost");
-         return "";
-       },
+       query([](WorldApi& w) { w.linkProperties("ground_plane::link"); }), "without mass"},
+      {"get_joint_properties of no joint", query([](WorldApi& w) { w.jointProperties("ghost"); }),
        "no moving joint [ghost]"},
-      {"get_model_properties of no model",
-       [](Scene& s) {
-         s.world().modelProperties("ghost");
-         return "";
-       },
+      {"get_model_properties of no model", query([](WorldApi& w) { w.modelProperties("ghost"); }),
        "no model [ghost]"},
   };
 }
@@ -437,21 +414,13 @@ std::vector<Row> trajectoryRows() {
   return {
       {"command positions NaN", command(point([](auto& p) { p.positions[1] = kNaN; })),
        "a message whose points[0].positions[1] [nan] is not finite"},
-      {"command positions 1e308", command(point([](auto& p) {
-         p.positions = {1e308, -1e308};
-       })),
+      {"command positions 1e308", command(point([](auto& p) { p.positions = {1e308, -1e308}; })),
        "points[0].positions[0] [1e+308] is beyond the 1e+06"},
-      {"command velocities inf", command(point([](auto& p) {
-         p.velocities = {0, kInf};
-       })),
+      {"command velocities inf", command(point([](auto& p) { p.velocities = {0, kInf}; })),
        "points[0].velocities[1] [inf] is not finite"},
-      {"command accelerations NaN", command(point([](auto& p) {
-         p.accelerations = {kNaN, 0};
-       })),
+      {"command accelerations NaN", command(point([](auto& p) { p.accelerations = {kNaN, 0}; })),
        "points[0].accelerations[0] [nan] is not finite"},
-      {"command effort NaN", command(point([](auto& p) {
-         p.effort = {0, kNaN};
-       })),
+      {"command effort NaN", command(point([](auto& p) { p.effort = {0, kNaN}; })),
        "points[0].effort[1] [nan] is not finite"},
       {"command time_from_start NaN", command(point([](auto& p) { p.time_from_start = kNaN; })),
        "points[0].time_from_start [nan] is not finite"},
@@ -461,17 +430,11 @@ std::vector<Row> trajectoryRows() {
        "a goal whose points[0].positions[0] [nan] is not finite"},
       {"goal positions -1e308", goal([](auto& g) { g.trajectory.points[0].positions[1] = -1e308; }),
        "points[0].positions[1] [-1e+308] is beyond"},
-      {"goal velocities NaN", goal([](auto& g) {
-         g.trajectory.points[0].velocities = {kNaN, kNaN};
-       }),
+      {"goal velocities NaN", goal([](auto& g) { g.trajectory.points[0].velocities = {kNaN, kNaN}; }),
        "points[0].velocities[0] [nan] is not finite"},
-      {"goal path_tolerance NaN", goal([](auto& g) {
-         g.path_tolerance = {{"shoulder", kNaN, 0, 0}};
-       }),
+      {"goal path_tolerance NaN", goal([](auto& g) { g.path_tolerance = {{"shoulder", kNaN, 0, 0}}; }),
        "path_tolerance[0].position [nan] is not finite"},
-      {"goal goal_tolerance inf", goal([](auto& g) {
-         g.goal_tolerance = {{"wrist", 0, kInf, 0}};
-       }),
+      {"goal goal_tolerance inf", goal([](auto& g) { g.goal_tolerance = {{"wrist", 0, kInf, 0}}; }),
        "goal_tolerance[0].velocity [inf] is not finite"},
       {"goal goal_time_tolerance NaN", goal([](auto& g) { g.goal_time_tolerance = kNaN; }),
        "goal_time_tolerance [nan] is not finite"},

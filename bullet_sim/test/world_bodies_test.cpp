@@ -258,18 +258,17 @@ TEST(WorldBodies, TwoLinksOnAFixedJointMoveAsOne) {
 TEST(WorldBodies, WhatBulletSimCannotSimulateGetsOneWarningSayingWhatItDoesInstead) {
   const std::string ball =
       "<model name='lamp'><pose>-2 2 1 0 0 0</pose><link name='arm'><collision name='c'><geometry>"
-      "<sphere><radius>0.1</radius></sphere></geometry></collision></link><link name='shade'><pose>0 0 -0.3 "
-      "0 0 0"
-      "</pose><collision "
-      "name='c'><geometry><sphere><radius>0.1</radius></sphere></geometry></collision></link>"
+      "<sphere><radius>0.1</radius></sphere></geometry></collision></link>"
+      "<link name='shade'><pose>0 0 -0.3 0 0 0</pose>"
+      "<collision name='c'><geometry><sphere><radius>0.1</radius></sphere></geometry></collision></link>"
       "<joint name='swivel' type='ball'><parent>arm</parent><child>shade</child></joint>"
       "<joint name='hook' type='fixed'><parent>world</parent><child>arm</child></joint></model>";
   const std::string loop =
       "<model name='ring'><pose>-2 -2 1 0 0 0</pose><link name='a'/><link name='b'/>"
-      "<joint name='ab' type='revolute'><parent>a</parent><child>b</child><axis><xyz>0 0 "
-      "1</xyz></axis></joint>"
-      "<joint name='ba' type='revolute'><parent>b</parent><child>a</child><axis><xyz>0 0 "
-      "1</xyz></axis></joint>"
+      "<joint name='ab' type='revolute'><parent>a</parent><child>b</child>"
+      "<axis><xyz>0 0 1</xyz></axis></joint>"
+      "<joint name='ba' type='revolute'><parent>b</parent><child>a</child>"
+      "<axis><xyz>0 0 1</xyz></axis></joint>"
       "</model>";
   std::vector<std::string> warnings;
   Simulation simulation(crateWorld(&warnings, ball + loop));

@@ -54,28 +54,13 @@ DiffDriveController::DiffDriveController(const ControllerSetup& setup)
     : Controller(setup, interfaceName(JointInterface::kVelocity)),
       odometry_(rollingWindow(setup.parameters)) {
   const ParameterTree& parameters = setup.parameters;
-  warnUnread(setup, {"left_wheel",
-                     "right_wheel",
-                     "wheel_separation",
-                     "wheel_radius",
-                     "wheel_separation_multiplier",
-                     "wheel_radius_multiplier",
-                     "left_wheel_radius_multiplier",
-                     "right_wheel_radius_multiplier",
-                     "publish_rate",
-                     "base_frame_id",
-                     "odom_frame_id",
-                     "enable_odom_tf",
-                     "open_loop",
-                     "velocity_rolling_window_size",
-                     "pose_covariance_diagonal",
-                     "twist_covariance_diagonal",
-                     "cmd_vel_timeout",
-                     "allow_multiple_cmd_vel_publishers",
-                     "publish_cmd",
-                     "publish_wheel_joint_controller_state",
-                     "linear",
-                     "angular"});
+  warnUnread(setup, {"left_wheel", "right_wheel", "wheel_separation", "wheel_radius",
+                     "wheel_separation_multiplier", "wheel_radius_multiplier", "left_wheel_radius_multiplier",
+                     "right_wheel_radius_multiplier", "publish_rate", "base_frame_id", "odom_frame_id",
+                     "enable_odom_tf", "open_loop", "velocity_rolling_window_size",
+                     "pose_covariance_diagonal", "twist_covariance_diagonal", "cmd_vel_timeout",
+                     "allow_multiple_cmd_vel_publishers", "publish_cmd",
+                     "publish_wheel_joint_controller_state", "linear", "angular"});
   readWheels(setup);
   readGeometry(setup);
   const double publish_rate = parameters.number("publish_rate", 50);

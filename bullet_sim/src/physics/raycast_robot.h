@@ -83,8 +83,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     double position = 0;  ///< [rad] or [m]
     double velocity = 0;  ///< [rad/s] or [m/s]; a kinematic joint moves at it
     double effort = 0;    ///< applied by the motor and pushed with in the last step
-    double external_effort =
-        0;  ///< setJointEffort's and applyJointEffort's, through the coming step (wheels only)
+    /// setJointEffort's and applyJointEffort's, through the coming step (wheels only)
+    double external_effort = 0;
   };
   struct Wheel {
     int joint;

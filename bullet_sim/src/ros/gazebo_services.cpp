@@ -17,8 +17,8 @@ namespace bullet_sim {
 
 namespace {
 
-constexpr double kDefaultStatesRate =
-    1000;  // [sim Hz] Gazebo publishes every step, 1 kHz at its default step
+// [sim Hz] Gazebo publishes every step, 1 kHz at its default step
+constexpr double kDefaultStatesRate = 1000;
 
 /// Runs `body`, which returns the status message; an exception becomes success false with its message.
 template <class Response, class Body>

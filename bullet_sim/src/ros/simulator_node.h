@@ -116,8 +116,8 @@ class SimulatorNode final : public SimulationHost {
 
   double real_time_factor_ = 1.0;  ///< the pace: the step size times the physics' max_update_rate
   bool paused_ = false;
-  double clock_sim_period_ =
-      0;  ///< [s] of sim time between /clock messages (~pub_clock_frequency); 0: each step
+  /// [s] of sim time between /clock messages (~pub_clock_frequency); 0: each step
+  double clock_sim_period_ = 0;
   ros::WallTime last_clock_;
   double last_clock_sim_ = -std::numeric_limits<double>::infinity();  ///< the first step's time is sent
   ros::WallTime wall_anchor_;

@@ -34,20 +34,9 @@ struct Arguments {
 };
 
 /// Gazebo's spawn_model's flags that take a value, and ours (-timeout).
-const std::set<std::string> kValueFlags = {"-file",
-                                           "-param",
-                                           "-model",
-                                           "-reference_frame",
-                                           "-gazebo_namespace",
-                                           "-robot_namespace",
-                                           "-wait",
-                                           "-x",
-                                           "-y",
-                                           "-z",
-                                           "-R",
-                                           "-P",
-                                           "-Y",
-                                           "-timeout"};
+const std::set<std::string> kValueFlags = {"-file", "-param", "-model", "-reference_frame",
+                                           "-gazebo_namespace", "-robot_namespace", "-wait", "-x", "-y", "-z",
+                                           "-R", "-P", "-Y", "-timeout"};
 
 Arguments parseFlags(const std::vector<std::string>& args) {
   Arguments parsed;

@@ -32,8 +32,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr double kStartAndStop =
-    30;  ///< [s] of wall time allowed for starting and stopping, on top of the run
+/// [s] of wall time allowed for starting and stopping, on top of the run
+constexpr double kStartAndStop = 30;
 constexpr double kInterruptGrace = 10;  ///< [s] roslaunch gets to stop its nodes after SIGINT
 constexpr double kTermGrace = 3;        ///< [s] a process gets after SIGTERM, before SIGKILL
 

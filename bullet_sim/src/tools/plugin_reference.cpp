@@ -24,13 +24,10 @@ constexpr char kUsage[] =
     "usage: plugin_reference PLUGINS_DIR OUT_DIR\n"
     "\n"
     "Writes the docs site's plugin reference into OUT_DIR: one page per Gazebo plugin filename bullet_sim\n"
-    "accepts (OUT_DIR/<filename without .so>.md), made of the prose in PLUGINS_DIR/<folder>/README.md and "
-    "the\n"
-    "table of its tags (name, type, default, unit, what Gazebo does, what bullet_sim does) generated from "
-    "the\n"
-    "tag table its parser reads through; and OUT_DIR/index.md, which lists them. Pages of filenames no "
-    "longer\n"
-    "registered are not removed.\n"
+    "accepts (OUT_DIR/<filename without .so>.md), made of the prose in PLUGINS_DIR/<folder>/README.md\n"
+    "and the table of its tags (name, type, default, unit, what Gazebo does, what bullet_sim does)\n"
+    "generated from the tag table its parser reads through; and OUT_DIR/index.md, which lists them.\n"
+    "Pages of filenames no longer registered are not removed.\n"
     "Exit status: 0 written, 1 a page could not be written, 2 usage.\n";
 
 struct Options {

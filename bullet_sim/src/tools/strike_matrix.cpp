@@ -36,8 +36,8 @@ constexpr double kPictureAfter = 0.3;    ///< [s] after the first contact: the s
 constexpr double kSamplePeriod = 0.05;   ///< [s] between path samples
 constexpr double kPointSpacing = 0.01;   ///< [m] between the sampled points of a small surface
 constexpr int kMostDivisions = 12;       ///< of a large surface's edge
-constexpr double kFirstTouch =
-    0.002;  ///< [m] points this much behind the first to meet the target meet it too
+/// [m] points this much behind the first to meet the target meet it too
+constexpr double kFirstTouch = 0.002;
 constexpr double kSupportBand = 0.001;   ///< [m] points this close to the lowest one rest on the ground
 constexpr double kMotorsOffTorque = 1e-9;  ///< [N m] the plugins refuse 0
 constexpr double kGravity = 9.81;        ///< [m/s^2]
