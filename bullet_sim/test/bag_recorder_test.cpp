@@ -211,8 +211,8 @@ TEST_F(ChairBag, MovingLinksComeWithEveryJointStatesAtItsStamp) {
   const auto states = messages<sensor_msgs::JointState>(settings_->path, "/joint_states");
   EXPECT_EQ(states.size(), truth_->samples.at("joint_states"));
   EXPECT_EQ(states.size(), 100u);  // 50 Hz
-  std::map<double, std::vector<geometry_msgs::TransformStamped>>
-      links_at;  // robot_state_publisher's, by stamp
+  // robot_state_publisher's, by stamp
+  std::map<double, std::vector<geometry_msgs::TransformStamped>> links_at;
   size_t odometry = 0;
   for (const auto& [time, message] : messages<tf2_msgs::TFMessage>(settings_->path, "/tf")) {
     for (const auto& transform : message.transforms) {

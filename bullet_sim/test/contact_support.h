@@ -46,9 +46,9 @@ inline std::string describe(const StrikeOutcome& outcome) {
   text << "tilt " << outcome.max_tilt << " rad, rise " << outcome.rise << " m, path " << outcome.path
        << " of " << outcome.command_path << " m; bounds: impact " << b.impact_energy << " J against "
        << b.barrier << " J (tips at " << b.tip_speed << " m/s: " << b.impact_tips << "), stall "
-       << b.push * b.contact_height << " N m against " << b.mass * 9.81 * b.rear << " N m (" << b.stall_tips
-       << "), climb ratio " << b.climb_ratio << ", h " << b.com_height << " m, z_c " << b.contact_height
-       << " m";
+       << b.push * b.contact_height << " N m against " << b.mass * 9.81 * b.rear << " N m ("
+       << b.stall_tips << "), climb ratio " << b.climb_ratio << ", h " << b.com_height << " m, z_c "
+       << b.contact_height << " m";
   return text.str();
 }
 

@@ -63,9 +63,8 @@ size_t saying(const DoctorReport& report, const std::string& part) {
 }
 
 const std::string kReversed =
-    "joint [right_wheel_joint]: turns about 0 -1 0, backwards (-y) in [base_link], while joint "
-    "[left_wheel_joint] "
-    "turns about 0 1 0: plugin [drive] then turns them against each other";
+    "joint [right_wheel_joint]: turns about 0 -1 0, backwards (-y) in [base_link], "
+    "while joint [left_wheel_joint] turns about 0 1 0: plugin [drive] then turns them against each other";
 const std::string kZeroEffort = "joint [left_wheel_joint] <limit>: its effort is 0, yet a plugin drives it";
 
 TEST(DoctorPluginChecks, TheDiffDrivesCheckFindsItsReversedWheel) {

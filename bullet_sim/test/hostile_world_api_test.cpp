@@ -449,8 +449,9 @@ std::vector<Row> commandRows() {
     };
   };
   const auto single = [](double data) {
-    return
-        [=](Scene& scene) { return scene.send("arm", "shoulder_controller/command", Float64Command{data}); };
+    return [=](Scene& scene) {
+      return scene.send("arm", "shoulder_controller/command", Float64Command{data});
+    };
   };
   const auto twist = [](std::string robot, std::string topic, Eigen::Vector3d linear,
                         Eigen::Vector3d angular) {

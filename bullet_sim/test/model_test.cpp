@@ -111,8 +111,8 @@ TEST(ModelSpec, ANegativeVelocityLimitIsNoLimit) {
 TEST(ModelSpec, GazeboReferenceToMissingLinkIsSkippedWithTheNearMiss) {
   const std::string urdf = readFile(fixture("robots/sensor_missing_link.urdf"));
   const std::string message =
-      "<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?): the block is "
-      "skipped";
+      "<gazebo reference=\"laser_link\"> names no link or joint (did you mean [laser_Link]?): "
+      "the block is skipped";
   std::vector<std::string> warnings;
   const ModelSpec model =
       parseModel(urdf, "sensor_missing_link.urdf", PackageResolver::fromEnvironment(), &warnings);

@@ -150,10 +150,9 @@ TEST(ScenarioBag, AKilledRunLeavesABagThatReindexRepairsLosingAtMostTheOpenChunk
 
   // The same run, five minutes long, killed once its bag holds a dozen chunks.
   const fs::path active = dir / "killed" / "run.bag.active";
-  std::vector<std::string> words = {SCENARIO, scenarioFile("circle_long.yaml"),
-                                    "--out",  (dir / "killed").string(),
-                                    "--bag",  "--bag-chunk-size",
-                                    chunk};
+  std::vector<std::string> words = {
+      SCENARIO, scenarioFile("circle_long.yaml"), "--out", (dir / "killed").string(), "--bag",
+      "--bag-chunk-size", chunk};
   std::vector<char*> argv;
   for (auto& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);

@@ -29,15 +29,13 @@ std::string skidSteerWithEffortJoints() {
   std::string more = "<gazebo><plugin name=\"gazebo_ros_control\" filename=\"libgazebo_ros_control.so\">"
                      "<robotNamespace>/</robotNamespace></plugin></gazebo>";
   for (const char* joint : kWheels) {
-    more += std::string("<transmission name=\"") + joint +
-            "_trans\"><type>transmission_interface/SimpleTransmission"
-            "</type><joint name=\"" +
-            joint +
-            "\"><hardwareInterface>hardware_interface/EffortJointInterface"
-            "</hardwareInterface></joint><actuator name=\"" +
-            joint +
-            "_motor\"><mechanicalReduction>1"
-            "</mechanicalReduction></actuator></transmission>";
+    const std::string name = joint;
+    more += "<transmission name=\"" + name + "_trans\">"
+            "<type>transmission_interface/SimpleTransmission</type>"
+            "<joint name=\"" + name + "\"><hardwareInterface>hardware_interface/EffortJointInterface"
+            "</hardwareInterface></joint>"
+            "<actuator name=\"" + name + "_motor\"><mechanicalReduction>1</mechanicalReduction></actuator>"
+            "</transmission>";
   }
   return test::replaceAfter(urdf, "</gazebo>", "</robot>", more + "</robot>");
 }

@@ -26,17 +26,12 @@ WorldSpec crateWorld(std::vector<std::string>* warnings = nullptr, const std::st
       "<sdf version='1.6'><world name='crates'>"
       "<model name='ground_plane'><static>true</static><link name='link'><collision name='collision'>"
       "<geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry></collision></link>"
-      "</model><model name='crate'><pose>2 0 " +
-      std::to_string(kCrate / 2) +
-      " 0 0 0</pose><link name='link'>"
-      "<inertial><mass>1</mass><inertia><ixx>" +
-      moment + "</ixx><iyy>" + moment + "</iyy><izz>" + moment +
-      "</izz></inertia></inertial>"
-      "<collision name='collision'><geometry>" +
-      box +
-      "</geometry></collision>"
-      "<visual name='visual'><geometry>" +
-      box + "</geometry></visual></link></model>" + extra + "</world></sdf>";
+      "</model><model name='crate'><pose>2 0 " + std::to_string(kCrate / 2) + " 0 0 0</pose>"
+      "<link name='link'><inertial><mass>1</mass><inertia><ixx>" + moment + "</ixx><iyy>" + moment +
+      "</iyy><izz>" + moment + "</izz></inertia></inertial>"
+      "<collision name='collision'><geometry>" + box + "</geometry></collision>"
+      "<visual name='visual'><geometry>" + box + "</geometry></visual></link></model>" + extra +
+      "</world></sdf>";
   return parseWorld(sdf, "crates.world", PackageResolver::fromEnvironment(), warnings);
 }
 
@@ -86,8 +81,8 @@ TEST(WorldBodies, InTheAirItMovesAsNewtonAndEulerSay) {
   const int steps = static_cast<int>(std::lround(seconds / simulation.stepSize()));
   for (int i = 0; i < steps; ++i) simulation.step();
   const EntityState now = world.modelState("crate");
-  const LinkProperties crate =
-      world.linkProperties("crate::link");  // mass and inertia as the file writes them
+  // mass and inertia as the file writes them
+  const LinkProperties crate = world.linkProperties("crate::link");
   const Eigen::Vector3d acceleration = force / crate.mass + Eigen::Vector3d(0, 0, -9.81);
   EXPECT_LT((now.linear - (thrown.linear + acceleration * seconds)).norm(), 1e-9) << now.linear.transpose();
   const double inertia = crate.inertia(2, 2);  // [kg m^2]

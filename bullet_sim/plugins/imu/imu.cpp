@@ -39,8 +39,8 @@ const TagTable kImuPluginTags = withUnreadTutorialTags({
      "imu when absent, relative to the namespace"},
     {"updateRate", TagType::kPositive, "0", "Hz", "how often it publishes; 0: every step", ""},
     {"gaussianNoise", TagType::kPositive, "0", "",
-     "the standard deviation of a zero-mean noise on the angular velocity [rad/s] and the acceleration "
-     "[m/s^2]",
+     "the standard deviation of a zero-mean noise on the angular velocity [rad/s] and the "
+     "acceleration [m/s^2]",
      ""},
     {"serviceName", TagType::kIgnored, "", "",
      "a std_srvs/Empty service that does nothing; /default_imu when absent", "not served"},

@@ -145,8 +145,8 @@ std::string ControllerManager::switchControllers(const SwitchControllerRequest& 
   for (Controller* controller : start) {
     try {
       controller->start(time);
-    } catch (
-        const std::exception& e) {  // it stays as it was; those stopped above stay stopped, as in ros_control
+    } catch (const std::exception& e) {
+      // it stays as it was; those stopped above stay stopped, as in ros_control
       return "could not start controller [" + controller->name() + "]: " + e.what();
     }
   }

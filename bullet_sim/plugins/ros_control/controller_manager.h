@@ -1,9 +1,8 @@
 // ros_control's controller manager (Noetic), ROS-free: it loads controllers by type name from their
-// parameters
-// (<robot namespace>/<name>/type, ...), starts and stops them as switch_controller asks (STRICT or
-// BEST_EFFORT, no two running controllers claiming one joint), updates the running ones at the control period
-// and unloads them. Requests are answered at once, between steps: a switch takes effect before the next
-// update.
+// parameters (<robot namespace>/<name>/type, ...), starts and stops them as switch_controller asks (STRICT
+// or BEST_EFFORT, no two running controllers claiming one joint), updates the running ones at the control
+// period and unloads them. Requests are answered at once, between steps: a switch takes effect before the
+// next update.
 #pragma once
 
 #include <cstdint>

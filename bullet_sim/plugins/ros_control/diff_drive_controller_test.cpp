@@ -262,8 +262,8 @@ TEST_F(RoverController, LimitsClipTheCommandAsRosControllersDo) {
   build("  publish_cmd: true\n");
   const auto& out = *std::get<const Stream<StampedTwist>*>(controller_->ports().outputs.back().stream);
   ASSERT_EQ(controller_->ports().outputs.back().topic, std::string(kName) + "/cmd_vel_out");
-  // A step to 2 m/s and 3 rad/s, above the 1 m/s and 2 rad/s limits: v_k = min(1, 3 k dt), w_k = min(2, 6 k
-  // dt).
+  // A step to 2 m/s and 3 rad/s, above the 1 m/s and 2 rad/s limits:
+  // v_k = min(1, 3 k dt), w_k = min(2, 6 k dt).
   for (int k = 1; k <= 50; ++k) {
     ASSERT_EQ(command(2.0, 3.0), "");
     update();

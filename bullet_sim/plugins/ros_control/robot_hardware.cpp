@@ -70,8 +70,8 @@ void RobotHardware::read(const RobotBody& body) {
 }
 
 void RobotHardware::write(RobotBody& body, double dt, bool e_stop) {
-  if (!primed_) {  // position joints stay where they are until a controller moves them (Gazebo snaps them to
-                   // 0)
+  // position joints stay where they are until a controller moves them (Gazebo snaps them to 0)
+  if (!primed_) {
     for (size_t j = 0; j < joints_.size(); ++j) {
       if (joints_[j].interface == JointInterface::kPosition)
         joints_[j].command = body.jointPosition(drives_[j].index);

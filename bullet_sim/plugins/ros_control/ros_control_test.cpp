@@ -341,8 +341,8 @@ TEST(RosControl, JointStatesHaveEveryWheelAtThePublishRate) {
   const auto& states = *std::get<const Stream<JointStateSample>*>(
       rover.manager().find("rover_joint_publisher")->ports().outputs.at(0).stream);
   for (int k = 0; k < 1000; ++k) rover.simulation().step();
-  // At the first update (ros_controllers starts 1.001 periods back), then every 20 ms: 0.001, 0.02, ..., 1.0
-  // s.
+  // At the first update (ros_controllers starts 1.001 periods back), then every 20 ms:
+  // 0.001, 0.02, ..., 1.0 s.
   EXPECT_EQ(states.count(), 51u);
   EXPECT_THAT(states.latest().names,
               ElementsAre("front_left_wheel", "front_right_wheel", "rear_left_wheel", "rear_right_wheel"));

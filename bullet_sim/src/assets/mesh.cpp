@@ -305,9 +305,8 @@ std::optional<ImportedMesh> importTriangles(const std::string& path, const Eigen
       // assimp catches what it throws, running out of memory too, and says only its name.
       if (said.find("bad_alloc") != std::string::npos) {
         throw std::runtime_error(
-            "the importer (assimp) ran out of the memory it may use on it: the file is corrupt or not a "
-            "mesh; "
-            "re-export it as STL, DAE or OBJ");
+            "the importer (assimp) ran out of the memory it may use on it: the file is corrupt or not "
+            "a mesh; re-export it as STL, DAE or OBJ");
       }
       throw std::runtime_error(said);
     }

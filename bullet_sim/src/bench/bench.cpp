@@ -827,8 +827,8 @@ void reportViewer(Json& json, const Options& options, const Figures& figures) {
 Json report(const Options& options, const Figures& figures) {
   const bool has_lidars = !figures.lidar_runs.empty();
   const DriveRun& first = has_lidars ? figures.lidar_runs.front() : figures.physics_runs.front();
-  const DriveRun& drive =
-      figures.physics_runs.front();  // every run follows the same path: it is deterministic
+  // every run follows the same path: it is deterministic
+  const DriveRun& drive = figures.physics_runs.front();
   const auto rtf = [&](const std::vector<DriveRun>& runs) { return realTimeFactors(options, runs); };
   size_t rays_per_scan = 0;
   for (const auto& lidar : figures.lidars) rays_per_scan += lidar.directions.size();

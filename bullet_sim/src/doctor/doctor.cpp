@@ -245,8 +245,8 @@ class Examination {
     }
     reportLookAlikes(look_alikes);
 
-    Diagnostics diagnostics(report_.source,
-                            /*strict=*/true);  // what Gazebo forgives silently is an error here
+    // what Gazebo forgives silently is an error here
+    Diagnostics diagnostics(report_.source, /*strict=*/true);
     const std::optional<ModelSpec> model =
         readModel(xml_, resolver_, registry_, diagnostics, limits_);
     for (const auto& error : diagnostics.errors()) add(Severity::kError, error);

@@ -303,8 +303,8 @@ SubstepLimit MultiBodyRobot::substepLimit() const {
     const double seconds = kLightLinkTime * std::sqrt(frames_[k].mass / total);
     if (seconds >= limit.seconds) continue;
     std::ostringstream reason;
-    reason << "link [" << parts_[k].root_link << "] of " << frames_[k].mass << " kg on a robot of " << total
-           << " kg";
+    reason << "link [" << parts_[k].root_link << "] of " << frames_[k].mass << " kg on a robot of "
+           << total << " kg";
     limit = {seconds, reason.str()};
   }
   return limit;

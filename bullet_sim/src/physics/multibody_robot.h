@@ -70,8 +70,8 @@ class MultiBodyRobot : public PhysicsRobot {
 
  private:
   struct PartFrames {
-    Eigen::Isometry3d part_to_bullet =
-        Eigen::Isometry3d::Identity();  ///< Bullet's frame: com, principal axes
+    /// Bullet's frame: com, principal axes
+    Eigen::Isometry3d part_to_bullet = Eigen::Isometry3d::Identity();
     std::unordered_map<std::string, Eigen::Isometry3d> link_in_part;
     double mass = 0;                                              ///< [kg] of every link in the part
     Eigen::Vector3d principal_inertia = Eigen::Vector3d::Zero();  ///< [kg m^2] about Bullet's frame axes
@@ -81,8 +81,8 @@ class MultiBodyRobot : public PhysicsRobot {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
-    btMultiBodyGearConstraint* coupling =
-        nullptr;                             ///< to the joint it mimics, if any; owned by `constraints_`
+    /// to the joint it mimics, if any; owned by `constraints_`
+    btMultiBodyGearConstraint* coupling = nullptr;
     double pending_effort = 0;               ///< [N m] or [N] pushed with in the coming step (setJointEffort)
     double applied_effort = 0;               ///< and in the last one
     double step_effort = 0;  ///< [N m] or [N] pushed with through the coming step, applyJointEffort's too

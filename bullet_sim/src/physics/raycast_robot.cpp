@@ -349,8 +349,8 @@ void RaycastRobot::beforeSubstep(double substep) {
 }
 
 SubstepLimit RaycastRobot::substepLimit() const {
-  const double frequency =
-      std::sqrt(std::abs(world_.getGravity().z()) / kSag);  // [rad/s] of each wheel's spring
+  // [rad/s] of each wheel's spring
+  const double frequency = std::sqrt(std::abs(world_.getGravity().z()) / kSag);
   std::ostringstream reason;
   reason << "the raycast suspension's " << std::lround(frequency) << " rad/s";
   return {1 / (kSubstepsPerRadian * frequency), reason.str()};

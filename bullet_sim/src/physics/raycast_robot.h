@@ -103,8 +103,8 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit, in the world frame
     Eigen::Vector3d arm = Eigen::Vector3d::Zero();  ///< offset x direction: how spin moves the point along it
     Eigen::Vector3d turn = Eigen::Vector3d::Zero();  ///< [rad/(s N s)] the spin a unit impulse along it gives
-    Eigen::Vector3d shift =
-        Eigen::Vector3d::Zero();  ///< [m/(s N s)] the velocity a unit impulse along it gives
+    /// [m/(s N s)] the velocity a unit impulse along it gives
+    Eigen::Vector3d shift = Eigen::Vector3d::Zero();
     double inverse_mass = 0;      ///< [1/kg] the chassis's, felt at the point along it
   };
   /// A wheel's contact with the ground in one substep, and the impulses solved for it. A caster, which does

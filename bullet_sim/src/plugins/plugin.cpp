@@ -11,8 +11,8 @@ bool UpdateTimer::wouldFire(const StepTime& time) const { return time.sim_time +
 
 double UpdateTimer::nextAfter(const StepTime& time) const {
   const double next = next_ + period_;
-  return next < time.sim_time + kTimeEpsilon ? time.sim_time + period_
-                                             : next;  // never fire twice in one step
+  // never fire twice in one step
+  return next < time.sim_time + kTimeEpsilon ? time.sim_time + period_ : next;
 }
 
 bool UpdateTimer::due(const StepTime& time) {

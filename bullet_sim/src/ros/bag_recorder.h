@@ -2,10 +2,9 @@
 // one rosbag whose time is sim time. Per robot: every plugin output as the node publishes it (sensors,
 // odometry, the odom -> base transforms on /tf), its commands, its links as robot_state_publisher publishes
 // them (fixed joints on a latched /tf_static, moving ones on /tf with each joint_states sample) and its
-// ground truth
-// (<ns>/ground_truth, nav_msgs/Odometry of its root link in `world`). /clock is not recorded: `rosbag play
-// --clock` makes it from the bag's time. The bag holds no wall time, caller id or host name, so a
-// deterministic run gives the same bytes.
+// ground truth (<ns>/ground_truth, nav_msgs/Odometry of its root link in `world`). /clock is not recorded:
+// `rosbag play --clock` makes it from the bag's time. The bag holds no wall time, caller id or host name, so
+// a deterministic run gives the same bytes.
 #pragma once
 
 #include <memory>

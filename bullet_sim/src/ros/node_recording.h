@@ -2,8 +2,7 @@
 // commands their inputs receive, recorded as they arrive between steps.
 //
 // Params: ~record ["": none; FILE.bag, a relative path taken under $ROS_HOME], ~record_topics [every topic
-// but
-//   images and point clouds: a list of regular expressions matching whole topic names, or one],
+//   but images and point clouds: a list of regular expressions matching whole topic names, or one],
 //   ~record_compression [lz4; none, bz2], ~record_chunk_size [786432 bytes, before compression],
 //   ~record_ground_truth_rate [50 Hz of sim time].
 #pragma once

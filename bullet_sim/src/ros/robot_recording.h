@@ -32,8 +32,8 @@ class TopicFilter {
 
 /// How a robot's topics and frames are named, as the node names them.
 struct RobotNames {
-  std::string
-      robot_namespace;  ///< replaces its plugins' namespaces when not empty (spawn's -robot_namespace)
+  /// replaces its plugins' namespaces when not empty (spawn's -robot_namespace)
+  std::string robot_namespace;
   std::function<FramePrefix(const Plugin& plugin)> plugin_frames;  ///< the tf_prefix of a plugin's frames
   FramePrefix link_frames;  ///< robot_state_publisher's tf_prefix
 };

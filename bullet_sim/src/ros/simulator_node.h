@@ -2,9 +2,8 @@
 // /clock, serves Gazebo's world services and ours, and gives every spawned robot a RobotAdapter.
 //
 // Params: ~world [empty.world], ~world_fallback [empty.world: the world loaded, with a warning naming the
-// file
-//   and its problems, when ~world cannot be found or read, as gzserver falls back on worlds/empty.world; ""
-//   makes that an error, as ~strict_models does for a world found but refused], ~strict_models [false: an
+//   file and its problems, when ~world cannot be found or read, as gzserver falls back on worlds/empty.world;
+//   "" makes that an error, as ~strict_models does for a world found but refused], ~strict_models [false: an
 //   unknown model:// include is skipped with a warning; true: an error], ~step_size and ~real_time_factor
 //   [the world's <physics>: 1 ms, 1; 0 = as fast as possible], ~paused [false], ~seed [0],
 //   ~pub_clock_frequency [every step; as Gazebo's, in Hz of sim time; at most 1000 wall Hz, and 10 while

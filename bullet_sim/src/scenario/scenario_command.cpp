@@ -25,9 +25,7 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv) {
       argc, argv,
       {{"--out", [&](Value value) { command.out = value; }},
        {"--seed",
-        [&](Value value) {
-          command.seed = static_cast<uint64_t>(whole(value, "--seed", 9007199254740992.0));
-        }},
+        [&](Value v) { command.seed = static_cast<uint64_t>(whole(v, "--seed", 9007199254740992.0)); }},
        {"--matrix", [&](Value value) { command.matrix = value; }},
        {"--index", [&](Value value) { command.index = static_cast<int>(whole(value, "--index", 1e6)); }},
        {"--video", [&](Value) { command.video = true; }, false, /*flag=*/true},
@@ -35,9 +33,7 @@ ScenarioCommand parseScenarioCommand(int argc, char** argv) {
        {"--bag-topics", [&](Value value) { bag().topics.push_back(value); }, /*repeatable=*/true},
        {"--bag-compression", [&](Value value) { bag().compression = value; }},
        {"--bag-chunk-size",
-        [&](Value value) {
-          bag().chunk_size = static_cast<uint32_t>(whole(value, "--bag-chunk-size", 1 << 30));
-        }},
+        [&](Value v) { bag().chunk_size = static_cast<uint32_t>(whole(v, "--bag-chunk-size", 1 << 30)); }},
        {"--list", [&](Value) { command.list = true; }, false, /*flag=*/true}},
       &command.help, &file);
   if (command.help) return command;

@@ -40,8 +40,8 @@ struct ScanCounts {
 std::string noScanWarning(const Plugin& sensor) {
   std::ostringstream warning;
   warning << sensor.where() << " produced no scan within " << kSnapshotMaxSimTime
-          << " s of sim time (its update_rate is " << sensor.updateRate()
-          << " Hz), so its hits are not drawn";
+          << " s of sim time (its update_rate is " << sensor.updateRate() << " Hz),"
+          << " so its hits are not drawn";
   return warning.str();
 }
 

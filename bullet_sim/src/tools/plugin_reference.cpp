@@ -159,14 +159,13 @@ void write(const fs::path& path, const std::string& text) {
 std::string index(const std::map<std::string, std::vector<const PluginType*>>& by_filename,
                   const std::map<std::string, Prose>& prose) {
   std::ostringstream out;
-  out << "<!-- Written by scripts/docs.sh (plugin_reference) from the plugin registry: edit the plugins' "
-         "folders, "
-         "not this page. -->\n"
+  out << "<!-- Written by scripts/docs.sh (plugin_reference) from the plugin registry: "
+         "edit the plugins' folders, not this page. -->\n"
       << "# Plugins\n\n"
-      << "Every Gazebo plugin filename bullet_sim accepts, with the tags it reads. A `<plugin>` of any "
-         "other\n"
-      << "filename gets one warning naming it and saying it is ignored. Each page's table is generated from "
-         "the\n"
+      << "Every Gazebo plugin filename bullet_sim accepts, with the tags it reads. "
+         "A `<plugin>` of any other\n"
+      << "filename gets one warning naming it and saying it is ignored. "
+         "Each page's table is generated from the\n"
       << "tag table the plugin's parser reads through (`rosrun bullet_sim urdf_doctor --list-plugins` lists\n"
       << "them too).\n\n"
       << "| filename | served | what |\n|---|---|---|\n";

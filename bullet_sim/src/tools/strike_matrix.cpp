@@ -108,8 +108,8 @@ std::vector<Eigen::Vector3d> surfacePoints(const Shape& shape) {
     }
     case Shape::Type::kSphere: {
       const int count = std::clamp(
-          static_cast<int>(4 * M_PI * shape.radius * shape.radius / (kPointSpacing * kPointSpacing)), 64,
-          4 * kMostDivisions * kMostDivisions);
+          static_cast<int>(4 * M_PI * shape.radius * shape.radius / (kPointSpacing * kPointSpacing)),
+          64, 4 * kMostDivisions * kMostDivisions);
       const double golden = M_PI * (3 - std::sqrt(5.0));
       for (int i = 0; i < count; ++i) {  // a Fibonacci sphere
         const double z = 1 - 2 * (i + 0.5) / count, ring = std::sqrt(1 - z * z);

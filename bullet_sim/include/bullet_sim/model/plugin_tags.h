@@ -38,8 +38,8 @@ const char* tagTypeName(TagType type);
 struct TagRow {
   std::string name;
   TagType type = TagType::kText;
-  std::string
-      fallback;  ///< the default as the reference shows it ("" for none); parsed when the reader gives none
+  /// the default as the reference shows it ("" for none); parsed when the reader gives none
+  std::string fallback;
   std::string unit;      ///< "m", "Hz", ...; "" for none
   std::string gazebo;    ///< what Gazebo's plugin does with it
   std::string ours;      ///< what bullet_sim does where it differs; "" when it does the same

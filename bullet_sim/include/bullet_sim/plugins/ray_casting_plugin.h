@@ -34,9 +34,8 @@ class RayCastingPlugin : public Plugin, public RaySensor {
   /// For sense(): whether a reading is due at `time` (its timer then schedules the next); if so, its rays are
   /// cast, here when the caller skipped aimRays() and castRays().
   bool readingDue(const StepTime& time, const RobotBody& body, const RayCaster& rays);
-  const Eigen::Isometry3d& sensorPose() const {
-    return sensor_;
-  }  ///< in the world, where they were aimed from
+  /// in the world, where they were aimed from
+  const Eigen::Isometry3d& sensorPose() const { return sensor_; }
   const std::vector<Eigen::Vector3f>& directions() const { return aim_.directions; }  ///< in the sensor frame
   const std::vector<double>& ranges() const { return ranges_; }  ///< [m] per ray; +inf: no hit within range
 

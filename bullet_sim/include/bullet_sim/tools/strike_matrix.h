@@ -64,8 +64,8 @@ struct StrikeBounds {
   double mass = 0;           ///< [kg]
   double com_height = 0;     ///< h [m] above the ground
   double contact_height = 0;  ///< z_c [m]: where the robot first meets the target
-  double front = 0,
-         rear = 0;           ///< d [m]: from the centre of mass to the front and rear support edges, along n
+  /// d [m]: from the centre of mass to the front and rear support edges, along n
+  double front = 0, rear = 0;
   double pitch_inertia = 0;  ///< I_p [kg m^2] about the edge the impact turns the robot over
   double impact_energy = 0;  ///< [J]
   double barrier = 0;        ///< [J]
