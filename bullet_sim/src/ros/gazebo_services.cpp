@@ -431,14 +431,15 @@ bool GazeboServices::setJointProperties(gazebo_msgs::SetJointProperties::Request
   return answer(response, [&] {
     const gazebo_msgs::ODEJointProperties& ode = request.ode_joint_config;
     const JointProperties now = world_.jointProperties(request.joint_name);
-    std::string refused, unused;
+    std::string refused;
+    std::vector<std::string> unused;
     const auto check = [&](const char* name, const std::vector<double>& values, const double* current) {
       if (values.empty()) return;
       if (values.size() > 1) {
         refused += std::string(refused.empty() ? "" : "; ") + name + " has " + std::to_string(values.size()) +
                    " values, and the joint one axis";
       } else if (!current) {
-        unused += std::string(unused.empty() ? "" : ", ") + name;
+        unused.push_back(name);
       } else if (!sameValue(values[0], *current)) {
         refused += std::string(refused.empty() ? "" : "; ") + name + " is fixed at spawn";
       }
@@ -455,12 +456,12 @@ bool GazeboServices::setJointProperties(gazebo_msgs::SetJointProperties::Request
     }
     if (ode.vel.size() > 1 || ode.fmax.size() > 1 || ode.vel.empty() != ode.fmax.empty()) {
       refused += std::string(refused.empty() ? "" : "; ") +
-                 "vel and fmax drive the joint's motor together, " + "one value each";
+                 "vel and fmax drive the joint's motor together, one value each";
     }
     if (!refused.empty()) throw std::invalid_argument("SetJointProperties: " + refused);
     if (!ode.vel.empty()) world_.driveJoint(request.joint_name, ode.vel[0], ode.fmax[0]);
     return "SetJointProperties: properties set" +
-           (unused.empty() ? "" : "; accepted but not used (ODE's solver settings): " + unused);
+           (unused.empty() ? "" : "; accepted but not used (ODE's solver settings): " + joinedNames(unused));
   });
 }
 
