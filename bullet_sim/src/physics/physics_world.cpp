@@ -2,7 +2,6 @@
 
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
-#include <BulletDynamics/Featherstone/btMultiBodyInplaceSolverIslandCallback.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include "physics/coulomb_solver.h"
 #include "physics/compound_plane.h"
 #include "physics/cylinder_plane.h"
+#include "physics/islands.h"
 #include "physics/multibody_robot.h"
 #include "physics/sleep.h"
 
@@ -84,77 +84,6 @@ bool outOfReach(const btManifoldPoint& point, const btCollisionObject& a, const 
   const double approach = std::max(0.0, -static_cast<double>(relative.dot(point.m_normalWorldOnB)));
   return point.m_distance1 > reachableGap(approach, gravity, dt);
 }
-
-/// Bullet joins into one simulation island the bodies whose bounds overlap; ODE (Gazebo) those in contact.
-/// Joined by contacts, a body at rest beside a robot sleeps instead of waking whenever the robot passes.
-class TouchingIslands : public btSimulationIslandManager {
- public:
-  void updateActivationState(btCollisionWorld* world, btDispatcher* dispatcher) override {
-    btSimulationIslandManager::updateActivationState(world, dispatcher);  // tags every body
-    getUnionFind().reset(getUnionFind().getNumElements());               // forgets the overlaps
-    for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
-      const btPersistentManifold& manifold = *dispatcher->getManifoldByIndexInternal(m);
-      const btCollisionObject& a = *manifold.getBody0();
-      const btCollisionObject& b = *manifold.getBody1();
-      if (manifold.getNumContacts() > 0 && a.mergesSimulationIslands() && b.mergesSimulationIslands()) {
-        getUnionFind().unite(a.getIslandTag(), b.getIslandTag());
-      }
-    }
-  }
-};
-
-/// Bullet solves every awake island, one without contacts or joints too, where all the solver does is add
-/// each rigid body's forces, torques and gyroscopic impulse to its velocities, through its setup and
-/// write-back: half of a lone raycast robot's solve. This does that arithmetic directly, in Bullet's
-/// order (btSequentialImpulseConstraintSolver's initSolverBody, convertBodies and writeBackBodies), so that
-/// every velocity comes out bit for bit as Bullet's. The other islands are batched and solved as before.
-class FreeIslandsDirect : public MultiBodyInplaceSolverIslandCallback {
- public:
-  using MultiBodyInplaceSolverIslandCallback::MultiBodyInplaceSolverIslandCallback;
-
-  void processIsland(btCollisionObject** bodies, int count, btPersistentManifold** manifolds,
-                     int manifold_count, int island) override {
-    if (island < 0 || manifold_count > 0 || m_numConstraints > 0 || !allFree(bodies, count)) {
-      MultiBodyInplaceSolverIslandCallback::processIsland(bodies, count, manifolds, manifold_count, island);
-      return;
-    }
-    for (int k = 0; k < count; ++k) applyForces(*btRigidBody::upcast(bodies[k]), m_solverInfo->m_timeStep);
-  }
-
-  /// Bullet solves the last batch even when it is empty, as it is once every island was free.
-  void processConstraints(int island) override {
-    if (m_bodies.size() + m_softBodies.size() + m_manifolds.size() + m_constraints.size() +
-            m_multiBodyConstraints.size() == 0) {
-      return;
-    }
-    MultiBodyInplaceSolverIslandCallback::processConstraints(island);
-  }
-
- private:
-  /// Rigid bodies with mass whose gyroscopic term is the default one: no multibody link, which the
-  /// multibody solver steps, and so no multibody constraint either.
-  static bool allFree(btCollisionObject** bodies, int count) {
-    constexpr int kOtherGyroscopic =
-        BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD;
-    for (int k = 0; k < count; ++k) {
-      const btRigidBody* body = btRigidBody::upcast(bodies[k]);
-      if (!body || body->getInvMass() == 0 || (body->getFlags() & kOtherGyroscopic)) return false;
-    }
-    return true;
-  }
-
-  static void applyForces(btRigidBody& body, btScalar dt) {
-    const btVector3 force_impulse = body.getTotalForce() * body.getInvMass() * dt;
-    btVector3 torque_impulse = body.getTotalTorque() * body.getInvInertiaTensorWorld() * dt;
-    if (body.getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY) {
-      torque_impulse += body.computeGyroscopicImpulseImplicit_Body(dt);
-    }
-    // The solver adds its (zero) velocity changes first: -0 becomes +0 there, and so here.
-    const btVector3 no_change(0, 0, 0);
-    body.setLinearVelocity((body.getLinearVelocity() + no_change) + force_impulse);
-    body.setAngularVelocity((body.getAngularVelocity() + no_change) + torque_impulse);
-  }
-};
 }  // namespace
 
 /// Bullet's solver pushes a contact's bodies apart at erp * depth / dt. For the solver only, a contact
