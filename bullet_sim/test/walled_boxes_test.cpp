@@ -72,6 +72,42 @@ TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
   }
 }
 
+/// Four wheelchairs driving into the boxes for `seconds` (the first test's places), on `threads` threads.
+FleetRun driveIntoBoxes(double seconds, int threads) {
+  FleetOptions options;
+  options.urdf = test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
+  options.source = "smartwheelchair_model.urdf.xacro";
+  options.duration = seconds;
+  options.spacing = 4;
+  options.origin.x = 6;
+  options.origin.y = 4;
+  options.threads = threads;
+  options.lockstep = true;
+  std::vector<std::string> warnings;
+  return driveFleet(test::shippedWorld("walled_boxes.world"), 4, options, &warnings);
+}
+
+// Each step's islands (here 200 boxes on the ground, and the wheelchairs) are solved side by side on two
+// threads, each with a solver of its own; islands share no body, so the run is the same to the last bit.
+TEST(WalledBoxes, TheRunIsBitIdenticalWhetherOneThreadOrTwoSolveTheIslands) {
+  const FleetRun alone = driveIntoBoxes(1, 1);
+  const FleetRun shared = driveIntoBoxes(1, 2);
+  EXPECT_EQ(alone.shared_solves, 0);
+  // The boxes are worth sharing until they sleep, a second after the spawn: half of the drive.
+  EXPECT_GT(shared.shared_solves, 0.4);
+  ASSERT_EQ(alone.loose.size(), shared.loose.size());
+  for (size_t k = 0; k < alone.loose.size(); ++k) {
+    EXPECT_EQ(alone.loose[k].end, shared.loose[k].end) << alone.loose[k].name;
+    EXPECT_EQ(alone.loose[k].z_max, shared.loose[k].z_max) << alone.loose[k].name;
+  }
+  ASSERT_EQ(alone.end.size(), shared.end.size());
+  for (size_t k = 0; k < alone.end.size(); ++k) {
+    EXPECT_EQ(alone.end[k].x, shared.end[k].x);
+    EXPECT_EQ(alone.end[k].y, shared.end[k].y);
+    EXPECT_EQ(alone.end[k].yaw, shared.end[k].yaw);
+  }
+}
+
 /// A loose 0.4 m box named `name` with its centre at `pose`.
 std::string looseBox(const std::string& name, const std::string& pose) {
   return "<model name='" + name + "'><pose>" + pose +

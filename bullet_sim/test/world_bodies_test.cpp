@@ -65,7 +65,7 @@ TEST(WorldBodies, ItFallsUnderGravityAndResetWorldPutsItBack) {
 }
 
 // Touching nothing, the crate's island has no contact for the solver: its forces reach its velocities
-// directly (physics_world.cpp's FreeIslandsDirect), and must do so as Newton and Euler say.
+// directly (physics/islands.cpp's IslandSolver), and must do so as Newton and Euler say.
 TEST(WorldBodies, InTheAirItMovesAsNewtonAndEulerSay) {
   Simulation simulation(crateWorld(nullptr, "<gravity>0 0 -9.81</gravity>"));
   WorldApi world(simulation);
@@ -94,6 +94,31 @@ TEST(WorldBodies, InTheAirItMovesAsNewtonAndEulerSay) {
       thrown.pose.translation() + thrown.linear * seconds + acceleration * seconds * seconds / 2;
   const Eigen::Vector3d stepped = exact + acceleration * seconds * simulation.stepSize() / 2;
   EXPECT_LT((now.pose.translation() - stepped).norm(), 1e-9) << now.pose.translation().transpose();
+}
+
+/// A loose ball of 1 kg and radius 0.4 m named `name`, its centre at x, y and 50 m up.
+std::string highBall(const std::string& name, double x, double y) {
+  return "<model name='" + name + "'><pose>" + std::to_string(x) + " " + std::to_string(y) +
+         " 50 0 0 0</pose><link name='link'><inertial><mass>1</mass></inertial><collision name='c'>"
+         "<geometry><sphere><radius>0.4</radius></sphere></geometry></collision></link></model>";
+}
+
+// Two balls falling side by side, 0.7 m apart along x and y: their bounds (cubes of 0.8 m) overlap, so
+// Bullet keeps a manifold for the pair, and they do not touch (0.19 m apart), so they are two islands.
+// Each falls as Newton says: the manifold without points joins neither island's solve to the other's
+// (the solve given it would add the other ball's gravity a second time each step).
+TEST(WorldBodies, BallsWhoseBoundsOverlapWithoutTouchingFallAsNewtonSays) {
+  Simulation simulation(crateWorld(nullptr, "<gravity>0 0 -9.81</gravity>" + highBall("ball1", -3, 0) +
+                                                highBall("ball2", -2.3, 0.7)));
+  WorldApi world(simulation);
+  const double seconds = 0.5;
+  for (int i = 0; i < std::lround(seconds / simulation.stepSize()); ++i) simulation.step();
+  for (const std::string name : {"ball1", "ball2"}) {
+    SCOPED_TRACE(name);
+    const EntityState now = world.modelState(name);
+    EXPECT_LT((now.linear - Eigen::Vector3d(0, 0, -9.81 * seconds)).norm(), 1e-9) << now.linear.transpose();
+    EXPECT_NEAR(now.angular.norm(), 0, 1e-12);
+  }
 }
 
 TEST(WorldBodies, ARobotPushesItAndALidarSeesItWhereItIsNow) {

@@ -89,7 +89,7 @@ void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
 
 /// The figures of one fleet's runs: medians first, then every run's.
 Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptions& options) {
-  std::vector<double> rtf, wall_ms, cpu_ms, process_cpu_ms, spawn_s, rss_mb;
+  std::vector<double> rtf, wall_ms, cpu_ms, process_cpu_ms, spawn_s, rss_mb, shared;
   double pose_error = 0, scan_rate = NAN;
   for (const FleetRun& run : runs) {
     rtf.push_back(options.duration / run.drive_s);
@@ -97,6 +97,7 @@ Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptio
     cpu_ms.push_back(1e3 * run.cpu_s / (options.duration * count));
     process_cpu_ms.push_back(1e3 * run.process_cpu_s / (options.duration * count));
     spawn_s.push_back(run.spawn_s);
+    shared.push_back(100 * run.shared_solves);
     rss_mb.push_back(run.rss_mb);
     for (size_t k = 0; k < run.end.size(); ++k) {
       const Planar ideal = unicycle(run.settled[k], options.v, options.w, options.duration);
@@ -110,6 +111,7 @@ Json countFigures(int count, const std::vector<FleetRun>& runs, const FleetOptio
   json["wall_ms_per_sim_s_per_robot"] = figure(median(wall_ms));
   json["cpu_ms_per_sim_s_per_robot"] = figure(median(cpu_ms));
   json["process_cpu_ms_per_sim_s_per_robot"] = figure(median(process_cpu_ms));
+  json["shared_solves_pct"] = figure(median(shared));
   json["robot_rtf"] = figure(count * median(rtf));
   json["spawn_s"] = figure(median(spawn_s));
   json["peak_rss_mb"] = peakRssMb();
@@ -165,6 +167,7 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   const Clock::time_point start = Clock::now();
   const double cpu_start = threadCpuSeconds();
   const double process_cpu_start = processCpuSeconds();
+  const uint64_t shared_before = simulation.sharedSolves();
   for (long i = 0; i < steps; ++i) {
     if (i % resend == 0) {
       for (const Drive& drive : drives) (*drive.command)(command, simulation.time());
@@ -176,6 +179,8 @@ FleetRun driveFleet(const WorldSpec& world, int count, const FleetOptions& optio
   run.drive_s = secondsSince(start);
   run.cpu_s = threadCpuSeconds() - cpu_start;
   run.process_cpu_s = processCpuSeconds() - process_cpu_start;
+  run.shared_solves = static_cast<double>(simulation.sharedSolves() - shared_before) /
+                      static_cast<double>(steps * simulation.physicsSubsteps());
   run.rss_mb = currentRssMb();
   run.end = axlePoses(robots, drives);
   for (const Robot* robot : robots) run.lidar_scans += lidarScans(*robot);

@@ -39,6 +39,7 @@ struct FleetRun {
   double process_cpu_s = 0;  ///< [s] the drive's CPU time on every thread (the pool's too)
   double rss_mb = 0;         ///< resident memory at the end of the drive [MB]
   uint64_t lidar_scans = 0;  ///< scans every robot's ray sensors published while driving
+  double shared_solves = 0;  ///< the share of the drive's substeps whose islands' solve the pool shared
   std::vector<Planar> settled, end;  ///< every robot's drive axle before and after the drive, in spawn order
   /// The world's loose bodies and every robot (in spawn order), from the spawn to the end of the drive.
   std::vector<LooseBodyTrack> loose;

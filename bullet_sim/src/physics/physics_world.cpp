@@ -99,8 +99,11 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
     btAlignedFree(m_islandManager);
     m_islandManager = new (btAlignedAlloc(sizeof(TouchingIslands), 16)) TouchingIslands();
     delete m_solverMultiBodyIslandCallback;  // allocated with new by Bullet, deleted so by its destructor
-    m_solverMultiBodyIslandCallback = new FreeIslandsDirect(engine.solver.get(), &engine.dispatcher);
+    m_solverMultiBodyIslandCallback = new IslandSolver(engine.solver.get(), &engine.dispatcher);
   }
+
+  IslandSolver& islands() { return *static_cast<IslandSolver*>(m_solverMultiBodyIslandCallback); }
+  WorkPool* pool = nullptr;  ///< shares the islands' solve, if set
 
   /// Bullet predicts every rigid body's motion each step, asleep or not, and damps it by pow(1 - damping, dt)
   /// even when damping is 0: two hundred sleeping boxes cost 100 k instructions a step. Asleep, a body stays
@@ -159,7 +162,11 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
         point.m_distance1 = deepest;
       }
     }
-    btMultiBodyDynamicsWorld::solveConstraints(info);
+    // btMultiBodyDynamicsWorld::solveConstraints, with the islands built and solved by IslandSolver: Bullet's
+    // last batch is then empty, and what is left is the multibodies' velocities.
+    solveExternalForces(info);
+    islands().buildAndSolve(pool, getNumCollisionObjects() + 1, [this] { buildIslands(); });
+    solveInternalConstraints(info);
     for (const auto& [point, distance] : moved_) point->m_distance1 = distance;
   }
 
@@ -263,9 +270,14 @@ void PhysicsWorld::releaseMemory() {
   auto fresh = std::make_unique<CoulombSolver>();
   world_->setMultiBodyConstraintSolver(fresh.get());  // keeps the world's solver settings
   engine_->solver = std::move(fresh);
+  world_->islands().releaseHelpers();
 }
 
 btMultiBodyDynamicsWorld& PhysicsWorld::bullet() { return *world_; }
+
+void PhysicsWorld::shareSolvesWith(WorkPool* pool) { world_->pool = pool; }
+
+uint64_t PhysicsWorld::sharedSolves() const { return world_->islands().sharedSolves(); }
 
 void PhysicsWorld::step(const std::function<void(double substep)>& before_substep) {
   const double substep = this->substep();

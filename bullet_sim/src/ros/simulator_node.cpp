@@ -32,9 +32,9 @@ std::filesystem::path defaultSnapshotDir() {
   return base / "snapshots";
 }
 
-/// ~threads: the threads that cast each step's due scans in lockstep and split a spawn's meshes
-/// (SimulationOptions::threads); 0, the default, takes the cores the node may run on, at most 4. A whole
-/// number given as a double (2.0) counts, as roscpp's own integer parameters take it.
+/// ~threads: the threads that cast each step's due scans in lockstep, solve its islands side by side and
+/// split a spawn's meshes (SimulationOptions::threads); 0, the default, takes the cores the node may run on,
+/// at most 4. A whole number given as a double (2.0) counts, as roscpp's own integer parameters take it.
 int threadsParam(const ros::NodeHandle& private_node) {
   XmlRpc::XmlRpcValue given;
   if (!private_node.getParam("threads", given)) return 0;

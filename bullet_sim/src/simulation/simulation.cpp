@@ -162,6 +162,7 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
       pool_(std::make_unique<WorkPool>(options_.threads > 0 ? options_.threads : defaultPoolThreads())),
       lane_(options_.lockstep ? nullptr : std::make_unique<WorkLane>()) {
   physics_ = std::make_unique<PhysicsWorld>(world_, options_.physics);
+  physics_->shareSolvesWith(pool_.get());
   for (const auto& model : world_.models) {
     PlacedWorldModel& placed = world_models_.emplace_back();
     placed.pose = model.pose;

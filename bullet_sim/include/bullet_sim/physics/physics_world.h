@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -20,6 +21,7 @@ namespace bullet_sim {
 
 class BulletShapes;
 struct CollisionNames;
+class WorkPool;
 
 struct PhysicsOptions {
   double step_size = 0.001;  ///< [s] every step advances exactly this much
@@ -56,6 +58,12 @@ class PhysicsWorld {
   void setLongestSubstep(double longest);
   int substeps() const { return substeps_; }
   double substep() const { return options_.step_size / substeps_; }  ///< [s]
+  /// Solves each step's simulation islands (bodies in contact) side by side on `pool`'s threads and the
+  /// caller's, when they hold enough contacts to be worth it; nullptr: on the caller's alone. The results are
+  /// the same to the last bit either way. `pool` must outlive the world or be unset first.
+  void shareSolvesWith(WorkPool* pool);
+  /// Steps (substeps) whose islands were solved on more than one thread.
+  uint64_t sharedSolves() const;
   /// Frees what the solver kept for the contacts of past steps (after a robot is removed: a robot resting on
   /// 3,000 shapes left 6 MB there).
   void releaseMemory();

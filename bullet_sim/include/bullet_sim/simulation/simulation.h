@@ -62,9 +62,10 @@ struct SimulationOptions {
   Limits limits;
   /// Where the convex parts of moving collision meshes are kept (ConvexDecomposer).
   std::string convex_cache_dir = convexCacheDir();
-  /// Threads that share each step's due scans in lockstep, the stepping one included, and the CoACD
-  /// processes that split a spawn's meshes side by side; 0: the cores it may run on (taskset, a container's
-  /// cpuset), at most 4. Any count gives the same, bit-identical run.
+  /// Threads that share each step's due scans in lockstep and the solve of its simulation islands (bodies
+  /// in contact) when there is enough of it, the stepping one included, and the CoACD processes that split a
+  /// spawn's meshes side by side; 0: the cores it may run on (taskset, a container's cpuset), at most 4. Any
+  /// count gives the same, bit-identical run.
   int threads = 0;
   /// Whether ray sensors cast within the step they measure (Gazebo's --lockstep), or behind the next steps'
   /// physics on a thread of their own: each reading is the same, stamped with its step, and appears at the
@@ -231,6 +232,10 @@ class Simulation {
   /// One line on the physics substep robot `name` runs at, and what sets it. Throws std::invalid_argument
   /// for an unknown robot.
   std::string substepNote(const std::string& name) const;
+  /// Physics substeps so far whose simulation islands (bodies in contact) were solved side by side on the
+  /// pool's threads (PhysicsWorld::shareSolvesWith).
+  uint64_t sharedSolves() const { return physics_->sharedSolves(); }
+  int physicsSubsteps() const { return physics_->substeps(); }  ///< per step, as its robots need
   /// Robots back at their spawn poses and plugins as at spawn; time goes on.
   void resetWorld();
   /// resetWorld, and time restarts: the next step ends at t = step size.
