@@ -60,6 +60,7 @@ TEST(Simulation, EveryRobotRestsOnTheGroundWhereItSpawns) {
 struct RunResult {
   std::vector<Eigen::Isometry3d> poses;
   std::vector<float> ranges;
+  uint64_t shared_solves = 0;  ///< substeps whose islands the pool's threads solved side by side
 };
 
 RunResult runWheelchair(uint64_t seed, const std::string& wheel_model) {
@@ -118,10 +119,11 @@ RunResult runFleet(uint64_t seed, const std::string& wheel_model, int threads) {
     const auto& ranges = robot->outputs<LaserScan>().at(0).stream->latest().ranges;
     result.ranges.insert(result.ranges.end(), ranges.begin(), ranges.end());
   }
+  result.shared_solves = simulation.sharedSolves();
   return result;
 }
 
-TEST(Simulation, TenRobotsRerunBitIdenticallyWhateverThreadsCastTheirRays) {
+TEST(Simulation, TenRobotsRerunBitIdenticallyWhateverThreadsCastTheirRaysAndSolveTheirIslands) {
   for (const auto& wheel_model : test::kWheelModels) {
     SCOPED_TRACE(wheel_model);
     const RunResult first = runFleet(7, wheel_model, 2);
@@ -132,6 +134,10 @@ TEST(Simulation, TenRobotsRerunBitIdenticallyWhateverThreadsCastTheirRays) {
       for (size_t i = 0; i < first.poses.size(); ++i)
         EXPECT_EQ(first.poses[i].matrix(), again.poses[i].matrix());
       EXPECT_EQ(first.ranges, again.ranges);
+      // Ten robots on contact wheels are ten islands worth sharing (their wheels' contact rows).
+      if (wheel_model == "contact") {
+        EXPECT_EQ(again.shared_solves > 0, threads > 1);
+      }
     }
     // The robots saw each other: in the empty world, only they return a finite range.
     EXPECT_GT(

@@ -90,8 +90,12 @@ void IslandSolver::buildAndSolve(WorkPool* pool, size_t most, const std::functio
   while (helpers_.size() + 1 < threads) helpers_.push_back(std::make_unique<CoulombSolver>());
   const auto part = [&](size_t thread) {
     if (thread == 0) {
+      // Set even when the build throws, so that the other threads stop waiting and the pool rethrows.
+      const struct Built {
+        std::atomic<bool>& built;
+        ~Built() { built.store(true, std::memory_order_release); }
+      } mark{built_};
       build();
-      built_.store(true, std::memory_order_release);
     }
     solveAsQueued(thread == 0 ? *m_solver : *helpers_[thread - 1]);
   };

@@ -30,7 +30,9 @@ class TouchingIslands : public btSimulationIslandManager {
 /// - Every other island is queued on its own, and buildAndSolve() solves them side by side on the
 ///   simulation's pool, each thread with a solver of its own. Islands share no body and each solve stops at
 ///   its own residual, so which thread solves an island never shows: reruns are bit-identical with any
-///   threads.
+///   threads. (Bullet's one shared write there is a statistics counter, gNumSplitImpulseRecoveries, as in
+///   its own multithreaded world.) The caller passes no pool while the world has a kinematic body or a typed
+///   constraint: Bullet's solver would share state between islands there.
 /// - A manifold without contact points (bounds that overlap, bodies that do not touch) is left out of its
 ///   island: TouchingIslands did not join its bodies, and Bullet's solver sets up both bodies of every
 ///   manifold it is given, so the other island's body would have its forces added twice.

@@ -165,12 +165,24 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
     // btMultiBodyDynamicsWorld::solveConstraints, with the islands built and solved by IslandSolver: Bullet's
     // last batch is then empty, and what is left is the multibodies' velocities.
     solveExternalForces(info);
-    islands().buildAndSolve(pool, getNumCollisionObjects() + 1, [this] { buildIslands(); });
+    WorkPool* sharing = onlyIslandsApart() ? pool : nullptr;
+    islands().buildAndSolve(sharing, getNumCollisionObjects() + 1, [this] { buildIslands(); });
     solveInternalConstraints(info);
     for (const auto& [point, distance] : moved_) point->m_distance1 = distance;
   }
 
  private:
+  /// Whether islands share no state in Bullet's solver: no typed constraint (none of ours; not vetted) and no
+  /// kinematic rigid body, which joins no island and gets a solver body in each island it touches, through
+  /// its one companion id (Bullet built without BT_THREADSAFE). bullet_sim makes neither.
+  bool onlyIslandsApart() const {
+    if (getNumConstraints() > 0) return false;
+    for (int k = 0; k < m_nonStaticRigidBodies.size(); ++k) {
+      if (m_nonStaticRigidBodies[k]->isKinematicObject()) return false;
+    }
+    return true;
+  }
+
   bool usesContinuousCollision() const {
     for (int k = 0; k < m_nonStaticRigidBodies.size(); ++k) {
       if (m_nonStaticRigidBodies[k]->getCcdSquareMotionThreshold() != 0) return true;

@@ -323,6 +323,8 @@ class Simulation {
 
   WorldSpec world_;
   SimulationOptions options_;
+  /// Casts each step's rays in lockstep and shares physics_' solve of its islands: outlives physics_.
+  std::unique_ptr<WorkPool> pool_;
   std::unique_ptr<PhysicsWorld> physics_;
   RayCaster rays_;
   ConvexDecomposer decomposer_{options_.convex_cache_dir, options_.threads};
@@ -330,7 +332,6 @@ class Simulation {
   std::vector<std::unique_ptr<Robot>> robots_;  ///< destroyed before physics_, which they live in
   std::vector<PlacedWorldModel> world_models_;  ///< parallel to world_.models; destroyed before physics_
   std::vector<StepHooks*> hooks_;  ///< in the order they hooked in
-  std::unique_ptr<WorkPool> pool_;   ///< casts each step's rays in lockstep
   std::vector<Robot*> ray_casting_;  ///< this step's robots with a ray plugin due, in robot order
   /// The rays of one step's robots, cast on the lane.
   struct CastBehind {
