@@ -9,9 +9,14 @@ std::string withoutSlashes(std::string text) {
 }
 
 std::string joinedNames(const std::vector<std::string>& names, const std::string& none) {
-  std::string text;
-  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
+  const std::string text = joined(names, ", ");
   return text.empty() ? none : text;
+}
+
+std::string joined(const std::vector<std::string>& items, const std::string& separator) {
+  std::string text;
+  for (size_t k = 0; k < items.size(); ++k) text += (k == 0 ? "" : separator) + items[k];
+  return text;
 }
 
 }  // namespace bullet_sim

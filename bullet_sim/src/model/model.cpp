@@ -31,11 +31,7 @@ class CapturedConsole : public console_bridge::OutputHandler {
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) messages_.push_back(text);
   }
-  std::string text() const {
-    std::string joined;
-    for (const auto& m : messages_) joined += (joined.empty() ? "" : "; ") + m;
-    return joined;
-  }
+  std::string text() const { return joined(messages_, "; "); }
 
  private:
   std::vector<std::string> messages_;

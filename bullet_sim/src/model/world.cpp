@@ -284,9 +284,8 @@ class WorldConverter {
     const std::string at = locate(model.Element()) + "model [" + model.Name() + "]";
     for (const std::string& warning : body.warnings()) diagnostics_.warning(at + ": " + warning);
     if (body.errors().empty()) return;
-    std::string why;
-    for (const std::string& error : body.errors()) why += (why.empty() ? "" : "; ") + error;
-    diagnostics_.warning(at + " is not static, but bullet_sim cannot simulate it as a body (" + why +
+    diagnostics_.warning(at + " is not static, but bullet_sim cannot simulate it as a body (" +
+                         joined(body.errors(), "; ") +
                          "): it is a static obstacle, as if it were <static>");
     spec.is_static = true;
     spec.joints.clear();

@@ -431,17 +431,16 @@ bool GazeboServices::setJointProperties(gazebo_msgs::SetJointProperties::Request
   return answer(response, [&] {
     const gazebo_msgs::ODEJointProperties& ode = request.ode_joint_config;
     const JointProperties now = world_.jointProperties(request.joint_name);
-    std::string refused;
-    std::vector<std::string> unused;
+    std::vector<std::string> refused, unused;
     const auto check = [&](const char* name, const std::vector<double>& values, const double* current) {
       if (values.empty()) return;
       if (values.size() > 1) {
-        refused += std::string(refused.empty() ? "" : "; ") + name + " has " + std::to_string(values.size()) +
-                   " values, and the joint one axis";
+        refused.push_back(std::string(name) + " has " + std::to_string(values.size()) +
+                          " values, and the joint one axis");
       } else if (!current) {
         unused.push_back(name);
       } else if (!sameValue(values[0], *current)) {
-        refused += std::string(refused.empty() ? "" : "; ") + name + " is fixed at spawn";
+        refused.push_back(std::string(name) + " is fixed at spawn");
       }
     };
     check("damping", ode.damping, &now.damping);
@@ -455,10 +454,9 @@ bool GazeboServices::setJointProperties(gazebo_msgs::SetJointProperties::Request
       check(name, *values, nullptr);
     }
     if (ode.vel.size() > 1 || ode.fmax.size() > 1 || ode.vel.empty() != ode.fmax.empty()) {
-      refused += std::string(refused.empty() ? "" : "; ") +
-                 "vel and fmax drive the joint's motor together, one value each";
+      refused.push_back("vel and fmax drive the joint's motor together, one value each");
     }
-    if (!refused.empty()) throw std::invalid_argument("SetJointProperties: " + refused);
+    if (!refused.empty()) throw std::invalid_argument("SetJointProperties: " + joined(refused, "; "));
     if (!ode.vel.empty()) world_.driveJoint(request.joint_name, ode.vel[0], ode.fmax[0]);
     return "SetJointProperties: properties set" +
            (unused.empty() ? "" : "; accepted but not used (ODE's solver settings): " + joinedNames(unused));

@@ -11,5 +11,7 @@ std::string withoutSlashes(std::string text);
 
 /// "a, b, c"; `none` when there are none.
 std::string joinedNames(const std::vector<std::string>& names, const std::string& none = "");
+/// The items with `separator` between them: joined({"a", "b"}, "; ") is "a; b"; "" when there are none.
+std::string joined(const std::vector<std::string>& items, const std::string& separator);
 
 }  // namespace bullet_sim
