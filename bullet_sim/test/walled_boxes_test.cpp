@@ -29,18 +29,23 @@ const double kCornerRise = kBoxSide * (std::sqrt(3.0) - 1) / 2;
 /// bumping 4 kg boxes at 0.3 m/s never lifts one that far.
 constexpr double kUprightTilt = 5 * M_PI / 180;
 
-TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
+/// Four wheelchairs driving for `seconds`, at four of the world's 20 robot places (x 4, 8; y 2, 6), of
+/// bench --robots 20 --spacing 4, whose circles meet boxes soonest; the world keeps every box centre at least
+/// 1 m from them.
+FleetOptions fourWheelchairs(double seconds) {
   FleetOptions options;
   options.urdf = test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
   options.source = "smartwheelchair_model.urdf.xacro";
-  options.duration = 3;
-  // Four of the world's 20 robot places (x 4, 8; y 2, 6), of bench --robots 20 --spacing 4, whose circles
-  // meet boxes soonest; the world keeps every box centre at least 1 m from them.
+  options.duration = seconds;
   options.spacing = 4;
   options.origin.x = 6;
   options.origin.y = 4;
+  return options;
+}
+
+TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
   std::vector<std::string> warnings;
-  const FleetRun run = driveFleet(test::shippedWorld("walled_boxes.world"), 4, options, &warnings);
+  const FleetRun run = driveFleet(test::shippedWorld("walled_boxes.world"), 4, fourWheelchairs(3), &warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
   ASSERT_EQ(run.loose.size(), 200u);
   ASSERT_EQ(run.robots.size(), 4u);
@@ -72,15 +77,9 @@ TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
   }
 }
 
-/// Four wheelchairs driving into the boxes for `seconds` (the first test's places), on `threads` threads.
+/// fourWheelchairs driving into the boxes for `seconds` on `threads` threads, their scans in lockstep.
 FleetRun driveIntoBoxes(double seconds, int threads) {
-  FleetOptions options;
-  options.urdf = test::expandXacro("smartwheelchair_model", "urdf/smartwheelchair_model.urdf.xacro");
-  options.source = "smartwheelchair_model.urdf.xacro";
-  options.duration = seconds;
-  options.spacing = 4;
-  options.origin.x = 6;
-  options.origin.y = 4;
+  FleetOptions options = fourWheelchairs(seconds);
   options.threads = threads;
   options.lockstep = true;
   std::vector<std::string> warnings;
