@@ -165,7 +165,7 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
     // btMultiBodyDynamicsWorld::solveConstraints, with the islands built and solved by IslandSolver: Bullet's
     // last batch is then empty, and what is left is the multibodies' velocities.
     solveExternalForces(info);
-    WorkPool* sharing = onlyIslandsApart() ? pool : nullptr;
+    WorkPool* sharing = pool && onlyIslandsApart() ? pool : nullptr;
     islands().buildAndSolve(sharing, getNumCollisionObjects() + 1, [this] { buildIslands(); });
     solveInternalConstraints(info);
     for (const auto& [point, distance] : moved_) point->m_distance1 = distance;
