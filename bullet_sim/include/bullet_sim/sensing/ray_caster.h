@@ -57,8 +57,8 @@ class RayCaster {
   /// Casts rays from `origin` [m] along the unit `directions` (world frame). Sets ranges[i] to the distance
   /// [m] to the first surface hit in [0, max_range], or to +infinity when nothing is hit within max_range.
   /// Surfaces of body `ignore` (e.g. the link the sensor sits on) are skipped; kNoBody skips none. Skipping
-  /// one of the first 31 moving bodies (counting those alive when it was added) is free, skipping any other
-  /// body slows the cast (1.5x for a sensor inside it), so add the links that carry sensors early.
+  /// a moving body is free while it has a ray mask of its own (4,495 bodies alive at once get one), skipping
+  /// a static body or any other moving one slows the cast (1.5x for a sensor inside it).
   /// Runs on the calling thread; deterministic; allocates only when `ranges` lacks capacity.
   /// Throws std::logic_error when bodies were added or removed since the last commit(), and
   /// std::invalid_argument when `ignore` is neither kNoBody nor a body of this caster.
