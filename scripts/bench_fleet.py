@@ -98,6 +98,22 @@ def fleet_rows(fleets):
     return lines
 
 
+def cost_ratio_row(ten, hundred):
+    """The per-robot cost at 100 against 10, judged on the medians' CPU time (on a shared machine the wall time
+    follows the others' load), with how far it moves between any run of each."""
+    wall = hundred["wall_ms_per_sim_s_per_robot"] / ten["wall_ms_per_sim_s_per_robot"]
+    cpu = process_cpu_ms(hundred) / process_cpu_ms(ten)
+    runs = "process_cpu_ms_per_sim_s_per_robot_runs"
+    spread, verdict = "", met(cpu <= TARGET_COST_RATIO)
+    if runs in ten and runs in hundred:
+        lowest, highest = min(hundred[runs]) / max(ten[runs]), max(hundred[runs]) / min(ten[runs])
+        spread = "%.2fx to %.2fx between runs; " % (lowest, highest)
+        if cpu <= TARGET_COST_RATIO < highest:
+            verdict += " on the medians, not between every run"
+    return ("per-robot cost at N = 100 against N = 10, CPU time of all threads",
+            "%.2fx (%swall time: %.2fx)" % (cpu, spread, wall), "", "<= %.2fx" % TARGET_COST_RATIO, verdict)
+
+
 def target_rows(by_count):
     """The issue's targets beside ours, each judged where we measured it."""
     rows = []
@@ -107,12 +123,7 @@ def target_rows(by_count):
             rows.append(("%d wheelchairs, `empty.world`, RTF" % count, "%.3g" % rtf, "%.3g" % TODAY_RTF[count],
                          ">= %d" % target, met(rtf >= target)))
     if 10 in by_count and 100 in by_count:
-        wall = by_count[100]["wall_ms_per_sim_s_per_robot"] / by_count[10]["wall_ms_per_sim_s_per_robot"]
-        cpu = process_cpu_ms(by_count[100]) / process_cpu_ms(by_count[10])
-        # Judged on CPU time: on a shared machine the wall time follows the others' load.
-        rows.append(("per-robot cost at N = 100 against N = 10, CPU time of all threads",
-                     "%.2fx (wall time: %.2fx)" % (cpu, wall), "", "<= %.2fx" % TARGET_COST_RATIO,
-                     met(cpu <= TARGET_COST_RATIO)))
+        rows.append(cost_ratio_row(by_count[10], by_count[100]))
     if 100 in by_count:
         fleet = by_count[100]
         rows.append(("spawning 100 (bench, in-process: parse and spawn each)", "%.1f s" % fleet["spawn_s"], "",

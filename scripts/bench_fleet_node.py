@@ -3,15 +3,16 @@
 section "Through the node" and the README's lines under the fleet table (between <!-- bench-fleet-node:begin -->
 and <!-- bench-fleet-node:end -->):
 
+- driving, measured first (the spawns leave the machine loaded): `multi_robot.launch count:=D
+  real_time_factor:=0 spacing:=3`, every robot sent v 0.3 m/s, w 0.3 rad/s at 10 Hz of sim time by one driver
+  (this process), RTF over a window, the CPU of each kind of process, and how far each robot went; the same
+  robots spawned through the node's service, without robot_state_publishers;
+- a scenario with `count: N` (the wheelchair, N poses on the same grid, 0.1 s of sim time, `upright`): from
+  `rosrun bullet_sim scenario` to its result, and its peak RSS;
 - spawning: `roslaunch bullet_sim_bringup multi_robot.launch count:=N` (its own master on --port), from the
   launch to the moment /gazebo/get_world_properties lists all N robots and N robot_state_publishers run, the
   median of --repeat launches; after the last, the simulator's peak RSS, and for a window the CPU each kind of
-  process takes while the fleet stands at real time (see the page for what the others' share is);
-- a scenario with `count: N` (the wheelchair, N poses on the same grid, 0.1 s of sim time, `upright`): from
-  `rosrun bullet_sim scenario` to its result, and its peak RSS;
-- driving: `multi_robot.launch count:=D real_time_factor:=0 spacing:=3`, every robot sent v 0.3 m/s, w 0.3 rad/s
-  at 10 Hz of sim time by one driver (this process), RTF over a window, the CPU of each kind of process, and
-  how far each robot went.
+  process takes while the fleet stands at real time (see the page for what the others' share is).
 
     source devel/setup.bash && /usr/bin/python3 scripts/bench_fleet_node.py [--spawn 100] [--repeat 5]
         [--drive 10] [--window 30] [--port 11411] [--out DIR] [--no-page]
@@ -318,10 +319,11 @@ def driving_in_own_process(args, state_publishers):
 def measure(args):
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % args.port
     report = {"date": datetime.date.today().isoformat(), "machine": cpu_model(), "load_before": load_average()}
+    # The drives first: after five launches of a hundred robots, the machine's load (13 once) slowed them.
+    report["drive_alone"] = driving_in_own_process(args, "without")
+    report["drive"] = driving_in_own_process(args, "with")
     report["scenario"] = measure_scenario(args.spawn)
     report["spawn"] = measure_spawn(args.spawn, args.window, args.repeat)
-    report["drive"] = driving_in_own_process(args, "with")
-    report["drive_alone"] = driving_in_own_process(args, "without")
     report["load_after"] = load_average()
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "bench_fleet_node.json"), "w") as file:
