@@ -4,7 +4,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
-#include <sstream>
+#include <string>
 
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <Eigen/Dense>
@@ -351,9 +351,9 @@ void RaycastRobot::beforeSubstep(double substep) {
 SubstepLimit RaycastRobot::substepLimit() const {
   // [rad/s] of each wheel's spring
   const double frequency = std::sqrt(std::abs(world_.getGravity().z()) / kSag);
-  std::ostringstream reason;
-  reason << "the raycast suspension's " << std::lround(frequency) << " rad/s";
-  return {1 / (kSubstepsPerRadian * frequency), reason.str()};
+  // Asked of every moving model at each spawn: no stream for the reason.
+  return {1 / (kSubstepsPerRadian * frequency),
+          "the raycast suspension's " + std::to_string(std::lround(frequency)) + " rad/s"};
 }
 
 double RaycastRobot::elasticEnergy() const {
