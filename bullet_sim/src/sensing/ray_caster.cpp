@@ -150,16 +150,23 @@ std::optional<SurfaceHit> intersectInShape(const AnalyticShape& shape, const Eig
   return closest.hit();
 }
 
-/// As intersectInShape, with the ray and the normal in the frame. A plane needs no change of frame (each
-/// wheel's ray to the ground, every substep).
+/// The ray parameter at which a ray crosses a plane, in the plane's frame. A ray parallel to the plane never
+/// hits it, however close it runs.
+std::optional<double> planeCrossing(const AnalyticShape& plane, const Eigen::Vector3d& origin,
+                                    const Eigen::Vector3d& direction) {
+  const double approach = plane.normal.dot(direction);
+  if (approach == 0) return std::nullopt;
+  return (plane.offset - plane.normal.dot(origin)) / approach;
+}
+
+/// As intersectInShape, with the ray and the normal in the frame. A plane needs no change of frame.
 std::optional<SurfaceHit> intersect(const AnalyticShape& shape, const Eigen::Vector3d& origin,
                                     const Eigen::Vector3d& direction, double t_min, double t_max) {
   if (shape.type == Shape::Type::kPlane) {
-    // A ray parallel to the plane never hits it, however close it runs.
-    const double approach = shape.normal.dot(direction);
-    if (approach == 0) return std::nullopt;
+    const std::optional<double> t = planeCrossing(shape, origin, direction);
+    if (!t) return std::nullopt;
     ClosestHit closest(t_min, t_max);
-    closest.offer((shape.offset - shape.normal.dot(origin)) / approach, shape.normal);
+    closest.offer(*t, shape.normal);
     return closest.hit();
   }
   std::optional<SurfaceHit> hit = intersectInShape(
@@ -180,12 +187,13 @@ void castAtPlanes(const std::vector<const AnalyticShape*>& planes,
                   double max_range, std::vector<double>& ranges, std::vector<Eigen::Vector3d>* normals) {
   ranges.assign(origins.size(), std::numeric_limits<double>::infinity());
   if (normals) normals->resize(origins.size());
+  // Each wheel's ray to the ground, every substep: the crossing alone, without intersect's hit.
   for (size_t i = 0; i < origins.size(); ++i) {
     for (const AnalyticShape* plane : planes) {
-      const std::optional<SurfaceHit> hit = intersect(*plane, origins[i], directions[i], 0, max_range);
-      if (!hit || hit->t >= ranges[i]) continue;
-      ranges[i] = hit->t;
-      if (normals) (*normals)[i] = facingRay(hit->normal, directions[i]);
+      const std::optional<double> t = planeCrossing(*plane, origins[i], directions[i]);
+      if (!t || *t < 0 || *t > max_range || *t >= ranges[i]) continue;
+      ranges[i] = *t;
+      if (normals) (*normals)[i] = facingRay(plane->normal, directions[i]);
     }
   }
 }
