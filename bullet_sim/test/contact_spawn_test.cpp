@@ -110,6 +110,48 @@ TEST(Substeps, ATenMillisecondWorldSubstepsForTheStiffestSpringAndTimeKeepsTheWo
   EXPECT_THAT(fine.substepNote("robot"), HasSubstr("physics substep 1 ms (1 per 1 ms step)"));
 }
 
+// The springs keep the stiffness they were spawned with: a later change of gravity (set_physics_properties)
+// leaves the substep they need as it was.
+TEST(Substeps, TheSuspensionsSubstepOutlivesAChangeOfGravity) {
+  Simulation simulation(test::emptyWorld(), stepOf(0.001));
+  WorldApi world(simulation);
+  simulation.spawn("robot", test::modelOf(test::lookAlike("light_skid_steer"), "raycast"), {});
+  world.setPhysicsProperties({0.001, 1000, Eigen::Vector3d(0, 0, -1.62)});
+  world.setPhysicsProperties({0.01, 1000, Eigen::Vector3d(0, 0, -1.62)});
+  EXPECT_THAT(simulation.substepNote("robot"), HasSubstr("physics substep 1.25 ms (8 per 10 ms step)"));
+  EXPECT_THAT(simulation.substepNote("robot"),
+              HasSubstr("the raycast suspension's 140 rad/s allows 1.43 ms"));
+}
+
+// Gazebo takes a weightless world. A robot put down on the ground in one floats off no faster than its
+// compressed springs push it (their energy, 1/2 m g_sized x, gives at most sqrt(g x) = 7 cm/s), without
+// turning, and its state stays finite.
+TEST(WeightlessWorld, ARobotFloatsOffTheGroundGentlyAndStaysWhole) {
+  std::vector<std::pair<std::string, ModelSpec>> robots;
+  for (const std::string& model : test::kWheelModels) {
+    robots.emplace_back("wheelchair " + model, test::wheelchair(model));
+    for (const StrikeRobot& robot : test::lookAlikes())
+      robots.emplace_back(robot.name + " " + model, test::modelOf(robot, model));
+  }
+  WorldSpec weightless = test::emptyWorld();
+  weightless.gravity.setZero();
+  for (const auto& [name, spec] : robots) {
+    for (double step : {0.001, 0.01}) {
+      SCOPED_TRACE(name + " " + std::to_string(step) + " s");
+      Simulation simulation(weightless, stepOf(step));
+      WorldApi world(simulation);
+      simulation.spawn("robot", spec, {});
+      while (simulation.time() < 2.0) {
+        simulation.step();
+        const EntityState state = world.modelState("robot");
+        ASSERT_TRUE(state.pose.matrix().allFinite()) << "at " << simulation.time() << " s";
+        ASSERT_LT(state.linear.norm(), 0.08) << "at " << simulation.time() << " s";
+        ASSERT_LT(state.angular.norm(), 0.01) << "at " << simulation.time() << " s";
+      }
+    }
+  }
+}
+
 // Joint damping acts explicitly, so the Yahboom car's pan/tilt (0.001 N m s/rad on a few g cm^2) sets the
 // contact model's substep; on the caster look-alike, its 10 g casters under 1.1 kg do:
 // 20 ms * sqrt(0.01 / 1.1) = 1.9 ms. Neither limits a 1 ms world.

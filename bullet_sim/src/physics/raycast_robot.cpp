@@ -21,6 +21,7 @@ namespace {
 
 constexpr double kSag = 0.0005;        // [m] suspension compression at rest: stiff, yet soft enough for 1 kHz
 constexpr double kDampingRatio = 1.0;  // critically damped suspension
+constexpr double kStandardGravity = 9.80665;  // [m/s^2] the least the springs are sized for
 constexpr int kIterations = 6;         // sequential-impulse passes over the wheels per substep, at most
 constexpr double kConvergedImpulse = 1e-9;  // [N s] a pass that changes no impulse by more ends them
 constexpr double kVerticalAxis = 0.9;   // |axis . up| above which a continuous joint is a caster swivel
@@ -202,18 +203,21 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
 
   // Each wheel's spring sags kSag under its load at rest, so that the chassis rests level (springs alike
   // under unequal loads tilted it: a caster two-wheeler rested 4 mrad nose-up and met a wall with its lower
-  // edge first); critically damped.
+  // edge first); critically damped. The loads are weighed in the world's gravity at spawn, or in Earth's
+  // where that is weaker: a tyre does not soften on the Moon, and a weightless world (Gazebo takes one) would
+  // leave no spring at all.
   const Eigen::Vector3d com = root_to_body_.translation();
   std::vector<Eigen::Vector2d> wheels;
   for (const Wheel& wheel : wheels_) {
     const Eigen::Vector3d hub = link_in_root_[joints_[wheel.joint].child_link].translation() - com;
     wheels.emplace_back(hub.x(), hub.y());
   }
-  const double gravity = std::abs(world_.getGravity().z());
+  const double gravity = std::max<double>(world_.getGravity().length(), kStandardGravity);
   for (const double load : levelLoads(wheels, mass_ * gravity)) {
     springs_.push_back(load / kSag);
     dampers_.push_back(2 * kDampingRatio * std::sqrt(springs_.back() * load / gravity));
   }
+  spring_frequency_ = std::sqrt(gravity / kSag);
 }
 
 const std::vector<Eigen::Isometry3d>& RaycastRobot::linkFrames() const {
@@ -349,11 +353,10 @@ void RaycastRobot::beforeSubstep(double substep) {
 }
 
 SubstepLimit RaycastRobot::substepLimit() const {
-  // [rad/s] of each wheel's spring
-  const double frequency = std::sqrt(std::abs(world_.getGravity().z()) / kSag);
+  // The springs' own frequency, kept from the spawn: a later change of gravity does not change them.
   // Asked of every moving model at each spawn: no stream for the reason.
-  return {1 / (kSubstepsPerRadian * frequency),
-          "the raycast suspension's " + std::to_string(std::lround(frequency)) + " rad/s"};
+  return {1 / (kSubstepsPerRadian * spring_frequency_),
+          "the raycast suspension's " + std::to_string(std::lround(spring_frequency_)) + " rad/s"};
 }
 
 double RaycastRobot::elasticEnergy() const {

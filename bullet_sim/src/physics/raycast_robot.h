@@ -180,6 +180,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   double mass_ = 0;
   std::vector<double> springs_;     ///< [N/m] per wheel
   std::vector<double> dampers_;     ///< [N s/m] per wheel
+  double spring_frequency_ = 0;     ///< [rad/s] each wheel's spring with its share of the mass
   Eigen::Isometry3d root_to_body_;  ///< the chassis body's frame (com, principal axes) in the root link frame
   Eigen::Isometry3d body_to_root_;  ///< its inverse
   btTransform body_to_root_bullet_;  ///< body_to_root_, for Bullet's products
