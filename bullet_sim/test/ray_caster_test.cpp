@@ -448,6 +448,44 @@ TEST(RayCasterTest, RemovedBodyIsNotHitAfterCommit) {
   EXPECT_NEAR(castOne(caster, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX()), 4, kBoxTolerance);
 }
 
+// A body whose physics diverged (a NaN pose) and a sensor riding on one are not Embree's to see: Embree
+// aborts the process on a ray that is not finite. Such a ray meets nothing, and such a body hides nothing,
+// until its pose is finite again.
+TEST(RayCasterTest, NonFiniteRaysMeetNothingAndANonFiniteBodyHidesNothing) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  RayCaster caster;
+  caster.addBody({box({0.1, 4, 2}, translation(3.05, 0, 0)), groundPlane()}, Eigen::Isometry3d::Identity(),
+                 true);
+  const BodyId ball =
+      caster.addBody({sphere(0.1, Eigen::Isometry3d::Identity())}, translation(1, 0, 0), false);
+  caster.commit();
+  EXPECT_NEAR(castOne(caster, {0, 0, 0.5}, Eigen::Vector3d::UnitX()), 3, kBoxTolerance);
+
+  caster.setPose(ball, translation(kNaN, 0, 0));
+  caster.commit();
+  EXPECT_NEAR(castOne(caster, {0, 0, 0}, Eigen::Vector3d::UnitX()), 3, kBoxTolerance);
+  EXPECT_EQ(castOne(caster, {kNaN, 0, 0.5}, Eigen::Vector3d::UnitX()), kInf);
+  std::vector<double> ranges;
+  const std::vector<Eigen::Vector3f> one_not_finite = {{std::nanf(""), 0, 0}, Eigen::Vector3f::UnitX()};
+  caster.cast({0, 0, 0.5}, one_not_finite, kMaxRange, kNoBody, ranges);
+  EXPECT_EQ(ranges.at(0), kInf);
+  EXPECT_NEAR(ranges.at(1), 3, kBoxTolerance);
+  const std::vector<Eigen::Vector3d> down(2, -Eigen::Vector3d::UnitZ());
+  caster.castStatic({{kNaN, 0, 1}, {0, 0, 1}}, down, kMaxRange, ranges);
+  EXPECT_EQ(ranges.at(0), kInf);
+  EXPECT_NEAR(ranges.at(1), 1, kCurvedTolerance);
+  RayCaster ground;  // planes alone: castStatic meets them without Embree
+  ground.addBody({groundPlane()}, Eigen::Isometry3d::Identity(), true);
+  ground.commit();
+  ground.castStatic({{kNaN, 0, 1}, {0, 0, 1}}, down, kMaxRange, ranges);
+  EXPECT_EQ(ranges.at(0), kInf);
+  EXPECT_NEAR(ranges.at(1), 1, kCurvedTolerance);
+
+  caster.setPose(ball, translation(1, 0, 0));
+  caster.commit();
+  EXPECT_NEAR(castOne(caster, {0, 0, 0}, Eigen::Vector3d::UnitX()), 0.9, kCurvedTolerance);
+}
+
 TEST(RayCasterTest, MisuseThrows) {
   RayCaster caster;
   const BodyId wall = caster.addBody({box({0.1, 4, 2}, translation(1.05, 0, 0))}, translation(0, 0, 0), true);

@@ -191,7 +191,7 @@ void castAtPlanes(const std::vector<const AnalyticShape*>& planes,
   for (size_t i = 0; i < origins.size(); ++i) {
     for (const AnalyticShape* plane : planes) {
       const std::optional<double> t = planeCrossing(*plane, origins[i], directions[i]);
-      if (!t || *t < 0 || *t > max_range || *t >= ranges[i]) continue;
+      if (!t || !(*t >= 0 && *t <= max_range && *t < ranges[i])) continue;  // NaN too: a ray not finite
       ranges[i] = *t;
       if (normals) (*normals)[i] = facingRay(plane->normal, directions[i]);
     }
@@ -366,6 +366,7 @@ struct Body {
   unsigned mask = kSharedMask;  ///< the instance's geometry mask
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   bool pose_changed = false;
+  bool hidden = false;  ///< its pose is not finite (its physics diverged): rays pass it by
 };
 
 }  // namespace
@@ -569,8 +570,14 @@ void RayCaster::commit() {
   }
   for (const auto& body : impl.bodies) {
     if (!body || !body->pose_changed) continue;
-    setInstanceTransform(body->instance.get(), body->pose);
     body->pose_changed = false;
+    // Embree would build its tree around NaN bounds.
+    const bool finite = body->pose.matrix().allFinite();
+    if (finite == body->hidden) {
+      body->hidden = !finite;
+      finite ? rtcEnableGeometry(body->instance.get()) : rtcDisableGeometry(body->instance.get());
+    }
+    if (finite) setInstanceTransform(body->instance.get(), body->pose);
   }
   rtcCommitScene(impl.top.get());
   impl.throwOnError("RayCaster::commit");
@@ -616,6 +623,11 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
   }
 
   ranges.resize(directions.size());
+  // Embree aborts the process on a ray that is not finite (a sensor on a body whose physics diverged).
+  if (!origin.allFinite()) {
+    std::fill(ranges.begin(), ranges.end(), std::numeric_limits<double>::infinity());
+    return;
+  }
   const Eigen::Vector3f ray_origin = origin.cast<float>();
   const auto ray_length = static_cast<float>(max_range);
   RTCRayHit16 packet;
@@ -623,8 +635,8 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
   for (size_t first = 0; first < directions.size(); first += kPacketSize) {
     const size_t count = std::min(kPacketSize, directions.size() - first);
     for (size_t lane = 0; lane < kPacketSize; ++lane) {
-      valid[lane] = lane < count ? -1 : 0;
       const Eigen::Vector3f& direction = directions[first + std::min(lane, count - 1)];
+      valid[lane] = lane < count && direction.allFinite() ? -1 : 0;
       packet.ray.org_x[lane] = ray_origin.x();
       packet.ray.org_y[lane] = ray_origin.y();
       packet.ray.org_z[lane] = ray_origin.z();
@@ -641,7 +653,7 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
       packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
     }
     rtcIntersect16(valid.data(), impl.top.get(), &context.embree, &packet);
-    for (size_t lane = 0; lane < count; ++lane) {
+    for (size_t lane = 0; lane < count; ++lane) {  // an invalid lane keeps its geomID
       ranges[first + lane] = packet.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID
                                  ? std::numeric_limits<double>::infinity()
                                  : static_cast<double>(packet.ray.tfar[lane]);
@@ -664,6 +676,8 @@ void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
   ranges.resize(origins.size());
   if (normals) normals->resize(origins.size());
   for (size_t i = 0; i < origins.size(); ++i) {
+    ranges[i] = std::numeric_limits<double>::infinity();
+    if (!origins[i].allFinite() || !directions[i].allFinite()) continue;  // Embree aborts on it
     RTCRayHit ray{};
     ray.ray.org_x = static_cast<float>(origins[i].x());
     ray.ray.org_y = static_cast<float>(origins[i].y());
