@@ -19,6 +19,7 @@ namespace bullet_sim {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 /// The bench scenario's robot.
 std::string robot() { return "--robot '" + test::packageFile("bullet_sim", "bench/bench_robot.urdf") + "'"; }
@@ -150,12 +151,28 @@ TEST(Bench, StrikePicturesMakeTheirFolder) {
   test::run("rm -rf " + std::string(scratch));
 }
 
+// --strike-steps runs the matrix's cells at the world step sizes given instead of 1 and 10 ms.
+TEST(Bench, StrikeStepsRunTheCellsAtTheStepsGiven) {
+  const test::CommandResult result =
+      test::run(bench("--strikes --strike-steps 0.004,0.0005 --strike-filter caster_two_wheeler "
+                      "--strike-filter raycast --strike-filter 2m/s --strike-filter panel"));
+  EXPECT_EQ(result.status, 0) << result.errors;
+  EXPECT_THAT(result.errors, HasSubstr("caster_two_wheeler raycast 4ms 2m/s 0deg panel"));
+  EXPECT_THAT(result.errors, HasSubstr("caster_two_wheeler raycast 0.5ms 2m/s 0deg panel"));
+  EXPECT_THAT(result.errors, Not(HasSubstr(" 1ms ")));
+  EXPECT_THAT(result.errors, Not(HasSubstr(" 10ms ")));
+  const auto numbers = numbersIn(result.output, {"cells", "passed", "rtf_4ms", "rtf_0.5ms"});
+  EXPECT_EQ(numbers.at("cells"), 2);
+  EXPECT_EQ(numbers.at("passed"), 2);
+}
+
 TEST(Bench, BadArgumentsPrintTheUsageAndExitWith2) {
   for (const std::string args :
        {"", "--world home.world", "--robot x.urdf --bogus 1", "--robot x.urdf --cmd 0.5",
         "--robot x.urdf --lidar 1800x", "--robot x.urdf --repeat 0", "--robot x.urdf --wheel-model tank",
         "--robot x.urdf --step -1", "--robot x.urdf --render 640", "--robot x.urdf --depth",
-        "--robot x.urdf --camera 640x480", "--robot x.urdf --camera 640x480@0"}) {
+        "--robot x.urdf --camera 640x480", "--robot x.urdf --camera 640x480@0",
+        "--strikes --strike-steps 0", "--strikes --strike-steps 0.001,", "--strikes --strike-steps 0.2"}) {
     SCOPED_TRACE(args);
     const test::CommandResult result = test::run(bench(args));
     EXPECT_EQ(result.status, 2);

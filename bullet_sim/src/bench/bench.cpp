@@ -56,6 +56,7 @@ constexpr char kUsage[] =
     "             [--step S] [--duration S] [--cmd v,w] [--lidar ...] [--lidar-rate HZ] [--repeat K]\n"
     "             [--threads T] [--spacing M] [--snapshot DIR] [--lockstep]\n"
     "       bench --strikes [--strike-filter WORD]... [--strike-cells] [--strike-render DIR]\n"
+    "             [--strike-steps S[,S]...]\n"
     "\n"
     "Spawns the robot resting on the ground at the pose (x [m], y [m], yaw [rad]), lets it settle\n"
     "for 0.5 s, then drives it at v [m/s] and w [rad/s] for the duration [s], K times without its\n"
@@ -138,7 +139,8 @@ constexpr char kUsage[] =
     "size.\n"
     "--strikes runs the strike matrix instead (issue 28): every shipped robot and the contact tests'\n"
     "look-alikes driven into a wall, a door frame's edge and a 2 cm panel at 0.1 to 2 m/s, head-on, at\n"
-    "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps, and coasting in with the motors off;\n"
+    "30 and 60 degrees, on both wheel models, at 1 and 10 ms steps (--strike-steps S[,S]...: at those\n"
+    "world step sizes [s] instead), and coasting in with the motors off;\n"
     "each cell is judged against bounds from the robot's mass, inertia and geometry. It prints the cells\n"
     "run and passed, the largest tilt, rise and energy gain, the RTF at each step and the failed cells\n"
     "(--strike-cells: every cell). --strike-filter runs the cells whose name (robot model 1ms 0.5m/s\n"
@@ -257,6 +259,14 @@ std::vector<int> parseRobotCounts(const std::string& value) {
   return counts;
 }
 
+/// --strike-steps' list of world step sizes [s], each above 0 and at most 0.1 s, as --step's.
+std::vector<double> parseStrikeSteps(const std::string& value) {
+  std::vector<double> steps;
+  for (const std::string& step : split(value, ','))
+    steps.push_back(parseBounded(step, "--strike-steps", 0, 0.1, "s"));
+  return steps;
+}
+
 /// --robots drives fleets in a plain world: the options of the single robot's extras are refused.
 void checkFleetOptions(const Options& options) {
   if (options.camera || options.web_viewer || options.obstacles > 0 || options.boxes > 0)
@@ -320,7 +330,8 @@ Options parseArguments(int argc, char** argv) {
        {"--strikes", [&](Value) { options.strikes = true; }, false, /*flag=*/true},
        {"--strike-filter", [&](Value value) { options.strike_options.filter.push_back(value); }, true},
        {"--strike-cells", [&](Value) { options.strike_options.list_cells = true; }, false, /*flag=*/true},
-       {"--strike-render", [&](Value value) { options.strike_options.render_dir = value; }}},
+       {"--strike-render", [&](Value value) { options.strike_options.render_dir = value; }},
+       {"--strike-steps", [&](Value value) { options.strike_options.steps = parseStrikeSteps(value); }}},
       &options.help);
   if (options.help || options.strikes) return options;
   if (!options.robots.empty()) {

@@ -14,6 +14,7 @@ struct StrikeMatrixOptions {
   std::vector<std::string> filter;
   bool list_cells = false;  ///< every cell's figures, not only the summary and the failed cells
   std::string render_dir;  ///< "": no pictures; else a side and a chase view of each cell, at contact and end
+  std::vector<double> steps = {0.001, 0.01};  ///< [s] the world step sizes the matrix runs at
 };
 
 /// Runs the matrix and reports: cells run and passed, the largest tilt, rise and energy gain, the RTF at each
