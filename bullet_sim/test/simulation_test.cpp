@@ -387,5 +387,33 @@ TEST(Simulation, RobotsShareTheWorldAndSeeEachOther) {
   EXPECT_EQ(simulation.robotNames(), (std::vector<std::string>{"mast", "chair", "car"}));
 }
 
+// Two raycast wheelchairs driving head-on into each other push alike and stall where they meet, whichever
+// was spawned first: where their rims touched, the second robot's rim used to overwrite the first's friction,
+// and the first pushed the second back at full speed.
+TEST(Simulation, TwoRobotsDrivingHeadOnStallWhereTheyMeetWhicheverCameFirst) {
+  for (const bool ahead_first : {true, false}) {
+    SCOPED_TRACE(ahead_first ? "the one at x = 0 spawned first" : "the one at x = 1.6 m spawned first");
+    Simulation simulation(test::shippedWorld("empty.world"));
+    const auto spawn = [&](const std::string& name, double x, double yaw) {
+      return &simulation.spawn(name, test::wheelchair("raycast"),
+                               {.x = x, .yaw = yaw, .robot_namespace = name});
+    };
+    Robot* west = ahead_first ? spawn("west", 0, 0) : nullptr;
+    Robot* east = spawn("east", 1.6, M_PI);
+    if (!west) west = spawn("west", 0, 0);
+    const auto x = [](const Robot& robot) {
+      return robot.body().linkPose(robot.body().spec().root).translation().x();
+    };
+    test::stepSending(simulation, 4.0, [&] {
+      return test::pluginsOf<WheeledDrive>(*west).at(0)->setCommand(0.3, 0, simulation.time()) &&
+             test::pluginsOf<WheeledDrive>(*east).at(0)->setCommand(0.3, 0, simulation.time());
+    });
+    // They meet after about 1.4 s; by 4 s a robot pushed back at 0.3 m/s would be 0.75 m off.
+    EXPECT_NEAR(x(*west) + x(*east), 1.6, 0.02)
+        << "west at " << x(*west) << " m, east at " << x(*east) << " m";
+  }
+}
+
 }  // namespace
 }  // namespace bullet_sim
+

@@ -31,7 +31,10 @@ class ContactTuner {
  public:
   virtual ~ContactTuner() = default;
   /// `point` touches the object's child `child`; `ours_is_a` when the object is the manifold's body A.
-  virtual void tune(btManifoldPoint& point, int child, bool ours_is_a) const = 0;
+  /// `joining`: the other body tuned the point first in this solve (two spinning rims meet), so this one adds
+  /// its surface's motion to the other's, along the directions the other chose, and keeps the weaker grip.
+  /// Whether it tuned the point.
+  virtual bool tune(btManifoldPoint& point, int child, bool ours_is_a, bool joining) const = 0;
   /// `point`, with the impulses of the last solve, touches the object's child `child`.
   virtual void weigh(const btManifoldPoint& point, int child) = 0;
 };

@@ -155,8 +155,10 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
           hide(point, manifold.getContactProcessingThreshold());
           continue;
         }
-        if (tuner_a) tuner_a->tune(point, point.m_index0, /*ours_is_a=*/true);
-        if (tuner_b) tuner_b->tune(point, point.m_index1, /*ours_is_a=*/false);
+        // Two robots' rims that meet both move the point's friction: B adds to what A set, whatever their
+        // order (B overwriting A let the robot spawned first push the other back at full speed, head-on).
+        const bool tuned = tuner_a && tuner_a->tune(point, point.m_index0, /*ours_is_a=*/true, false);
+        if (tuner_b) tuner_b->tune(point, point.m_index1, /*ours_is_a=*/false, tuned);
         if (point.m_distance1 >= deepest) continue;
         moved_.emplace_back(&point, point.m_distance1);
         point.m_distance1 = deepest;

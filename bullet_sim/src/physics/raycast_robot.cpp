@@ -264,31 +264,37 @@ void RaycastRobot::updateHubs() {
   hubs_stale_ = false;
 }
 
-void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const {
+bool RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a, bool joining) const {
   const auto rim = std::find(rim_children_.begin(), rim_children_.end(), child);
-  if (rim == rim_children_.end()) return;
+  if (rim == rim_children_.end()) return false;
   const size_t w = static_cast<size_t>(rim - rim_children_.begin());
   const Wheel& wheel = wheels_[w];
   // A free wheel's spin yields to what it meets (its rim's friction stops it): ordinary friction.
-  if (wheel.max_torque <= 0) return;
+  if (wheel.max_torque <= 0) return false;
   const Joint& joint = joints_[wheel.joint];
   const Eigen::Isometry3d root = rootPose();
   const Eigen::Isometry3d hub = root * hub_in_root_[w];
   const Eigen::Vector3d axis = hub.linear() * joint.spec->axis;
   const Eigen::Vector3d normal = (ours_is_a ? 1.0 : -1.0) * fromBullet(point.m_normalWorldOnB);  // towards us
   const Eigen::Vector3d rolling = axis.cross(normal);
-  if (rolling.norm() < kRollingNormMin) return;  // the wheel's flat side: ordinary friction
+  if (rolling.norm() < kRollingNormMin) return false;  // the wheel's flat side: ordinary friction
   const Eigen::Vector3d on_us =
       fromBullet(ours_is_a ? point.getPositionWorldOnA() : point.getPositionWorldOnB());
   // The rim's surface moves at spin x (point - hub) against the chassis; friction holds it to the other body.
-  const Eigen::Vector3d surface = (axis * joint.velocity).cross(on_us - hub.translation());
-  const Eigen::Vector3d direction = rolling.normalized();
-  point.m_lateralFrictionDir1 = toBullet(direction);
-  point.m_lateralFrictionDir2 = toBullet(normal.cross(direction));
-  point.m_contactMotion1 = (ours_is_a ? -1.0 : 1.0) * direction.dot(surface);
-  point.m_contactMotion2 = 0;
-  point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
-  point.m_combinedFriction = wheel.friction * kOtherFriction;
+  // Bullet's friction aims at A's velocity less B's along each direction: our surface's motion, signed.
+  const Eigen::Vector3d surface =
+      (ours_is_a ? -1.0 : 1.0) * (axis * joint.velocity).cross(on_us - hub.translation());
+  if (joining) {
+    point.m_contactMotion1 += surface.dot(fromBullet(point.m_lateralFrictionDir1));
+    point.m_contactMotion2 += surface.dot(fromBullet(point.m_lateralFrictionDir2));
+  } else {
+    const Eigen::Vector3d direction = rolling.normalized();
+    point.m_lateralFrictionDir1 = toBullet(direction);
+    point.m_lateralFrictionDir2 = toBullet(normal.cross(direction));
+    point.m_contactMotion1 = direction.dot(surface);
+    point.m_contactMotion2 = 0;
+    point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+  }
   // The motor turns the rim against this friction: it carries at most its torque over the radius. The rim's
   // normal impulse this substep is estimated from the last solve's, plus what stopping the chassis's approach
   // at this point takes (a strike's first contact). Bullet has one coefficient for both directions, so a rim
@@ -300,7 +306,10 @@ void RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a) const
   const double approach = std::max(0.0, -velocity.dot(normal));
   const double pressed = rim_normal_impulse_[w] + mass_ * approach;
   const double most = wheel.max_torque * dt_ / wheel.radius;  // [N s] the motor's rim impulse this substep
-  if (point.m_combinedFriction * pressed > most) point.m_combinedFriction = most / pressed;
+  double friction = wheel.friction * kOtherFriction;
+  if (friction * pressed > most) friction = most / pressed;
+  point.m_combinedFriction = joining ? std::min<double>(point.m_combinedFriction, friction) : friction;
+  return true;
 }
 
 void RaycastRobot::weigh(const btManifoldPoint& point, int child) {

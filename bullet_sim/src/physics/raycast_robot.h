@@ -131,7 +131,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   /// (a driven wheel against a wall climbs it), as the contact model's wheels do, within what the motor's
   /// torque can carry. The rim's reaction on the spin is left out: the motor holds it. A free wheel's rim has
   /// ordinary friction.
-  void tune(btManifoldPoint& point, int child, bool ours_is_a) const override;
+  bool tune(btManifoldPoint& point, int child, bool ours_is_a, bool joining) const override;
   /// Sums each wheel's rim's normal impulses in the last solve (into rim_impulse_weighed_).
   void weigh(const btManifoldPoint& point, int child) override;
   /// Casts each wheel's ray down from its hub; the root link is at `root`.
