@@ -449,7 +449,7 @@ void AckermannDrive::applyCommands(const StepTime& time, RobotBody& body) {
   updated_this_step_ = timer().due(time);
   if (!updated_this_step_) return;
   const AckermannJointCommands commands =
-      ackermannJointCommands(config_, command().linear(time.sim_time), command().angular(time.sim_time));
+      ackermannJointCommands(config_, command().linear(time), command().angular(time));
   curvature_ = commands.curvature;
   body.setJointPosition(left_steering_, commands.left_steering, config_.left_steering.effort);
   body.setJointPosition(right_steering_, commands.right_steering, config_.right_steering.effort);

@@ -280,8 +280,8 @@ void WheeledDrive::applyCommands(const StepTime& time, RobotBody& body) {
   const double elapsed = time.sim_time - last_update_;
   last_update_ = time.sim_time;
 
-  const double linear = command().linear(time.sim_time);
-  const double angular = command().angular(time.sim_time);
+  const double linear = command().linear(time);
+  const double angular = command().angular(time);
   const double radius = config_.wheel_diameter / 2;
   const auto drive = [&](std::vector<Wheel>& wheels, double target) {
     for (auto& wheel : wheels) {

@@ -147,6 +147,20 @@ TEST_P(WheelchairDrive, StopsWhenCommandsStopForLongerThanTheTimeout) {
   EXPECT_LT(std::abs(test::latestOf<Odometry>(*drive_).linear_velocity.x()), 0.01);
 }
 
+// The timeout counts to the start of the step a command drives: under steps longer than the timeout (0.6 s
+// against the wheelchair's 0.5 s, which set_physics_properties takes), a command sent before each step drives
+// it, at 0.3 m/s once its wheels have ramped up (1.8 m/s^2).
+TEST_P(WheelchairDrive, DrivesUnderStepsLongerThanItsCommandTimeout) {
+  ASSERT_DOUBLE_EQ(drive_->config().command_timeout, 0.5);
+  simulation_.setStepSize(0.6);
+  const double start = simulation_.time();
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(drive_->setCommand(0.3, 0, simulation_.time()));
+    simulation_.step();
+  }
+  EXPECT_NEAR(travelled().x, 0.3 * (simulation_.time() - start), 0.1);
+}
+
 TEST_P(WheelchairDrive, IgnoresNonFiniteCommands) {
   EXPECT_FALSE(drive_->setCommand(NAN, 0, 0));
   EXPECT_FALSE(drive_->setCommand(0, INFINITY, 0));

@@ -78,13 +78,17 @@ class VelocityCommand {
 
   /// Returns false, and changes nothing, when a value is not finite.
   bool set(double linear, double angular, double sim_time);
-  /// The command in force at `sim_time`.
-  double linear(double sim_time) const { return timedOut(sim_time) ? 0.0 : linear_; }
-  double angular(double sim_time) const { return timedOut(sim_time) ? 0.0 : angular_; }
+  /// The command in force through `step`: one older than the timeout at the step's start is not. (At its end,
+  /// a world whose step exceeds the timeout dropped every command: the wheelchair, 0.5 s, stood still under
+  /// 0.6 s steps.)
+  double linear(const StepTime& step) const { return timedOut(step) ? 0.0 : linear_; }
+  double angular(const StepTime& step) const { return timedOut(step) ? 0.0 : angular_; }
   void reset() { linear_ = angular_ = command_time_ = 0; }
 
  private:
-  bool timedOut(double sim_time) const { return timeout_ > 0 && sim_time - command_time_ > timeout_; }
+  bool timedOut(const StepTime& step) const {
+    return timeout_ > 0 && step.sim_time - step.dt - command_time_ > timeout_;
+  }
 
   double timeout_;
   double linear_ = 0;
