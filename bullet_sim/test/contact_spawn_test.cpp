@@ -152,6 +152,29 @@ TEST(WeightlessWorld, ARobotFloatsOffTheGroundGentlyAndStaysWhole) {
   }
 }
 
+// A damping far beyond what the substeps can follow (1e6 N m s/rad on a 10 g caster's swivel wants substeps
+// of 1e-13 s; physics cuts a step into at most a thousand) holds the joint still instead of reversing it
+// ever faster: the robot stays where it was put, upright. The spawn says the robot runs slowly.
+TEST(Substeps, AJointDampedBeyondWhatSubstepsFollowIsHeldStillAndTheSpawnSaysSo) {
+  ModelSpec spec = test::modelOf(test::lookAlike("caster_two_wheeler"), "contact");
+  for (JointSpec& joint : spec.joints) {
+    if (joint.name.find("swivel") != std::string::npos) joint.damping = 1e6;
+  }
+  Simulation simulation(test::emptyWorld(), stepOf(0.01));
+  WorldApi world(simulation);
+  std::vector<std::string> warnings;
+  simulation.spawn("robot", spec, {}, &warnings);
+  std::string said;
+  for (const auto& warning : warnings) said += warning + "\n";
+  EXPECT_THAT(said, HasSubstr("robot [robot]: joint [front_swivel_joint]'s damping of 1e+06"));
+  EXPECT_THAT(said, HasSubstr("physics cuts a step into at most 1000 (0.01 ms)"));
+  const Eigen::Vector3d start = world.modelState("robot").pose.translation();
+  while (simulation.time() < 0.5) simulation.step();
+  const EntityState state = world.modelState("robot");
+  EXPECT_LT((state.pose.translation() - start).norm(), 0.01);
+  EXPECT_GT(state.pose.linear()(2, 2), std::cos(0.02)) << "tilted";
+}
+
 // Joint damping acts explicitly, so the Yahboom car's pan/tilt (0.001 N m s/rad on a few g cm^2) sets the
 // contact model's substep; on the caster look-alike, its 10 g casters under 1.1 kg do:
 // 20 ms * sqrt(0.01 / 1.1) = 1.9 ms. Neither limits a 1 ms world.

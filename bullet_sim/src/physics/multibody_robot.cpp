@@ -173,7 +173,19 @@ void MultiBodyRobot::setupJoint(int k) {
                          axis, parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
   }
   joint_index_[joint.name] = static_cast<int>(joints_.size());
-  joints_.push_back({&joint, k - 1});
+  joints_.push_back({&joint, k - 1, jointInertia(k)});
+}
+
+double MultiBodyRobot::jointInertia(int k) const {
+  const JointSpec& joint = *part_joint_[k];
+  const PartFrames& frames = frames_[k];
+  if (joint.type == JointSpec::Type::kPrismatic) return frames.mass;
+  const Eigen::Isometry3d joint_in_part = frames.link_in_part.at(joint.child);
+  const Eigen::Vector3d axis = (joint_in_part.linear() * joint.axis).normalized();
+  const Eigen::Matrix3d to_part = frames.part_to_bullet.linear();
+  const Eigen::Matrix3d inertia = to_part * frames.principal_inertia.asDiagonal() * to_part.transpose();
+  const Eigen::Vector3d offset = frames.part_to_bullet.translation() - joint_in_part.translation();
+  return axis.dot(inertia * axis) + frames.mass * offset.cross(axis).squaredNorm();
 }
 
 void MultiBodyRobot::addCollider(int k) {
@@ -238,10 +250,13 @@ btMultiBodyJointMotor* MultiBodyRobot::motorFor(Joint& joint) {
   return joint.motor;
 }
 
-void MultiBodyRobot::beforeSubstep(double) {
+void MultiBodyRobot::beforeSubstep(double substep) {
   for (const auto& joint : joints_) {
-    const double damping =
-        joint.spec->damping > 0 ? joint.spec->damping * body_->getJointVel(joint.bullet_link) : 0.0;
+    // Explicit, and at most what stops the joint within the substep: a damping too strong for the substeps
+    // physics runs (1e6 on a caster's swivel wants far more than kMaxSubsteps) reversed the joint faster at
+    // each one and flung the robot; held so, it holds the joint still.
+    const double coefficient = std::min(joint.spec->damping, joint.inertia / substep);
+    const double damping = coefficient > 0 ? coefficient * body_->getJointVel(joint.bullet_link) : 0.0;
     if (joint.step_effort != 0 || damping != 0)
       body_->addJointTorque(joint.bullet_link, joint.step_effort - damping);
   }
@@ -280,13 +295,7 @@ SubstepLimit MultiBodyRobot::substepLimit() const {
   for (size_t k = 1; k < parts_.size(); ++k) {
     const JointSpec& joint = *part_joint_[k];
     if (joint.damping <= 0 || joint.type == JointSpec::Type::kPrismatic) continue;
-    const PartFrames& frames = frames_[k];
-    const Eigen::Isometry3d joint_in_part = frames.link_in_part.at(joint.child);
-    const Eigen::Vector3d axis = (joint_in_part.linear() * joint.axis).normalized();
-    const Eigen::Matrix3d to_part = frames.part_to_bullet.linear();
-    const Eigen::Matrix3d inertia = to_part * frames.principal_inertia.asDiagonal() * to_part.transpose();
-    const Eigen::Vector3d offset = frames.part_to_bullet.translation() - joint_in_part.translation();
-    const double moment = axis.dot(inertia * axis) + frames.mass * offset.cross(axis).squaredNorm();
+    const double moment = jointInertia(static_cast<int>(k));
     const double seconds = moment / joint.damping;
     if (seconds >= limit.seconds) continue;
     std::ostringstream reason;

@@ -80,6 +80,7 @@ class MultiBodyRobot : public PhysicsRobot {
   struct Joint {
     const JointSpec* spec;
     int bullet_link;                         ///< index of the child part's Bullet link
+    double inertia = 0;  ///< [kg m^2] of the child part about the axis ([kg]: its mass, prismatic)
     btMultiBodyJointMotor* motor = nullptr;  ///< created on first command; owned by `constraints_`
     /// to the joint it mimics, if any; owned by `constraints_`
     btMultiBodyGearConstraint* coupling = nullptr;
@@ -92,6 +93,9 @@ class MultiBodyRobot : public PhysicsRobot {
   void buildMultiBody(const Eigen::Isometry3d& root_pose);
   /// Joins part `k` to its parent part with its joint (revolute or prismatic).
   void setupJoint(int k);
+  /// [kg m^2] part k's moment about its joint's axis, or [kg] its mass for a prismatic joint: what the
+  /// joint's damping slows.
+  double jointInertia(int k) const;
   /// Gives part `k` its collision shape, friction and contact stiffness.
   void addCollider(int k);
   btMultiBodyJointMotor* motorFor(Joint& joint);

@@ -112,6 +112,21 @@ void checkSpawnPose(const SpawnPose& pose, const Limits& limits, Diagnostics& di
   }
 }
 
+/// A warning when physics cannot cut its steps as finely as robot `name`'s `limit` asks (it cuts a step into
+/// at most a thousand substeps): the robot then steps slowly, and less accurately than it needs. "" if none.
+std::string substepShortfall(const std::string& name, const SubstepLimit& limit,
+                             const PhysicsWorld& physics) {
+  if (!(physics.substep() > limit.seconds * (1 + 1e-9))) return "";
+  std::ostringstream warning;
+  warning.precision(3);
+  warning << "robot [" << name << "]: " << limit.reason << " allows substeps of " << limit.seconds * 1e3
+          << " ms, but physics cuts a step into at most " << physics.substeps() << " ("
+          << physics.substep() * 1e3
+          << " ms): it runs slowly, and less accurately than it needs (a heavier light link, or less joint "
+             "damping, allows longer substeps)";
+  return warning.str();
+}
+
 /// The wheel-ground model of a robot named `name`: contact for a static one; else what its plugins ask for
 /// (its drive's, ros_control's rule), else contact.
 std::string wheelModelOf(const ModelSpec& model, const std::string& name, const SpawnPose& pose,
@@ -287,6 +302,8 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   robots_.push_back(std::move(robot));
   fitSubsteps();
+  const std::string shortfall = substepShortfall(name, robots_.back()->body_->substepLimit(), *physics_);
+  if (warnings && !shortfall.empty()) warnings->push_back(shortfall);
   return *robots_.back();
 }
 
