@@ -74,6 +74,7 @@ TEST(WalledBoxes, BoxesStayInsideTheWallsOnTheGroundAndTheWheelchairsUpright) {
   for (const RobotTrack& robot : run.robots) {
     EXPECT_LT(robot.tiltMax(), kUprightTilt);
     EXPECT_LT(robot.rise_max, kSettling);
+    EXPECT_LT(robot.sink_max, kSettling);  // nor through the floor
   }
 }
 

@@ -54,7 +54,7 @@ double distance(const Planar& a, const Planar& b) { return std::hypot(a.x - b.x,
 /// What the runs did to the world's loose bodies and to the robots, the worst of every run: whether anything
 /// flew, sank or went through a wall.
 void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
-  double rise = 0, sink = 0, robot_rise = 0, tilt = 0, clearance = INFINITY;
+  double rise = 0, sink = 0, robot_rise = 0, robot_sink = 0, tilt = 0, clearance = INFINITY;
   size_t pushed = 0, asleep = runs.empty() ? 0 : SIZE_MAX;
   std::vector<std::string> escaped;
   for (const FleetRun& run : runs) {
@@ -72,6 +72,7 @@ void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
         std::min(asleep, static_cast<size_t>(std::count_if(run.loose.begin(), run.loose.end(), sleeper)));
     for (const RobotTrack& robot : run.robots) {
       robot_rise = std::max(robot_rise, robot.rise_max);
+      robot_sink = std::max(robot_sink, robot.sink_max);
       tilt = std::max(tilt, robot.tiltMax());
     }
     clearance = std::min(clearance, run.start_clearance);
@@ -84,6 +85,7 @@ void addWatchFigures(const std::vector<FleetRun>& runs, Json& json) {
   json["loose_escaped"] = escaped;
   json["loose_asleep_at_end"] = asleep;
   json["robot_rise_max_m"] = robot_rise;
+  json["robot_sink_max_m"] = robot_sink;
   json["robot_tilt_max_deg"] = tilt * 180 / M_PI;
 }
 

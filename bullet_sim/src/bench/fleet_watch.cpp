@@ -79,6 +79,7 @@ void FleetWatch::sample() {
     const Eigen::Isometry3d root =
         root_parts_[k] >= 0 ? body.partPose(root_parts_[k]) : rootPose(*robots_[k]);
     track.rise_max = std::max(track.rise_max, root.translation().z() - track.z_start);
+    track.sink_max = std::max(track.sink_max, track.z_start - root.translation().z());
     track.up_min = std::min(track.up_min, root.linear()(2, 2));
   }
 }

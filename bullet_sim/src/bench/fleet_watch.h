@@ -31,6 +31,7 @@ struct LooseBodyTrack {
 struct RobotTrack {
   double z_start = 0;   ///< [m] when the watch began
   double rise_max = 0;  ///< [m] the most its root link rose above z_start
+  double sink_max = 0;  ///< [m] the most it sank below z_start (a robot through the floor)
   double up_min = 1;    ///< the least world z of its root link's z axis
   /// [rad] the most its root link's z axis leaned from the vertical
   double tiltMax() const { return std::acos(std::clamp(up_min, -1.0, 1.0)); }
