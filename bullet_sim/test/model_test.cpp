@@ -106,6 +106,20 @@ TEST(ModelSpec, ANegativeVelocityLimitIsNoLimit) {
   EXPECT_EQ(countContaining(warnings, "velocity"), 1);
 }
 
+// So is a negative effort limit (SDF enforces neither), with a warning of its own.
+TEST(ModelSpec, ANegativeEffortLimitIsNoLimit) {
+  std::string urdf = readFile(fixture("bad_input/velocity_limits.urdf"));
+  const std::string limited = "effort=\"100\"";
+  urdf.replace(urdf.rfind(limited), limited.size(), "effort=\"-1\"");  // finger 2's
+  std::vector<std::string> warnings;
+  const ModelSpec model =
+      parseModel(urdf, "effort_limits.urdf", PackageResolver::fromEnvironment(), &warnings);
+  EXPECT_EQ(model.joint("finger_1_joint_1")->effort, 100);
+  EXPECT_EQ(model.joint("finger_2_joint_1")->effort, 0);  // 0: no limit given
+  EXPECT_THAT(warnings, testing::Contains(HasSubstr(
+                            "joint [finger_2_joint_1] <limit effort> is negative: read as no effort limit")));
+}
+
 // Gazebo skips a <gazebo reference> block that names nothing without a word: we skip it with a warning that
 // suggests the near miss, and refuse it under ~strict_models.
 TEST(ModelSpec, GazeboReferenceToMissingLinkIsSkippedWithTheNearMiss) {

@@ -316,8 +316,8 @@ class ModelParser {
         spec.lower = joint.limits->lower;
         spec.upper = joint.limits->upper;
       }
-      spec.effort = joint.limits->effort;
       // Negative: no limit, as in Gazebo (checkUrdfValues warns); NaN stays, for checkModelValues to refuse.
+      spec.effort = joint.limits->effort < 0 ? 0.0 : joint.limits->effort;
       spec.velocity = joint.limits->velocity < 0 ? 0.0 : joint.limits->velocity;
       if (spec.effort > limits_.max_effort) {
         std::ostringstream message;

@@ -145,8 +145,9 @@ void checkJoint(const tinyxml2::XMLElement& joint, ValueChecker& values) {
   values.check(joint.FirstChildElement("axis"), "xyz", Kind::kAny, 3, where);
   const tinyxml2::XMLElement* limit = joint.FirstChildElement("limit");
   for (const char* bound : {"lower", "upper"}) values.check(limit, bound, Kind::kAny, 1, where);
-  values.check(limit, "effort", Kind::kNonNegative, 1, where);
-  values.check(limit, "velocity", Kind::kAny, 1, where);  // negative: no limit (negativeVelocityLimits)
+  // Negative: no limit (warnNegativeLimits).
+  values.check(limit, "effort", Kind::kAny, 1, where);
+  values.check(limit, "velocity", Kind::kAny, 1, where);
   const tinyxml2::XMLElement* dynamics = joint.FirstChildElement("dynamics");
   for (const char* term : {"damping", "friction"}) values.check(dynamics, term, Kind::kNonNegative, 1, where);
   const tinyxml2::XMLElement* mimic = joint.FirstChildElement("mimic");
@@ -175,22 +176,23 @@ void checkNonNegative(double value, const char* what, const JointSpec& joint, bo
   diagnostics.error(message.str());
 }
 
-/// One warning naming the joints whose <limit velocity> is negative: Gazebo takes that for no limit (the URDF
-/// reaches its SDF as is, where a negative velocity limit is not enforced), and so does the model.
-void warnNegativeVelocityLimits(const tinyxml2::XMLElement& robot, Diagnostics& diagnostics) {
-  std::vector<std::string> joints;
-  for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
-    const tinyxml2::XMLElement* limit = joint->FirstChildElement("limit");
-    if (!limit || !limit->Attribute("velocity") || !(limit->DoubleAttribute("velocity", 0) < 0)) continue;
-    joints.push_back("[" + std::string(joint->Attribute("name") ? joint->Attribute("name") : "") + "]");
+/// Per limit, one warning naming the joints whose <limit effort> or <limit velocity> is negative: Gazebo
+/// takes that for no limit (the URDF reaches its SDF as is, where a negative limit is not enforced), and so
+/// does the model.
+void warnNegativeLimits(const tinyxml2::XMLElement& robot, Diagnostics& diagnostics) {
+  for (const char* term : {"effort", "velocity"}) {
+    std::vector<std::string> joints;
+    for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+      const tinyxml2::XMLElement* limit = joint->FirstChildElement("limit");
+      if (!limit || !limit->Attribute(term) || !(limit->DoubleAttribute(term, 0) < 0)) continue;
+      joints.push_back("[" + std::string(joint->Attribute("name") ? joint->Attribute("name") : "") + "]");
+    }
+    if (joints.empty()) continue;
+    const bool one = joints.size() == 1;
+    diagnostics.warning(std::string(one ? "joint " : "joints ") + joinedNames(joints) + " <limit " + term +
+                        "> " + (one ? "is" : "are") + " negative: read as no " + term +
+                        " limit, as Gazebo reads it (SDF enforces no negative " + term + " limit)");
   }
-  if (joints.empty()) return;
-  const std::string names = joinedNames(joints);
-  const bool one = joints.size() == 1;
-  diagnostics.warning(std::string(one ? "joint " : "joints ") + names + " <limit velocity> " +
-                      (one ? "is" : "are") +
-                      " negative: read as no velocity limit, as Gazebo reads it (SDF enforces no negative "
-                      "velocity limit)");
 }
 
 }  // namespace
@@ -290,7 +292,7 @@ UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limi
   }
   for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint"))
     checkJoint(*joint, values);
-  warnNegativeVelocityLimits(robot, diagnostics);
+  warnNegativeLimits(robot, diagnostics);
   return values.failures() > 0 ? UrdfValues::kRefused : UrdfValues::kFine;
 }
 
