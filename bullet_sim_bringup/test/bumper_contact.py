@@ -10,7 +10,7 @@ import rospy
 import rostest
 from gazebo_msgs.msg import ContactsState
 
-from bringup_support import Collector
+from bringup_support import Collector, interrupt
 
 BUMPER = "multi::base_footprint::base_footprint_fixed_joint_lump__bumper_link_collision_1"
 
@@ -28,8 +28,7 @@ class BumperContact(unittest.TestCase):
             # 0.78 m to the wall at 0.3 m/s.
             touching = contacts.wait_for(lambda m: m[-1].states, 90, "the bumper touching the wall")[-1]
         finally:
-            command.terminate()
-            command.wait(timeout=30)
+            interrupt(command, 10)  # as Ctrl-C: rostopic once outlived a SIGTERM by 30 s
         self.assertEqual(len(touching.states), 1)
         state = touching.states[0]
         self.assertEqual(state.collision1_name, BUMPER)

@@ -12,7 +12,7 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty
 
-from bringup_support import Collector
+from bringup_support import Collector, interrupt
 
 
 def service(name):
@@ -52,8 +52,7 @@ class ClockAndServices(unittest.TestCase):
                 lambda m: math.hypot(m[-1].pose.pose.position.x - spawn.x, m[-1].pose.pose.position.y - spawn.y) > 0.3,
                 120, "the robot to move 0.3 m")
         finally:
-            command.terminate()
-            command.wait(timeout=30)
+            interrupt(command, 10)  # as Ctrl-C: rostopic once outlived a SIGTERM by 30 s
         before_reset = self.clock.messages[-1].clock.to_sec()
         seen = len(self.clock.messages)
         # An odom published just before the reset may still be in flight: the first one after it is stamped

@@ -10,7 +10,7 @@ import rospy
 import rostest
 from nav_msgs.msg import Odometry
 
-from bringup_support import Collector, yaw
+from bringup_support import Collector, interrupt, yaw
 
 
 class DriveArc(unittest.TestCase):
@@ -30,8 +30,7 @@ class DriveArc(unittest.TestCase):
             messages = odometry.wait_for(
                 lambda m: m[-1].header.stamp.to_sec() >= start + seconds, 120, "%.0f s of driving" % seconds)
         finally:
-            command.terminate()
-            command.wait(timeout=30)
+            interrupt(command, 10)  # as Ctrl-C: rostopic once outlived a SIGTERM by 30 s
         # Steady state: skip the first second of spin-up.
         steady = [m for m in messages if m.header.stamp.to_sec() >= start + 1.0]
         turned = 0.0

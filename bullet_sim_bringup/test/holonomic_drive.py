@@ -12,7 +12,7 @@ import rostest
 import tf2_ros
 from nav_msgs.msg import Odometry
 
-from bringup_support import Collector, yaw
+from bringup_support import Collector, interrupt, yaw
 
 
 class HolonomicDrive(unittest.TestCase):
@@ -29,8 +29,7 @@ class HolonomicDrive(unittest.TestCase):
             start = first.header.stamp.to_sec()
             messages = odometry.wait_for(lambda m: m[-1].header.stamp.to_sec() >= start + 3.0, 90, "3 s of driving")
         finally:
-            command.terminate()
-            command.wait(timeout=30)
+            interrupt(command, 10)  # as Ctrl-C: rostopic once outlived a SIGTERM by 30 s
         last = messages[-1]
         self.assertEqual(last.header.frame_id, "odom")
         self.assertEqual(last.child_frame_id, "base_footprint")

@@ -16,7 +16,7 @@ from geometry_msgs.msg import TwistStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
-from bringup_support import Collector, yaw
+from bringup_support import Collector, interrupt, yaw
 from rover_support import CONTROLLER, GroundTruth, angle_between, pose2d, unicycle_of, wait_for_state
 
 WHEELS = ["front_left_wheel", "front_right_wheel", "rear_left_wheel", "rear_right_wheel"]
@@ -42,8 +42,7 @@ class RoverDrive(unittest.TestCase):
             truth.wait_for(lambda m: m[-1].header.stamp.to_sec() >= end, 120, "5 s of driving after the spin-up")
             odometry.wait_for(lambda m: m[-1].header.stamp.to_sec() >= end, 30, "the odometry at the end")
         finally:
-            command.terminate()
-            command.wait(timeout=30)
+            interrupt(command, 10)  # as Ctrl-C: rostopic once outlived a SIGTERM by 30 s
 
         first, last = truth.at(start), truth.at(end)
         commands = [m for m in applied.messages if m.twist.linear.x > 0.499]
