@@ -299,6 +299,26 @@ std::string withPhysics(const std::string& tags) {
   return R"(<sdf version="1.6"><world name="w"><physics type="ode">)" + tags + "</physics></world></sdf>";
 }
 
+// Gazebo steps a world of type dart or simbody on that engine; here Bullet steps it, and one warning says so.
+TEST(WorldSpec, APhysicsTypeOtherThanOdeOrBulletIsSteppedByBulletWithAWarning) {
+  for (const std::string type : {"dart", "simbody"}) {
+    std::vector<std::string> warnings;
+    parse(R"(<sdf version="1.6"><world name="w"><physics type=")" + type +
+              R"("><max_step_size>0.001</max_step_size></physics></world></sdf>)",
+          &warnings);
+    ASSERT_EQ(warnings.size(), 1u) << type;
+    EXPECT_TRUE(contains(warnings[0], "type [" + type + "]: bullet_sim steps every world with Bullet"))
+        << warnings[0];
+  }
+  for (const std::string type : {"ode", "bullet"}) {
+    std::vector<std::string> warnings;
+    parse(R"(<sdf version="1.6"><world name="w"><physics type=")" + type +
+              R"("><max_step_size>0.001</max_step_size></physics></world></sdf>)",
+          &warnings);
+    EXPECT_TRUE(warnings.empty()) << type << ": " << (warnings.empty() ? "" : warnings[0]);
+  }
+}
+
 TEST(WorldSpec, PhysicsPacesByTheUpdateRateAndWithoutOneByTheRealTimeFactor) {
   std::vector<std::string> warnings;
   WorldSpec world = parse(withPhysics("<max_step_size>0.002</max_step_size><real_time_update_rate>0"

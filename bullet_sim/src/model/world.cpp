@@ -150,6 +150,7 @@ class WorldConverter {
     if (const sdf::Physics* physics = world.PhysicsDefault()) {
       convertPhysics(*physics, spec);
       convertOde(*physics, spec.ode);
+      noteEngine(*physics);
     }
     if (const ignition::math::SphericalCoordinates* earth = world.SphericalCoordinates()) {
       spec.spherical_coordinates =
@@ -254,6 +255,15 @@ class WorldConverter {
                          joinedNames(written) +
                          " are reported by get_physics_properties, as Gazebo reports them, but not used: "
                          "bullet_sim's contacts are Bullet's");
+  }
+
+  /// A world written for Gazebo's DART or Simbody engine steps on Bullet here: one warning says so.
+  void noteEngine(const sdf::Physics& physics) {
+    const std::string type = physics.EngineType();
+    if (type == "ode" || type == "bullet") return;
+    diagnostics_.warning(locate(physics.Element()) + "physics [" + physics.Name() + "] type [" + type +
+                         "]: bullet_sim steps every world with Bullet (its contacts and solver are "
+                         "Bullet's); the <" + type + "> settings are not read");
   }
 
   /// "[file:line] " of an element, for messages.
