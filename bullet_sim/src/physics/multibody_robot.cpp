@@ -295,7 +295,7 @@ SubstepLimit MultiBodyRobot::substepLimit() const {
   for (size_t k = 1; k < parts_.size(); ++k) {
     const JointSpec& joint = *part_joint_[k];
     if (joint.damping <= 0 || joint.type == JointSpec::Type::kPrismatic) continue;
-    const double moment = jointInertia(static_cast<int>(k));
+    const double moment = joints_[k - 1].inertia;  // setupJoint(k) added joint k - 1
     const double seconds = moment / joint.damping;
     if (seconds >= limit.seconds) continue;
     std::ostringstream reason;

@@ -302,8 +302,10 @@ Robot& Simulation::spawn(const std::string& name, ModelSpec model, const SpawnPo
     warnings->insert(warnings->end(), diagnostics.warnings().begin(), diagnostics.warnings().end());
   robots_.push_back(std::move(robot));
   fitSubsteps();
-  const std::string shortfall = substepShortfall(name, robots_.back()->body_->substepLimit(), *physics_);
-  if (warnings && !shortfall.empty()) warnings->push_back(shortfall);
+  if (warnings) {
+    const std::string shortfall = substepShortfall(name, robots_.back()->body_->substepLimit(), *physics_);
+    if (!shortfall.empty()) warnings->push_back(shortfall);
+  }
   return *robots_.back();
 }
 
