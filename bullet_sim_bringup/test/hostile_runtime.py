@@ -2,11 +2,12 @@
 """rostest node: a table of hostile requests (hostile_rows.py) to the live simulator with three robots, one row
 each through one interface: gazebo_msgs' services and topics, both controller managers' services,
 follow_joint_trajectory, the controllers' command topics, and the scenario and sweep tools run with bad
-arguments. Each row names the piece of the answer it must get: a service's status_message, the reason a
-controller manager or a topic's subscriber logs on /rosout, an action's error_string, a tool's one line on
-stderr with exit code 2. After every row the clock goes on, the wheelchair (always told to drive a circle) drives
-on, and no message published since is non-finite. The table is printed as it runs. Then the arm is deleted and
-respawned by spawn_urdf_model with its robot_namespace (an RL reset) and its controllers load again."""
+arguments. Each row names the piece of the answer it must get: a service's status_message (which a refusal
+also logs on /rosout, as Gazebo's do), the reason a controller manager or a topic's subscriber logs on /rosout,
+an action's error_string, a tool's one line on stderr with exit code 2. After every row the clock goes on, the
+wheelchair (always told to drive a circle) drives on, and no message published since is non-finite. The table
+is printed as it runs. Then the arm is deleted and respawned by spawn_urdf_model with its robot_namespace (an
+RL reset) and its controllers load again."""
 import concurrent.futures
 import math
 import shutil
@@ -231,10 +232,15 @@ class HostileRuntime(unittest.TestCase):
         kind = gazebo_srv.SpawnModel if service.startswith("spawn_") else getattr(
             gazebo_srv, "".join(word.capitalize() for word in service.split("_")))
         call = self.proxy("/gazebo/" + service, kind)
+        mark = self.rosout.mark()
         answer = call(**args[0]) if args and isinstance(args[0], dict) else call(*args)
         if service == "get_world_properties":
             return Answer(not answer.success, "%s: %s" % (answer.status_message, ", ".join(answer.model_names)))
-        return Answer(not answer.success, answer.status_message)
+        if answer.success:
+            return Answer(False, answer.status_message)
+        # Refused: logged as well, as Gazebo logs it.
+        logged = self.rosout.wait_for(mark, "%s refused: %s" % (service, answer.status_message))
+        return Answer(logged is not None, answer.status_message + ("" if logged else " " + NOTHING_LOGGED))
 
     def logged_call(self, service, args, prefix):
         """A service whose answer has no fields: its refusal is the line it logs."""

@@ -119,14 +119,28 @@ gazebo_msgs::ODEPhysics odePhysicsOf(const OdeSettings& settings) {
   return ode;
 }
 
-/// A service that always answers success false with `why`.
+/// Advertises `owner`'s `method` as service `name`. A call it refuses is logged as well as answered, with
+/// ROS_ERROR, as Gazebo logs the calls it refuses.
+template <class Owner, class Request, class Response>
+ros::ServiceServer serveLogged(ros::NodeHandle& node, const std::string& name, Owner* owner,
+                               bool (Owner::*method)(Request&, Response&)) {
+  const boost::function<bool(Request&, Response&)> callback = [=](Request& request, Response& response) {
+    (owner->*method)(request, response);
+    if (!response.success) ROS_ERROR("%s refused: %s", name.c_str(), response.status_message.c_str());
+    return true;
+  };
+  return node.advertiseService<Request, Response>(name, callback);
+}
+
+/// A service that always answers success false with `why`, and logs it.
 template <class Service>
 ros::ServiceServer refuse(ros::NodeHandle& node, const std::string& name, const std::string& why) {
   using Request = typename Service::Request;
   using Response = typename Service::Response;
-  const boost::function<bool(Request&, Response&)> callback = [why](Request&, Response& response) {
+  const boost::function<bool(Request&, Response&)> callback = [name, why](Request&, Response& response) {
     response.success = false;
     response.status_message = why;
+    ROS_ERROR("%s refused: %s", name.c_str(), why.c_str());
     return true;
   };
   return node.advertiseService<Request, Response>(name, callback);
@@ -163,7 +177,7 @@ GazeboServices::GazeboServices(ros::NodeHandle private_node, Simulation& simulat
 
 void GazeboServices::advertiseServices() {
   const auto serve = [this](const std::string& name, auto method) {
-    services_.push_back(node_.advertiseService(name, method, this));
+    services_.push_back(serveLogged(node_, name, this, method));
   };
   serve("spawn_urdf_model", &GazeboServices::spawnUrdf);
   serve("spawn_sdf_model", &GazeboServices::spawnSdf);
@@ -180,9 +194,11 @@ void GazeboServices::advertiseServices() {
   serve("set_link_properties", &GazeboServices::setLinkProperties);
   serve("set_model_configuration", &GazeboServices::setModelConfiguration);
   serve("apply_body_wrench", &GazeboServices::applyBodyWrench);
-  serve("clear_body_wrenches", &GazeboServices::clearBodyWrenches);
   serve("apply_joint_effort", &GazeboServices::applyJointEffort);
-  serve("clear_joint_forces", &GazeboServices::clearJointForces);
+  // Their answers have no fields: they log why they refuse themselves.
+  services_.push_back(
+      node_.advertiseService("clear_body_wrenches", &GazeboServices::clearBodyWrenches, this));
+  services_.push_back(node_.advertiseService("clear_joint_forces", &GazeboServices::clearJointForces, this));
   serve("get_physics_properties", &GazeboServices::getPhysicsProperties);
   serve("set_physics_properties", &GazeboServices::setPhysicsProperties);
   services_.push_back(refuse<gazebo_msgs::DeleteLight>(node_, "delete_light", kNoLights));
@@ -260,16 +276,12 @@ std::string GazeboServices::spawn(const gazebo_msgs::SpawnModel::Request& reques
 
 bool GazeboServices::spawnUrdf(gazebo_msgs::SpawnModel::Request& request,
                          gazebo_msgs::SpawnModel::Response& response) {
-  answer(response, [&] { return spawn(request, /*sdf_too=*/false); });
-  if (!response.success) ROS_ERROR("spawn_urdf_model refused: %s", response.status_message.c_str());
-  return true;
+  return answer(response, [&] { return spawn(request, /*sdf_too=*/false); });
 }
 
 bool GazeboServices::spawnSdf(gazebo_msgs::SpawnModel::Request& request,
                         gazebo_msgs::SpawnModel::Response& response) {
-  answer(response, [&] { return spawn(request, /*sdf_too=*/true); });
-  if (!response.success) ROS_ERROR("spawn_sdf_model refused: %s", response.status_message.c_str());
-  return true;
+  return answer(response, [&] { return spawn(request, /*sdf_too=*/true); });
 }
 
 bool GazeboServices::deleteModel(gazebo_msgs::DeleteModel::Request& request,
