@@ -53,6 +53,17 @@ std::string withInertia(const std::string& urdf, const std::string& link, const 
   });
 }
 
+/// `urdf` with <dynamics `term`="`value`"/> on each of its wheel joints.
+std::string withWheelDynamics(const std::string& urdf, const char* term, const char* value) {
+  return test::editUrdf(urdf, [&](tinyxml2::XMLElement& robot) {
+    for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+      if (std::string(joint->Attribute("type")) != "continuous") continue;
+      tinyxml2::XMLElement* dynamics = joint->InsertNewChildElement("dynamics");
+      dynamics->SetAttribute(term, value);
+    }
+  });
+}
+
 /// How far the robot's base goes in 1 s of a 0.3 m/s cmd_vel.
 double drivenDistance(const std::string& urdf) {
   Simulation simulation(test::shippedWorld("empty.world"));
@@ -124,6 +135,15 @@ std::vector<Tolerated> toleratedForms() {
        "Gazebo tags that bullet_sim does not model (ODE's) are ignored: <fdir1> on [left_wheel] and "
        "[right_wheel]; <maxVel> on [left_wheel] and [right_wheel]; <minDepth> on [left_wheel] and "
        "[right_wheel]"},
+      {"NegativeFrictionCoefficient",
+       withElements(robot, "<gazebo reference='base_link'><mu1>-1</mu1></gazebo>"),
+       "<gazebo reference=\"base_link\"> <mu1> [-1] is negative: read as 0 (frictionless), as Gazebo's ODE "
+       "reads it"},
+      {"NegativeJointDamping", withWheelDynamics(robot, "damping", "-0.01"),
+       "joints [left_wheel_joint], [right_wheel_joint] <dynamics damping> are negative: read as 0"},
+      {"NegativeJointFriction", withWheelDynamics(robot, "friction", "-0.01"),
+       "joints [left_wheel_joint], [right_wheel_joint] <dynamics friction> are negative: read as 0, as "
+       "Gazebo's ODE reads it"},
   };
 }
 
@@ -159,6 +179,29 @@ TEST(TolerantLoading, FramesLoseTheirLeadingSlashAndKeepTheirNames) {
   EXPECT_EQ(scan->link, "base_link");
 }
 
+TEST(TolerantLoading, NegativeFrictionDampingAndJointFrictionAreReadAsZero) {
+  const auto parsed = [](const std::string& urdf) {
+    return parseModel(urdf, "robot", PackageResolver::fromEnvironment(), nullptr);
+  };
+  const std::string robot = driveable();
+  EXPECT_EQ(parsed(withElements(robot, "<gazebo reference='base_link'><mu1>-1</mu1></gazebo>"))
+                .link("base_link")->surface.mu1, 0.0);
+  EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "-0.01")).joint("left_wheel_joint")->damping, 0.0);
+  EXPECT_EQ(parsed(withWheelDynamics(robot, "friction", "-0.01")).joint("left_wheel_joint")->friction, 0.0);
+  EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "0.01")).joint("left_wheel_joint")->damping, 0.01);
+}
+
+TEST(TolerantLoading, AZeroAxisIsNamedWithItsValue) {
+  const std::string urdf = test::editUrdf(driveable(), [](tinyxml2::XMLElement& robot) {
+    for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+      if (std::string(joint->Attribute("name")) == "left_wheel_joint")
+        joint->FirstChildElement("axis")->SetAttribute("xyz", "0 1e-12 0");
+    }
+  });
+  EXPECT_THAT(test::loadErrors(urdf),
+              ElementsAre(HasSubstr("joint [left_wheel_joint] <axis xyz=\"0 1e-12 0\"> is zero")));
+}
+
 TEST(TolerantLoading, FixedChildrenAreLumpedBeforeTheInertiaIsJudged) {
   // A zero inertia on a link fixed to a sound one is no problem once lumped, as in Gazebo.
   const char* zero[3] = {"0", "0", "0"};
@@ -186,6 +229,21 @@ TEST(TolerantLoading, AnSdfModelsPoorInertiaIsMendedToo) {
                                     "0 0 0 kg m^2); it is simulated as a solid box of 4 kg")));
   const Eigen::Vector3d moments = crate.link("body")->inertial->inertia.diagonal();
   EXPECT_TRUE(moments.isApprox(Eigen::Vector3d::Constant(4.0 / 12 * 0.5), 1e-12)) << moments.transpose();
+}
+
+TEST(TolerantLoading, AnSdfModelsNegativeDampingIsReadAsZero) {
+  const std::string sdf =
+      "<sdf version='1.6'><model name='cart'><link name='body'><collision name='c'><geometry><box><size>0.5 "
+      "0.5 0.5</size></box></geometry></collision></link><link name='wheel'/><joint name='axle' "
+      "type='revolute'><parent>body</parent>"
+      "<child>wheel</child><axis><xyz>0 1 0</xyz><dynamics><damping>-2</damping></dynamics></axis></joint>"
+      "</model></sdf>";
+  std::vector<std::string> warnings;
+  const ModelSpec cart = parseSdfModel(sdf, "cart.sdf", PackageResolver::fromEnvironment(),
+                                       PluginRegistry::builtin(), &warnings);
+  EXPECT_THAT(warnings,
+              testing::Contains(HasSubstr("joint [axle]: <dynamics><damping> [-2] is negative: read as 0")));
+  EXPECT_EQ(cart.joint("axle")->damping, 0.0);
 }
 
 TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {

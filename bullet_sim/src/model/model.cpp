@@ -306,7 +306,10 @@ class ModelParser {
     }
     if (spec.moves()) {
       if (spec.axis.norm() < 1e-9) {
-        diagnostics_.error("joint [" + joint.name + "] <axis> is zero: give it a direction such as 0 1 0");
+        std::ostringstream message;
+        message << "joint [" << joint.name << "] <axis xyz=\"" << spec.axis.x() << " " << spec.axis.y() << " "
+                << spec.axis.z() << "\"> is zero: give it a direction such as 0 1 0";
+        diagnostics_.error(message.str());
       } else {
         spec.axis.normalize();
       }
@@ -328,9 +331,9 @@ class ModelParser {
         spec.effort = limits_.max_effort;
       }
     }
-    if (joint.dynamics) {
-      spec.damping = joint.dynamics->damping;
-      spec.friction = joint.dynamics->friction;
+    if (joint.dynamics) {  // negative: 0 (checkUrdfValues warns)
+      spec.damping = joint.dynamics->damping < 0 ? 0.0 : joint.dynamics->damping;
+      spec.friction = joint.dynamics->friction < 0 ? 0.0 : joint.dynamics->friction;
     }
     if (joint.mimic) {
       spec.mimic = JointSpec::Mimic{joint.mimic->joint_name, joint.mimic->multiplier, joint.mimic->offset, 0,
@@ -451,6 +454,10 @@ class ModelParser {
         const auto value = parseDouble(text);
         if (value && std::isfinite(*value) && *value >= 0) {
           *out = *value;
+        } else if (value && *value < 0 && (name == "mu1" || name == "mu2")) {
+          diagnostics_.warning(where + "<" + name + "> [" + text +
+                               "] is negative: read as 0 (frictionless), as Gazebo's ODE reads it");
+          *out = 0;
         } else {
           diagnostics_.error(where + "<" + name + "> must be a number >= 0, not [" + (text ? text : "") +
                              "]");

@@ -22,7 +22,6 @@ enum class Kind {
   kScale,    ///< non-zero, |x| <= max_length
   kMass,     ///< |x| <= max_mass [kg] (its sign is inertiaProblem's to judge)
   kInertia,  ///< |x| <= max_inertia [kg m^2]
-  kNonNegative,
 };
 
 class ValueChecker {
@@ -102,9 +101,6 @@ class ValueChecker {
         return boundProblem(value, limits_.max_mass, "max_mass", "kg");
       case Kind::kInertia:
         return boundProblem(value, limits_.max_inertia, "max_inertia", "kg m^2");
-      case Kind::kNonNegative:
-        if (value < 0) return "[" + word + "] must not be negative";
-        return std::nullopt;
     }
     return std::nullopt;
   }
@@ -145,11 +141,11 @@ void checkJoint(const tinyxml2::XMLElement& joint, ValueChecker& values) {
   values.check(joint.FirstChildElement("axis"), "xyz", Kind::kAny, 3, where);
   const tinyxml2::XMLElement* limit = joint.FirstChildElement("limit");
   for (const char* bound : {"lower", "upper"}) values.check(limit, bound, Kind::kAny, 1, where);
-  // Negative: no limit (warnNegativeLimits).
+  // Negative: as warnNegativeValues says.
   values.check(limit, "effort", Kind::kAny, 1, where);
   values.check(limit, "velocity", Kind::kAny, 1, where);
   const tinyxml2::XMLElement* dynamics = joint.FirstChildElement("dynamics");
-  for (const char* term : {"damping", "friction"}) values.check(dynamics, term, Kind::kNonNegative, 1, where);
+  for (const char* term : {"damping", "friction"}) values.check(dynamics, term, Kind::kAny, 1, where);
   const tinyxml2::XMLElement* mimic = joint.FirstChildElement("mimic");
   for (const char* term : {"multiplier", "offset"}) values.check(mimic, term, Kind::kAny, 1, where);
 }
@@ -176,22 +172,44 @@ void checkNonNegative(double value, const char* what, const JointSpec& joint, bo
   diagnostics.error(message.str());
 }
 
-/// Per limit, one warning naming the joints whose <limit effort> or <limit velocity> is negative: Gazebo
-/// takes that for no limit (the URDF reaches its SDF as is, where a negative limit is not enforced), and so
-/// does the model.
-void warnNegativeLimits(const tinyxml2::XMLElement& robot, Diagnostics& diagnostics) {
-  for (const char* term : {"effort", "velocity"}) {
-    std::vector<std::string> joints;
-    for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
-      const tinyxml2::XMLElement* limit = joint->FirstChildElement("limit");
-      if (!limit || !limit->Attribute(term) || !(limit->DoubleAttribute(term, 0) < 0)) continue;
-      joints.push_back("[" + std::string(joint->Attribute("name") ? joint->Attribute("name") : "") + "]");
+/// A joint value that Gazebo takes when negative, and what it then is.
+struct NegativeReading {
+  const char* element;
+  const char* term;
+  const char* reading;
+};
+
+constexpr NegativeReading kNegativeReadings[] = {
+    // The URDF reaches Gazebo's SDF as is, where a negative limit is not enforced.
+    {"limit", "effort",
+     "read as no effort limit, as Gazebo reads it (SDF enforces no negative effort limit)"},
+    {"limit", "velocity",
+     "read as no velocity limit, as Gazebo reads it (SDF enforces no negative velocity limit)"},
+    // Gazebo applies it, and the joint speeds up by itself.
+    {"dynamics", "damping", "read as 0: a negative damping would speed the joint up by itself"},
+    // Gazebo's ODE makes joint friction a motor's force limit, and drives no motor whose limit is not > 0.
+    {"dynamics", "friction", "read as 0, as Gazebo's ODE reads it (no friction)"},
+};
+
+/// Per value of kNegativeReadings, one warning naming the joints where it is negative.
+void warnNegativeValues(const tinyxml2::XMLElement& robot, Diagnostics& diagnostics) {
+  std::vector<std::string> joints[std::size(kNegativeReadings)];
+  for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+    const std::string name =
+        "[" + std::string(joint->Attribute("name") ? joint->Attribute("name") : "") + "]";
+    for (size_t k = 0; k < std::size(kNegativeReadings); ++k) {
+      const tinyxml2::XMLElement* element = joint->FirstChildElement(kNegativeReadings[k].element);
+      const char* term = kNegativeReadings[k].term;
+      if (element && element->Attribute(term) && element->DoubleAttribute(term, 0) < 0)
+        joints[k].push_back(name);
     }
-    if (joints.empty()) continue;
-    const bool one = joints.size() == 1;
-    diagnostics.warning(std::string(one ? "joint " : "joints ") + joinedNames(joints) + " <limit " + term +
-                        "> " + (one ? "is" : "are") + " negative: read as no " + term +
-                        " limit, as Gazebo reads it (SDF enforces no negative " + term + " limit)");
+  }
+  for (size_t k = 0; k < std::size(kNegativeReadings); ++k) {
+    if (joints[k].empty()) continue;
+    const bool one = joints[k].size() == 1;
+    diagnostics.warning(std::string(one ? "joint " : "joints ") + joinedNames(joints[k]) + " <" +
+                        kNegativeReadings[k].element + " " + kNegativeReadings[k].term + "> " +
+                        (one ? "is" : "are") + " negative: " + kNegativeReadings[k].reading);
   }
 }
 
@@ -292,7 +310,7 @@ UrdfValues checkUrdfValues(const tinyxml2::XMLElement& robot, const Limits& limi
   }
   for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint"))
     checkJoint(*joint, values);
-  warnNegativeLimits(robot, diagnostics);
+  warnNegativeValues(robot, diagnostics);
   return values.failures() > 0 ? UrdfValues::kRefused : UrdfValues::kFine;
 }
 

@@ -403,7 +403,8 @@ class WorldConverter {
     }
   }
 
-  /// <surface><friction><ode> mu and mu2, Gazebo's defaults (1) where they are not given.
+  /// <surface><friction><ode> mu and mu2, Gazebo's defaults (1) where they are not given (sdformat refuses a
+  /// negative one).
   static SurfaceSpec surfaceOf(const sdf::Collision& collision) {
     sdf::ElementPtr ode = collision.Element();
     for (const char* name : {"surface", "friction", "ode"}) {
@@ -461,6 +462,13 @@ class WorldConverter {
     placed.velocity = std::max(0.0, axis->MaxVelocity());
     placed.damping = axis->Damping();
     placed.friction = axis->Friction();
+    for (auto [term, value] :
+         {std::pair{"damping", &placed.damping}, std::pair{"friction", &placed.friction}}) {
+      if (!(*value < 0)) continue;  // a negative one as a URDF's (urdf_values.cpp)
+      diagnostics_.warning(locate(joint.Element()) + owner + ": <dynamics><" + term + "> [" + toText(*value) +
+                           "] is negative: read as 0");
+      *value = 0;
+    }
   }
 
   /// A sensor of a model to spawn, with its <plugin>: the plugin registry reads both, as for a URDF's.
