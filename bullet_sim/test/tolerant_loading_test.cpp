@@ -135,6 +135,9 @@ std::vector<Tolerated> toleratedForms() {
        "Gazebo tags that bullet_sim does not model (ODE's) are ignored: <fdir1> on [left_wheel] and "
        "[right_wheel]; <maxVel> on [left_wheel] and [right_wheel]; <minDepth> on [left_wheel] and "
        "[right_wheel]"},
+      {"ZeroWheelSeparation", test::withPluginTags(robot, "diff_drive.so", {{"wheelSeparation", "0"}}),
+       "<wheelSeparation> 0 m disagrees with the joints [left_wheel_joint] and [right_wheel_joint], which "
+       "are 0.35 m apart: the robot cannot turn, as in Gazebo"},
       {"NegativeFrictionCoefficient",
        withElements(robot, "<gazebo reference='base_link'><mu1>-1</mu1></gazebo>"),
        "<gazebo reference=\"base_link\"> <mu1> [-1] is negative: read as 0 (frictionless), as Gazebo's ODE "
@@ -189,6 +192,27 @@ TEST(TolerantLoading, NegativeFrictionDampingAndJointFrictionAreReadAsZero) {
   EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "-0.01")).joint("left_wheel_joint")->damping, 0.0);
   EXPECT_EQ(parsed(withWheelDynamics(robot, "friction", "-0.01")).joint("left_wheel_joint")->friction, 0.0);
   EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "0.01")).joint("left_wheel_joint")->damping, 0.01);
+}
+
+TEST(TolerantLoading, AWheelTorqueNotAboveZeroLoadsAndTheRobotDoesNotDrive) {
+  for (const std::string& wheel_model : test::kWheelModels) {
+    for (const char* torque : {"0", "-30"}) {
+      SCOPED_TRACE(wheel_model + ", wheelTorque " + torque);
+      const std::string urdf = test::withWheelModel(
+          test::withPluginTags(driveable(), "diff_drive.so", {{"wheelTorque", torque}}), wheel_model);
+      EXPECT_THAT(test::loadWarnings(urdf),
+                  ElementsAre(HasSubstr("<wheelTorque> " + std::string(torque) +
+                                        " N m is not above 0: its motors give none, as in Gazebo")));
+      EXPECT_LT(std::abs(drivenDistance(urdf)), 0.005) << "the wheels give no torque";
+    }
+  }
+}
+
+TEST(TolerantLoading, AZeroWheelSeparationWithEncoderOdometryIsAnError) {
+  const std::string urdf = test::withPluginTags(driveable(), "diff_drive.so",
+                                                {{"wheelSeparation", "0"}, {"odometrySource", "encoder"}});
+  EXPECT_THAT(test::loadErrors(urdf), ElementsAre(HasSubstr("<odometrySource> encoder divides the wheels' "
+                                                            "travel by <wheelSeparation>, which is 0")));
 }
 
 TEST(TolerantLoading, AZeroAxisIsNamedWithItsValue) {

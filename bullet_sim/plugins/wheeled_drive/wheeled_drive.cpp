@@ -35,7 +35,8 @@ std::vector<TagRow> wheelRows(const std::string& separation) {
   return {
       {"wheelSeparation", TagType::kPositive, separation, "m",
        "the distance between the left and right wheels",
-       "a warning when it is more than 5 mm off the distance between the wheels' joints"},
+       "a warning when it is more than 5 mm off the distance between the wheels' joints; 0: the robot cannot "
+       "turn, as in Gazebo (an error with encoder odometry, which would divide by it)"},
       {"wheelDiameter", TagType::kPositive, "0.15", "m", "the wheels' diameter",
        "a warning when it is more than 5 mm off a wheel's collision cylinder or sphere"},
   };
@@ -72,7 +73,8 @@ TagTable diffDriveTags() {
       wheelRows("0.34"),
       {
           {"wheelTorque", TagType::kPositive, "5", "N m", "the most torque each wheel's velocity motor gives",
-           "above max_effort, that limit, with a warning"},
+           "above max_effort, that limit, with a warning; 0 or less: none, so the robot does not drive, as "
+           "in Gazebo, with a warning"},
           {"wheelAcceleration", TagType::kPositive, "0", "m/s^2",
            "how fast the rims' speed may change towards the command; 0: at once",
            "ramps the commanded rim speed from update to update"},
@@ -112,7 +114,8 @@ TagTable skidSteerTags() {
       wheelRows("0.4"),
       {
           {"torque", TagType::kPositive, "5", "N m", "the most torque each wheel's velocity motor gives",
-           "above max_effort, that limit, with a warning"},
+           "above max_effort, that limit, with a warning; 0 or less: none, so the robot does not drive, as "
+           "in Gazebo, with a warning"},
           {"broadcastTF", TagType::kFlag, "false", "",
            "the odometry's tf (odometryFrame to robotBaseFrame), sent with each odometry", ""},
           covariance("covariance_x", "0.0001", "x [m^2]"),
@@ -127,7 +130,7 @@ TagTable skidSteerTags() {
 void readCommon(const DeclarationSource& source, DriveConfig& config) {
   PluginTags& tags = source.tags;
   readDriveHead(tags, DriveTagNames{}, config);
-  config.wheel_separation = tags.positive("wheelSeparation");
+  config.wheel_separation = tags.nonNegative("wheelSeparation");  // 0: checkWheels says what it means
   config.wheel_diameter = tags.positive("wheelDiameter");
   for (const auto& [tag, value] : {std::pair{"wheelSeparation", &config.wheel_separation},
                                    std::pair{"wheelDiameter", &config.wheel_diameter}}) {
@@ -136,10 +139,10 @@ void readCommon(const DeclarationSource& source, DriveConfig& config) {
   }
 }
 
-/// A wheel's velocity motor's torque limit [N m], read from `tag`.
+/// A wheel's velocity motor's torque limit [N m], read from `tag`: 0 or less, the robot does not drive.
 double wheelTorque(const DeclarationSource& source, const std::string& tag) {
-  return source.tags.capped(tag, tableDefaultNumber(source.tags, tag), source.limits.max_effort, "max_effort",
-                            "N m");
+  return source.tags.motorLimit(tag, tableDefaultNumber(source.tags, tag), source.limits.max_effort,
+                                "max_effort", "N m");
 }
 
 /// A wheel named twice, on both sides or on one, would be driven twice: an error.
@@ -210,6 +213,7 @@ void checkWheels(const DeclarationSource& source, DriveConfig& config) {
       message << source.tags.where() << " <wheelSeparation> " << config.wheel_separation
               << " m disagrees with the joints [" << config.left_joints[i] << "] and ["
               << config.right_joints[i] << "], which are " << separation << " m apart";
+      if (config.wheel_separation == 0) message << ": the robot cannot turn, as in Gazebo";
       source.diagnostics.warning(message.str());
     }
   }
@@ -227,6 +231,10 @@ void parseDiffDrive(const DeclarationSource& source, DriveConfig& config) {
   const std::string odometry_source = tags.text("odometrySource");
   if (odometry_source == "encoder") {
     config.odometry_from_encoders = true;
+    if (config.wheel_separation == 0) {  // Gazebo's would publish NaN
+      tags.diagnostics().error(tags.where() + " <odometrySource> encoder divides the wheels' travel by "
+                               "<wheelSeparation>, which is 0: give the separation, or use world odometry");
+    }
   } else if (odometry_source != "world") {
     tags.diagnostics().warning(tags.where() + " <odometrySource> must be world or encoder, not [" +
                                odometry_source + "]: world is used, as Gazebo does");

@@ -207,7 +207,24 @@ double PluginTags::positive(const std::string& tag, double fallback, bool allow_
 
 double PluginTags::capped(const std::string& tag, double fallback, double limit, const char* limit_name,
                           const std::string& unit) {
-  const double value = positive(tag, fallback);
+  return cap(tag, positive(tag, fallback), limit, limit_name, unit);
+}
+
+double PluginTags::motorLimit(const std::string& tag, double fallback, double limit, const char* limit_name,
+                              const std::string& unit) {
+  checkedRow(tag, {TagType::kPositive});
+  const double value = rawNumber(tag, fallback);
+  if (value > 0) return cap(tag, value, limit, limit_name, unit);
+  std::ostringstream message;
+  message << where_ << " <" << tag << "> " << value << " " << unit
+          << " is not above 0: its motors give none, as in Gazebo, whose ODE drives no motor whose limit is "
+             "not above 0";
+  diagnostics_.warning(message.str());
+  return 0;
+}
+
+double PluginTags::cap(const std::string& tag, double value, double limit, const char* limit_name,
+                       const std::string& unit) {
   if (value <= limit) return value;
   std::ostringstream message;
   message << where_ << " <" << tag << "> " << value << " " << unit << " is above the limit of " << limit

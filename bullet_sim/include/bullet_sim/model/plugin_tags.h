@@ -91,6 +91,10 @@ class PluginTags {
   /// above it, a warning names the value and `limit_name`, and `limit` is used.
   double capped(const std::string& tag, double fallback, double limit, const char* limit_name,
                 const std::string& unit);
+  /// A motor's torque or force limit, which Gazebo takes at any value: as capped(), but one not above 0 is
+  /// 0, with a warning that the motor gives nothing (Gazebo's ODE drives no motor with such a limit).
+  double motorLimit(const std::string& tag, double fallback, double limit, const char* limit_name,
+                    const std::string& unit);
   bool flag(const std::string& tag, bool fallback);
   /// The same readers with the table row's fallback.
   std::string text(const std::string& tag);
@@ -117,6 +121,9 @@ class PluginTags {
   double rowNumber(const std::string& tag, std::initializer_list<TagType> types) const;
   std::string rawText(const std::string& tag, const std::string& fallback);
   double rawNumber(const std::string& tag, double fallback);
+  /// `value`, or `limit` with a warning when it is above it.
+  double cap(const std::string& tag, double value, double limit, const char* limit_name,
+             const std::string& unit);
 
   const TagNode* element_;
   const TagTable* table_ = nullptr;
