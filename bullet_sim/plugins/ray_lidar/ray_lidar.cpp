@@ -45,6 +45,13 @@ bool withinRayLimit(double beams, double channels, const std::string& where, con
   return false;
 }
 
+/// Gazebo's ray sensor takes a <max_angle> below <min_angle>: its rays step from min_angle down to max_angle,
+/// and so do ours (a LaserScan's angle_increment is then negative).
+void warnDescending(const std::string& where, const char* rays, Diagnostics& diagnostics) {
+  diagnostics.warning(where + " <max_angle> is below <min_angle>: the " + rays +
+                      " step from min_angle down to max_angle, as Gazebo's do");
+}
+
 }  // namespace
 
 void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
@@ -57,8 +64,7 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
   config.min_angle = horizontal.number("min_angle", 0);
   config.max_angle = horizontal.number("max_angle", 0);
   horizontal.finish();
-  if (config.max_angle < config.min_angle)
-    diagnostics.error(where + " <horizontal> <max_angle> is below <min_angle>");
+  if (config.max_angle < config.min_angle) warnDescending(where + " <horizontal>", "beams", diagnostics);
 
   double channels = 1;
   if (const TagNode* vertical_node = ray ? ray->find({"scan", "vertical"}) : nullptr) {
@@ -67,9 +73,8 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
     config.min_elevation = vertical.number("min_angle", 0);
     config.max_elevation = vertical.number("max_angle", 0);
     vertical.finish();
-    if (config.max_elevation < config.min_elevation) {
-      diagnostics.error(where + " <vertical> <max_angle> is below <min_angle>");
-    }
+    if (config.max_elevation < config.min_elevation)
+      warnDescending(where + " <vertical>", "channels", diagnostics);
   }
   // The samples count too: a fine resolution must not shrink 10^12 samples into one beam.
   if (withinRayLimit(std::max(sampling.beams(), sampling.samples), channels, where, source.limits,

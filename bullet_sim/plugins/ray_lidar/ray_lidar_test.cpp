@@ -91,6 +91,30 @@ TEST(Lidar, RangesBeyondMaxAreInfAndBelowMinAreMinusInf) {
   }
 }
 
+// Gazebo takes a <max_angle> below <min_angle>: its beams step down from min_angle, and the scan says so
+// with a negative angle_increment. Each beam still meets the wall its angle points at.
+TEST(Lidar, AMaxAngleBelowMinAngleScansDownwardsWithAWarning) {
+  const std::string urdf = test::replaceAfter(
+      test::readFile(test::fixture("robots/lidar_mast.urdf")), "<horizontal>",
+      "<min_angle>-1.5707963267948966</min_angle><max_angle>1.5707963267948966</max_angle>",
+      "<min_angle>1.2</min_angle><max_angle>-0.6</max_angle>");
+  std::vector<std::string> warnings;
+  const ModelSpec mast = parseModel(urdf, "lidar_mast.urdf", PackageResolver::fromEnvironment(), &warnings);
+  EXPECT_THAT(warnings, testing::ElementsAre(testing::HasSubstr(
+                            "<horizontal> <max_angle> is below <min_angle>: the beams step from min_angle "
+                            "down to max_angle, as Gazebo's do")));
+  Simulation simulation(test::shippedWorld("test_room.world"));
+  const LaserScan scan = firstScan(simulation, simulation.spawn("mast", mast, {.x = 0.4, .yaw = 0.25}));
+  ASSERT_EQ(scan.ranges.size(), 181u);
+  EXPECT_DOUBLE_EQ(scan.angle_min, 1.2);
+  EXPECT_DOUBLE_EQ(scan.angle_max, -0.6);
+  EXPECT_DOUBLE_EQ(scan.angle_increment, -1.8 / 180);
+  expectRoomScan(scan);
+  const Eigen::Vector3d first_beam(std::cos(1.2), std::sin(1.2), 0);
+  const double first = roomDistance(scan.sensor_pose.translation(), scan.sensor_pose.linear() * first_beam);
+  EXPECT_NEAR(scan.ranges.front(), first, 0.001) << "the first beam points at min_angle";
+}
+
 // A robot never stands exactly level: its scan's rays carry z components from a hair (1e-15, as settling
 // leaves it) to a slope's, of either sign. Every beam still meets the walls where the room's geometry says.
 TEST(Lidar, ATiltedLidarSeesTheWallsWhereTheyAre) {
