@@ -119,14 +119,18 @@ gazebo_msgs::ODEPhysics odePhysicsOf(const OdeSettings& settings) {
   return ode;
 }
 
-/// Advertises `owner`'s `method` as service `name`. A call it refuses is logged as well as answered, with
-/// ROS_ERROR, as Gazebo logs the calls it refuses.
+/// Logs a call that service `name` refused, as Gazebo logs the calls it refuses.
+void logRefusal(const std::string& name, const std::string& why) {
+  ROS_ERROR("%s refused: %s", name.c_str(), why.c_str());
+}
+
+/// Advertises `owner`'s `method` as service `name`. A call it refuses is logged as well as answered.
 template <class Owner, class Request, class Response>
 ros::ServiceServer serveLogged(ros::NodeHandle& node, const std::string& name, Owner* owner,
                                bool (Owner::*method)(Request&, Response&)) {
   const boost::function<bool(Request&, Response&)> callback = [=](Request& request, Response& response) {
     (owner->*method)(request, response);
-    if (!response.success) ROS_ERROR("%s refused: %s", name.c_str(), response.status_message.c_str());
+    if (!response.success) logRefusal(name, response.status_message);
     return true;
   };
   return node.advertiseService<Request, Response>(name, callback);
@@ -140,7 +144,7 @@ ros::ServiceServer refuse(ros::NodeHandle& node, const std::string& name, const 
   const boost::function<bool(Request&, Response&)> callback = [name, why](Request&, Response& response) {
     response.success = false;
     response.status_message = why;
-    ROS_ERROR("%s refused: %s", name.c_str(), why.c_str());
+    logRefusal(name, why);
     return true;
   };
   return node.advertiseService<Request, Response>(name, callback);
