@@ -281,6 +281,35 @@ TEST(RayCasterTest, CastStaticMeetsPlanesAloneInDoublePrecision) {
   EXPECT_TRUE(normals.at(1).isApprox(-up, 1e-6)) << normals.at(1).transpose();
 }
 
+// castStatic tells the mu of each static collision it hits (a raycast wheel grips by the lesser of its own
+// and the ground's), among planes alone and through Embree: analytic shapes, and each shape of a body's
+// triangles.
+TEST(RayCasterTest, CastStaticTellsTheFrictionOfWhatEachRayHits) {
+  Collision floor = groundPlane(), ceiling = groundPlane();
+  floor.mu = 0.3;
+  ceiling.origin = translation(0, 0, 2.5);
+  ceiling.mu = 0.6;
+  const Eigen::Vector3d origin(0.1, 0.2, 0.3), up = Eigen::Vector3d::UnitZ();
+  const std::vector<Eigen::Vector3d> origins(4, origin),
+      directions{-up, up, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
+  RayCaster caster;
+  caster.addBody({floor, ceiling}, Eigen::Isometry3d::Identity(), true);
+  caster.commit();
+  std::vector<double> ranges, frictions;
+  caster.castStatic(origins, directions, kMaxRange, ranges, nullptr, &frictions);
+  EXPECT_EQ(frictions.at(0), 0.3);
+  EXPECT_EQ(frictions.at(1), 0.6);
+  Collision ahead = box({0.2, 0.2, 0.2}, translation(1.1, 0.2, 0.3));
+  Collision aside = box({0.2, 0.2, 0.2}, translation(0.1, 1.2, 0.3));
+  ahead.mu = 0.2;
+  aside.mu = 0.9;
+  caster.addBody({ahead, aside}, Eigen::Isometry3d::Identity(), true);
+  caster.commit();
+  caster.castStatic(origins, directions, kMaxRange, ranges, nullptr, &frictions);
+  EXPECT_NEAR(ranges.at(3), 0.9, kBoxTolerance);
+  EXPECT_EQ(frictions, (std::vector<double>{0.3, 0.6, 0.2, 0.9}));
+}
+
 TEST(RayCasterTest, MeshTrianglesAreExact) {
   auto square = std::make_shared<TriangleMesh>();  // 1 m square in the mesh's y-z plane
   square->vertices = {{0, -0.5, -0.5}, {0, 0.5, -0.5}, {0, 0.5, 0.5}, {0, -0.5, 0.5}};

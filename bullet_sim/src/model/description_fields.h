@@ -13,7 +13,7 @@ void fields(A& a, Shape& s) {
 }
 template <class A>
 void fields(A& a, Collision& c) {
-  a(c.origin, c.shape, c.name);
+  a(c.origin, c.shape, c.name, c.mu);
 }
 template <class A>
 void fields(A& a, Visual& v) {

@@ -368,6 +368,7 @@ class WorldConverter {
           in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
       result.shape = std::move(*shape);
       result.name = scope + "::" + link.Name() + "::" + collision.Name();
+      result.mu = surfaceOf(collision).mu1;
       placed.collision_indices.push_back(spec.collisions.size());
       spec.collisions.push_back(std::move(result));
     }

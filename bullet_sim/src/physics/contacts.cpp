@@ -11,6 +11,7 @@ namespace bullet_sim {
 namespace {
 
 const std::string kUnnamed;
+constexpr double kGazeboMu = 1.0;  // a surface's mu where none is given
 
 const std::string& nameOf(const btCollisionObject* object, int child) {
   const auto* names = static_cast<const CollisionNames*>(object->getUserPointer());
@@ -38,8 +39,19 @@ const std::string& CollisionNames::at(int index) const {
   return index >= 0 && index < static_cast<int>(names.size()) ? names[index] : kUnnamed;
 }
 
-CollisionNames robotCollisionNames(const std::string& robot, const std::vector<GazeboCollision>& gazebo,
+double CollisionNames::muAt(int index) const {
+  if (mu.size() == 1) return mu.front();
+  return index >= 0 && index < static_cast<int>(mu.size()) ? mu[index] : kGazeboMu;
+}
+
+void CollisionNames::append(const CollisionNames& from, size_t index, int count) {
+  names.insert(names.end(), count, from.names.at(index));
+  mu.insert(mu.end(), count, from.mu.at(index));
+}
+
+CollisionNames robotCollisionNames(const std::string& robot, const ModelSpec& spec,
                                    const std::vector<CollisionSource>& sources) {
+  const std::vector<GazeboCollision> gazebo = gazeboCollisions(spec);
   CollisionNames named;
   for (const CollisionSource& source : sources) {
     const auto found = std::find_if(gazebo.begin(), gazebo.end(), [&](const GazeboCollision& collision) {
@@ -47,8 +59,18 @@ CollisionNames robotCollisionNames(const std::string& robot, const std::vector<G
     });
     const bool known = found != gazebo.end();
     named.names.push_back(known ? robot + "::" + found->gazebo_link + "::" + found->name : "");
+    const LinkSpec* link = spec.link(source.link);
+    named.mu.push_back(link ? link->surface.mu1 : kGazeboMu);
   }
   return named;
+}
+
+double contactFriction(const btCollisionObject& object0, int child0, const btCollisionObject& object1,
+                       int child1) {
+  const auto* names0 = static_cast<const CollisionNames*>(object0.getUserPointer());
+  const auto* names1 = static_cast<const CollisionNames*>(object1.getUserPointer());
+  return std::min(names0 ? names0->muAt(child0) : object0.getFriction(),
+                  names1 ? names1->muAt(child1) : object1.getFriction());
 }
 
 void nameCollisions(btCollisionObject& object, const CollisionNames& names) {

@@ -39,18 +39,29 @@ class ContactTuner {
   virtual void weigh(const btManifoldPoint& point, int child) = 0;
 };
 
-/// The Gazebo names (model::link::collision) of a collision object's collisions, by compound child index; a
-/// simple shape has one. And its ContactTuner, if its contacts need one.
+/// The Gazebo names (model::link::collision) of a collision object's collisions and their friction
+/// coefficients, by compound child index; a simple shape has one. And its ContactTuner, if its contacts need
+/// one.
 struct CollisionNames {
   std::vector<std::string> names;
+  std::vector<double> mu;  ///< as names: each collision's Gazebo mu (a URDF link's <mu1>)
   ContactTuner* tuner = nullptr;
   /// The name of child `index`: the only one for a simple shape (whose index may be a triangle's).
   const std::string& at(int index) const;
+  /// The mu of child `index`, found as at() finds its name; 1 (Gazebo's default) for an unknown child.
+  double muAt(int index) const;
+  /// Appends collision `index` of `from` `count` times: a mesh's convex parts are children of their own.
+  void append(const CollisionNames& from, size_t index, int count);
 };
 
-/// The names of collisions `sources` of robot `robot`, as Gazebo names them (`gazebo`: the robot's).
-CollisionNames robotCollisionNames(const std::string& robot, const std::vector<GazeboCollision>& gazebo,
+/// The names and mu of collisions `sources` of robot `spec`, named `robot`, as Gazebo names them.
+CollisionNames robotCollisionNames(const std::string& robot, const ModelSpec& spec,
                                    const std::vector<CollisionSource>& sources);
+
+/// The friction coefficient of a contact between child `child0` of `object0` and child `child1` of `object1`:
+/// the lesser of their mu, as Gazebo's ODE contacts take it (Bullet's default multiplies them).
+double contactFriction(const btCollisionObject& object0, int child0, const btCollisionObject& object1,
+                       int child1);
 
 /// Makes `object`'s user pointer point at `names`, which must outlive it.
 void nameCollisions(btCollisionObject& object, const CollisionNames& names);

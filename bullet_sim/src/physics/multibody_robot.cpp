@@ -111,9 +111,8 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   body_->setUseGyroTerm(true);
   body_->setHasSelfCollision(self_collision_->any());
   world_.addMultiBody(body_.get());
-  const std::vector<GazeboCollision> gazebo = gazeboCollisions(spec_);
   for (int k = 0; k <= links; ++k) {
-    collision_names_.push_back(robotCollisionNames(name_, gazebo, parts_[k].sources));
+    collision_names_.push_back(robotCollisionNames(name_, spec_, parts_[k].sources));
   }
   child_ranges_.resize(parts_.size());
   for (int k = 0; k <= links; ++k) addCollider(k);
@@ -210,7 +209,7 @@ void MultiBodyRobot::addCollider(int k) {
       const int count =
           shapes_->addTo(*compound, toBullet(bullet_to_part * collision.origin), collision.shape, !still);
       child_ranges_[k].emplace_back(first, count);
-      by_child.names.insert(by_child.names.end(), count, collision_names_[k].names.at(c));
+      by_child.append(collision_names_[k], c, count);
     }
     collision_names_[k] = std::move(by_child);
     compound->recalculateLocalAabb();

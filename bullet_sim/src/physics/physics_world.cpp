@@ -178,6 +178,8 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
           hide(point, manifold.getContactProcessingThreshold());
           continue;
         }
+        point.m_combinedFriction =
+            contactFriction(*manifold.getBody0(), point.m_index0, *manifold.getBody1(), point.m_index1);
         // Two robots' rims that meet both move the point's friction: B adds to what A set, whatever their
         // order (B overwriting A let the robot spawned first push the other back at full speed, head-on).
         const bool tuned = tuner_a && tuner_a->tune(point, point.m_index0, /*ours_is_a=*/true, false);
@@ -268,6 +270,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
       if (type == Shape::Type::kPlane || type == Shape::Type::kMesh) {
         placed.push_back({addStatic(shape, pose), -1, collision.origin});
         static_names_.back()->names.push_back(collision.name);
+        static_names_.back()->mu.push_back(collision.mu);
         continue;
       }
       const Eigen::Vector2d cell = (fromBullet(pose.getOrigin()).head<2>() / kStaticCell).array().floor();
@@ -278,6 +281,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& world, const PhysicsOptions& options
       auto& compound = static_cast<btCompoundShape&>(*object.getCollisionShape());
       compound.addChildShape(pose, shape);
       static_names_[found->second]->names.push_back(collision.name);
+      static_names_[found->second]->mu.push_back(collision.mu);
       placed.push_back({found->second, compound.getNumChildShapes() - 1, collision.origin});
     }
   }
@@ -290,7 +294,6 @@ size_t PhysicsWorld::addStatic(btCollisionShape* shape, const btTransform& pose)
   object->setWorldTransform(pose);
   object->setCollisionFlags(object->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
   object->setActivationState(ISLAND_SLEEPING);
-  object->setFriction(1.0);  // Gazebo's default mu
   object->setRestitution(0);
   static_names_.push_back(std::make_unique<CollisionNames>());
   nameCollisions(*object, *static_names_.back());

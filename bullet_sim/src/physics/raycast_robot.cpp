@@ -41,7 +41,6 @@ constexpr double kSteepestGround = 0.7;  // [rad], 40 degrees
 // meets the ground as a rigid wheel would.
 constexpr double kRimInset = 2 * kSag;  // [m]
 constexpr double kRollingNormMin = 0.5;   // |axis x normal| below which a contact is on the rim's flat side
-constexpr double kOtherFriction = 1.0;    // mu of what a rim meets: static geometry's (Gazebo's default)
 
 Eigen::Isometry3d jointMotion(const JointSpec& joint, double position) {
   Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
@@ -188,7 +187,7 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   }
   addWheelRims(*compound);
   compound->recalculateLocalAabb();
-  chassis_names_ = robotCollisionNames(name_, gazeboCollisions(spec_), chassis_sources_);
+  chassis_names_ = robotCollisionNames(name_, spec_, chassis_sources_);
   chassis_names_.tuner = this;
   btRigidBody::btRigidBodyConstructionInfo info(mass_, nullptr, compound, toBullet(moments));
   info.m_friction = spec_.link(spec_.root)->surface.mu1;
@@ -306,9 +305,8 @@ bool RaycastRobot::tune(btManifoldPoint& point, int child, bool ours_is_a, bool 
   const double approach = std::max(0.0, -velocity.dot(normal));
   const double pressed = rim_normal_impulse_[w] + mass_ * approach;
   const double most = wheel.max_torque * dt_ / wheel.radius;  // [N s] the motor's rim impulse this substep
-  double friction = wheel.friction * kOtherFriction;
-  if (friction * pressed > most) friction = most / pressed;
-  point.m_combinedFriction = joining ? std::min<double>(point.m_combinedFriction, friction) : friction;
+  // The point's friction is the lesser mu of the rim and what it meets, or the other rim's grip (joining).
+  if (point.m_combinedFriction * pressed > most) point.m_combinedFriction = most / pressed;
   return true;
 }
 
@@ -384,7 +382,7 @@ void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
   // A ray reaches one radius below the rim, so a wheel finds the ground before it lands.
   double reach = 0;
   for (const auto& wheel : wheels_) reach = std::max(reach, 2 * wheel.radius);
-  ground_.castStatic(ray_origins_, ray_directions_, reach, ray_hits_, &ray_normals_);
+  ground_.castStatic(ray_origins_, ray_directions_, reach, ray_hits_, &ray_normals_, &ray_frictions_);
 }
 
 RaycastRobot::Row RaycastRobot::row(const Eigen::Vector3d& offset, const Eigen::Vector3d& direction) const {
@@ -435,6 +433,7 @@ void RaycastRobot::pressWheels(const Eigen::Isometry3d& root) {
     if (last.on_ground) contact.normal_impulse = last.normal_impulse;
     contact.grips = !wheel.caster;
     if (!contact.grips) continue;
+    contact.friction = std::min(wheel.friction, ray_frictions_[w]);
     if (last.grips) {
       contact.forward_impulse = last.forward_impulse;
       contact.lateral_impulse = last.lateral_impulse;
@@ -511,7 +510,7 @@ double RaycastRobot::driveWheel(size_t w) {
   const double mass = held ? contact.grip_mass_held : contact.grip_mass_free;
   Eigen::Vector2d total(contact.forward_impulse - forward_slip * mass,
                         contact.lateral_impulse - lateral_slip * mass);
-  const double limit = wheel.friction * contact.normal_impulse;  // the friction circle
+  const double limit = contact.friction * contact.normal_impulse;  // the friction circle
   const double size = total.norm();
   if (size > limit) total *= limit / size;
   const Eigen::Vector2d change = total - Eigen::Vector2d(contact.forward_impulse, contact.lateral_impulse);

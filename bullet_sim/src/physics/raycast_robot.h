@@ -118,6 +118,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     double normal_mass = 0;  ///< [kg] 1 / the normal's inverse mass
     /// [kg] the one mass of both grip rows (pressWheels), while the motor holds the rim and while it slips
     double grip_mass_held = 0, grip_mass_free = 0;
+    double friction = 0;     ///< mu: the lesser of the wheel's and the ground's, as Gazebo takes it
     double normal_impulse = 0, forward_impulse = 0, lateral_impulse = 0;
     double motor_impulse = 0;  ///< [N m s] on the wheel's spin this substep, within its torque budget
     bool on_ground = false;    ///< its ray found ground within the rim
@@ -206,6 +207,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   std::vector<Eigen::Vector3d> ray_origins_, ray_directions_;
   std::vector<double> ray_hits_;
   std::vector<Eigen::Vector3d> ray_normals_;
+  std::vector<double> ray_frictions_;  ///< the mu of the ground each ray hit
   std::vector<Contact> contacts_;    ///< per wheel
   std::vector<double> rim_normal_impulse_;  ///< [N s] per wheel: what its rim met took in the last solve
   std::vector<double> rim_impulse_weighed_;  ///< [N s] per wheel: the same, as the world weighs it

@@ -76,6 +76,7 @@ struct AnalyticShape {
   Eigen::Vector3d normal;  ///< kPlane, unit, in the frame
   double offset;           ///< kPlane [m]: the plane is normal . x = offset in the frame
   RTCBounds bounds;        ///< in the frame [m]
+  double mu;               ///< its collision's friction coefficient
 };
 
 struct SurfaceHit {
@@ -184,9 +185,11 @@ Eigen::Vector3d facingRay(const Eigen::Vector3d& normal, const Eigen::Vector3d& 
 /// took 400 instructions a ray, and rounded the ray to float).
 void castAtPlanes(const std::vector<const AnalyticShape*>& planes,
                   const std::vector<Eigen::Vector3d>& origins, const std::vector<Eigen::Vector3d>& directions,
-                  double max_range, std::vector<double>& ranges, std::vector<Eigen::Vector3d>* normals) {
+                  double max_range, std::vector<double>& ranges, std::vector<Eigen::Vector3d>* normals,
+                  std::vector<double>* frictions) {
   ranges.assign(origins.size(), std::numeric_limits<double>::infinity());
   if (normals) normals->resize(origins.size());
+  if (frictions) frictions->resize(origins.size());
   // Each wheel's ray to the ground, every substep: the crossing alone, without intersect's hit.
   for (size_t i = 0; i < origins.size(); ++i) {
     for (const AnalyticShape* plane : planes) {
@@ -194,6 +197,7 @@ void castAtPlanes(const std::vector<const AnalyticShape*>& planes,
       if (!t || !(*t >= 0 && *t <= max_range && *t < ranges[i])) continue;  // NaN too: a ray not finite
       ranges[i] = *t;
       if (normals) (*normals)[i] = facingRay(plane->normal, directions[i]);
+      if (frictions) (*frictions)[i] = plane->mu;
     }
   }
 }
@@ -288,7 +292,7 @@ AnalyticShape analyticShape(const Shape& shape, const Eigen::Isometry3d& frame_f
   const Eigen::Vector3d normal = rotation * shape.plane_normal.normalized();
   AnalyticShape analytic{shape.type,   frame_from_shape, frame_from_shape.inverse(),
                          shape.radius, shape.length / 2, normal,
-                         normal.dot(frame_from_shape.translation()), RTCBounds{}};
+                         normal.dot(frame_from_shape.translation()), RTCBounds{}, 1.0};
   Eigen::Vector3d half_extent;
   if (shape.type == Shape::Type::kSphere) {
     half_extent.setConstant(shape.radius);
@@ -356,6 +360,8 @@ struct Body {
   bool is_static = false;
   /// The user data of the analytic geometry: never resized once attached.
   std::vector<AnalyticShape> analytic_shapes;
+  /// Each shape's first triangle in the triangle geometry, with its collision's mu, in order.
+  std::vector<std::pair<unsigned, double>> triangle_mu;
   /// Geometry ids in the body's own scene (moving) or in the static scene (static).
   unsigned triangles_id = RTC_INVALID_GEOMETRY_ID;
   unsigned analytic_id = RTC_INVALID_GEOMETRY_ID;
@@ -383,6 +389,8 @@ struct RayCaster::Impl {
   Body& body(BodyId id, const char* operation) const;
   /// Sets static_planes from the static bodies.
   void findStaticPlanes();
+  /// The mu of the static shape a ray hit: primitive `primitive` of geometry `geometry` of the static scene.
+  double staticFriction(unsigned geometry, unsigned primitive) const;
 
   std::string embree_error;  // outlives the device, which reports into it
   DeviceHandle device;
@@ -390,6 +398,7 @@ struct RayCaster::Impl {
   SceneHandle top;      ///< the static scene once plus one instance per moving body
   unsigned statics_instance_id = RTC_INVALID_GEOMETRY_ID;
   std::vector<std::unique_ptr<Body>> bodies;  ///< indexed by BodyId; null once removed
+  std::vector<const Body*> static_owners;     ///< by geometry id in `statics`: the body it belongs to
   MaskPool masks;  ///< for moving bodies
   bool statics_changed = false;
   /// When every static shape is a plane (empty.world's ground): them, which castStatic meets without Embree.
@@ -436,15 +445,18 @@ void RayCaster::Impl::attachShapes(const std::vector<Collision>& shapes,
     const Shape& shape = collision.shape;
     switch (shape.type) {
       case Shape::Type::kBox:
+        body.triangle_mu.emplace_back(triangles.indices.size(), collision.mu);
         appendBox(shape.box_size, frame_from_shape, triangles);
         break;
       case Shape::Type::kMesh:
+        body.triangle_mu.emplace_back(triangles.indices.size(), collision.mu);
         if (shape.mesh) appendMesh(*shape.mesh, frame_from_shape, triangles);
         break;
       case Shape::Type::kSphere:
       case Shape::Type::kCylinder:
       case Shape::Type::kPlane:
         body.analytic_shapes.push_back(analyticShape(shape, frame_from_shape));
+        body.analytic_shapes.back().mu = collision.mu;
         break;
     }
   }
@@ -495,6 +507,11 @@ BodyId RayCaster::addBody(const std::vector<Collision>& shapes, const Eigen::Iso
   body->is_static = is_static;
   if (is_static) {
     impl.attachShapes(shapes, pose, impl.statics.get(), *body);
+    for (const unsigned geometry : {body->triangles_id, body->analytic_id}) {
+      if (geometry == RTC_INVALID_GEOMETRY_ID) continue;
+      if (impl.static_owners.size() <= geometry) impl.static_owners.resize(geometry + 1);
+      impl.static_owners[geometry] = body.get();
+    }
     impl.statics_changed = true;
   } else {
     // Shapes in the body frame, built once; commit() only moves the instance.
@@ -520,8 +537,11 @@ void RayCaster::removeBody(BodyId id) {
   Impl& impl = *impl_;
   const Body& body = impl.body(id, "RayCaster::removeBody");
   if (body.is_static) {
-    for (const unsigned geometry : {body.triangles_id, body.analytic_id})
-      if (geometry != RTC_INVALID_GEOMETRY_ID) rtcDetachGeometry(impl.statics.get(), geometry);
+    for (const unsigned geometry : {body.triangles_id, body.analytic_id}) {
+      if (geometry == RTC_INVALID_GEOMETRY_ID) continue;
+      rtcDetachGeometry(impl.statics.get(), geometry);
+      impl.static_owners[geometry] = nullptr;
+    }
     impl.statics_changed = true;
   } else {
     rtcDetachGeometry(impl.top.get(), body.instance_id);
@@ -539,6 +559,15 @@ void RayCaster::setPose(BodyId id, const Eigen::Isometry3d& pose) {
   body.pose = pose;
   body.pose_changed = true;
   impl_->top_changed = true;
+}
+
+double RayCaster::Impl::staticFriction(unsigned geometry, unsigned primitive) const {
+  const Body& owner = *static_owners.at(geometry);
+  if (geometry == owner.analytic_id) return owner.analytic_shapes.at(primitive).mu;
+  // The last shape whose first triangle is not past the one hit.
+  const auto past = [](unsigned triangle, const auto& shape) { return triangle < shape.first; };
+  const auto shape = std::upper_bound(owner.triangle_mu.begin(), owner.triangle_mu.end(), primitive, past);
+  return std::prev(shape)->second;
 }
 
 void RayCaster::Impl::findStaticPlanes() {
@@ -663,18 +692,20 @@ void RayCaster::cast(const Eigen::Vector3d& origin, const std::vector<Eigen::Vec
 
 void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
                            const std::vector<Eigen::Vector3d>& directions, double max_range,
-                           std::vector<double>& ranges, std::vector<Eigen::Vector3d>* normals) const {
+                           std::vector<double>& ranges, std::vector<Eigen::Vector3d>* normals,
+                           std::vector<double>* frictions) const {
   const Impl& impl = *impl_;
   if (impl.statics_changed)
     throw std::logic_error("RayCaster::castStatic: static bodies changed since the last commit()");
   if (impl.static_planes) {
-    castAtPlanes(*impl.static_planes, origins, directions, max_range, ranges, normals);
+    castAtPlanes(*impl.static_planes, origins, directions, max_range, ranges, normals, frictions);
     return;
   }
   CastContext context;
   rtcInitIntersectContext(&context.embree);
   ranges.resize(origins.size());
   if (normals) normals->resize(origins.size());
+  if (frictions) frictions->resize(origins.size());
   for (size_t i = 0; i < origins.size(); ++i) {
     ranges[i] = std::numeric_limits<double>::infinity();
     if (!origins[i].allFinite() || !directions[i].allFinite()) continue;  // Embree aborts on it
@@ -693,7 +724,9 @@ void RayCaster::castStatic(const std::vector<Eigen::Vector3d>& origins,
     rtcIntersect1(impl.statics.get(), &context.embree, &ray);
     ranges[i] = ray.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<double>::infinity()
                                                           : static_cast<double>(ray.ray.tfar);
-    if (!normals || ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    if (frictions) (*frictions)[i] = impl.staticFriction(ray.hit.geomID, ray.hit.primID);
+    if (!normals) continue;
     (*normals)[i] =
         facingRay(Eigen::Vector3d(ray.hit.Ng_x, ray.hit.Ng_y, ray.hit.Ng_z).normalized(), directions[i]);
   }

@@ -38,6 +38,8 @@ struct Collision {
   /// A URDF collision's name attribute ("" when it has none); a world's collision's scoped Gazebo name,
   /// model::link::collision.
   std::string name;
+  /// A world collision's <surface><friction><ode><mu> (Gazebo's default 1); a robot's links carry theirs.
+  double mu = 1.0;
 };
 
 struct Visual {

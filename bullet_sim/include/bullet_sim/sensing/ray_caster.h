@@ -67,11 +67,13 @@ class RayCaster {
 
   /// Casts one ray per origin [m] along its unit direction against the static bodies only (e.g. the ground
   /// under each wheel). ranges[i] is the distance to the first static surface within max_range, or +infinity;
-  /// with `normals`, (*normals)[i] is that surface's unit normal, facing the ray's origin.
+  /// with `normals`, (*normals)[i] is that surface's unit normal, facing the ray's origin; with `frictions`,
+  /// (*frictions)[i] is its Collision's mu (unset for a miss).
   /// For a handful of rays per physics step: it casts them one by one.
   void castStatic(const std::vector<Eigen::Vector3d>& origins, const std::vector<Eigen::Vector3d>& directions,
                   double max_range, std::vector<double>& ranges,
-                  std::vector<Eigen::Vector3d>* normals = nullptr) const;
+                  std::vector<Eigen::Vector3d>* normals = nullptr,
+                  std::vector<double>* frictions = nullptr) const;
 
  private:
   struct Impl;
