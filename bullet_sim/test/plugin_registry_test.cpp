@@ -118,6 +118,22 @@ TEST(PluginRegistry, ItsTagProblemsAreReportedWithTheFilesOthers) {
   }
 }
 
+TEST(PluginRegistry, ARateTagIsARateWhoseNegativeIsZeroAsInGazebo) {
+  std::vector<std::string> warnings;
+  const ModelSpec model =
+      parseModel(robotWithAltimeter({{"linkName", "base_link"}, {"updateRate", "-1"}}), "altimeter robot",
+                 PackageResolver::fromEnvironment(), registry(), &warnings);
+  EXPECT_EQ(warnings, std::vector<std::string>{"plugin [altimeter] <updateRate> -1 is below 0: read as 0, "
+                                               "every update, as Gazebo's plugin reads it"});
+  EXPECT_EQ(model.plugins.front().config->update_rate, 0.0);
+  // A plugin documenting its rate tag as another type would show a rule the head does not follow.
+  PluginType type = pluginType<Altimeter>("libtest_altimeter.so", parseAltimeter, kAltimeterTags);
+  type.tags.add({"updateRate", TagType::kPositive, "0", "Hz", "", ""});
+  type.rate = {RateRule::From::kTags, {"updateRate"}, 0};
+  PluginRegistry other;
+  EXPECT_THROW(other.add(std::move(type)), std::logic_error);
+}
+
 TEST(PluginRegistry, TheSimulationBuildsItAndItsOutputFollowsFreeFall) {
   SimulationOptions options;
   options.plugins = &registry();

@@ -93,6 +93,17 @@ TEST(SdfModel, ReadsLinksInertiaShapesJointsAndTheSensorsPluginAsAUrdfWouldGiveT
   EXPECT_EQ(config->topic, "scan");
 }
 
+TEST(SdfModel, ASensorsNegativeUpdateRateIsEveryStepWithAWarningAsInAUrdf) {
+  std::vector<std::string> warnings;
+  const ModelSpec spec =
+      parse(test::replaceAfter(panLidar(), "<sensor", "<update_rate>10<", "<update_rate>-1<"), &warnings);
+  EXPECT_THAT(warnings, ElementsAre(HasSubstr("sensor [lidar] <update_rate> -1 is below 0: read as 0, every "
+                                              "step, as Gazebo does")));
+  ASSERT_EQ(spec.plugins.size(), 1u);
+  EXPECT_EQ(spec.plugins[0].sensor->update_rate, 0.0);
+  EXPECT_EQ(spec.plugins[0].configAs<RayLidarConfig>()->update_rate, 0.0);
+}
+
 TEST(SdfModel, ASpawnedSdfModelScansTheRoomAndItsJointTurnsTheHead) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   WorldApi world(simulation);

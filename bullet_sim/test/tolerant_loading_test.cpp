@@ -4,11 +4,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 
 #include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/model/world.h"
+#include "plugins/joint_states/joint_states.h"
 #include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
 #include "plugins/wheeled_drive/wheeled_drive.h"
@@ -79,6 +81,23 @@ double drivenDistance(const std::string& urdf) {
   return (robot.body().linkPose("base_link").translation() - start).x();
 }
 
+/// A 90-ray lidar on base_link scanning at `rate` [Hz], with `noise` (a <noise> element, or "") in its <ray>.
+std::string lidarOnBase(const std::string& rate, const std::string& noise = "") {
+  return "<gazebo reference='base_link'><sensor type='ray' name='lidar'><update_rate>" + rate +
+         "</update_rate><ray><scan><horizontal><samples>90</samples><resolution>1</resolution>"
+         "<min_angle>-3.14</min_angle><max_angle>3.14</max_angle></horizontal></scan><range><min>0.12</min>"
+         "<max>3.5</max></range>" +
+         noise +
+         "</ray><plugin name='laser' filename='libgazebo_ros_laser.so'><topicName>scan</topicName>"
+         "<frameName>base_link</frameName></plugin></sensor></gazebo>";
+}
+
+/// `urdf` with a joint_state_publisher publishing at `rate` [Hz].
+std::string withJointStates(const std::string& urdf, const std::string& rate) {
+  return test::withPlugin(urdf, "joint_states", "libgazebo_ros_joint_state_publisher.so",
+                          {{"updateRate", rate}});
+}
+
 struct Tolerated {
   const char* name;
   std::string urdf;
@@ -147,6 +166,13 @@ std::vector<Tolerated> toleratedForms() {
       {"NegativeJointFriction", withWheelDynamics(robot, "friction", "-0.01"),
        "joints [left_wheel_joint], [right_wheel_joint] <dynamics friction> are negative: read as 0, as "
        "Gazebo's ODE reads it"},
+      {"NegativeSensorUpdateRate", withElements(robot, lidarOnBase("-1")),
+       "<sensor name=\"lidar\"> <update_rate> -1 is below 0: read as 0, every step, as Gazebo does"},
+      {"NegativeDriveUpdateRate", test::withPluginTags(robot, "diff_drive.so", {{"updateRate", "-1"}}),
+       "plugin [drive] <updateRate> -1 is below 0: read as 0, every update, as Gazebo's plugin reads it"},
+      {"NegativeJointStatesUpdateRate", withJointStates(robot, "-2.5"),
+       "plugin [joint_states] <updateRate> -2.5 is below 0: read as 0, every update, as Gazebo's plugin "
+       "reads it"},
   };
 }
 
@@ -192,6 +218,42 @@ TEST(TolerantLoading, NegativeFrictionDampingAndJointFrictionAreReadAsZero) {
   EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "-0.01")).joint("left_wheel_joint")->damping, 0.0);
   EXPECT_EQ(parsed(withWheelDynamics(robot, "friction", "-0.01")).joint("left_wheel_joint")->friction, 0.0);
   EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "0.01")).joint("left_wheel_joint")->damping, 0.01);
+}
+
+/// How many scans, odometries and joint states the robot of `urdf` publishes in 20 steps (1 ms each).
+std::array<uint64_t, 3> publishedIn20Steps(const std::string& urdf) {
+  Simulation simulation(test::shippedWorld("empty.world"));
+  std::vector<std::string> warnings;
+  Robot& robot =
+      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
+  for (int i = 0; i < 20; ++i) simulation.step();
+  return {test::countOf<LaserScan>(*test::pluginsOf<RayLidar>(robot).front()),
+          test::countOf<Odometry>(*test::pluginsOf<WheeledDrive>(robot).front()),
+          test::countOf<JointStateSample>(*test::pluginsOf<JointStates>(robot).front())};
+}
+
+TEST(TolerantLoading, ANegativeUpdateRateIsEveryStepAsGazebosZero) {
+  const auto rates = [](const std::string& sensor, const std::string& plugins) {
+    const std::string urdf =
+        withJointStates(test::withPluginTags(withElements(driveable(), lidarOnBase(sensor)), "diff_drive.so",
+                                             {{"updateRate", plugins}}),
+                        plugins);
+    return publishedIn20Steps(urdf);
+  };
+  EXPECT_THAT(rates("-1", "-1"), ElementsAre(20, 20, 20)) << "every step, as a rate of 0";
+  EXPECT_THAT(rates("0", "0"), ElementsAre(20, 20, 20));
+  EXPECT_THAT(rates("100", "100"), ElementsAre(2, 2, 2)) << "a rate above 0 still paces them";
+  const ModelSpec model = parseModel(withElements(driveable(), lidarOnBase("-1")), "robot",
+                                     PackageResolver::fromEnvironment(), nullptr);
+  EXPECT_EQ(model.plugins.back().sensor->update_rate, 0.0);
+  EXPECT_EQ(model.plugins.back().configAs<RayLidarConfig>()->update_rate, 0.0);
+}
+
+TEST(TolerantLoading, AnUpdateRateThatIsNoNumberStaysAnError) {
+  EXPECT_THAT(test::loadErrors(withElements(driveable(), lidarOnBase("fast"))),
+              ElementsAre(HasSubstr("<update_rate> must be a number [Hz], not [fast]")));
+  EXPECT_THAT(test::loadErrors(test::withPluginTags(driveable(), "diff_drive.so", {{"updateRate", "x"}})),
+              ElementsAre(HasSubstr("<updateRate> must be a number, not [x]")));
 }
 
 TEST(TolerantLoading, AWheelTorqueNotAboveZeroLoadsAndTheRobotDoesNotDrive) {

@@ -45,7 +45,7 @@ std::vector<TagRow> headRows() {
         "the pose is this link's, and the URDF's geometry is measured in it; when it names no link, a "
         "warning, and the root link's"},
        "robotBaseFrame"},
-      {{"update_rate", TagType::kPositive, "100", "Hz",
+      {{"update_rate", TagType::kRate, "100", "Hz",
         "how often the joints get new commands and the odometry is published; 0: every step", ""},
        "updateRate"},
   };

@@ -17,7 +17,7 @@ const TagTable kGroundTruthTags = withUnreadTutorialTags({
     {"frameName", TagType::kFrame, "world", "",
      "the frame of the pose: world (or map), or a link of the robot that pose and velocities are relative to",
      "poses are in the world frame whatever it names (a warning unless world or map); it is the frame_id"},
-    {"updateRate", TagType::kPositive, "0", "Hz", "how often it publishes; 0: every step", ""},
+    {"updateRate", TagType::kRate, "0", "Hz", "how often it publishes; 0: every step", ""},
     {"gaussianNoise", TagType::kPositive, "0", "",
      "the standard deviation of a zero-mean noise on the position [m] and the velocities [m/s, rad/s]",
      "the same, and the covariances' diagonals are its square"},

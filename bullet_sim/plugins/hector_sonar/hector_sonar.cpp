@@ -16,7 +16,7 @@ TagTable hectorSonarTags() {
        "the messages' frame_id only, as written (no tf_prefix)",
        "the leading / dropped, as on every frame (the default is sonar_link); a name that is no link is a "
        "warning, and is still the frame_id"},
-      {"updateRate", TagType::kPositive, "10", "Hz",
+      {"updateRate", TagType::kRate, "10", "Hz",
        "how often it publishes the latest rays, whatever the sensor's <update_rate>; 0: every step",
        "the rays are cast when it publishes"},
       {"updatePeriod", TagType::kPositive, "1 / updateRate", "s",

@@ -13,7 +13,7 @@ const TagTable kImuSensorTags = {
     {"frameName", TagType::kFrame, "the sensor's link", "",
      "the messages' frame_id; required: the plugin does not load without it",
      "the sensor's link when absent; a name that is no link is a warning, and is still the frame_id"},
-    {"updateRateHZ", TagType::kPositive, "the sensor's", "Hz",
+    {"updateRateHZ", TagType::kRate, "the sensor's", "Hz",
      "throttles the plugin below the sensor's <update_rate>; 1 Hz when absent",
      "the plugin's rate when given, else the sensor's <update_rate>"},
     {"gaussianNoise", TagType::kPositive, "0", "",
@@ -37,7 +37,7 @@ const TagTable kImuPluginTags = withUnreadTutorialTags({
     {"frameName", TagType::kFrame, "bodyName", "", "the messages' frame_id", ""},
     {"topicName", TagType::kTopic, "imu", "", "the topic of the readings; /default_imu when absent",
      "imu when absent, relative to the namespace"},
-    {"updateRate", TagType::kPositive, "0", "Hz", "how often it publishes; 0: every step", ""},
+    {"updateRate", TagType::kRate, "0", "Hz", "how often it publishes; 0: every step", ""},
     {"gaussianNoise", TagType::kPositive, "0", "",
      "the standard deviation of a zero-mean noise on the angular velocity [rad/s] and the "
      "acceleration [m/s^2]",

@@ -14,7 +14,7 @@ const TagTable kJointStatesTags = {
      "the joints published, separated by commas; none when absent",
      "separated by commas or spaces; every moving joint when absent; a name that is no moving joint is an "
      "error naming the nearest one"},
-    {"updateRate", TagType::kPositive, "100", "Hz", "how often it publishes; 0: every step", ""},
+    {"updateRate", TagType::kRate, "100", "Hz", "how often it publishes; 0: every step", ""},
     {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
 };
 

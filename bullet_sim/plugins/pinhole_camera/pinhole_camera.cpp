@@ -368,7 +368,7 @@ TagTable cameraTags(bool depth) {
       {"cameraInfoTopicName", TagType::kTopic, info, "", "the topic of the image's camera_info", ""},
       {"frameName", TagType::kFrame, "the sensor's link", "", "the messages' frame_id; empty when absent",
        "the sensor's link when absent; a name that is no link is a warning, and is still the frame_id"},
-      {"updateRate", TagType::kPositive, "0", "Hz",
+      {"updateRate", TagType::kRate, "0", "Hz",
        "throttles the plugin below the sensor's <update_rate>; 0: every frame the sensor renders", ""},
       {"focalLength", TagType::kPositive, "0", "px",
        "camera_info's focal length; 0: width / (2 tan(horizontal_fov / 2)); another value is a warning",

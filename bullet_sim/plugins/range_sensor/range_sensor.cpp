@@ -24,7 +24,7 @@ const TagTable kRangeTags = {
     {"gaussianNoise", TagType::kPositive, "0", "m",
      "the standard deviation of a zero-mean noise on ranges below the maximum, which are then capped at it",
      "noisy ranges are clamped to [min, max]"},
-    {"updateRate", TagType::kPositive, "0", "Hz",
+    {"updateRate", TagType::kRate, "0", "Hz",
      "throttles the plugin below the sensor's <update_rate>; 0: at every sensor update", ""},
     {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
 };

@@ -25,7 +25,7 @@ std::vector<TagRow> headRows() {
       {"robotBaseFrame", TagType::kFrame, "base_footprint", "",
        "the odometry's child_frame_id; the pose is the model's",
        "the pose is this link's; when it names no link, a warning, and the root link's pose"},
-      {"updateRate", TagType::kPositive, "100", "Hz",
+      {"updateRate", TagType::kRate, "100", "Hz",
        "how often the wheels get new speeds and the odometry is published; 0: every step", ""},
   };
 }

@@ -573,11 +573,11 @@ class ModelParser {
     }
     if (auto* rate = element->FirstChildElement("update_rate")) {
       const auto value = parseDouble(rate->GetText());
-      if (!value || *value < 0) {
-        diagnostics_.error(here + "<update_rate> must be a number >= 0 [Hz], not [" +
+      if (!value) {
+        diagnostics_.error(here + "<update_rate> must be a number [Hz], not [" +
                            (rate->GetText() ? rate->GetText() : "") + "]");
       } else {
-        sensor.update_rate = *value;
+        sensor.update_rate = sensorUpdateRate(*value, here, diagnostics_);
       }
     }
     const auto* plugin_element = element->FirstChildElement("plugin");

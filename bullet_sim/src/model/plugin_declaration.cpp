@@ -1,5 +1,7 @@
 #include "bullet_sim/model/plugin_declaration.h"
 
+#include <sstream>
+
 #include "bullet_sim/model/model.h"
 
 namespace bullet_sim {
@@ -21,6 +23,14 @@ std::string frameLink(const ModelSpec& model, const std::string& where, const st
                       ": messages carry it as their frame_id all the same, as Gazebo's do" +
                       (fallback.empty() ? "" : "; link [" + fallback + "] is measured instead"));
   return fallback;
+}
+
+double sensorUpdateRate(double hz, const std::string& where, Diagnostics& diagnostics) {
+  if (!(hz < 0)) return hz;
+  std::ostringstream message;
+  message << where << "<update_rate> " << hz << " is below 0: read as 0, every step, as Gazebo does";
+  diagnostics.warning(message.str());
+  return 0;
 }
 
 }  // namespace bullet_sim

@@ -50,6 +50,7 @@ const char* tagTypeName(TagType type) {
     case TagType::kFrame: return "frame";
     case TagType::kNumber: return "number";
     case TagType::kPositive: return "number >= 0";
+    case TagType::kRate: return "number (< 0: as 0)";
     case TagType::kFlag: return "true/false";
     case TagType::kList: return "list";
     case TagType::kIgnored: return "ignored";
@@ -203,6 +204,19 @@ double PluginTags::positive(const std::string& tag, double fallback, bool allow_
     return fallback;
   }
   return value;
+}
+
+double PluginTags::rate(const std::string& tag) { return rate(tag, rowNumber(tag, {TagType::kRate})); }
+
+double PluginTags::rate(const std::string& tag, double fallback) {
+  checkedRow(tag, {TagType::kRate});
+  const double value = rawNumber(tag, fallback);
+  if (!(value < 0)) return value;
+  std::ostringstream message;
+  message << where_ << " <" << tag << "> " << value
+          << " is below 0: read as 0, every update, as Gazebo's plugin reads it";
+  diagnostics_.warning(message.str());
+  return 0;
 }
 
 double PluginTags::capped(const std::string& tag, double fallback, double limit, const char* limit_name,

@@ -480,7 +480,8 @@ class WorldConverter {
     declared.name = sensor.Name();
     declared.link = link;
     declared.pose = resolvePose(sensor.SemanticPose(), "", where, sensor.Element());  // in its link's frame
-    declared.update_rate = sensor.UpdateRate();
+    declared.update_rate = sensorUpdateRate(sensor.UpdateRate(), locate(sensor.Element()) + where + " ",
+                                            diagnostics_);
     TagNode tags = tagNodeOf(sensor.Element());
     declared.type = tags.attribute("type");
     const TagNode* plugin = tags.child("plugin");

@@ -85,7 +85,7 @@ std::vector<TagRow> hectorBodyAndTimerRows(const std::string& rate) {
       {"bodyName", TagType::kFrame, "the root link", "",
        "the link measured; the model's canonical link when absent",
        "a name that is no link is a warning, and the root link is measured"},
-      {"updateRate", TagType::kPositive, rate, "Hz", "how often it publishes; 0: every step", ""},
+      {"updateRate", TagType::kRate, rate, "Hz", "how often it publishes; 0: every step", ""},
       {"updatePeriod", TagType::kPositive, "1 / updateRate", "s",
        "the time between updates, instead of updateRate; 0: every step", ""},
       {"updateOffset", TagType::kText, "0", "s", "delays the updates within each period",
@@ -100,7 +100,7 @@ std::string readHectorBody(const DeclarationSource& source, std::string* name) {
 }
 
 double readHectorUpdateRate(PluginTags& tags) {
-  double rate = tags.nonNegative("updateRate");
+  double rate = tags.rate("updateRate");
   if (tags.has("updatePeriod")) {
     const double period = tags.positive("updatePeriod", rate > 0 ? 1 / rate : 0, /*allow_zero=*/true);
     rate = period > 0 ? 1 / period : 0;

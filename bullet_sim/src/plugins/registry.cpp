@@ -20,7 +20,7 @@ TagTable headTable(const PluginType& type) {
   const bool sensor_rate = type.rate.from == RateRule::From::kSensor;
   for (const std::string& tag : type.rate.tags) {
     if (type.tags.row(tag)) continue;  // the plugin documents it itself
-    head.add({tag, sensor_rate ? TagType::kIgnored : TagType::kPositive,
+    head.add({tag, sensor_rate ? TagType::kIgnored : TagType::kRate,
               type.rate.from == RateRule::From::kTags ? std::to_string(type.rate.fallback) : "the sensor's",
               "Hz", "how often the plugin publishes (0: every step)",
               sensor_rate ? "the sensor's <update_rate> rules" : ""});
@@ -44,7 +44,7 @@ ParseHead readHead(const PluginType& type, const DeclarationSource& source) {
   for (const std::string& tag : type.rate.tags) {
     if (type.rate.from == RateRule::From::kSensor || !tags.has(tag))
       continue;  // ignored rows: nothing to read
-    const double value = tags.positive(tag, 0, /*allow_zero=*/true);
+    const double value = tags.rate(tag, 0);
     if (!tag_rate) tag_rate = value;
   }
   switch (type.rate.from) {
@@ -83,6 +83,15 @@ const PluginRegistry& PluginRegistry::builtin() {
 
 void PluginRegistry::add(PluginType type) {
   type.tags = headTable(type);
+  // The head reads each rate tag as a rate (below 0: 0, as Gazebo's plugins take it); a row documenting it
+  // otherwise would show the reference page a rule the parser does not follow.
+  const TagType rate_type = type.rate.from == RateRule::From::kSensor ? TagType::kIgnored : TagType::kRate;
+  for (const std::string& tag : type.rate.tags) {
+    if (type.tags.row(tag)->type != rate_type) {
+      throw std::logic_error(type.filename + "'s rate tag <" + tag + "> is not documented as " +
+                             tagTypeName(rate_type) + " in its tag table");
+    }
+  }
   auto same = std::find_if(types_.begin(), types_.end(), [&](const PluginType& known) {
     return known.filename == type.filename && known.sensor_types == type.sensor_types;
   });

@@ -76,6 +76,10 @@ std::string frameLink(const DeclarationSource& source, const std::string& tag, c
 std::string frameLink(const ModelSpec& model, const std::string& where, const std::string& tag,
                       const std::string& frame, const std::string& fallback, Diagnostics& diagnostics);
 
+/// A <sensor>'s <update_rate> [Hz] as Gazebo's sensor takes it: one below 0 is 0, every step
+/// (Sensor::SetUpdateRate sets a period only for a rate above 0), with a warning naming it; `where` heads it.
+double sensorUpdateRate(double hz, const std::string& where, Diagnostics& diagnostics);
+
 /// Turns declarations into typed configs; the plugin registry implements it.
 class PluginParsers {
  public:

@@ -131,7 +131,8 @@ class PluginRegistry final : public PluginParsers {
   static const PluginRegistry& builtin();
 
   /// Adds a type (its tag table gains the head's rows); one of the same filename and sensor types is
-  /// replaced.
+  /// replaced. A rate tag its table documents as other than TagType::kRate (kIgnored where the sensor's
+  /// <update_rate> rules) is a std::logic_error.
   void add(PluginType type);
   /// The type for a model plugin (`sensor_type` nullptr) or a sensor's plugin, or nullptr.
   const PluginType* find(const std::string& filename, const std::string* sensor_type) const;
