@@ -10,6 +10,7 @@
 
 #include "bullet_sim/model/sdf_model.h"
 #include "bullet_sim/model/world.h"
+#include "plugins/ground_truth/ground_truth.h"
 #include "plugins/joint_states/joint_states.h"
 #include "plugins/ray_lidar/ray_lidar.h"
 #include "bullet_sim/plugins/registry.h"
@@ -98,6 +99,18 @@ std::string withJointStates(const std::string& urdf, const std::string& rate) {
                           {{"updateRate", rate}});
 }
 
+/// A lidar <noise> of standard deviation `stddev` [m].
+std::string lidarNoise(const std::string& stddev) {
+  return "<noise><type>gaussian</type><mean>0</mean><stddev>" + stddev + "</stddev></noise>";
+}
+
+/// `urdf` with a p3d on base_link whose noise has standard deviation `stddev`.
+std::string withP3d(const std::string& urdf, const std::string& stddev) {
+  return test::withPlugin(
+      urdf, "p3d", "libgazebo_ros_p3d.so",
+      {{"bodyName", "base_link"}, {"topicName", "ground_truth"}, {"gaussianNoise", stddev}});
+}
+
 struct Tolerated {
   const char* name;
   std::string urdf;
@@ -173,6 +186,14 @@ std::vector<Tolerated> toleratedForms() {
       {"NegativeJointStatesUpdateRate", withJointStates(robot, "-2.5"),
        "plugin [joint_states] <updateRate> -2.5 is below 0: read as 0, every update, as Gazebo's plugin "
        "reads it"},
+      {"NegativeLidarNoiseStddev", withElements(robot, lidarOnBase("10", lidarNoise("-0.01"))),
+       "<noise> <stddev> -0.01 is negative: read as 0.01, as Gazebo's Gaussian noise takes it"},
+      {"NegativeP3dGaussianNoise", withP3d(robot, "-0.01"),
+       "plugin [p3d] <gaussianNoise> -0.01 is negative: read as 0.01, as Gazebo's Gaussian noise takes it"},
+      {"NegativeImuGaussianNoise",
+       test::withPlugin(robot, "imu", "libgazebo_ros_imu.so",
+                        {{"bodyName", "base_link"}, {"gaussianNoise", "-0.002"}}),
+       "plugin [imu] <gaussianNoise> -0.002 is negative: read as 0.002, as Gazebo's Gaussian noise takes it"},
   };
 }
 
@@ -254,6 +275,32 @@ TEST(TolerantLoading, AnUpdateRateThatIsNoNumberStaysAnError) {
               ElementsAre(HasSubstr("<update_rate> must be a number [Hz], not [fast]")));
   EXPECT_THAT(test::loadErrors(test::withPluginTags(driveable(), "diff_drive.so", {{"updateRate", "x"}})),
               ElementsAre(HasSubstr("<updateRate> must be a number, not [x]")));
+}
+
+/// The ranges of the first scan of the lidar, and the first pose p3d gives, of `urdf`'s robot in the test
+/// room (walls 2 and 3 m away), whose lidar scans and p3d publishes every step.
+std::pair<std::vector<float>, Eigen::Vector3d> firstReadings(const std::string& urdf) {
+  Simulation simulation(test::shippedWorld("test_room.world"));
+  std::vector<std::string> warnings;
+  Robot& robot =
+      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
+  simulation.step();
+  return {test::latestOf<LaserScan>(*test::pluginsOf<RayLidar>(robot).front()).ranges,
+          test::latestOf<Odometry>(*test::pluginsOf<GroundTruth>(robot).front()).pose.translation()};
+}
+
+TEST(TolerantLoading, ANegativeNoiseStddevDrawsAsItsAbsoluteValue) {
+  const auto readings = [](const std::string& stddev) {
+    return firstReadings(withP3d(withElements(driveable(), lidarOnBase("0", lidarNoise(stddev))), stddev));
+  };
+  const auto negative = readings("-0.01"), positive = readings("0.01"), exact = readings("0");
+  EXPECT_EQ(negative.first, positive.first) << "the same seeded draws, scaled by 0.01";
+  EXPECT_EQ(negative.second, positive.second);
+  EXPECT_NE(negative.first, exact.first) << "noisy";
+  EXPECT_NE(negative.second, exact.second);
+  const ModelSpec model = parseModel(withElements(driveable(), lidarOnBase("10", lidarNoise("-0.01"))),
+                                     "robot", PackageResolver::fromEnvironment(), nullptr);
+  EXPECT_EQ(model.plugins.back().configAs<RayLidarConfig>()->noise_stddev, 0.01);
 }
 
 TEST(TolerantLoading, AWheelTorqueNotAboveZeroLoadsAndTheRobotDoesNotDrive) {

@@ -18,7 +18,7 @@ const TagTable kGroundTruthTags = withUnreadTutorialTags({
      "the frame of the pose: world (or map), or a link of the robot that pose and velocities are relative to",
      "poses are in the world frame whatever it names (a warning unless world or map); it is the frame_id"},
     {"updateRate", TagType::kRate, "0", "Hz", "how often it publishes; 0: every step", ""},
-    {"gaussianNoise", TagType::kPositive, "0", "",
+    {"gaussianNoise", TagType::kDeviation, "0", "",
      "the standard deviation of a zero-mean noise on the position [m] and the velocities [m/s, rad/s]",
      "the same, and the covariances' diagonals are its square"},
 });
@@ -32,7 +32,7 @@ void parseGroundTruth(const DeclarationSource& source, GroundTruthConfig& config
   config.body = tags.frame("bodyName", source.model.root, /*gazebo_drops_slash=*/false);
   config.link = frameLink(source, "bodyName", config.body, source.model.root);
   config.topic = tags.text("topicName");
-  config.noise_stddev = tags.nonNegative("gaussianNoise");
+  config.noise_stddev = tags.deviation("gaussianNoise");
   config.frame = tags.frame("frameName", kGroundTruthTags.row("frameName")->fallback);
   if (config.frame != "world" && config.frame != "map") {
     source.diagnostics.warning(tags.where() + " <frameName> [" + config.frame +

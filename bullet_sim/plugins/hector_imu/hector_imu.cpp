@@ -18,12 +18,12 @@ TagTable hectorImuTags() {
        "a std_srvs/Empty service that zeroes the rate drift", ""},
       {"rpyOffset", TagType::kText, "0 0 0", "rad", "roll, pitch and yaw that turn the reading", ""},
       {"xyzOffset", TagType::kIgnored, "", "m", "read, and without effect", ""},
-      {"gaussianNoise", TagType::kPositive, "0", "",
+      {"gaussianNoise", TagType::kDeviation, "0", "",
        "gazebo_ros_imu's tag: when not 0, the accel and rate white noise on every axis", ""},
       {"headingDrift", TagType::kPositive, "yawDrift's", "rad",
        "not read (older hector's name of yawDrift, which Husky's description writes)",
        "read as yawDrift unless that is given, with a warning"},
-      {"headingGaussianNoise", TagType::kPositive, "yawGaussianNoise's", "rad",
+      {"headingGaussianNoise", TagType::kDeviation, "yawGaussianNoise's", "rad",
        "not read (older hector's name of yawGaussianNoise)",
        "read as yawGaussianNoise unless that is given, with a warning"},
       {"alwaysOn", TagType::kIgnored, "", "", "not read (a tag of older gazebo_plugins)", ""},
@@ -44,7 +44,8 @@ void readHeadingTags(PluginTags& tags, SensorErrorConfig& yaw) {
   double* const values[] = {&yaw.drift.x(), &yaw.gaussian_noise.x()};
   for (int i = 0; i < 2; ++i) {
     if (!tags.has(old_names[i])) continue;
-    const double value = tags.positive(old_names[i], *values[i], /*allow_zero=*/true);
+    const double value = i == 0 ? tags.positive(old_names[i], *values[i], /*allow_zero=*/true)
+                                : tags.deviation(old_names[i], *values[i]);
     const std::string new_name = std::string("<") + new_names[i] + ">";
     const bool superseded = tags.has(new_names[i]);
     if (!superseded) *values[i] = value;
@@ -71,7 +72,7 @@ void parseHectorImu(const DeclarationSource& source, HectorImuConfig& config) {
   config.rate = readSensorError(tags, "rate", /*vector=*/true);
   config.yaw = readSensorError(tags, "yaw", /*vector=*/false);
   readHeadingTags(tags, config.yaw);
-  if (const double noise = tags.nonNegative("gaussianNoise"); noise != 0)
+  if (const double noise = tags.deviation("gaussianNoise"); noise != 0)
     config.accel.gaussian_noise = config.rate.gaussian_noise = Eigen::Vector3d::Constant(noise);
   const Eigen::Vector3d rpy = readVector3(tags, "rpyOffset");
   config.rpy_offset = Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *

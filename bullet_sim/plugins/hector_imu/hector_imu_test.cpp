@@ -180,6 +180,31 @@ TEST(HectorImu, LoadMessages) {
                          "[base_footprint] is measured instead")));
 }
 
+TEST(HectorImu, ANegativeGaussianNoiseIsReadAsItsAbsoluteValueWithAWarning) {
+  // hector's kernel draws sigma * X + mu, as Gazebo does with any sign of sigma.
+  const std::string urdf = idealImu({{"accelGaussianNoise", "-0.1 0.2 -0.3"},
+                                     {"yawGaussianNoise", "-0.05"},
+                                     {"gaussianNoise", "0"},
+                                     {"updateRate", "-1"}});
+  const std::vector<std::string> warnings = loadWarnings(urdf);
+  EXPECT_THAT(warnings, Contains(HasSubstr("<accelGaussianNoise> -0.1 0.2 -0.3 has a negative component: "
+                                           "read as 0.1 0.2 0.3, as Gazebo's Gaussian noise takes it")));
+  EXPECT_THAT(warnings, Contains(HasSubstr("<yawGaussianNoise> -0.05 is negative: read as 0.05")));
+  EXPECT_THAT(warnings, Contains(HasSubstr("<updateRate> -1 is below 0: read as 0, every update")));
+  const ModelSpec model = parseModel(urdf, "robot", PackageResolver::fromEnvironment());
+  for (const auto& plugin : model.plugins) {
+    if (const auto* config = plugin.configAs<HectorImuConfig>()) {
+      EXPECT_EQ(config->accel.gaussian_noise, Eigen::Vector3d(0.1, 0.2, 0.3));
+      EXPECT_EQ(config->yaw.gaussian_noise.x(), 0.05);
+      EXPECT_EQ(config->update_rate, 0.0);
+    }
+  }
+  EXPECT_THAT(loadWarnings(idealImu({{"gaussianNoise", "-0.01"}})),
+              Contains(HasSubstr("<gaussianNoise> -0.01 is negative: read as 0.01")));
+  EXPECT_THAT(loadErrors(idealImu({{"accelDrift", "-0.1 0 0"}})),
+              ElementsAre(HasSubstr("<accelDrift> and <accelDriftFrequency> must not be negative")));
+}
+
 // On the moving robot.
 
 const SpawnPose kStart{.x = 0.5, .y = -0.3, .yaw = 0.4};

@@ -16,7 +16,7 @@ const TagTable kImuSensorTags = {
     {"updateRateHZ", TagType::kRate, "the sensor's", "Hz",
      "throttles the plugin below the sensor's <update_rate>; 1 Hz when absent",
      "the plugin's rate when given, else the sensor's <update_rate>"},
-    {"gaussianNoise", TagType::kPositive, "0", "",
+    {"gaussianNoise", TagType::kDeviation, "0", "",
      "the standard deviation of a zero-mean noise on every value, the orientation's included",
      "on the angular velocity [rad/s] and the linear acceleration [m/s^2] only: the orientation is exact"},
     {"rpyOffset", TagType::kIgnored, "", "rad", "turns the orientation reading by these roll, pitch and yaw",
@@ -38,7 +38,7 @@ const TagTable kImuPluginTags = withUnreadTutorialTags({
     {"topicName", TagType::kTopic, "imu", "", "the topic of the readings; /default_imu when absent",
      "imu when absent, relative to the namespace"},
     {"updateRate", TagType::kRate, "0", "Hz", "how often it publishes; 0: every step", ""},
-    {"gaussianNoise", TagType::kPositive, "0", "",
+    {"gaussianNoise", TagType::kDeviation, "0", "",
      "the standard deviation of a zero-mean noise on the angular velocity [rad/s] and the "
      "acceleration [m/s^2]",
      ""},
@@ -52,7 +52,7 @@ void parseImuSensor(const DeclarationSource& source, ImuConfig& config) {
   PluginTags& tags = source.tags;
   config.topic = tags.text("topicName");
   config.frame = tags.frame("frameName", config.link, /*gazebo_drops_slash=*/false);
-  config.noise_stddev = tags.nonNegative("gaussianNoise");
+  config.noise_stddev = tags.deviation("gaussianNoise");
   frameLink(source, "frameName", config.frame);
 }
 
@@ -65,7 +65,7 @@ void parseImuPlugin(const DeclarationSource& source, ImuConfig& config) {
   config.link = frameLink(source, "bodyName", body, model.root);
   config.frame = tags.frame("frameName", body, /*gazebo_drops_slash=*/false);
   config.topic = tags.text("topicName");
-  config.noise_stddev = tags.nonNegative("gaussianNoise");
+  config.noise_stddev = tags.deviation("gaussianNoise");
   if (config.frame != body) frameLink(source, "frameName", config.frame);
 }
 

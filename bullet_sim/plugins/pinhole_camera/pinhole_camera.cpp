@@ -104,7 +104,7 @@ std::array<double, 5> readCameraTags(const TagNode* sensor, const std::string& w
     if (type != "gaussian" && type != "none")
       diagnostics.error(where + " <noise><type> must be gaussian or none, not [" + type + "]");
     config.noise_mean = type == "none" ? 0 : noise.number("mean", 0);
-    config.noise_stddev = type == "none" ? 0 : noise.positive("stddev", 0, /*allow_zero=*/true);
+    config.noise_stddev = type == "none" ? 0 : noise.deviation("stddev", 0);
     noise.finish();
   }
   return readDistortion(camera, where, diagnostics);

@@ -259,6 +259,19 @@ TEST(Camera, TheSameSeedGivesTheSameNoisyImages) {
   EXPECT_NE(test::latestOf<CameraImage>(*first.camera).data, test::latestOf<CameraImage>(*other.camera).data);
 }
 
+TEST(Camera, ANegativeNoiseStddevIsReadAsItsAbsoluteValue) {
+  // Gazebo's noise adds stddev times a standard normal, which the sign does not change.
+  CameraSetup setup;
+  setup.noise = "<noise><type>gaussian</type><mean>0</mean><stddev>-0.05</stddev></noise>";
+  std::vector<std::string> warnings;
+  const ModelSpec model =
+      parseModel(cameraRobot(setup), "camera_box", PackageResolver::fromEnvironment(), &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("<noise> <stddev> -0.05 is negative: read as 0.05, as Gazebo's Gaussian "
+                                     "noise takes it"));
+  EXPECT_EQ(model.plugins.at(0).configAs<PinholeCameraConfig>()->noise_stddev, 0.05);
+}
+
 TEST(Camera, ColourFormatsMapToTheirRosEncodings) {
   for (const auto& [format, encoding] : std::vector<std::pair<std::string, std::string>>{
            {"B8G8R8", "bgr8"}, {"L8", "mono8"}, {"R16G16B16", "rgb16"}}) {

@@ -21,7 +21,7 @@ const TagTable kRangeTags = {
      "the same, with a warning for a word other than ultrasound or infrared"},
     {"fov", TagType::kPositive, "0.05", "rad",
      "the message's field_of_view only; the rays the sensor casts decide what it sees", ""},
-    {"gaussianNoise", TagType::kPositive, "0", "m",
+    {"gaussianNoise", TagType::kDeviation, "0", "m",
      "the standard deviation of a zero-mean noise on ranges below the maximum, which are then capped at it",
      "noisy ranges are clamped to [min, max]"},
     {"updateRate", TagType::kRate, "0", "Hz",
@@ -58,7 +58,7 @@ void parseRange(const DeclarationSource& source, RangeConfig& config) {
                                radiation + "]: infrared is used, as Gazebo does");
   }
   config.field_of_view = tags.nonNegative("fov");
-  config.noise_stddev = tags.nonNegative("gaussianNoise");
+  config.noise_stddev = tags.deviation("gaussianNoise");
   frameLink(source, "frameName", config.frame);
 }
 

@@ -97,7 +97,7 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
       diagnostics.error(where + " <noise><type> must be gaussian or none, not [" + type + "]");
     }
     config.noise_mean = noise.number("mean", 0);
-    config.noise_stddev = noise.positive("stddev", 0, /*allow_zero=*/true);
+    config.noise_stddev = noise.deviation("stddev", 0);
     if (type == "none") config.noise_mean = config.noise_stddev = 0;
     noise.finish();
   }
@@ -116,7 +116,7 @@ void readVelodyneTags(PluginTags& tags, RayLidarConfig& config) {
   config.range_min = tags.positive("min_range", config.range_min, /*allow_zero=*/true);
   config.range_max = tags.positive("max_range", config.range_max);
   if (tags.has("gaussianNoise")) config.noise_mean = 0;
-  config.noise_stddev = tags.positive("gaussianNoise", config.noise_stddev, /*allow_zero=*/true);
+  config.noise_stddev = tags.deviation("gaussianNoise", config.noise_stddev);
 }
 
 /// The plugin tags of a lidar of `output`: those every laser plugin shares, then the velodyne plugins' own.
@@ -155,7 +155,7 @@ TagTable lidarTags(RayLidarConfig::Output output) {
   table.add({"max_range", TagType::kPositive, "the sensor's <range><max>", "m",
              "returns at or beyond the smaller of it and the sensor's <max> are left out; none when absent",
              "replaces the sensor's <max>: rays reach it, and returns beyond it are left out"});
-  table.add({"gaussianNoise", TagType::kPositive, "the sensor's <noise>", "m",
+  table.add({"gaussianNoise", TagType::kDeviation, "the sensor's <noise>", "m",
              "the standard deviation of a zero-mean noise on each kept range; 0 when absent",
              "replaces the sensor's <noise>; noisy ranges are clamped to the range band"});
   return table;

@@ -51,6 +51,7 @@ const char* tagTypeName(TagType type) {
     case TagType::kNumber: return "number";
     case TagType::kPositive: return "number >= 0";
     case TagType::kRate: return "number (< 0: as 0)";
+    case TagType::kDeviation: return "number (< 0: as its absolute value)";
     case TagType::kFlag: return "true/false";
     case TagType::kList: return "list";
     case TagType::kIgnored: return "ignored";
@@ -217,6 +218,21 @@ double PluginTags::rate(const std::string& tag, double fallback) {
           << " is below 0: read as 0, every update, as Gazebo's plugin reads it";
   diagnostics_.warning(message.str());
   return 0;
+}
+
+double PluginTags::deviation(const std::string& tag) {
+  return deviation(tag, rowNumber(tag, {TagType::kDeviation}));
+}
+
+double PluginTags::deviation(const std::string& tag, double fallback) {
+  checkedRow(tag, {TagType::kDeviation});
+  const double value = rawNumber(tag, fallback);
+  if (!(value < 0)) return value;
+  std::ostringstream message;
+  message << where_ << " <" << tag << "> " << value << " is negative: read as " << -value
+          << ", as Gazebo's Gaussian noise takes it";
+  diagnostics_.warning(message.str());
+  return -value;
 }
 
 double PluginTags::capped(const std::string& tag, double fallback, double limit, const char* limit_name,

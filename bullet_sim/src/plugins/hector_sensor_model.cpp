@@ -30,6 +30,23 @@ std::string modelTag(const std::string& prefix, const std::string& field) {
   return prefix + field;
 }
 
+/// hector's white noise draws sigma * X + mu (Box-Muller, X standard normal), so a negative sigma is its
+/// absolute value: read so, with a warning naming it. `axes`: how many of `noise`'s components were read.
+void readAbsoluteNoise(PluginTags& tags, const std::string& tag, int axes, Eigen::Vector3d& noise) {
+  if (!(noise.head(axes).array() < 0).any()) return;
+  std::ostringstream message;
+  const auto write = [&](const Eigen::Vector3d& value) {
+    for (int i = 0; i < axes; ++i) message << (i ? " " : "") << value[i];
+  };
+  message << tags.where() << " <" << tag << "> ";
+  write(noise);
+  message << (axes == 1 ? " is negative" : " has a negative component") << ": read as ";
+  noise = noise.cwiseAbs();
+  write(noise);
+  message << ", as Gazebo's Gaussian noise takes it";
+  tags.diagnostics().warning(message.str());
+}
+
 }  // namespace
 
 std::vector<TagRow> sensorErrorRows(const std::string& prefix, bool vector, const std::string& unit) {
@@ -71,12 +88,11 @@ SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, b
   config.gaussian_noise = read("GaussianNoise");
   config.scale_error = read("ScaleError");
   const int axes = vector ? 3 : 1;
-  if ((config.drift.head(axes).array() < 0).any() || (config.gaussian_noise.head(axes).array() < 0).any() ||
-      (config.drift_frequency.head(axes).array() < 0).any()) {
-    tags.diagnostics().error(tags.where() + " <" + modelTag(prefix, "Drift") + ">, <" +
-                             modelTag(prefix, "DriftFrequency") + "> and <" +
-                             modelTag(prefix, "GaussianNoise") + "> must not be negative");
+  if ((config.drift.head(axes).array() < 0).any() || (config.drift_frequency.head(axes).array() < 0).any()) {
+    tags.diagnostics().error(tags.where() + " <" + modelTag(prefix, "Drift") + "> and <" +
+                             modelTag(prefix, "DriftFrequency") + "> must not be negative");
   }
+  readAbsoluteNoise(tags, modelTag(prefix, "GaussianNoise"), axes, config.gaussian_noise);
   return config;
 }
 

@@ -29,10 +29,10 @@ struct TagNode {
 };
 
 /// How a tag's text is read, as a plugin's reference page names it.
-enum class TagType { kText, kTopic, kFrame, kNumber, kPositive, kRate, kFlag, kList, kIgnored };
+enum class TagType { kText, kTopic, kFrame, kNumber, kPositive, kRate, kDeviation, kFlag, kList, kIgnored };
 
-/// "text", "topic", "frame", "number", "number >= 0", "number (< 0: as 0)" (a rate), "true/false", "list"
-/// or "ignored".
+/// "text", "topic", "frame", "number", "number >= 0", "number (< 0: as 0)" (a rate), "number (< 0: as its
+/// absolute value)" (a standard deviation), "true/false", "list" or "ignored".
 const char* tagTypeName(TagType type);
 
 /// One row of a plugin's tag table: its reference page shows it, and its parser reads the tag through it.
@@ -99,6 +99,9 @@ class PluginTags {
   /// An update rate [Hz]. Gazebo's plugins take any: each updates at every world (or sensor) update when its
   /// rate is not above 0, so one below 0 is read as 0, with a warning naming it.
   double rate(const std::string& tag, double fallback);
+  /// A noise's standard deviation. Gazebo's noise takes any sign (it draws sigma * z + mu, z standard
+  /// normal), so a negative one is read as its absolute value, with a warning naming it.
+  double deviation(const std::string& tag, double fallback);
   bool flag(const std::string& tag, bool fallback);
   /// The same readers with the table row's fallback.
   std::string text(const std::string& tag);
@@ -106,6 +109,7 @@ class PluginTags {
   double positive(const std::string& tag);     ///< > 0
   double nonNegative(const std::string& tag);  ///< >= 0
   double rate(const std::string& tag);
+  double deviation(const std::string& tag);
   bool flag(const std::string& tag);
   /// A comma- or space-separated list.
   std::vector<std::string> list(const std::string& tag);
