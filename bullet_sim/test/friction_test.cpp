@@ -77,13 +77,14 @@ INSTANTIATE_TEST_SUITE_P(
                       Surfaces{0.8, 0.5, 0.5},           // both below 1: the lesser, not their product
                       Surfaces{100, 0.5, 0.5}));         // Gazebo's ground_plane (mu 100)
 
-// A sled's runner, fixed under its deck, is one body with it; the runner's mu meets the floor, not the deck's.
+// A sled's runner, fixed under its deck, is one body with it; the runner's mu meets the floor, not the
+// deck's.
 TEST(FrictionOfFixedLinks, EachCollisionTakesItsOwnLinksMu) {
   const WorldSpec world = floorWorld(1.0);
   Simulation simulation(world);
   const std::string sled = "<robot name=\"sled\">" + boxLink("deck", std::nullopt) + boxLink("runner", 0.1) +
-                           "<joint name=\"fixed\" type=\"fixed\"><parent link=\"deck\"/><child link=\"runner\"/>"
-                           "<origin xyz=\"0 0 -0.2\"/></joint></robot>";
+                           "<joint name=\"fixed\" type=\"fixed\"><parent link=\"deck\"/>"
+                           "<child link=\"runner\"/><origin xyz=\"0 0 -0.2\"/></joint></robot>";
   simulation.spawn("sled", test::parseQuietly(sled, "sled.urdf"), {.z = 0.3});
   const double expected = stoppingDistance(0.1, world);
   EXPECT_NEAR(slide(simulation, "sled"), expected, 0.04 * expected);
