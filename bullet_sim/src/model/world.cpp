@@ -360,7 +360,8 @@ class WorldConverter {
       const sdf::Collision& collision = *link.CollisionByIndex(c);
       const std::string where = owner + " collision [" + collision.Name() + "]";
       placed.collisions.push_back(collision.Name());
-      if (c == 0) placed.surface = surfaceOf(collision);
+      const SurfaceSpec surface = surfaceOf(collision);
+      if (c == 0) placed.surface = surface;
       std::optional<Shape> shape = toShape(*collision.Geom(), where);
       if (!shape) continue;
       Collision result;
@@ -368,7 +369,7 @@ class WorldConverter {
           in_top_model * resolvePose(collision.SemanticPose(), "__model__", where, collision.Element());
       result.shape = std::move(*shape);
       result.name = scope + "::" + link.Name() + "::" + collision.Name();
-      result.mu = surfaceOf(collision).mu1;
+      result.mu = surface.mu1;
       placed.collision_indices.push_back(spec.collisions.size());
       spec.collisions.push_back(std::move(result));
     }

@@ -50,8 +50,8 @@ void CollisionNames::append(const CollisionNames& from, size_t index, int count)
 }
 
 CollisionNames robotCollisionNames(const std::string& robot, const ModelSpec& spec,
+                                   const std::vector<GazeboCollision>& gazebo,
                                    const std::vector<CollisionSource>& sources) {
-  const std::vector<GazeboCollision> gazebo = gazeboCollisions(spec);
   CollisionNames named;
   for (const CollisionSource& source : sources) {
     const auto found = std::find_if(gazebo.begin(), gazebo.end(), [&](const GazeboCollision& collision) {

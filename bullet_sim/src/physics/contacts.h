@@ -54,8 +54,10 @@ struct CollisionNames {
   void append(const CollisionNames& from, size_t index, int count);
 };
 
-/// The names and mu of collisions `sources` of robot `spec`, named `robot`, as Gazebo names them.
+/// The names and mu of collisions `sources` of robot `spec`, named `robot`, as Gazebo names them (`gazebo`:
+/// gazeboCollisions(spec), which a robot of many parts computes once).
 CollisionNames robotCollisionNames(const std::string& robot, const ModelSpec& spec,
+                                   const std::vector<GazeboCollision>& gazebo,
                                    const std::vector<CollisionSource>& sources);
 
 /// The friction coefficient of a contact between child `child0` of `object0` and child `child1` of `object1`:

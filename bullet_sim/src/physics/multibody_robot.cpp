@@ -111,8 +111,9 @@ void MultiBodyRobot::buildMultiBody(const Eigen::Isometry3d& root_pose) {
   body_->setUseGyroTerm(true);
   body_->setHasSelfCollision(self_collision_->any());
   world_.addMultiBody(body_.get());
+  const std::vector<GazeboCollision> gazebo = gazeboCollisions(spec_);
   for (int k = 0; k <= links; ++k) {
-    collision_names_.push_back(robotCollisionNames(name_, spec_, parts_[k].sources));
+    collision_names_.push_back(robotCollisionNames(name_, spec_, gazebo, parts_[k].sources));
   }
   child_ranges_.resize(parts_.size());
   for (int k = 0; k <= links; ++k) addCollider(k);

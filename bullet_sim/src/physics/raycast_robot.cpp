@@ -187,7 +187,7 @@ void RaycastRobot::buildChassis(const Eigen::Isometry3d& root_pose) {
   }
   addWheelRims(*compound);
   compound->recalculateLocalAabb();
-  chassis_names_ = robotCollisionNames(name_, spec_, chassis_sources_);
+  chassis_names_ = robotCollisionNames(name_, spec_, gazeboCollisions(spec_), chassis_sources_);
   chassis_names_.tuner = this;
   btRigidBody::btRigidBodyConstructionInfo info(mass_, nullptr, compound, toBullet(moments));
   info.m_friction = spec_.link(spec_.root)->surface.mu1;

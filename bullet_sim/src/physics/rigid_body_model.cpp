@@ -57,7 +57,7 @@ void RigidBodyModel::buildBody(const Eigen::Isometry3d& root_pose) {
 
   const Eigen::Isometry3d body_to_part = part_to_body_.inverse();
   btCompoundShape* compound = shapes_->makeCompound(toBullet(body_to_part));  // bounds along the part's root
-  const CollisionNames names = robotCollisionNames(name_, spec_, part.sources);
+  const CollisionNames names = robotCollisionNames(name_, spec_, gazeboCollisions(spec_), part.sources);
   for (size_t c = 0; c < part.collisions.size(); ++c) {  // a mesh's convex parts are children of their own
     const Collision& collision = part.collisions[c];
     const int first = compound->getNumChildShapes();
