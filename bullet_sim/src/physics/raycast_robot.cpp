@@ -336,7 +336,7 @@ void RaycastRobot::beforeSubstep(double substep) {
   chassis_->applyTorqueImpulse(toBullet(step_torque_ * dt_));
   for (const auto& wheel : wheels_) {  // efforts (ros_control's, the world API's) spin the wheels too
     Joint& joint = joints_[wheel.joint];
-    joint.velocity += joint.external_effort * dt_ / wheel.inertia;
+    joint.velocity = damped(wheel, joint.velocity + joint.external_effort * dt_ / wheel.inertia);
   }
   // The suspension, the motors and friction together: sequential impulses over the wheels, with each spring
   // solved implicitly, each motor's impulse held within torque * dt and each contact's within the friction
@@ -371,6 +371,10 @@ double RaycastRobot::elasticEnergy() const {
   for (size_t w = 0; w < contacts_.size(); ++w)
     energy += 0.5 * springs_[w] * contacts_[w].compression * contacts_[w].compression;
   return energy;
+}
+
+double RaycastRobot::damped(const Wheel& wheel, double spin) const {
+  return spin * (1 - std::min(joints_[wheel.joint].spec->damping * dt_ * wheel.inverse_inertia, 1.0));
 }
 
 void RaycastRobot::castWheelRays(const Eigen::Isometry3d& root) {
@@ -555,8 +559,11 @@ void RaycastRobot::refreshPose() {
 void RaycastRobot::reset(const Eigen::Isometry3d& root_pose, const JointPositions& joints) {
   for (auto& joint : joints_) joint.position = joint.velocity = joint.effort = joint.external_effort = 0;
   for (const auto& [joint, position] : joints) joints_.at(joint).position = position;
+  // Gazebo's joint friction is its motor's force limit at rest (ODE's fmax, with vel 0), until a drive sets
+  // the motor.
   for (auto& wheel : wheels_) {
-    wheel.spin_target = wheel.max_torque = 0;
+    wheel.spin_target = 0;
+    wheel.max_torque = joints_[wheel.joint].spec->friction;
   }
   hubs_stale_ = frames_stale_ = true;
   wakeTouching(world_, {chassis_.get()});  // what rests on it falls

@@ -2,8 +2,9 @@
 // and each wheel is a ray down to the static ground. A wheel in contact carries a stiff spring-damper (0.5 mm
 // of sag at rest) and grips through friction-circle impulses: |friction| <= mu * N, against the slip between
 // the ground and the wheel's rim. Drive plugins turn each wheel's spin with a velocity motor limited by their
-// torque, as in the `contact` model. Wheels on a swivel (casters) carry load but no friction. Other moving
-// joints are kinematic: they sit where a plugin puts them (0 otherwise).
+// torque, against its joint's damping and friction, as in the `contact` model. Wheels on a swivel (casters)
+// carry load but no friction. Other moving joints are kinematic: they sit where a plugin puts them (0
+// otherwise).
 //
 // One body and a few rays per step make it several times faster than `contact`; wheels meet only static
 // geometry (the chassis still collides with everything), so `contact` stays for scenes where wheels climb
@@ -94,7 +95,7 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
     double friction;         ///< mu
     bool caster;             ///< on a swivel: load only
     double spin_target = 0;  ///< [rad/s]
-    double max_torque = 0;   ///< [N m]; 0 = free
+    double max_torque = 0;   ///< [N m]; 0 = free; the joint's friction until a drive sets it
   };
 
   /// One direction of a wheel's contact, as a sequential-impulse row: fixed for the substep, so that each
@@ -137,6 +138,9 @@ class RaycastRobot : public PhysicsRobot, private ContactTuner {
   void weigh(const btManifoldPoint& point, int child) override;
   /// Casts each wheel's ray down from its hub; the root link is at `root`.
   void castWheelRays(const Eigen::Isometry3d& root);
+  /// `spin` [rad/s] after the joint's damping over the substep: explicit from its start, as the contact model
+  /// applies it, and stopping the wheel at most.
+  double damped(const Wheel& wheel, double spin) const;
   /// Sets up each wheel's contact with the ground under it.
   void pressWheels(const Eigen::Isometry3d& root);
   /// Applies the impulses each wheel starts from (the last substep's) to the chassis and the wheels' spin.
