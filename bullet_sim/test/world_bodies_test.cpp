@@ -17,17 +17,20 @@ using ::testing::HasSubstr;
 // (its drive wheels are 0.604 m apart inside: a 0.6 m crate jammed between them like a drawer)
 constexpr double kCrate = 0.8;
 
-/// A ground plane and a 1 kg crate of kCrate at (2, 0) resting on it; `extra` is more SDF inside the world.
-WorldSpec crateWorld(std::vector<std::string>* warnings = nullptr, const std::string& extra = "") {
+/// A ground plane and a crate of kCrate and `mass` [kg] at (2, 0) resting on it; `extra` is more SDF inside
+/// the world.
+WorldSpec crateWorld(std::vector<std::string>* warnings = nullptr, const std::string& extra = "",
+                     double mass = 1) {
   const std::string side = std::to_string(kCrate);
   const std::string box = "<box><size>" + side + " " + side + " " + side + "</size></box>";
-  const std::string moment = std::to_string(kCrate * kCrate / 6);  // a solid cube's of 1 kg
+  const std::string moment = std::to_string(mass * kCrate * kCrate / 6);  // a solid cube's
   const std::string sdf =
       "<sdf version='1.6'><world name='crates'>"
       "<model name='ground_plane'><static>true</static><link name='link'><collision name='collision'>"
       "<geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry></collision></link>"
       "</model><model name='crate'><pose>2 0 " + std::to_string(kCrate / 2) + " 0 0 0</pose>"
-      "<link name='link'><inertial><mass>1</mass><inertia><ixx>" + moment + "</ixx><iyy>" + moment +
+      "<link name='link'><inertial><mass>" + std::to_string(mass) + "</mass><inertia><ixx>" +
+      moment + "</ixx><iyy>" + moment +
       "</iyy><izz>" + moment + "</izz></inertia></inertial>"
       "<collision name='collision'><geometry>" + box + "</geometry></collision>"
       "<visual name='visual'><geometry>" + box + "</geometry></visual></link></model>" + extra +
@@ -66,6 +69,17 @@ TEST(WorldBodies, ItFallsUnderGravityAndResetWorldPutsItBack) {
 
 // Touching nothing, the crate's island has no contact for the solver: its forces reach its velocities
 // directly (physics/islands.cpp's IslandSolver), and must do so as Newton and Euler say.
+// However heavy, up to our largest link mass, it rests where it was put: its contacts' compliance let a
+// 1e5 kg crate close on the ground faster than a contact's depth is corrected.
+TEST(WorldBodies, AHeavyCrateRestsOnTheGround) {
+  for (double mass : {1e3, 1e5, 1e6}) {
+    Simulation simulation(crateWorld(nullptr, "", mass));
+    WorldApi world(simulation);
+    for (int i = 0; i < 1000; ++i) simulation.step();
+    EXPECT_NEAR(crateAt(world).z(), kCrate / 2, 1e-3) << mass << " kg";
+  }
+}
+
 TEST(WorldBodies, InTheAirItMovesAsNewtonAndEulerSay) {
   Simulation simulation(crateWorld(nullptr, "<gravity>0 0 -9.81</gravity>"));
   WorldApi world(simulation);

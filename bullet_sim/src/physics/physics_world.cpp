@@ -2,6 +2,7 @@
 
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include <algorithm>
 #include <cmath>
@@ -89,17 +90,41 @@ bool outOfReach(const btManifoldPoint& point, double approach, double gravity, d
 }
 
 /// The compliance of the contacts (the solver's constraint force mixing) lets a contact still close, after
-/// the solve, at cfm / dt times its impulse: nothing for a body at rest, but a strike's impulse lets much
-/// through, and unevenly. A 37 kg wheelchair (raycast) set moving down at 50 m/s onto its four rims kept
-/// closing at 4.5 m/s at its front rims, which took 450 N s each, and at 1.6 m/s at its rear ones (160 N s):
-/// it left the strike pitching at 4.8 rad/s and tipped onto its back. A rigid contact closing faster than
-/// this gets the compliance cut in proportion, so that what it lets through stays what it lets through at
-/// this speed (under 0.1 m/s for that wheelchair at 1 ms).
+/// the solve, at cfm / dt times its impulse, which the correction of its depth must make up:
+/// - A body at rest closes at cfm times its weight, and the correction is capped at max_correcting_velocity:
+///   a 1e4 kg base on a 2 kg robot's wheels closed at 0.3 m/s on its caster, sank 16 cm (the contact
+///   model) or tipped back 40 degrees (raycast), and heavier ones sank metres. The compliance falls with the
+///   mass a contact carries above kCompliantMass, so that every robot sags as one of that mass does; within
+///   one robot it is the same at every contact, which then share its load as before.
+/// - A strike's impulse lets much through, and unevenly. A 37 kg wheelchair (raycast) set moving down at
+///   50 m/s onto its four rims kept closing at 4.5 m/s at its front rims, which took 450 N s each, and at
+///   1.6 m/s at its rear ones (160 N s): it left the strike pitching at 4.8 rad/s and tipped onto its back. A
+///   contact closing faster than kCompliantApproach gets the compliance cut in proportion, so that what it
+///   lets through stays what it lets through at this speed (under 0.1 m/s for that wheelchair at 1 ms).
+constexpr double kCompliantMass = 200;      // [kg]
 constexpr double kCompliantApproach = 1.0;  // [m/s]
 
-void limitCompliance(btManifoldPoint& point, double approach, double cfm) {
-  if (approach > kCompliantApproach) {
-    point.m_contactCFM = static_cast<btScalar>(cfm * kCompliantApproach / approach);
+/// [kg] the heavier of the two moving things a contact joins (a multibody robot whole), 0 for none.
+double carriedMass(const btCollisionObject& a, const btCollisionObject& b) {
+  double heaviest = 0;
+  for (const btCollisionObject* object : {&a, &b}) {
+    if (const btRigidBody* body = btRigidBody::upcast(object)) {
+      if (body->getInvMass() > 0) heaviest = std::max(heaviest, 1 / double(body->getInvMass()));
+    } else if (const auto* link = btMultiBodyLinkCollider::upcast(object)) {
+      double mass = link->m_multiBody->getBaseMass();
+      for (int k = 0; k < link->m_multiBody->getNumLinks(); ++k) mass += link->m_multiBody->getLinkMass(k);
+      heaviest = std::max(heaviest, mass);
+    }
+  }
+  return heaviest;
+}
+
+void limitCompliance(btManifoldPoint& point, double approach, double mass, double cfm) {
+  double limited = cfm;
+  if (mass > kCompliantMass) limited *= kCompliantMass / mass;
+  if (approach > kCompliantApproach) limited *= kCompliantApproach / approach;
+  if (limited < cfm) {
+    point.m_contactCFM = static_cast<btScalar>(limited);
     point.m_contactPointFlags |= BT_CONTACT_FLAG_HAS_CONTACT_CFM;
   } else {
     point.m_contactPointFlags &= ~BT_CONTACT_FLAG_HAS_CONTACT_CFM;
@@ -170,10 +195,11 @@ class PhysicsWorld::CappedWorld : public btMultiBodyDynamicsWorld {
       btPersistentManifold& manifold = *getDispatcher()->getManifoldByIndexInternal(m);
       ContactTuner* tuner_a = tunerOf(*manifold.getBody0());
       ContactTuner* tuner_b = tunerOf(*manifold.getBody1());
+      const double carried = carriedMass(*manifold.getBody0(), *manifold.getBody1());
       for (int p = 0; p < manifold.getNumContacts(); ++p) {
         btManifoldPoint& point = manifold.getContactPoint(p);
         const double approach = approachSpeed(point, *manifold.getBody0(), *manifold.getBody1());
-        limitCompliance(point, approach, info.m_globalCfm);
+        limitCompliance(point, approach, carried, info.m_globalCfm);
         if (outOfReach(point, approach, gravity, info.m_timeStep)) {
           hide(point, manifold.getContactProcessingThreshold());
           continue;
