@@ -2,6 +2,7 @@
 // <surface><friction><ode><mu>, a URDF link's <mu1>, each collision its own, even where links are fixed
 // into one body, and a wheel's on either wheel model. A crate sent sliding at v stops after v^2 / (2 mu g);
 // wheels on ice speed their robot up by mu g at most.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "bullet_sim/simulation/world_api.h"
@@ -13,15 +14,15 @@ namespace {
 
 constexpr double kSpeed = 1.5;  // [m/s] the crate's launch
 
-/// A world of one ground plane whose surface has `mu`.
-WorldSpec floorWorld(double mu) {
+/// A world of one ground plane whose surface has `mu`; `warnings`, when given, get the loader's.
+WorldSpec floorWorld(double mu, std::vector<std::string>* warnings = nullptr) {
   const std::string sdf =
       "<sdf version='1.6'><world name='floor'><model name='ground_plane'><static>true</static>"
       "<link name='link'><collision name='collision'>"
       "<geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>"
       "<surface><friction><ode><mu>" + std::to_string(mu) + "</mu><mu2>" + std::to_string(mu) +
       "</mu2></ode></friction></surface></collision></link></model></world></sdf>";
-  return parseWorld(sdf, "floor.world", PackageResolver::fromEnvironment(), nullptr);
+  return parseWorld(sdf, "floor.world", PackageResolver::fromEnvironment(), warnings);
 }
 
 /// A 0.4 m box link named `name` of 4 kg, with `mu` (none: Gazebo's default, 1).
@@ -64,8 +65,11 @@ TEST_P(Friction, ACrateSlidesAsTheLesserMuOfItsSurfaceAndTheFloorsSays) {
   const Surfaces& surfaces = GetParam();
   const WorldSpec world = floorWorld(surfaces.floor_mu);
   Simulation simulation(world);
-  simulation.spawn("crate", test::parseQuietly("<robot name=\"crate\">" + boxLink("body", surfaces.crate_mu) +
-                                                   "</robot>", "crate.urdf"),
+  const std::string crate = "<robot name=\"crate\">" + boxLink("body", surfaces.crate_mu) + "</robot>";
+  const bool warned = surfaces.crate_mu.value_or(1) < 0;  // a negative mu is taken with a warning
+  simulation.spawn("crate",
+                   warned ? parseModel(crate, "crate.urdf", PackageResolver::fromEnvironment(), nullptr)
+                          : test::parseQuietly(crate, "crate.urdf"),
                    {.z = 0.1});
   const double expected = stoppingDistance(surfaces.expected_mu, world);
   EXPECT_NEAR(slide(simulation, "crate"), expected, 0.04 * expected);
@@ -75,7 +79,24 @@ INSTANTIATE_TEST_SUITE_P(
     Gazebo, Friction,
     ::testing::Values(Surfaces{0.2, std::nullopt, 0.2},  // an icy floor under a crate of the default mu
                       Surfaces{0.8, 0.5, 0.5},           // both below 1: the lesser, not their product
-                      Surfaces{100, 0.5, 0.5}));         // Gazebo's ground_plane (mu 100)
+                      Surfaces{100, 0.5, 0.5},           // Gazebo's ground_plane (mu 100)
+                      Surfaces{0.2, -1, 0.2},            // a negative mu is unlimited: the floor's decides
+                      Surfaces{-1, 0.5, 0.5}));          // also a world's
+
+// sdformat 12 refuses a negative <mu>; Gazebo's sdformat 9 reads it, and its FrictionPyramid::SetMu makes it
+// unlimited.
+TEST(NegativeMu, AWorldsNegativeMuLoadsAsUnlimitedWithAWarningNamingIt) {
+  std::vector<std::string> warnings;
+  const WorldSpec world = floorWorld(-1, &warnings);
+  using ::testing::HasSubstr;
+  EXPECT_THAT(warnings, ::testing::ElementsAre(
+                            HasSubstr("[floor.world:1] <surface><friction><ode><mu> [-1.000000] is negative: "
+                                      "read as unlimited friction, so the other surface's mu decides, as "
+                                      "Gazebo reads it"),
+                            HasSubstr("<mu2> [-1.000000] is negative")));
+  ASSERT_EQ(world.models.size(), 1u);
+  EXPECT_EQ(world.models.front().collisions.front().mu, SurfaceSpec::kUnlimitedMu);
+}
 
 // A sled's runner, fixed under its deck, is one body with it; the runner's mu meets the floor, not the
 // deck's.

@@ -172,8 +172,8 @@ std::vector<Tolerated> toleratedForms() {
        "are 0.35 m apart: the robot cannot turn, as in Gazebo"},
       {"NegativeFrictionCoefficient",
        withElements(robot, "<gazebo reference='base_link'><mu1>-1</mu1></gazebo>"),
-       "<gazebo reference=\"base_link\"> <mu1> [-1] is negative: read as 0 (frictionless), as Gazebo's ODE "
-       "reads it"},
+       "<gazebo reference=\"base_link\"> <mu1> [-1] is negative: read as unlimited friction, so the other "
+       "surface's mu decides, as Gazebo reads it"},
       {"NegativeJointDamping", withWheelDynamics(robot, "damping", "-0.01"),
        "joints [left_wheel_joint], [right_wheel_joint] <dynamics damping> are negative: read as 0"},
       {"NegativeJointFriction", withWheelDynamics(robot, "friction", "-0.01"),
@@ -229,13 +229,13 @@ TEST(TolerantLoading, FramesLoseTheirLeadingSlashAndKeepTheirNames) {
   EXPECT_EQ(scan->link, "base_link");
 }
 
-TEST(TolerantLoading, NegativeFrictionDampingAndJointFrictionAreReadAsZero) {
+TEST(TolerantLoading, NegativeDampingAndJointFrictionAreReadAsZeroANegativeMuAsUnlimited) {
   const auto parsed = [](const std::string& urdf) {
     return parseModel(urdf, "robot", PackageResolver::fromEnvironment(), nullptr);
   };
   const std::string robot = driveable();
   EXPECT_EQ(parsed(withElements(robot, "<gazebo reference='base_link'><mu1>-1</mu1></gazebo>"))
-                .link("base_link")->surface.mu1, 0.0);
+                .link("base_link")->surface.mu1, SurfaceSpec::kUnlimitedMu);
   EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "-0.01")).joint("left_wheel_joint")->damping, 0.0);
   EXPECT_EQ(parsed(withWheelDynamics(robot, "friction", "-0.01")).joint("left_wheel_joint")->friction, 0.0);
   EXPECT_EQ(parsed(withWheelDynamics(robot, "damping", "0.01")).joint("left_wheel_joint")->damping, 0.01);

@@ -450,15 +450,15 @@ class ModelParser {
       const std::string name = tag->Name();
       // <mu1 value="1"/> reads as <mu1>1</mu1>, as sdformat reads it (Clearpath writes every wheel so).
       const char* text = tag->GetText() ? tag->GetText() : tag->Attribute("value");
-      // Friction and contact figures: >= 0. A negative friction coefficient is 0, as ODE clamps it.
-      const auto number = [&](double* out, bool negative_is_frictionless = false) {
+      // Friction and contact figures: >= 0. A negative friction coefficient is unlimited, as in Gazebo.
+      const auto number = [&](double* out, bool negative_is_unlimited = false) {
         const auto value = parseDouble(text);
         if (value && std::isfinite(*value) && *value >= 0) {
           *out = *value;
-        } else if (value && *value < 0 && negative_is_frictionless) {
-          diagnostics_.warning(where + "<" + name + "> [" + text +
-                               "] is negative: read as 0 (frictionless), as Gazebo's ODE reads it");
-          *out = 0;
+        } else if (value && *value < 0 && negative_is_unlimited) {
+          diagnostics_.warning(where + "<" + name + "> [" + text + "] is negative: " +
+                               SurfaceSpec::kNegativeMuReading);
+          *out = SurfaceSpec::kUnlimitedMu;
         } else {
           diagnostics_.error(where + "<" + name + "> must be a number >= 0, not [" + (text ? text : "") +
                              "]");
@@ -474,9 +474,9 @@ class ModelParser {
       if (name == "material") {
         applyMaterial(text ? text : "", where, link);
       } else if (name == "mu1") {
-        number(&link.surface.mu1, /*negative_is_frictionless=*/true);
+        number(&link.surface.mu1, /*negative_is_unlimited=*/true);
       } else if (name == "mu2") {
-        number(&link.surface.mu2, /*negative_is_frictionless=*/true);
+        number(&link.surface.mu2, /*negative_is_unlimited=*/true);
       } else if (name == "kp") {
         double kp = 0;
         number(&kp);

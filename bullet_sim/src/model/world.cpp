@@ -23,6 +23,7 @@
 #include "bullet_sim/model/sdf_model.h"
 #include "model/tag_node_xml.h"
 #include "model/world_copies.h"
+#include "model/world_friction.h"
 
 namespace bullet_sim {
 namespace fs = std::filesystem;
@@ -405,8 +406,8 @@ class WorldConverter {
     }
   }
 
-  /// <surface><friction><ode> mu and mu2, Gazebo's defaults (1) where they are not given (sdformat refuses a
-  /// negative one).
+  /// <surface><friction><ode> mu and mu2, Gazebo's defaults (1) where they are not given (a negative one is
+  /// unlimited: unlimitNegativeMu rewrote it).
   static SurfaceSpec surfaceOf(const sdf::Collision& collision) {
     sdf::ElementPtr ode = collision.Element();
     for (const char* name : {"surface", "friction", "ode"}) {
@@ -946,6 +947,15 @@ WorldSpec parseWith(const std::string& text, const Load& load, const std::string
   if (xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
     throw SpecError(source, {"[" + source + ":" + std::to_string(xml.ErrorLineNum()) +
                              "] malformed XML: " + xml.ErrorStr() + "; fix the XML there"});
+  }
+  std::string rewritten = text;  // sdformat 12 refuses a negative mu, which Gazebo takes
+  if (const auto unlimited = unlimitNegativeMu(xml, source, rewritten); !unlimited.empty()) {
+    if (warnings) warnings->insert(warnings->end(), unlimited.begin(), unlimited.end());
+    const Load load_rewritten = [&](sdf::Root& root, const sdf::ParserConfig& config) {
+      return root.LoadSdfString(rewritten, config);
+    };
+    return parseWith(rewritten, load_rewritten, source, base_directory, resolver, warnings, options,
+                     model_to_spawn);
   }
   // Models that repeat another's contents are read once. Should anything be wrong, the whole file is read
   // again, so that every problem is reported where it is.

@@ -28,6 +28,11 @@ struct InertialSpec {
 
 /// Contact properties from <gazebo reference="link">; defaults are Gazebo's.
 struct SurfaceSpec {
+  /// A negative mu, as Gazebo's FrictionPyramid::SetMu reads it (GZ_FLT_MAX): the other surface's decides.
+  static constexpr double kUnlimitedMu = 3.402823466e+38;
+  /// What a warning about a negative mu says of it.
+  static constexpr const char* kNegativeMuReading =
+      "read as unlimited friction, so the other surface's mu decides, as Gazebo reads it";
   double mu1 = 1.0;          ///< friction coefficient along the first friction direction
   double mu2 = 1.0;          ///< and the second
   std::optional<double> kp;  ///< contact stiffness [N/m]
