@@ -170,6 +170,11 @@ std::vector<Tolerated> toleratedForms() {
       {"ZeroWheelSeparation", test::withPluginTags(robot, "diff_drive.so", {{"wheelSeparation", "0"}}),
        "<wheelSeparation> 0 m disagrees with the joints [left_wheel_joint] and [right_wheel_joint], which "
        "are 0.35 m apart: the robot cannot turn, as in Gazebo"},
+      {"ZeroWheelDiameter", test::withPluginTags(robot, "diff_drive.so", {{"wheelDiameter", "0"}}),
+       "<wheelDiameter> 0 m is not above 0: 0.1 m, the collision diameter of joint [left_wheel_joint]'s "
+       "wheel, is used (Gazebo would set its wheels' speeds to the command divided by it)"},
+      {"NegativeWheelDiameter", test::withPluginTags(robot, "diff_drive.so", {{"wheelDiameter", "-0.1"}}),
+       "<wheelDiameter> -0.1 m is not above 0: 0.1 m, the collision diameter"},
       {"NegativeFrictionCoefficient",
        withElements(robot, "<gazebo reference='base_link'><mu1>-1</mu1></gazebo>"),
        "<gazebo reference=\"base_link\"> <mu1> [-1] is negative: read as unlimited friction, so the other "
@@ -317,11 +322,51 @@ TEST(TolerantLoading, AWheelTorqueNotAboveZeroLoadsAndTheRobotDoesNotDrive) {
   }
 }
 
-TEST(TolerantLoading, AZeroWheelSeparationWithEncoderOdometryIsAnError) {
+/// The drive's config, read from `urdf`.
+DriveConfig driveConfig(const std::string& urdf) {
+  const ModelSpec model = parseModel(urdf, "robot", PackageResolver::fromEnvironment(), nullptr);
+  return *model.plugins.front().configAs<DriveConfig>();
+}
+
+TEST(TolerantLoading, AWheelDiameterNotAboveZeroIsTheWheelsCollisions) {
+  for (const char* diameter : {"0", "-0.1"}) {
+    EXPECT_DOUBLE_EQ(driveConfig(test::withPluginTags(driveable(), "diff_drive.so",
+                                                      {{"wheelDiameter", diameter}})).wheel_diameter, 0.1);
+  }
+  const std::string box_wheels = test::editUrdf(
+      test::withPluginTags(driveable(), "diff_drive.so", {{"wheelDiameter", "0"}}),
+      [](tinyxml2::XMLElement& robot) {
+        for (auto* link = robot.FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
+          if (std::string(link->Attribute("name")).find("wheel") == std::string::npos) continue;
+          auto* geometry = link->FirstChildElement("collision")->FirstChildElement("geometry");
+          geometry->DeleteChildren();
+          geometry->InsertNewChildElement("box")->SetAttribute("size", "0.1 0.03 0.1");
+        }
+      });
+  EXPECT_THAT(test::loadErrors(box_wheels),
+              ElementsAre(HasSubstr("<wheelDiameter> 0 m is not above 0, and no wheel has a collision "
+                                    "cylinder or sphere to measure it by")));
+}
+
+TEST(TolerantLoading, AZeroWheelSeparationWithEncoderOdometryDividesByTheJointsSeparation) {
   const std::string urdf = test::withPluginTags(driveable(), "diff_drive.so",
                                                 {{"wheelSeparation", "0"}, {"odometrySource", "encoder"}});
-  EXPECT_THAT(test::loadErrors(urdf), ElementsAre(HasSubstr("<odometrySource> encoder divides the wheels' "
-                                                            "travel by <wheelSeparation>, which is 0")));
+  EXPECT_THAT(test::loadWarnings(urdf),
+              ElementsAre(HasSubstr("<wheelSeparation> 0 m disagrees with the joints [left_wheel_joint] "
+                                    "and [right_wheel_joint], which are 0.35 m apart: the robot cannot turn, "
+                                    "as in Gazebo; the encoder odometry divides by their 0.35 m instead "
+                                    "(Gazebo's would be NaN)")));
+  EXPECT_NEAR(driveConfig(urdf).encoder_separation, 0.35, 1e-12);
+  Simulation simulation(test::shippedWorld("empty.world"));
+  std::vector<std::string> warnings;
+  Robot& robot =
+      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
+  auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
+  test::stepSending(simulation, 1.0, [&] { return drive.setCommand(0.3, 1.0, simulation.time()); });
+  const Odometry odometry = test::latestOf<Odometry>(drive);
+  EXPECT_GT(odometry.pose.translation().x(), 0.2) << "it drives";
+  EXPECT_NEAR(Eigen::AngleAxisd(odometry.pose.rotation()).angle(), 0, 0.05)
+      << "straight on, as it cannot turn, and its odometry, not NaN, says so";
 }
 
 TEST(TolerantLoading, AZeroAxisIsNamedWithItsValue) {
@@ -382,7 +427,7 @@ TEST(TolerantLoading, AnSdfModelsNegativeDampingIsReadAsZero) {
 TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {
   const std::string urdf = withElements(
       test::withPluginTags(withInertia(driveable(), "right_wheel", nullptr), "diff_drive.so",
-                           {{"wheelDiameter", "-1"}}),
+                           {{"wheelSeparation", "-1"}}),
       "<link name='bumper'><inertial><mass value='-1'/><inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' "
       "izz='1'/></inertial><collision><geometry><mesh filename='package://bullet_sim/no_such.stl'/>"
       "</geometry></collision><collision><geometry><box size='0.1 -0.1 0.1'/></geometry></collision></link>"
@@ -393,7 +438,7 @@ TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {
                   HasSubstr("link [bumper] <collision> <box size=\"0.1 -0.1 0.1\">: [-0.1] must be positive"),
                   HasSubstr("link [bumper] <inertial>: mass -1 kg is not positive"),
                   HasSubstr("link [bumper] <collision>: cannot load mesh"),
-                  HasSubstr("<wheelDiameter> must be > 0, not -1")));
+                  HasSubstr("<wheelSeparation> must be >= 0, not -1")));
 }
 
 /// `driveable()` with a box link whose size starts with `word`.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "bullet_sim/model/model_geometry.h"
@@ -36,9 +37,12 @@ std::vector<TagRow> wheelRows(const std::string& separation) {
       {"wheelSeparation", TagType::kPositive, separation, "m",
        "the distance between the left and right wheels",
        "a warning when it is more than 5 mm off the distance between the wheels' joints; 0: the robot cannot "
-       "turn, as in Gazebo (an error with encoder odometry, which would divide by it)"},
-      {"wheelDiameter", TagType::kPositive, "0.15", "m", "the wheels' diameter",
-       "a warning when it is more than 5 mm off a wheel's collision cylinder or sphere"},
+       "turn, as in Gazebo, and encoder odometry, which Gazebo's divides by it (NaN), divides by the joints' "
+       "distance"},
+      {"wheelDiameter", TagType::kNumber, "0.15", "m",
+       "the wheels' diameter; 0 or less: the wheels' speeds are divided by it (NaN or infinite)",
+       "a warning when it is more than 5 mm off a wheel's collision cylinder or sphere; 0 or less: that "
+       "collision's diameter, with a warning (an error when no wheel has one)"},
   };
 }
 
@@ -131,7 +135,7 @@ void readCommon(const DeclarationSource& source, DriveConfig& config) {
   PluginTags& tags = source.tags;
   readDriveHead(tags, DriveTagNames{}, config);
   config.wheel_separation = tags.nonNegative("wheelSeparation");  // 0: checkWheels says what it means
-  config.wheel_diameter = tags.positive("wheelDiameter");
+  config.wheel_diameter = tags.number("wheelDiameter");  // not above 0: measureWheelDiameter
   for (const auto& [tag, value] : {std::pair{"wheelSeparation", &config.wheel_separation},
                                    std::pair{"wheelDiameter", &config.wheel_diameter}}) {
     if (auto problem = boundProblem(*value, source.limits.max_length, "max_length", "m"))
@@ -159,6 +163,35 @@ void checkWheelsDistinct(const DeclarationSource& source, const DriveConfig& con
   }
 }
 
+/// The diameter [m] of the collision cylinder or sphere of joint `name`'s child link, when it has one first.
+std::optional<double> collisionDiameter(const ModelSpec& model, const std::string& name) {
+  const JointSpec* joint = model.joint(name);
+  const LinkSpec* link = joint ? model.link(joint->child) : nullptr;
+  if (!link || link->collisions.empty()) return std::nullopt;
+  const Shape& shape = link->collisions.front().shape;
+  if (shape.type != Shape::Type::kCylinder && shape.type != Shape::Type::kSphere) return std::nullopt;
+  return 2 * shape.radius;
+}
+
+/// A wheelDiameter not above 0, which Gazebo divides the wheels' speeds by, becomes the first wheel's
+/// collision diameter, with a warning; an error when no wheel has a cylinder or sphere to measure.
+void measureWheelDiameter(const DeclarationSource& source, DriveConfig& config) {
+  if (config.wheel_diameter > 0) return;
+  std::ostringstream message;
+  message << source.tags.where() << " <wheelDiameter> " << config.wheel_diameter << " m is not above 0";
+  for (const auto& name : driveWheels(config)) {
+    const std::optional<double> diameter = collisionDiameter(source.model, name);
+    if (!diameter) continue;
+    config.wheel_diameter = *diameter;
+    message << ": " << *diameter << " m, the collision diameter of joint [" << name
+            << "]'s wheel, is used (Gazebo would set its wheels' speeds to the command divided by it)";
+    source.diagnostics.warning(message.str());
+    return;
+  }
+  message << ", and no wheel has a collision cylinder or sphere to measure it by: give the wheels' diameter";
+  source.diagnostics.error(message.str());
+}
+
 /// Checks one side's wheels against the model: each must be a moving joint; a reversed one and a collision
 /// of another diameter are said. Returns each wheel's roll sign and its offset across the base [m].
 std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig& config,
@@ -184,19 +217,27 @@ std::vector<double> checkSide(const DeclarationSource& source, const DriveConfig
                           ", against the other side: it is driven with the opposite sign so the robot rolls "
                           "forward (Gazebo would spin it in place)");
     }
-    if (const LinkSpec* link = model.link(joint->child); link && !link->collisions.empty()) {
-      const Shape& shape = link->collisions.front().shape;
-      if ((shape.type == Shape::Type::kCylinder || shape.type == Shape::Type::kSphere) &&
-          std::abs(2 * shape.radius - config.wheel_diameter) > kGeometryTolerance) {
-        std::ostringstream message;
-        message << where << " <wheelDiameter> " << config.wheel_diameter << " m disagrees with link ["
-                << link->name << "], whose collision is " << 2 * shape.radius << " m across";
-        diagnostics.warning(message.str());
-      }
+    const auto diameter = collisionDiameter(model, name);
+    if (diameter && config.wheel_diameter > 0 &&
+        std::abs(*diameter - config.wheel_diameter) > kGeometryTolerance) {
+      std::ostringstream message;
+      message << where << " <wheelDiameter> " << config.wheel_diameter << " m disagrees with link ["
+              << joint->child << "], whose collision is " << *diameter << " m across";
+      diagnostics.warning(message.str());
     }
     lateral.push_back((base.inverse() * poses.at(joint->child)).translation().y());
   }
   return signs;
+}
+
+/// With encoder odometry and a wheelSeparation of 0, which Gazebo's odometry divides by (NaN), ours divides
+/// by the joints' `separation` instead: what the warning says of it.
+std::string useJointSeparation(DriveConfig& config, double separation) {
+  if (!config.odometry_from_encoders || config.encoder_separation != 0) return "";
+  config.encoder_separation = separation;
+  std::ostringstream text;
+  text << "; the encoder odometry divides by their " << separation << " m instead (Gazebo's would be NaN)";
+  return text.str();
 }
 
 /// Checks the wheels against the model (see checkSide) and wheelSeparation against their joints.
@@ -204,8 +245,10 @@ void checkWheels(const DeclarationSource& source, DriveConfig& config) {
   checkWheelsDistinct(source, config);
   config.base_link = frameLink(source, "robotBaseFrame", config.robot_base_frame, source.model.root);
   std::vector<double> left_y, right_y;
+  measureWheelDiameter(source, config);
   config.left_signs = checkSide(source, config, config.left_joints, left_y);
   config.right_signs = checkSide(source, config, config.right_joints, right_y);
+  config.encoder_separation = config.wheel_separation;
   for (size_t i = 0; i < std::min(left_y.size(), right_y.size()); ++i) {
     const double separation = left_y[i] - right_y[i];
     if (std::abs(separation - config.wheel_separation) > kGeometryTolerance) {
@@ -213,9 +256,15 @@ void checkWheels(const DeclarationSource& source, DriveConfig& config) {
       message << source.tags.where() << " <wheelSeparation> " << config.wheel_separation
               << " m disagrees with the joints [" << config.left_joints[i] << "] and ["
               << config.right_joints[i] << "], which are " << separation << " m apart";
-      if (config.wheel_separation == 0) message << ": the robot cannot turn, as in Gazebo";
+      if (config.wheel_separation == 0)
+        message << ": the robot cannot turn, as in Gazebo" << useJointSeparation(config, separation);
       source.diagnostics.warning(message.str());
     }
+  }
+  if (config.odometry_from_encoders && config.encoder_separation == 0) {
+    source.diagnostics.error(source.tags.where() + " <odometrySource> encoder divides the wheels' travel by "
+                             "<wheelSeparation>, which is 0, as is their joints' separation: give the "
+                             "separation, or use world odometry");
   }
 }
 
@@ -230,11 +279,7 @@ void parseDiffDrive(const DeclarationSource& source, DriveConfig& config) {
   config.acceleration = tags.nonNegative("wheelAcceleration");
   const std::string odometry_source = tags.text("odometrySource");
   if (odometry_source == "encoder") {
-    config.odometry_from_encoders = true;
-    if (config.wheel_separation == 0) {  // Gazebo's would publish NaN
-      tags.diagnostics().error(tags.where() + " <odometrySource> encoder divides the wheels' travel by "
-                               "<wheelSeparation>, which is 0: give the separation, or use world odometry");
-    }
+    config.odometry_from_encoders = true;  // with a wheelSeparation of 0: checkWheels
   } else if (odometry_source != "world") {
     tags.diagnostics().warning(tags.where() + " <odometrySource> must be world or encoder, not [" +
                                odometry_source + "]: world is used, as Gazebo does");
@@ -320,7 +365,7 @@ Eigen::Vector2d WheeledDrive::integrateEncoders(const RobotBody& body) {
   const double right = travelled(right_);
   // Midpoint integration of the unicycle (Siegwart), as gazebo_ros_diff_drive's encoder source does.
   const double distance = (left + right) / 2;
-  const double turn = (right - left) / config_.wheel_separation;
+  const double turn = (right - left) / config_.encoder_separation;
   encoder_pose_.x() += distance * std::cos(encoder_pose_.z() + turn / 2);
   encoder_pose_.y() += distance * std::sin(encoder_pose_.z() + turn / 2);
   encoder_pose_.z() += turn;

@@ -23,6 +23,7 @@ struct DriveConfig : DriveConfigHead {
   std::vector<double> left_signs;   ///< per left joint: +1 when a positive velocity rolls it forward
   std::vector<double> right_signs;  ///< the same for the right joints
   double wheel_separation = 0;      ///< [m]
+  double encoder_separation = 0;    ///< [m] encoder odometry's: wheel_separation, or when 0 the joints'
   double wheel_diameter = 0;        ///< [m]
   double torque = 0;                ///< [N m] per wheel
   double acceleration = 0;          ///< [m/s^2] rim acceleration limit; 0 = none
