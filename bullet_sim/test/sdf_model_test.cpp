@@ -104,6 +104,17 @@ TEST(SdfModel, ASensorsNegativeUpdateRateIsEveryStepWithAWarningAsInAUrdf) {
   EXPECT_EQ(spec.plugins[0].configAs<RayLidarConfig>()->update_rate, 0.0);
 }
 
+TEST(SdfModel, ANegativeMuIsUnlimitedWithAWarningAsGazeboReadsIt) {
+  std::vector<std::string> warnings;
+  const std::string head = "<collision name=\"head\">";
+  const ModelSpec spec = parse(test::replaceAfter(panLidar(), head, "<mu>0.4<", "<mu>-1<"), &warnings);
+  EXPECT_THAT(warnings,
+              ElementsAre(HasSubstr("[test.sdf:23] <surface><friction><ode><mu> [-1] is negative: read as "
+                                    "unlimited friction, so the other surface's mu decides")));
+  EXPECT_EQ(spec.link("head")->surface.mu1, SurfaceSpec::kUnlimitedMu);
+  EXPECT_EQ(spec.link("head")->surface.mu2, 0.3);
+}
+
 TEST(SdfModel, ASpawnedSdfModelScansTheRoomAndItsJointTurnsTheHead) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   WorldApi world(simulation);
