@@ -115,6 +115,17 @@ TEST(SdfModel, ANegativeMuIsUnlimitedWithAWarningAsGazeboReadsIt) {
   EXPECT_EQ(spec.link("head")->surface.mu2, 0.3);
 }
 
+TEST(SdfModel, AnAxisOfTinyLengthIsItsDirectionAsGazebosOdeTakesIt) {
+  std::vector<std::string> warnings;
+  const ModelSpec spec = parse(test::replaceAfter(panLidar(), "<axis>", "<xyz>0 0 1<", "<xyz>0 0 1e-12<"),
+                               &warnings);
+  EXPECT_THAT(warnings,
+              ElementsAre(HasSubstr("[test.sdf:43] joint [pan] <axis><xyz> [0 0 1e-12] is 1e-12 long, which "
+                                    "sdformat 12 calls zero: read as its direction, 0 0 1, as Gazebo's ODE "
+                                    "normalizes it")));
+  EXPECT_EQ(spec.joint("pan")->axis, Eigen::Vector3d::UnitZ());
+}
+
 TEST(SdfModel, ASpawnedSdfModelScansTheRoomAndItsJointTurnsTheHead) {
   Simulation simulation(test::shippedWorld("test_room.world"));
   WorldApi world(simulation);

@@ -369,15 +369,26 @@ TEST(TolerantLoading, AZeroWheelSeparationWithEncoderOdometryDividesByTheJointsS
       << "straight on, as it cannot turn, and its odometry, not NaN, says so";
 }
 
-TEST(TolerantLoading, AZeroAxisIsNamedWithItsValue) {
-  const std::string urdf = test::editUrdf(driveable(), [](tinyxml2::XMLElement& robot) {
+/// driveable() with the left wheel's <axis xyz> `xyz`.
+std::string withLeftWheelAxis(const std::string& xyz) {
+  return test::editUrdf(driveable(), [&](tinyxml2::XMLElement& robot) {
     for (auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
       if (std::string(joint->Attribute("name")) == "left_wheel_joint")
-        joint->FirstChildElement("axis")->SetAttribute("xyz", "0 1e-12 0");
+        joint->FirstChildElement("axis")->SetAttribute("xyz", xyz.c_str());
     }
   });
-  EXPECT_THAT(test::loadErrors(urdf),
-              ElementsAre(HasSubstr("joint [left_wheel_joint] <axis xyz=\"0 1e-12 0\"> is zero")));
+}
+
+TEST(TolerantLoading, ATinyAxisIsItsDirectionAZeroOneIsNamedWithItsValue) {
+  EXPECT_THAT(test::loadWarnings(withLeftWheelAxis("0 1e-12 0")),
+              ElementsAre(HasSubstr("joint [left_wheel_joint] <axis xyz=\"0 1e-12 0\"> is 1e-12 long: read "
+                                    "as its direction, 0 1 0, as Gazebo's ODE normalizes it")));
+  const ModelSpec model =
+      parseModel(withLeftWheelAxis("0 1e-12 0"), "robot", PackageResolver::fromEnvironment(), nullptr);
+  EXPECT_EQ(model.joint("left_wheel_joint")->axis, Eigen::Vector3d::UnitY());
+  EXPECT_GT(drivenDistance(withLeftWheelAxis("0 1e-12 0")), 0.25) << "drives forward";
+  EXPECT_THAT(test::loadErrors(withLeftWheelAxis("0 0 0")),
+              ElementsAre(HasSubstr("joint [left_wheel_joint] <axis xyz=\"0 0 0\"> is zero")));
 }
 
 TEST(TolerantLoading, FixedChildrenAreLumpedBeforeTheInertiaIsJudged) {

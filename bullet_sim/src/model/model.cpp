@@ -304,16 +304,7 @@ class ModelParser {
           "]: floating and planar joints are not supported; use fixed, revolute, continuous or "
           "prismatic");
     }
-    if (spec.moves()) {
-      if (spec.axis.norm() < 1e-9) {
-        std::ostringstream message;
-        message << "joint [" << joint.name << "] <axis xyz=\"" << spec.axis.x() << " " << spec.axis.y() << " "
-                << spec.axis.z() << "\"> is zero: give it a direction such as 0 1 0";
-        diagnostics_.error(message.str());
-      } else {
-        spec.axis.normalize();
-      }
-    }
+    if (spec.moves()) normalizeAxis(joint.name, spec.axis);
     if (joint.limits) {
       if (spec.type != JointSpec::Type::kContinuous) {
         spec.lower = joint.limits->lower;
@@ -442,6 +433,29 @@ class ModelParser {
         ignoreTag(line + "<gazebo> ", tag->Name(), "", false);
       }
     }
+  }
+
+  /// Makes a moving joint's axis a unit one. Gazebo's ODE normalizes any axis (dJointSetHingeAxis), so only
+  /// a zero one is an error; one shorter than sdformat 12 takes (kShortestAxis) is its direction, with a
+  /// warning.
+  void normalizeAxis(const std::string& joint, Eigen::Vector3d& axis) {
+    const auto text = [](const Eigen::Vector3d& v) {
+      std::ostringstream out;
+      out << v.x() << " " << v.y() << " " << v.z();
+      return out.str();
+    };
+    std::ostringstream message;
+    message << "joint [" << joint << "] <axis xyz=\"" << text(axis) << "\">";
+    if (axis.isZero(0)) {
+      diagnostics_.error(message.str() + " is zero: give it a direction such as 0 1 0");
+      return;
+    }
+    const double length = axis.stableNorm();
+    axis.stableNormalize();
+    if (length > kShortestAxis) return;
+    message << " is " << length << " long: read as its direction, " << text(axis)
+            << ", as Gazebo's ODE normalizes it";
+    diagnostics_.warning(message.str());
   }
 
   void readLinkBlock(const tinyxml2::XMLElement* gazebo, const std::string& line, LinkSpec& link) {

@@ -23,7 +23,7 @@
 #include "bullet_sim/model/sdf_model.h"
 #include "model/tag_node_xml.h"
 #include "model/world_copies.h"
-#include "model/world_friction.h"
+#include "model/sdf9_values.h"
 
 namespace bullet_sim {
 namespace fs = std::filesystem;
@@ -407,7 +407,7 @@ class WorldConverter {
   }
 
   /// <surface><friction><ode> mu and mu2, Gazebo's defaults (1) where they are not given (a negative one is
-  /// unlimited: unlimitNegativeMu rewrote it).
+  /// unlimited: rewriteSdf9Values rewrote it).
   static SurfaceSpec surfaceOf(const sdf::Collision& collision) {
     sdf::ElementPtr ode = collision.Element();
     for (const char* name : {"surface", "friction", "ode"}) {
@@ -948,9 +948,9 @@ WorldSpec parseWith(const std::string& text, const Load& load, const std::string
     throw SpecError(source, {"[" + source + ":" + std::to_string(xml.ErrorLineNum()) +
                              "] malformed XML: " + xml.ErrorStr() + "; fix the XML there"});
   }
-  std::string rewritten = text;  // sdformat 12 refuses a negative mu, which Gazebo takes
-  if (const auto unlimited = unlimitNegativeMu(xml, source, rewritten); !unlimited.empty()) {
-    if (warnings) warnings->insert(warnings->end(), unlimited.begin(), unlimited.end());
+  std::string rewritten = text;  // sdformat 12 refuses values that Gazebo's sdformat 9 reads
+  if (const auto rewrites = rewriteSdf9Values(xml, source, rewritten); !rewrites.empty()) {
+    if (warnings) warnings->insert(warnings->end(), rewrites.begin(), rewrites.end());
     const Load load_rewritten = [&](sdf::Root& root, const sdf::ParserConfig& config) {
       return root.LoadSdfString(rewritten, config);
     };

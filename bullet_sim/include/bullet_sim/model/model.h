@@ -49,6 +49,9 @@ struct LinkSpec {
   bool gravity = true;
 };
 
+/// An axis no longer than this sdformat 12 calls zero (JointAxis::SetXyz); Gazebo's ODE normalizes it.
+constexpr double kShortestAxis = 1e-6;
+
 struct JointSpec {
   enum class Type { kFixed, kRevolute, kContinuous, kPrismatic };
   std::string name;
