@@ -175,6 +175,10 @@ std::vector<Tolerated> toleratedForms() {
        "wheel, is used (Gazebo would set its wheels' speeds to the command divided by it)"},
       {"NegativeWheelDiameter", test::withPluginTags(robot, "diff_drive.so", {{"wheelDiameter", "-0.1"}}),
        "<wheelDiameter> -0.1 m is not above 0: 0.1 m, the collision diameter"},
+      {"NegativeWheelAcceleration",
+       test::withPluginTags(robot, "diff_drive.so", {{"wheelAcceleration", "-2"}}),
+       "<wheelAcceleration> -2 m/s^2 is below 0: read as 2 m/s^2 (Gazebo's ramp would step the wheels' "
+       "speeds away from the command)"},
       {"NegativeFrictionCoefficient",
        withElements(robot, "<gazebo reference='base_link'><mu1>-1</mu1></gazebo>"),
        "<gazebo reference=\"base_link\"> <mu1> [-1] is negative: read as unlimited friction, so the other "
@@ -320,6 +324,16 @@ TEST(TolerantLoading, AWheelTorqueNotAboveZeroLoadsAndTheRobotDoesNotDrive) {
       EXPECT_LT(std::abs(drivenDistance(urdf)), 0.005) << "the wheels give no torque";
     }
   }
+}
+
+TEST(TolerantLoading, ANegativeWheelAccelerationRampsByItsAbsoluteValue) {
+  const auto accelerated = [](const char* acceleration) {
+    return test::withPluginTags(driveable(), "diff_drive.so", {{"wheelAcceleration", acceleration}});
+  };
+  const double negative = drivenDistance(accelerated("-0.5"));
+  EXPECT_EQ(negative, drivenDistance(accelerated("0.5"))) << "the same ramp";
+  EXPECT_GT(drivenDistance(accelerated("0")) - negative, 0.06)
+      << "it lags the unramped robot, by up to v^2 / (2 a) = 0.09 m";
 }
 
 /// The drive's config, read from `urdf`.

@@ -79,9 +79,11 @@ TagTable diffDriveTags() {
           {"wheelTorque", TagType::kPositive, "5", "N m", "the most torque each wheel's velocity motor gives",
            "above max_effort, that limit, with a warning; 0 or less: none, so the robot does not drive, as "
            "in Gazebo, with a warning"},
-          {"wheelAcceleration", TagType::kPositive, "0", "m/s^2",
-           "how fast the rims' speed may change towards the command; 0: at once",
-           "ramps the commanded rim speed from update to update"},
+          {"wheelAcceleration", TagType::kNumber, "0", "m/s^2",
+           "how fast the rims' speed may change towards the command; 0: at once; below 0: the commanded "
+           "speed steps away from the command",
+           "ramps the commanded rim speed from update to update; below 0: its absolute value, with a "
+           "warning"},
           {"odometrySource", TagType::kText, "world", "",
            "world: the model's pose in the world; encoder: integrated from the wheels' speeds",
            "encoder integrates the angles the wheels turned; another value is read as world, with a warning"},
@@ -268,6 +270,18 @@ void checkWheels(const DeclarationSource& source, DriveConfig& config) {
   }
 }
 
+/// wheelAcceleration [m/s^2]. Gazebo's ramp steps by it towards the command, so one below 0 steps away
+/// from it: its absolute value is used, with a warning.
+double wheelAcceleration(PluginTags& tags) {
+  const double value = tags.number("wheelAcceleration");
+  if (!(value < 0)) return value;
+  std::ostringstream message;
+  message << tags.where() << " <wheelAcceleration> " << value << " m/s^2 is below 0: read as " << -value
+          << " m/s^2 (Gazebo's ramp would step the wheels' speeds away from the command)";
+  tags.diagnostics().warning(message.str());
+  return -value;
+}
+
 }  // namespace
 
 void parseDiffDrive(const DeclarationSource& source, DriveConfig& config) {
@@ -276,7 +290,7 @@ void parseDiffDrive(const DeclarationSource& source, DriveConfig& config) {
   config.left_joints = {tags.text("leftJoint")};
   config.right_joints = {tags.text("rightJoint")};
   config.torque = wheelTorque(source, "wheelTorque");
-  config.acceleration = tags.nonNegative("wheelAcceleration");
+  config.acceleration = wheelAcceleration(tags);
   const std::string odometry_source = tags.text("odometrySource");
   if (odometry_source == "encoder") {
     config.odometry_from_encoders = true;  // with a wheelSeparation of 0: checkWheels
