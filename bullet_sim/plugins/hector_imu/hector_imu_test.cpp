@@ -201,8 +201,26 @@ TEST(HectorImu, ANegativeGaussianNoiseIsReadAsItsAbsoluteValueWithAWarning) {
   }
   EXPECT_THAT(loadWarnings(idealImu({{"gaussianNoise", "-0.01"}})),
               Contains(HasSubstr("<gaussianNoise> -0.01 is negative: read as 0.01")));
-  EXPECT_THAT(loadErrors(idealImu({{"accelDrift", "-0.1 0 0"}})),
-              ElementsAre(HasSubstr("<accelDrift> and <accelDriftFrequency> must not be negative")));
+}
+
+TEST(HectorImu, ANegativeDriftOrDriftFrequencyIsReadAsItsAbsoluteValueWithAWarning) {
+  // hector draws the drift with sigma sqrt(2 * frequency) * drift: any sign of drift, NaN below 0 frequency.
+  const std::string urdf = idealImu({{"accelDrift", "-0.1 0 0"}, {"accelDriftFrequency", "-0.5 0.5 0.5"}});
+  EXPECT_THAT(loadWarnings(urdf),
+              testing::IsSupersetOf(
+                  {HasSubstr("<accelDrift> -0.1 0 0 has a negative component: read as 0.1 0 0, as Gazebo's "
+                             "Gaussian noise takes it"),
+                   HasSubstr("<accelDriftFrequency> -0.5 0.5 0.5 has a negative component: read as 0.5 0.5 "
+                             "0.5 (hector's drift would be NaN: it draws with sqrt(2 * frequency) * "
+                             "drift)")}));
+  Simulation simulation(test::shippedWorld("empty.world"), {.seed = 3});
+  Robot& robot = simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {});
+  const HectorImu& imu = *test::pluginsOf<HectorImu>(robot).at(0);
+  EXPECT_EQ(imu.config().accel.drift, Eigen::Vector3d(0.1, 0, 0));
+  EXPECT_EQ(imu.config().accel.drift_frequency, Eigen::Vector3d::Constant(0.5));
+  const std::vector<ImuSample> samples = imuSamples(simulation, imu, 2.0);
+  ASSERT_EQ(samples.size(), 100u);
+  for (const ImuSample& sample : samples) ASSERT_TRUE(sample.linear_acceleration.allFinite());
 }
 
 // On the moving robot.

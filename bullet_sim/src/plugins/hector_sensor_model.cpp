@@ -30,9 +30,10 @@ std::string modelTag(const std::string& prefix, const std::string& field) {
   return prefix + field;
 }
 
-/// hector's white noise draws sigma * X + mu (Box-Muller, X standard normal), so a negative sigma is its
-/// absolute value: read so, with a warning naming it. `axes`: how many of `noise`'s components were read.
-void readAbsoluteNoise(PluginTags& tags, const std::string& tag, int axes, Eigen::Vector3d& noise) {
+/// A negative component of `noise` is read as its absolute value, with a warning naming both and ending in
+/// `reason`. `axes`: how many of `noise`'s components were read.
+void readAbsolute(PluginTags& tags, const std::string& tag, int axes, Eigen::Vector3d& noise,
+                  const char* reason) {
   if (!(noise.head(axes).array() < 0).any()) return;
   std::ostringstream message;
   const auto write = [&](const Eigen::Vector3d& value) {
@@ -43,7 +44,7 @@ void readAbsoluteNoise(PluginTags& tags, const std::string& tag, int axes, Eigen
   message << (axes == 1 ? " is negative" : " has a negative component") << ": read as ";
   noise = noise.cwiseAbs();
   write(noise);
-  message << ", as Gazebo's Gaussian noise takes it";
+  message << reason;
   tags.diagnostics().warning(message.str());
 }
 
@@ -60,7 +61,8 @@ std::vector<TagRow> sensorErrorRows(const std::string& prefix, bool vector, cons
               "load and at every reset",
        seeded},
       {modelTag(prefix, "DriftFrequency"), type, "0.0002777777777777778", "Hz",
-       form + "how fast the drift wanders: 1/3600 Hz (one hour) when absent", ""},
+       form + "how fast the drift wanders: 1/3600 Hz (one hour) when absent; below 0: NaN readings",
+       "below 0: its absolute value, with a warning"},
       {modelTag(prefix, "GaussianNoise"), type, "0", unit,
        form + "the standard deviation of a white noise on every reading", seeded},
       {modelTag(prefix, "ScaleError"), type, "1", "", form + "a factor on the true value", ""},
@@ -88,11 +90,13 @@ SensorErrorConfig readSensorError(PluginTags& tags, const std::string& prefix, b
   config.gaussian_noise = read("GaussianNoise");
   config.scale_error = read("ScaleError");
   const int axes = vector ? 3 : 1;
-  if ((config.drift.head(axes).array() < 0).any() || (config.drift_frequency.head(axes).array() < 0).any()) {
-    tags.diagnostics().error(tags.where() + " <" + modelTag(prefix, "Drift") + "> and <" +
-                             modelTag(prefix, "DriftFrequency") + "> must not be negative");
-  }
-  readAbsoluteNoise(tags, modelTag(prefix, "GaussianNoise"), axes, config.gaussian_noise);
+  // hector draws both noises as sigma * X + mu (Box-Muller, X standard normal): any sign of sigma.
+  const char* as_gazebo = ", as Gazebo's Gaussian noise takes it";
+  readAbsolute(tags, modelTag(prefix, "Drift"), axes, config.drift, as_gazebo);
+  readAbsolute(tags, modelTag(prefix, "GaussianNoise"), axes, config.gaussian_noise, as_gazebo);
+  // Its drift's sigma is sqrt(2 * frequency) * drift: NaN below 0, and exp(-dt * frequency) grows.
+  readAbsolute(tags, modelTag(prefix, "DriftFrequency"), axes, config.drift_frequency,
+               " (hector's drift would be NaN: it draws with sqrt(2 * frequency) * drift)");
   return config;
 }
 
