@@ -223,6 +223,20 @@ TEST(HectorImu, ANegativeDriftOrDriftFrequencyIsReadAsItsAbsoluteValueWithAWarni
   for (const ImuSample& sample : samples) ASSERT_TRUE(sample.linear_acceleration.allFinite());
 }
 
+TEST(HectorImu, ANegativeUpdatePeriodIsItsAbsoluteValueWithAWarning) {
+  // hector's UpdateTimer::checkUpdate updates when fmod(time, period) is within a step: any sign of period.
+  const std::string urdf = idealImu({{"updatePeriod", "-0.1"}});
+  const std::string warning = "<updatePeriod> -0.1 s is below 0: read as 0.1 s, as hector's update timer "
+                              "takes it (fmod of the time by the period ignores its sign)";
+  EXPECT_THAT(loadWarnings(urdf), Contains(HasSubstr(warning)));
+  Simulation simulation(test::shippedWorld("empty.world"));
+  Robot& robot =
+      simulation.spawn("robot", parseExpecting(urdf, "imu", {warning, test::kHectorWarnings[0]}), {});
+  const HectorImu& imu = *test::pluginsOf<HectorImu>(robot).at(0);
+  EXPECT_EQ(imu.config().update_rate, 10.0);
+  EXPECT_EQ(imuSamples(simulation, imu, 1.0).size(), 10u) << "10 Hz";
+}
+
 // On the moving robot.
 
 const SpawnPose kStart{.x = 0.5, .y = -0.3, .yaw = 0.4};

@@ -19,8 +19,8 @@ TagTable hectorSonarTags() {
       {"updateRate", TagType::kRate, "10", "Hz",
        "how often it publishes the latest rays, whatever the sensor's <update_rate>; 0: every step",
        "the rays are cast when it publishes"},
-      {"updatePeriod", TagType::kPositive, "1 / updateRate", "s",
-       "the time between updates, instead of updateRate; 0: every step", ""},
+      {"updatePeriod", TagType::kNumber, "1 / updateRate", "s",
+       "the time between updates, instead of updateRate; 0: every step; below 0: as its absolute value", ""},
       {"updateOffset", TagType::kText, "0", "s", "delays the updates within each period",
        "not honoured: a warning says so"},
   };

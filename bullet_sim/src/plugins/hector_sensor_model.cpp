@@ -106,8 +106,8 @@ std::vector<TagRow> hectorBodyAndTimerRows(const std::string& rate) {
        "the link measured; the model's canonical link when absent",
        "a name that is no link is a warning, and the root link is measured"},
       {"updateRate", TagType::kRate, rate, "Hz", "how often it publishes; 0: every step", ""},
-      {"updatePeriod", TagType::kPositive, "1 / updateRate", "s",
-       "the time between updates, instead of updateRate; 0: every step", ""},
+      {"updatePeriod", TagType::kNumber, "1 / updateRate", "s",
+       "the time between updates, instead of updateRate; 0: every step; below 0: as its absolute value", ""},
       {"updateOffset", TagType::kText, "0", "s", "delays the updates within each period",
        "not honoured: a warning says so"},
   };
@@ -119,10 +119,26 @@ std::string readHectorBody(const DeclarationSource& source, std::string* name) {
   return frameLink(source, "bodyName", body, source.model.root);
 }
 
+namespace {
+
+/// updatePeriod [s]. hector's UpdateTimer::checkUpdate updates when fmod(time, period) falls within a step,
+/// so a negative period is its absolute value: read so, with a warning naming both.
+double readHectorUpdatePeriod(PluginTags& tags, double fallback) {
+  const double period = tags.number("updatePeriod", fallback);
+  if (!(period < 0)) return period;
+  std::ostringstream message;
+  message << tags.where() << " <updatePeriod> " << period << " s is below 0: read as " << -period
+          << " s, as hector's update timer takes it (fmod of the time by the period ignores its sign)";
+  tags.diagnostics().warning(message.str());
+  return -period;
+}
+
+}  // namespace
+
 double readHectorUpdateRate(PluginTags& tags) {
   double rate = tags.rate("updateRate");
   if (tags.has("updatePeriod")) {
-    const double period = tags.positive("updatePeriod", rate > 0 ? 1 / rate : 0, /*allow_zero=*/true);
+    const double period = readHectorUpdatePeriod(tags, rate > 0 ? 1 / rate : 0);
     rate = period > 0 ? 1 / period : 0;
   }
   if (tags.has("updateOffset")) {
