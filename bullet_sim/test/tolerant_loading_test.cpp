@@ -170,6 +170,10 @@ std::vector<Tolerated> toleratedForms() {
       {"ZeroWheelSeparation", test::withPluginTags(robot, "diff_drive.so", {{"wheelSeparation", "0"}}),
        "<wheelSeparation> 0 m disagrees with the joints [left_wheel_joint] and [right_wheel_joint], which "
        "are 0.35 m apart: the robot cannot turn, as in Gazebo"},
+      {"NegativeWheelSeparation",
+       test::withPluginTags(robot, "diff_drive.so", {{"wheelSeparation", "-0.35"}}),
+       "<wheelSeparation> -0.35 m is below 0: the robot turns the other way from its commands, as in Gazebo, "
+       "whose wheels get v -/+ w * separation / 2"},
       {"ZeroWheelDiameter", test::withPluginTags(robot, "diff_drive.so", {{"wheelDiameter", "0"}}),
        "<wheelDiameter> 0 m is not above 0: 0.1 m, the collision diameter of joint [left_wheel_joint]'s "
        "wheel, is used (Gazebo would set its wheels' speeds to the command divided by it)"},
@@ -383,6 +387,39 @@ TEST(TolerantLoading, AZeroWheelSeparationWithEncoderOdometryDividesByTheJointsS
       << "straight on, as it cannot turn, and its odometry, not NaN, says so";
 }
 
+/// The yaw [rad] of `rotation`, a turn about z.
+double yawOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
+
+/// The base's yaw and its encoder odometry's [rad] after 1 s of 0.3 m/s and 1 rad/s, under `separation`.
+std::pair<double, double> yawsTurning(const std::string& separation) {
+  const std::string urdf = test::withPluginTags(
+      driveable(), "diff_drive.so", {{"wheelSeparation", separation}, {"odometrySource", "encoder"}});
+  Simulation simulation(test::shippedWorld("empty.world"));
+  std::vector<std::string> warnings;
+  Robot& robot =
+      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
+  auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
+  test::stepSending(simulation, 1.0, [&] { return drive.setCommand(0.3, 1.0, simulation.time()); });
+  return {yawOf(robot.body().linkPose("base_link").linear()),
+          yawOf(test::latestOf<Odometry>(drive).pose.linear())};
+}
+
+TEST(TolerantLoading, ANegativeWheelSeparationTurnsTheOtherWayAndEncoderOdometryFollows) {
+  const std::string urdf = test::withPluginTags(
+      driveable(), "diff_drive.so", {{"wheelSeparation", "-0.35"}, {"odometrySource", "encoder"}});
+  EXPECT_THAT(test::loadWarnings(urdf),
+              ElementsAre(HasSubstr("<wheelSeparation> -0.35 m is below 0: the robot turns the other way "
+                                    "from its commands, as in Gazebo, whose wheels get v -/+ w * separation "
+                                    "/ 2; the encoder odometry divides by 0.35 m, so it follows the robot "
+                                    "(Gazebo's turns the other way from it)")));
+  EXPECT_EQ(driveConfig(urdf).encoder_separation, 0.35);
+  const auto [yaw, odometry_yaw] = yawsTurning("-0.35");
+  const auto [mirror_yaw, mirror_odometry_yaw] = yawsTurning("0.35");
+  EXPECT_GT(mirror_yaw, 0.5) << "0.35 turns left, as commanded";
+  EXPECT_NEAR(yaw, -mirror_yaw, 0.02) << "-0.35 turns right as far";
+  EXPECT_NEAR(odometry_yaw, -mirror_odometry_yaw, 0.02) << "and its odometry says so, as 0.35's says left";
+}
+
 /// driveable() with the left wheel's <axis xyz> `xyz`.
 std::string withLeftWheelAxis(const std::string& xyz) {
   return test::editUrdf(driveable(), [&](tinyxml2::XMLElement& robot) {
@@ -452,7 +489,7 @@ TEST(TolerantLoading, AnSdfModelsNegativeDampingIsReadAsZero) {
 TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {
   const std::string urdf = withElements(
       test::withPluginTags(withInertia(driveable(), "right_wheel", nullptr), "diff_drive.so",
-                           {{"wheelSeparation", "-1"}}),
+                           {{"wheelSeparation", "wide"}}),
       "<link name='bumper'><inertial><mass value='-1'/><inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' "
       "izz='1'/></inertial><collision><geometry><mesh filename='package://bullet_sim/no_such.stl'/>"
       "</geometry></collision><collision><geometry><box size='0.1 -0.1 0.1'/></geometry></collision></link>"
@@ -463,7 +500,7 @@ TEST(TolerantLoading, AFilesErrorsOfEveryKindComeOutTogether) {
                   HasSubstr("link [bumper] <collision> <box size=\"0.1 -0.1 0.1\">: [-0.1] must be positive"),
                   HasSubstr("link [bumper] <inertial>: mass -1 kg is not positive"),
                   HasSubstr("link [bumper] <collision>: cannot load mesh"),
-                  HasSubstr("<wheelSeparation> must be >= 0, not -1")));
+                  HasSubstr("<wheelSeparation> must be a number, not [wide]")));
 }
 
 /// `driveable()` with a box link whose size starts with `word`.

@@ -34,11 +34,12 @@ std::vector<TagRow> headRows() {
 /// The wheel figures both drives share.
 std::vector<TagRow> wheelRows(const std::string& separation) {
   return {
-      {"wheelSeparation", TagType::kPositive, separation, "m",
-       "the distance between the left and right wheels",
+      {"wheelSeparation", TagType::kNumber, separation, "m",
+       "the distance between the left and right wheels; below 0: the robot turns the other way",
        "a warning when it is more than 5 mm off the distance between the wheels' joints; 0: the robot cannot "
        "turn, as in Gazebo, and encoder odometry, which Gazebo's divides by it (NaN), divides by the joints' "
-       "distance"},
+       "distance; below 0: it turns the other way, as in Gazebo, with a warning, and encoder odometry "
+       "divides by its absolute value"},
       {"wheelDiameter", TagType::kNumber, "0.15", "m",
        "the wheels' diameter; 0 or less: the wheels' speeds are divided by it (NaN or infinite)",
        "a warning when it is more than 5 mm off a wheel's collision cylinder or sphere; 0 or less: that "
@@ -136,7 +137,7 @@ TagTable skidSteerTags() {
 void readCommon(const DeclarationSource& source, DriveConfig& config) {
   PluginTags& tags = source.tags;
   readDriveHead(tags, DriveTagNames{}, config);
-  config.wheel_separation = tags.nonNegative("wheelSeparation");  // 0: checkWheels says what it means
+  config.wheel_separation = tags.number("wheelSeparation");  // 0 or less: checkWheels says what it means
   config.wheel_diameter = tags.number("wheelDiameter");  // not above 0: measureWheelDiameter
   for (const auto& [tag, value] : {std::pair{"wheelSeparation", &config.wheel_separation},
                                    std::pair{"wheelDiameter", &config.wheel_diameter}}) {
@@ -242,6 +243,21 @@ std::string useJointSeparation(DriveConfig& config, double separation) {
   return text.str();
 }
 
+/// A wheelSeparation below 0 turns the robot the other way, in Gazebo too (its wheels get
+/// v -/+ w * separation / 2): a warning says so. Encoder odometry divides by its absolute value.
+void warnNegativeSeparation(const DeclarationSource& source, const DriveConfig& config) {
+  if (!(config.wheel_separation < 0)) return;
+  std::ostringstream message;
+  message << source.tags.where() << " <wheelSeparation> " << config.wheel_separation
+          << " m is below 0: the robot turns the other way from its commands, as in Gazebo, whose wheels get "
+             "v -/+ w * separation / 2";
+  if (config.odometry_from_encoders) {
+    message << "; the encoder odometry divides by " << config.encoder_separation
+            << " m, so it follows the robot (Gazebo's turns the other way from it)";
+  }
+  source.diagnostics.warning(message.str());
+}
+
 /// Checks the wheels against the model (see checkSide) and wheelSeparation against their joints.
 void checkWheels(const DeclarationSource& source, DriveConfig& config) {
   checkWheelsDistinct(source, config);
@@ -250,10 +266,11 @@ void checkWheels(const DeclarationSource& source, DriveConfig& config) {
   measureWheelDiameter(source, config);
   config.left_signs = checkSide(source, config, config.left_joints, left_y);
   config.right_signs = checkSide(source, config, config.right_joints, right_y);
-  config.encoder_separation = config.wheel_separation;
+  config.encoder_separation = std::abs(config.wheel_separation);
+  warnNegativeSeparation(source, config);
   for (size_t i = 0; i < std::min(left_y.size(), right_y.size()); ++i) {
     const double separation = left_y[i] - right_y[i];
-    if (std::abs(separation - config.wheel_separation) > kGeometryTolerance) {
+    if (std::abs(separation - config.encoder_separation) > kGeometryTolerance) {
       std::ostringstream message;
       message << source.tags.where() << " <wheelSeparation> " << config.wheel_separation
               << " m disagrees with the joints [" << config.left_joints[i] << "] and ["
