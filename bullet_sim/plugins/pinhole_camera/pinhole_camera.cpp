@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -126,9 +127,15 @@ void readCameraPluginTags(PluginTags& tags, const std::array<double, 5>& sdf_dis
   if (tags.flag("autoDistortion")) config.distortion = sdf_distortion;
 }
 
+/// Whether the <sensor>'s <update_rate> is written below 0: its own warning says it is 0, every step.
+bool rateWrittenNegative(const TagNode* sensor) {
+  const TagNode* rate = sensor ? sensor->child("update_rate") : nullptr;
+  return rate && std::strtod(rate->text.c_str(), nullptr) < 0;
+}
+
 void checkCamera(const DeclarationSource& source, const PinholeCameraConfig& config) {
   const std::string where = source.declaration.where();
-  if (config.update_rate == 0) {
+  if (config.update_rate == 0 && !rateWrittenNegative(source.sensor)) {
     source.diagnostics.warning(
         where + " has update_rate 0 (Gazebo renders it as often as it can): it renders every step");
   }

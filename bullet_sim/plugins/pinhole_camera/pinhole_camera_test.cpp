@@ -272,6 +272,33 @@ TEST(Camera, ANegativeNoiseStddevIsReadAsItsAbsoluteValue) {
   EXPECT_EQ(model.plugins.at(0).configAs<PinholeCameraConfig>()->noise_stddev, 0.05);
 }
 
+TEST(Camera, ANegativeUpdateRateGetsOneWarningAndRendersEveryStep) {
+  const auto warningsAt = [](double rate) {
+    CameraSetup setup;
+    setup.rate = rate;
+    std::vector<std::string> warnings;
+    parseModel(cameraRobot(setup), "camera_box", PackageResolver::fromEnvironment(), &warnings);
+    return warnings;
+  };
+  EXPECT_THAT(warningsAt(-1), testing::ElementsAre(HasSubstr("<update_rate> -1 is below 0: read as 0, every "
+                                                             "step, as Gazebo does")));
+  EXPECT_THAT(warningsAt(0), testing::ElementsAre(HasSubstr("has update_rate 0 (Gazebo renders it as often "
+                                                            "as it can): it renders every step")));
+  CameraSetup setup;
+  setup.rate = -1;
+  CountingRenderer renderer;
+  SimulationOptions options;
+  options.images = imagesFrom([&]() -> SceneRenderer& { return renderer; });
+  Simulation simulation(test::shippedWorld("test_room.world"), options);
+  std::vector<std::string> warnings;
+  ModelSpec model =
+      parseModel(cameraRobot(setup), "camera_box", PackageResolver::fromEnvironment(), &warnings);
+  const PinholeCamera& camera =
+      *test::pluginsOf<PinholeCamera>(simulation.spawn("camera_box", std::move(model), {})).at(0);
+  for (int step = 0; step < 10; ++step) simulation.step();
+  EXPECT_EQ(test::countOf<CameraImage>(camera, kDepthTopic), 10u) << "a frame every step";
+}
+
 TEST(Camera, ColourFormatsMapToTheirRosEncodings) {
   for (const auto& [format, encoding] : std::vector<std::pair<std::string, std::string>>{
            {"B8G8R8", "bgr8"}, {"L8", "mono8"}, {"R16G16B16", "rgb16"}}) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <sstream>
 
 namespace bullet_sim {
 
@@ -36,13 +37,15 @@ void readRangeRays(const DeclarationSource& source, RangeConfig& config, const s
   const std::string where = source.declaration.where();
   config.rays.link = config.link;
   config.rays.pose = config.pose;
-  readRayTags(source.sensor, where, config.rays, source);
+  readRayTags(source.sensor, where, config.rays, source, /*noise_used=*/false);
   if (config.rays.range_max <= config.rays.range_min)
     source.diagnostics.error(where + " <range> <max> must exceed <min>");
-  if (config.rays.noise_stddev > 0 || config.rays.noise_mean != 0) {
-    source.diagnostics.warning(where + " <ray><noise> does not reach " + plugin + "'s range (" + author +
-                               " plugin reads the rays before the sensor's noise): ignored; use the plugin's "
-                               "<gaussianNoise>");
+  if (config.rays.noise_stddev != 0 || config.rays.noise_mean != 0) {
+    std::ostringstream message;  // the one warning about the noise, of any sign
+    message << where << " <ray><noise> (stddev " << config.rays.noise_stddev << ", mean "
+            << config.rays.noise_mean << ") does not reach " << plugin << "'s range (" << author
+            << " plugin reads the rays before the sensor's noise): ignored; use the plugin's <gaussianNoise>";
+    source.diagnostics.warning(message.str());
   }
 }
 

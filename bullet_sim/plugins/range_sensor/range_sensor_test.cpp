@@ -117,23 +117,38 @@ TEST(Range, NoiseIsSeededAndCentredOnTheTruth) {
   EXPECT_NEAR(std::sqrt(square), 0.01, 0.002);
 }
 
-TEST(Range, LoadMessages) {
-  const std::string noisy_rays = test::editUrdf(multiSensorUrdf(), [](tinyxml2::XMLElement& robot) {
+/// The multi-sensor robot with a <ray><noise> of standard deviation `stddev` on its [ir] ranger.
+std::string withNoisyRays(const std::string& stddev) {
+  return test::editUrdf(multiSensorUrdf(), [&](tinyxml2::XMLElement& robot) {
     for (auto* gazebo = robot.FirstChildElement("gazebo"); gazebo;
          gazebo = gazebo->NextSiblingElement("gazebo")) {
       auto* sensor = gazebo->FirstChildElement("sensor");
       if (!sensor || std::string("ir") != sensor->Attribute("name")) continue;
       auto* noise = sensor->FirstChildElement("ray")->InsertNewChildElement("noise");
       noise->InsertNewChildElement("type")->SetText("gaussian");
-      noise->InsertNewChildElement("stddev")->SetText("0.01");
+      noise->InsertNewChildElement("stddev")->SetText(stddev.c_str());
     }
   });
-  const std::string urdf = withSensorPluginTags(noisy_rays, "sonar", {{"radiation", "sonic"}});
+}
+
+TEST(Range, ANegativeRayNoiseGetsOneWarningThatNamesIt) {
+  // The sensor's noise never reaches the plugin's ranges, so its sign matters to nothing: one warning.
+  std::vector<std::string> noise_warnings;
+  for (const std::string& warning : loadWarnings(withNoisyRays("-0.01"))) {
+    if (warning.find("<noise>") != std::string::npos) noise_warnings.push_back(warning);
+  }
+  EXPECT_THAT(noise_warnings,
+              testing::ElementsAre(HasSubstr("sensor [ir] on link [ir_link] <ray><noise> (stddev -0.01, "
+                                             "mean 0) does not reach libgazebo_ros_range.so's range")));
+}
+
+TEST(Range, LoadMessages) {
+  const std::string urdf = withSensorPluginTags(withNoisyRays("0.01"), "sonar", {{"radiation", "sonic"}});
   EXPECT_THAT(
       loadWarnings(urdf),
-      IsSupersetOf({HasSubstr("sensor [ir] on link [ir_link] <ray><noise> does not reach "
-                              "libgazebo_ros_range.so's range (Gazebo's plugin reads the rays before the "
-                              "sensor's noise): ignored; use the plugin's <gaussianNoise>"),
+      IsSupersetOf({HasSubstr("sensor [ir] on link [ir_link] <ray><noise> (stddev 0.01, mean 0) does not "
+                              "reach libgazebo_ros_range.so's range (Gazebo's plugin reads the rays before "
+                              "the sensor's noise): ignored; use the plugin's <gaussianNoise>"),
                     HasSubstr("<radiation> must be ultrasound or infrared, not [sonic]: infrared is used, "
                               "as Gazebo does")}));
   // Gazebo stamps the ranges with a frameName that names no link: a warning.

@@ -55,7 +55,7 @@ void warnDescending(const std::string& where, const char* rays, Diagnostics& dia
 }  // namespace
 
 void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
-                 const DeclarationSource& source) {
+                 const DeclarationSource& source, bool noise_used) {
   Diagnostics& diagnostics = source.diagnostics;
   const TagNode* ray = sensor ? sensor->child("ray") : nullptr;
   PluginTags horizontal(ray ? ray->find({"scan", "horizontal"}) : nullptr, where + " <horizontal>",
@@ -97,7 +97,7 @@ void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig
       diagnostics.error(where + " <noise><type> must be gaussian or none, not [" + type + "]");
     }
     config.noise_mean = noise.number("mean", 0);
-    config.noise_stddev = noise.deviation("stddev", 0);
+    config.noise_stddev = noise_used ? noise.deviation("stddev", 0) : noise.number("stddev", 0);
     if (type == "none") config.noise_mean = config.noise_stddev = 0;
     noise.finish();
   }

@@ -39,9 +39,10 @@ struct RayLidarConfig : PluginConfig {
 void parseRayLidar(const DeclarationSource& source, RayLidarConfig& config);
 
 /// Reads a ray sensor's <ray> block (scan, range, noise) into `config`; `where` heads the messages. Counts
-/// and ranges are bounded by source.limits.
+/// and ranges are bounded by source.limits. Without `noise_used` (a range plugin ignores the noise, and
+/// says so) a negative <stddev> is kept as written, without its own warning.
 void readRayTags(const TagNode* sensor, const std::string& where, RayLidarConfig& config,
-                 const DeclarationSource& source);
+                 const DeclarationSource& source, bool noise_used = true);
 
 /// The unit direction of every ray of `config`'s scan in the sensor frame, channel-major, bottom channel
 /// first; `channels` = 1 takes the plane at 0 elevation.
