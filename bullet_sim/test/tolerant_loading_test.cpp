@@ -366,6 +366,23 @@ TEST(TolerantLoading, AWheelDiameterNotAboveZeroIsTheWheelsCollisions) {
                                     "cylinder or sphere to measure it by")));
 }
 
+/// Where the base is and where its encoder odometry says it is, after 1 s of 0.3 m/s and 1 rad/s under a
+/// diff drive's `separation`.
+struct EncoderRun {
+  Eigen::Isometry3d base, odometry;
+};
+EncoderRun driveWithEncoders(const std::string& separation) {
+  const std::string urdf = test::withPluginTags(
+      driveable(), "diff_drive.so", {{"wheelSeparation", separation}, {"odometrySource", "encoder"}});
+  Simulation simulation(test::shippedWorld("empty.world"));
+  std::vector<std::string> warnings;
+  Robot& robot =
+      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
+  auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
+  test::stepSending(simulation, 1.0, [&] { return drive.setCommand(0.3, 1.0, simulation.time()); });
+  return {robot.body().linkPose("base_link"), test::latestOf<Odometry>(drive).pose};
+}
+
 TEST(TolerantLoading, AZeroWheelSeparationWithEncoderOdometryDividesByTheJointsSeparation) {
   const std::string urdf = test::withPluginTags(driveable(), "diff_drive.so",
                                                 {{"wheelSeparation", "0"}, {"odometrySource", "encoder"}});
@@ -375,15 +392,9 @@ TEST(TolerantLoading, AZeroWheelSeparationWithEncoderOdometryDividesByTheJointsS
                                     "as in Gazebo; the encoder odometry divides by their 0.35 m instead "
                                     "(Gazebo's would be NaN)")));
   EXPECT_NEAR(driveConfig(urdf).encoder_separation, 0.35, 1e-12);
-  Simulation simulation(test::shippedWorld("empty.world"));
-  std::vector<std::string> warnings;
-  Robot& robot =
-      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
-  auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
-  test::stepSending(simulation, 1.0, [&] { return drive.setCommand(0.3, 1.0, simulation.time()); });
-  const Odometry odometry = test::latestOf<Odometry>(drive);
-  EXPECT_GT(odometry.pose.translation().x(), 0.2) << "it drives";
-  EXPECT_NEAR(Eigen::AngleAxisd(odometry.pose.rotation()).angle(), 0, 0.05)
+  const Eigen::Isometry3d odometry = driveWithEncoders("0").odometry;
+  EXPECT_GT(odometry.translation().x(), 0.2) << "it drives";
+  EXPECT_NEAR(Eigen::AngleAxisd(odometry.rotation()).angle(), 0, 0.05)
       << "straight on, as it cannot turn, and its odometry, not NaN, says so";
 }
 
@@ -392,16 +403,8 @@ double yawOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0)
 
 /// The base's yaw and its encoder odometry's [rad] after 1 s of 0.3 m/s and 1 rad/s, under `separation`.
 std::pair<double, double> yawsTurning(const std::string& separation) {
-  const std::string urdf = test::withPluginTags(
-      driveable(), "diff_drive.so", {{"wheelSeparation", separation}, {"odometrySource", "encoder"}});
-  Simulation simulation(test::shippedWorld("empty.world"));
-  std::vector<std::string> warnings;
-  Robot& robot =
-      simulation.spawn("robot", parseModel(urdf, "robot", PackageResolver::fromEnvironment()), {}, &warnings);
-  auto& drive = *test::pluginsOf<WheeledDrive>(robot).front();
-  test::stepSending(simulation, 1.0, [&] { return drive.setCommand(0.3, 1.0, simulation.time()); });
-  return {yawOf(robot.body().linkPose("base_link").linear()),
-          yawOf(test::latestOf<Odometry>(drive).pose.linear())};
+  const EncoderRun run = driveWithEncoders(separation);
+  return {yawOf(run.base.linear()), yawOf(run.odometry.linear())};
 }
 
 TEST(TolerantLoading, ANegativeWheelSeparationTurnsTheOtherWayAndEncoderOdometryFollows) {
